@@ -1,0 +1,14 @@
+#pragma once
+// Each subcommand registers itself on the CLI11 app; main() only dispatches.
+namespace CLI {
+class App;
+}
+
+namespace needlesim::app {
+void registerRunCommand(CLI::App& app);
+void registerCheckCommand(CLI::App& app);
+void registerSchemaCommand(CLI::App& app);
+}  // namespace needlesim::app
+
+// Defined in cmd_fit.cpp (tissue characterisation).
+void registerFitCommand(CLI::App& app) __attribute__((weak));

@@ -1,0 +1,36 @@
+// needlesim command line: run, check, schema, fit. Errors in user input exit
+// with code 2 and a message naming file, line, field and what is allowed;
+// a solver that cannot go on exits with 3.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <cstdio>
+
+#include "commands.hpp"
+#include "needlesim/core/error.hpp"
+#include "needlesim/core/version.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{"needlesim: needle insertion into soft tissue — forces, deflection, steering, deformation, fracture"};
+  app.set_version_flag("--version", fmt::format("needlesim {} ({})", needlesim::kVersion, needlesim::kGitRevision));
+  app.require_subcommand(1);
+  needlesim::app::registerRunCommand(app);
+  needlesim::app::registerCheckCommand(app);
+  needlesim::app::registerSchemaCommand(app);
+  if (registerFitCommand) registerFitCommand(app);
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const needlesim::InputError& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  } catch (const needlesim::SolverError& e) {
+    fmt::print(stderr, "solver stopped: {}\n", e.what());
+    return 3;
+  } catch (const std::exception& e) {
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 1;
+  }
+  return 0;
+}

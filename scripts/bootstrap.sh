@@ -1,0 +1,26 @@
+#!/usr/bin/env bash
+# Installs the Debian packages needlesim needs to build, test and run.
+# Safe to run again: it asks apt only for what is missing.
+set -euo pipefail
+PKGS=(
+  cmake g++ make ninja-build ccache pkg-config
+  libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev
+  libhdf5-dev libgtest-dev libbenchmark-dev
+  libjs-chart.js
+)
+missing=()
+for p in "${PKGS[@]}"; do
+  if ! dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed"; then
+    missing+=("$p")
+  fi
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  echo "bootstrap: all ${#PKGS[@]} Debian packages present"
+  exit 0
+fi
+echo "bootstrap: installing ${missing[*]}"
+SUDO=""
+if [ "$(id -u)" -ne 0 ]; then SUDO="sudo"; fi
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"

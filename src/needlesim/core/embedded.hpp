@@ -1,0 +1,8 @@
+#pragma once
+// Texts compiled into the binary by cmake/Embed.cmake.
+#include <string_view>
+
+namespace needlesim::embedded {
+extern const std::string_view kChartJs;          // Chart.js (MIT), Debian libjs-chart.js
+extern const std::string_view kDefaultScenario;  // examples/gelatin_18G_3mms.yaml
+}  // namespace needlesim::embedded

@@ -1,0 +1,42 @@
+#pragma once
+// What an engine is: a function from a typed Scenario to results reported
+// through a ResultSink. Engines never parse YAML and never write files.
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "needlesim/io/html_report.hpp"
+#include "needlesim/io/table.hpp"
+#include "needlesim/scenario/scenario.hpp"
+
+namespace needlesim {
+
+class ResultSink {
+ public:
+  virtual ~ResultSink() = default;
+  // A time series or other table; written as <name>.csv.
+  virtual void table(const std::string& name, io::Table table) = 0;
+  // A key result for summary.json and the report's table.
+  virtual void result(const std::string& key, double value, const std::string& unit,
+                      const std::string& meaning) = 0;
+  virtual void plot(io::Plot plot) = 0;
+  virtual void note(const std::string& text) = 0;
+};
+
+struct RunOptions {
+  bool progress = true;  // show progress on a terminal
+};
+
+using EngineFn = std::function<void(const Scenario&, ResultSink&, const RunOptions&)>;
+
+struct EngineInfo {
+  std::string name;
+  std::string summary;
+  EngineFn run;
+};
+
+// All engines built into this binary (engines/registry.cpp).
+const std::vector<EngineInfo>& engineRegistry();
+const EngineInfo* findEngine(const std::string& name);
+
+}  // namespace needlesim

@@ -1,0 +1,99 @@
+#include "needlesim/engines/lumped/lumped_engine.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+
+#include "needlesim/core/progress.hpp"
+#include "needlesim/forces/lumped_model.hpp"
+#include "needlesim/insertion/motion_profile.hpp"
+
+namespace needlesim::engines {
+
+void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
+  forces::LumpedForceModel model(sc.tissue, sc.needle, sc.insertion.entry_angle, sc.model.lumped.relaxation_time);
+  MotionProfile motion(sc.insertion);
+  const double dt = sc.model.time_step;
+  const auto steps = static_cast<long long>(std::ceil(motion.duration() / dt - 1e-9));
+  const long long every =
+      sc.output.interval > 0.0 ? std::max(1LL, std::llround(sc.output.interval / dt)) : 1LL;
+
+  io::Table table({{"time", "s"},
+                   {"depth", "m"},
+                   {"velocity", "m/s"},
+                   {"force_total", "N"},
+                   {"force_stiffness", "N"},
+                   {"force_cutting", "N"},
+                   {"force_friction", "N"},
+                   {"contact_length", "m"},
+                   {"phase", "1"},
+                   {"layer", "1"}});
+  table.reserve(static_cast<std::size_t>(steps / every + 2));
+  Progress progress("lumped", options.progress);
+
+  double peak = 0.0, peakDepth = 0.0, exitForce = NAN, maxFriction = 0.0;
+  bool exited = false;
+  const double blockEnd = model.layerEnd(model.layerCount() - 1);
+  std::vector<double> punctureForces;
+  double prevTotal = 0.0, lastInside = 0.0;
+  for (long long k = 0; k <= steps; ++k) {
+    const double t = std::min(k * dt, motion.duration());
+    MotionState m = motion.at(t);
+    forces::ForceBreakdown f = model.step(m.depth, m.velocity, dt);
+    if (f.punctured_now) punctureForces.push_back(prevTotal);
+    prevTotal = f.total();
+    if (f.total() > peak) {
+      peak = f.total();
+      peakDepth = m.depth;
+    }
+    maxFriction = std::max(maxFriction, f.friction);
+    if (!exited && m.depth >= blockEnd && m.velocity > 0.0) {
+      exited = true;  // the force just before the tip left the block, cutting included
+      exitForce = lastInside;
+    }
+    if (m.depth < blockEnd) lastInside = f.total();
+    if (k % every == 0 || k == steps)
+      table.addRow({t, m.depth, m.velocity, f.total(), f.stiffness, f.cutting, f.friction, f.contact_length,
+                    static_cast<double>(f.phase), static_cast<double>(f.layer)});
+    if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(steps + 1));
+  }
+  progress.finish();
+
+  sink.result("peak_force", peak, "N", "largest total force on the needle base");
+  sink.result("peak_force_depth", peakDepth, "m", "tip depth at the peak force");
+  if (exited) sink.result("exit_force", exitForce, "N", "total force as the tip reaches the exit face (full penetration)");
+  sink.result("max_friction_force", maxFriction, "N", "largest friction force along the shaft");
+  const auto& at = model.punctureDepthsReached();
+  sink.result("punctures", static_cast<double>(at.size()), "1", "number of layers punctured");
+  for (std::size_t i = 0; i < at.size(); ++i) {
+    sink.result(fmt::format("puncture_{}_depth", i + 1), at[i], "m",
+                fmt::format("tip depth at puncture of layer {} ({})", i + 1, sc.tissue.layers[i].name));
+    sink.result(fmt::format("puncture_{}_force", i + 1), punctureForces[i], "N",
+                fmt::format("total force just before puncture of layer {}", i + 1));
+  }
+
+  // Plots: force against depth and time, split into components.
+  auto depth = table.column("depth");
+  auto time = table.column("time");
+  for (double& d : depth) d *= 1e3;
+  auto comp = [&](const std::string& col, const std::string& label, const std::vector<double>& x, bool dashed) {
+    return io::PlotSeries{label, x, table.column(col), false, dashed};
+  };
+  io::Plot byDepth{"Insertion force against tip depth", "tip depth [mm]", "force on the needle base [N]", {}};
+  io::Plot byTime{"Insertion force against time", "time [s]", "force on the needle base [N]", {}};
+  for (auto* p : {&byDepth, &byTime}) {
+    const auto& x = p == &byDepth ? depth : time;
+    p->series.push_back(comp("force_total", "total", x, false));
+    p->series.push_back(comp("force_stiffness", "stiffness (eq 3.16)", x, true));
+    p->series.push_back(comp("force_cutting", "cutting (eq 3.24)", x, true));
+    p->series.push_back(comp("force_friction", "friction (eq 3.23)", x, true));
+  }
+  sink.plot(std::move(byDepth));
+  sink.plot(std::move(byTime));
+  sink.note("Lumped force model of seed 003 section 3.2: pre-puncture stiffness (eq 3.16), constant cutting "
+            "(eq 3.24) and modified Karnopp friction along the length in contact (eq 3.23 with the per-length "
+            "coefficients of eq 5.1). Interpretations: docs/models/lumped-force.md.");
+  sink.table("forces", std::move(table));
+}
+
+}  // namespace needlesim::engines

@@ -1,0 +1,21 @@
+#include <algorithm>
+
+#include "needlesim/engines/engine.hpp"
+#include "needlesim/engines/lumped/lumped_engine.hpp"
+
+namespace needlesim {
+
+const std::vector<EngineInfo>& engineRegistry() {
+  static const std::vector<EngineInfo> list{
+      {"lumped", "lumped insertion-force model (seed 003 section 3.2)", engines::runLumped},
+  };
+  return list;
+}
+
+const EngineInfo* findEngine(const std::string& name) {
+  const auto& l = engineRegistry();
+  auto it = std::find_if(l.begin(), l.end(), [&](const EngineInfo& e) { return e.name == name; });
+  return it == l.end() ? nullptr : &*it;
+}
+
+}  // namespace needlesim

@@ -1,0 +1,129 @@
+#include "needlesim/io/html_report.hpp"
+
+#include <fmt/format.h>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+
+#include "needlesim/core/embedded.hpp"
+#include "needlesim/core/version.hpp"
+
+namespace needlesim::io {
+namespace {
+
+std::string escape(const std::string& s) {
+  std::string o;
+  for (char c : s) {
+    switch (c) {
+      case '<': o += "&lt;"; break;
+      case '>': o += "&gt;"; break;
+      case '&': o += "&amp;"; break;
+      case '"': o += "&quot;"; break;
+      default: o += c;
+    }
+  }
+  return o;
+}
+
+// Keeps at most kMaxPlotPoints per series: uniform thinning that keeps, in
+// each bucket, the minimum and maximum so peaks (puncture) survive.
+std::vector<std::pair<double, double>> thin(const PlotSeries& s) {
+  std::vector<std::pair<double, double>> pts;
+  std::size_t n = std::min(s.x.size(), s.y.size());
+  auto ok = [](double v) { return std::isfinite(v); };
+  if (n <= kMaxPlotPoints) {
+    for (std::size_t i = 0; i < n; ++i)
+      if (ok(s.x[i]) && ok(s.y[i])) pts.emplace_back(s.x[i], s.y[i]);
+    return pts;
+  }
+  std::size_t buckets = kMaxPlotPoints / 2;
+  for (std::size_t b = 0; b < buckets; ++b) {
+    std::size_t i0 = b * n / buckets, i1 = (b + 1) * n / buckets;
+    std::size_t imin = i0, imax = i0;
+    for (std::size_t i = i0; i < i1; ++i) {
+      if (s.y[i] < s.y[imin]) imin = i;
+      if (s.y[i] > s.y[imax]) imax = i;
+    }
+    for (std::size_t i : {std::min(imin, imax), std::max(imin, imax)})
+      if (ok(s.x[i]) && ok(s.y[i])) pts.emplace_back(s.x[i], s.y[i]);
+  }
+  return pts;
+}
+
+const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
+                          "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
+
+}  // namespace
+
+std::string HtmlReport::render() const {
+  nlohmann::json plotsJson = nlohmann::json::array();
+  for (const auto& p : plots) {
+    nlohmann::json datasets = nlohmann::json::array();
+    std::size_t k = 0;
+    for (const auto& s : p.series) {
+      nlohmann::json data = nlohmann::json::array();
+      for (auto [x, y] : thin(s)) data.push_back({{"x", x}, {"y", y}});
+      const char* color = kPalette[k++ % 10];
+      nlohmann::json ds = {{"label", s.label},     {"data", data},          {"borderColor", color},
+                           {"backgroundColor", color}, {"showLine", !s.markers}, {"pointRadius", s.markers ? 2.5 : 0},
+                           {"borderWidth", 1.5}};
+      if (s.dashed) ds["borderDash"] = {6, 4};
+      datasets.push_back(ds);
+    }
+    plotsJson.push_back({{"title", p.title},
+                         {"xlabel", p.xlabel},
+                         {"ylabel", p.ylabel},
+                         {"logx", p.logx},
+                         {"logy", p.logy},
+                         {"datasets", datasets}});
+  }
+  std::string facts_html;
+  for (const auto& [k, v] : facts)
+    facts_html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", escape(k), escape(v));
+  std::string notes_html;
+  for (const auto& n : notes) notes_html += "<p>" + escape(n) + "</p>\n";
+  std::string canvases;
+  for (std::size_t i = 0; i < plots.size(); ++i)
+    canvases += fmt::format("<div class=\"plot\"><canvas id=\"plot{}\"></canvas></div>\n", i);
+
+  std::string html;
+  html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
+  html += "<title>" + escape(title) + "</title>\n<style>\n"
+          "body{font-family:system-ui,sans-serif;margin:2em auto;max-width:1100px;color:#222}\n"
+          "h1{font-size:1.5em}table{border-collapse:collapse;margin:1em 0}\n"
+          "th,td{border:1px solid #ccc;padding:4px 10px;text-align:left}th{background:#f4f4f4}\n"
+          ".plot{position:relative;height:420px;margin:1.5em 0}footer{color:#777;font-size:.8em;margin-top:3em}\n"
+          "</style>\n";
+  // Chart.js, MIT licence (c) Chart.js Contributors; from Debian's libjs-chart.js.
+  html += "<script>/*! Chart.js | MIT License | (c) Chart.js Contributors | https://www.chartjs.org */\n";
+  html += embedded::kChartJs;
+  html += "\n</script>\n</head><body>\n";
+  html += "<h1>" + escape(title) + "</h1>\n";
+  if (!subtitle.empty()) html += "<p>" + escape(subtitle) + "</p>\n";
+  if (!facts.empty()) html += "<table>\n" + facts_html + "</table>\n";
+  html += notes_html;
+  html += canvases;
+  html += fmt::format("<footer>needlesim {} ({}); plots drawn with Chart.js (MIT licence).</footer>\n", kVersion,
+                      kGitRevision);
+  html += "<script>\nconst plots = " + plotsJson.dump() + ";\n";
+  html += R"JS(plots.forEach((p, i) => {
+  new Chart(document.getElementById('plot' + i), {
+    type: 'scatter',
+    data: {datasets: p.datasets},
+    options: {
+      responsive: true, maintainAspectRatio: false, animation: false, parsing: false,
+      plugins: {title: {display: true, text: p.title}, legend: {position: 'bottom'}},
+      scales: {
+        x: {type: p.logx ? 'logarithmic' : 'linear', title: {display: true, text: p.xlabel}},
+        y: {type: p.logy ? 'logarithmic' : 'linear', title: {display: true, text: p.ylabel}}
+      }
+    }
+  });
+});
+</script>
+</body></html>
+)JS";
+  return html;
+}
+
+}  // namespace needlesim::io

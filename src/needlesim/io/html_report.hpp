@@ -1,0 +1,38 @@
+#pragma once
+// A self-contained HTML report: one file, no network, plots drawn by Chart.js
+// (Debian's libjs-chart.js, MIT licence) compiled into the binary.
+#include <string>
+#include <utility>
+#include <vector>
+
+namespace needlesim::io {
+
+struct PlotSeries {
+  std::string label;
+  std::vector<double> x, y;
+  bool markers = false;  // true: points only (measured data); false: a line
+  bool dashed = false;
+};
+
+struct Plot {
+  std::string title;
+  std::string xlabel, ylabel;  // include units, e.g. "depth [mm]"
+  std::vector<PlotSeries> series;
+  bool logx = false, logy = false;
+};
+
+struct HtmlReport {
+  std::string title;
+  std::string subtitle;
+  std::vector<std::pair<std::string, std::string>> facts;  // key results table
+  std::vector<Plot> plots;
+  std::vector<std::string> notes;  // paragraphs (plain text, escaped on output)
+
+  std::string render() const;
+};
+
+// Plots carry at most this many points per series; longer series are thinned
+// (keeping extremes) so that a report stays small and fast to open.
+inline constexpr std::size_t kMaxPlotPoints = 4000;
+
+}  // namespace needlesim::io

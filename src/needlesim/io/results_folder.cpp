@@ -1,0 +1,183 @@
+#include "needlesim/io/results_folder.hpp"
+
+#include <fmt/format.h>
+#include <unistd.h>
+
+#include <cmath>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/core/version.hpp"
+#include "needlesim/io/atomic_file.hpp"
+
+namespace needlesim::io {
+namespace fs = std::filesystem;
+
+namespace {
+nlohmann::json qty(double v, const char* unit) { return {{"value", v}, {"unit", unit}}; }
+
+nlohmann::json safeNumber(double v) {
+  if (std::isfinite(v)) return v;
+  return nullptr;  // never write NaN into JSON
+}
+}  // namespace
+
+nlohmann::json scenarioToJson(const Scenario& sc) {
+  using nlohmann::json;
+  json layers = json::array();
+  for (const auto& L : sc.tissue.layers) {
+    json params = json::object();
+    for (const auto& [k, v] : L.material.params) params[k] = v;
+    json prony = json::array();
+    for (const auto& t : L.material.prony) prony.push_back({{"g", t.g}, {"tau", qty(t.tau, "s")}});
+    const auto& f = L.friction;
+    layers.push_back({{"name", L.name},
+                      {"thickness", qty(L.thickness, "m")},
+                      {"material",
+                       {{"name", L.material.name},
+                        {"law", L.material.law},
+                        {"parameters_SI", params},
+                        {"density", qty(L.material.density, "kg/m^3")},
+                        {"prony", prony}}},
+                      {"puncture_force", L.puncture_force >= 0 ? qty(L.puncture_force, "N") : json(nullptr)},
+                      {"puncture_depth", L.puncture_force < 0 ? qty(-L.puncture_force, "m") : json(nullptr)},
+                      {"cutting_force", qty(L.cutting_force, "N")},
+                      {"friction",
+                       {{"C_p", qty(f.C_p, "N/m")},
+                        {"b_p", qty(f.b_p, "N s/m^2")},
+                        {"C_n", qty(f.C_n, "N/m")},
+                        {"b_n", qty(f.b_n, "N s/m^2")},
+                        {"D_p", qty(f.D_p, "N/m")},
+                        {"D_n", qty(f.D_n, "N/m")},
+                        {"static_band", qty(f.static_band, "m/s")},
+                        {"coefficient", f.coefficient}}},
+                      {"interaction_stiffness", qty(L.interaction_stiffness, "N/m^2")},
+                      {"toughness", qty(L.toughness, "J/m^2")}});
+  }
+  json segments = json::array();
+  for (const auto& s : sc.insertion.segments) {
+    switch (s.kind) {
+      case MotionSegment::Kind::Insert:
+        segments.push_back({{"insert", {{"to", qty(s.to_depth, "m")}, {"speed", qty(s.speed, "m/s")},
+                                        {"spin_rate", qty(s.rate, "rad/s")}, {"duty_cycle", s.duty_cycle}}}});
+        break;
+      case MotionSegment::Kind::Retract:
+        segments.push_back({{"retract", {{"to", qty(s.to_depth, "m")}, {"speed", qty(s.speed, "m/s")}}}});
+        break;
+      case MotionSegment::Kind::Pause:
+        segments.push_back({{"pause", {{"duration", qty(s.duration, "s")}}}});
+        break;
+      case MotionSegment::Kind::Rotate:
+        segments.push_back({{"rotate", {{"by", qty(s.angle, "rad")}, {"rate", qty(s.rate, "rad/s")},
+                                        {"axis", s.axial ? "axial" : "in-plane"}}}});
+        break;
+    }
+  }
+  const auto& n = sc.needle;
+  return {{"name", sc.name},
+          {"description", sc.description},
+          {"source", sc.source},
+          {"tissue",
+           {{"block", {{"length", qty(sc.tissue.length, "m")}, {"width", qty(sc.tissue.width, "m")},
+                       {"height", qty(sc.tissue.height, "m")}}},
+            {"layers", layers}}},
+          {"needle",
+           {{"outer_diameter", qty(n.outer_diameter, "m")},
+            {"inner_diameter", qty(n.inner_diameter, "m")},
+            {"length", qty(n.length, "m")},
+            {"bevel_angle", qty(n.bevel_angle, "rad")},
+            {"tip", n.tip == TipType::Bevel ? "bevel" : n.tip == TipType::Conical ? "conical" : "blunt"},
+            {"youngs_modulus", qty(n.youngs_modulus, "Pa")},
+            {"poisson", n.poisson},
+            {"density", qty(n.density, "kg/m^3")}}},
+          {"insertion",
+           {{"entry_angle", qty(sc.insertion.entry_angle, "rad")},
+            {"entry_offset", qty(sc.insertion.entry_offset, "m")},
+            {"start_depth", qty(sc.insertion.start_depth, "m")},
+            {"bevel_orientation", qty(sc.insertion.bevel_orientation, "rad")},
+            {"profile", segments}}},
+          {"model",
+           {{"engine", sc.model.engine},
+            {"time_step", qty(sc.model.time_step, "s")},
+            {"lumped", {{"relaxation_time", qty(sc.model.lumped.relaxation_time, "s")}}}}},
+          {"output", {{"interval", qty(sc.output.interval, "s")}, {"csv", sc.output.csv}, {"html", sc.output.html}}}};
+}
+
+fs::path freeResultsPath(const fs::path& base) {
+  if (!fs::exists(base)) return base;
+  for (int i = 2; i < 10000; ++i) {
+    fs::path p = base;
+    p += fmt::format("-{}", i);
+    if (!fs::exists(p)) return p;
+  }
+  throw Error("no free results folder name next to " + base.string());
+}
+
+ResultsFolder::ResultsFolder(const Scenario& scenario, fs::path target)
+    : scenario_(scenario), target_(std::move(target)) {}
+
+void ResultsFolder::table(const std::string& name, Table t) { tables_.emplace_back(name, std::move(t)); }
+
+void ResultsFolder::result(const std::string& key, double value, const std::string& unit,
+                           const std::string& meaning) {
+  results_.push_back({key, value, unit, meaning});
+}
+
+void ResultsFolder::plot(Plot p) { plots_.push_back(std::move(p)); }
+void ResultsFolder::note(const std::string& text) { notes_.push_back(text); }
+
+void ResultsFolder::commit(bool replace, double wall_seconds) {
+  if (fs::exists(target_) && !replace)
+    throw Error("results folder " + target_.string() +
+                " already exists; choose another with --out or pass --overwrite to replace it");
+  fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+  fs::create_directories(parent);
+  fs::path stage = parent / fmt::format(".{}.partial-{}", target_.filename().string(), ::getpid());
+  fs::remove_all(stage);
+  fs::create_directories(stage);
+
+  nlohmann::json files = nlohmann::json::array();
+  if (scenario_.output.csv)
+    for (const auto& [name, t] : tables_) {
+      writeFileAtomic(stage / (name + ".csv"), t.csv());
+      files.push_back(name + ".csv");
+    }
+  nlohmann::json res = nlohmann::json::object();
+  for (const auto& r : results_)
+    res[r.key] = {{"value", safeNumber(r.value)}, {"unit", r.unit}, {"meaning", r.meaning}};
+  if (scenario_.output.html) files.push_back("report.html");
+  files.push_back("summary.json");
+  nlohmann::json summary = {{"needlesim", {{"version", kVersion}, {"git_revision", kGitRevision}}},
+                            {"engine", scenario_.model.engine},
+                            {"wall_time", {{"value", wall_seconds}, {"unit", "s"}}},
+                            {"results", res},
+                            {"files", files},
+                            {"scenario", scenarioToJson(scenario_)}};
+  writeFileAtomic(stage / "summary.json", summary.dump(2) + "\n");
+
+  if (scenario_.output.html) {
+    HtmlReport rep;
+    rep.title = "needlesim: " + scenario_.name;
+    rep.subtitle = scenario_.description.empty() ? scenario_.source : scenario_.description;
+    rep.facts.emplace_back("engine", scenario_.model.engine);
+    rep.facts.emplace_back("scenario", scenario_.source);
+    for (const auto& r : results_)
+      rep.facts.emplace_back(r.key + " (" + r.meaning + ")",
+                             std::isfinite(r.value) ? fmt::format("{:.6g} {}", r.value, r.unit == "1" ? "" : r.unit)
+                                                    : "n/a");
+    rep.facts.emplace_back("wall time", fmt::format("{:.3f} s", wall_seconds));
+    rep.plots = plots_;
+    rep.notes = notes_;
+    writeFileAtomic(stage / "report.html", rep.render());
+  }
+
+  if (fs::exists(target_)) {
+    fs::path old = parent / fmt::format(".{}.old-{}", target_.filename().string(), ::getpid());
+    fs::rename(target_, old);
+    fs::rename(stage, target_);
+    fs::remove_all(old);
+  } else {
+    fs::rename(stage, target_);
+  }
+}
+
+}  // namespace needlesim::io

@@ -1,0 +1,335 @@
+#include "needlesim/scenario/reader.hpp"
+
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "needlesim/core/embedded.hpp"
+#include "needlesim/core/error.hpp"
+#include "needlesim/scenario/yaml_section.hpp"
+
+namespace needlesim::scenario {
+namespace {
+
+using materials::MaterialSpec;
+
+MaterialSpec readMaterial(Section& parent, const std::string& key) {
+  YAML::Node n = parent.raw(key);
+  const auto& lib = materials::materialLibrary();
+  auto libraryNames = [&] {
+    std::string s;
+    for (const auto& [name, spec] : lib) s += (s.empty() ? "" : ", ") + name;
+    return s;
+  };
+  if (n && n.IsScalar()) {
+    auto it = lib.find(n.Scalar());
+    if (it == lib.end())
+      throw parent.error(key, n.Scalar(), "is not a material of the built-in library",
+                         libraryNames() + ", or a section with 'law' and its parameters");
+    return it->second;
+  }
+  Section m = parent.sub(key);
+  MaterialSpec spec;
+  std::string base = m.text("base");
+  if (!base.empty()) {
+    auto it = lib.find(base);
+    if (it == lib.end()) throw m.error("base", base, "is not a material of the built-in library", libraryNames());
+    spec = it->second;
+  }
+  std::string name = m.text("name");
+  if (!name.empty()) spec.name = name;
+  if (m.has("law")) {
+    std::string law = m.choice("law");
+    if (law != spec.law) spec.params.clear();
+    spec.law = law;
+  } else if (base.empty()) {
+    throw m.error("law", "", "is required (or give 'base')", field("material", "law").rangeText());
+  }
+  const auto& allowed = materials::lawParams(spec.law);
+  std::string allowedText;
+  for (const auto& p : allowed) allowedText += (allowedText.empty() ? "" : ", ") + p.key;
+  // Every parameter key given must belong to the law.
+  static const std::set<std::string> nonParams{"base", "name", "law", "density", "prony"};
+  for (const auto* f : fieldsOf("material")) {
+    if (nonParams.count(f->key) || !m.has(f->key)) continue;
+    bool ok = false;
+    for (const auto& p : allowed) ok = ok || p.key == f->key;
+    if (!ok)
+      throw m.error(f->key, m.raw(f->key).Scalar(), "is not a parameter of law '" + spec.law + "'", allowedText);
+    spec.params[f->key] = m.number(f->key);
+  }
+  for (const auto& p : allowed)
+    if (p.required && !spec.has(p.key))
+      throw m.error(p.key, "", "is required for law '" + spec.law + "' but missing", allowedText);
+  if (spec.has("K") && spec.has("nu") && spec.law != "linear")
+    throw m.error("K", "", "give either K or nu for the volumetric part, not both", "K or nu");
+  if (spec.law == "ogden") {
+    for (int i = 1; i <= 3; ++i) {
+      bool hasMu = spec.has(fmt::format("mu{}", i)), hasAlpha = spec.has(fmt::format("alpha{}", i));
+      if (hasMu != hasAlpha)
+        throw m.error((hasMu ? "alpha" : "mu") + std::to_string(i), "", "Ogden terms need both mu and alpha",
+                      fmt::format("mu{0} and alpha{0}", i));
+      if (hasAlpha && spec.param(fmt::format("alpha{}", i)) == 0.0)
+        throw m.error(fmt::format("alpha{}", i), "0", "an Ogden exponent must be non-zero", "alpha != 0");
+    }
+  }
+  if (auto rho = m.optNumber("density"); rho && (m.has("density") || base.empty())) spec.density = *rho;
+  auto terms = m.list("prony");
+  if (!terms.empty()) spec.prony.clear();
+  double gsum = 0.0;
+  for (std::size_t i = 0; i < terms.size(); ++i) {
+    Section t = m.element(terms[i], "prony", i);
+    materials::PronyTerm term{t.number("g"), t.number("tau")};
+    gsum += term.g;
+    spec.prony.push_back(term);
+  }
+  if (gsum >= 1.0)
+    throw m.error("prony", fmt::format("sum g = {:g}", gsum), "the relative moduli must sum to less than 1",
+                  "sum of g_i < 1 (the long-term modulus must stay positive)");
+  // The small-strain moduli must be physical.
+  auto mod = materials::smallStrainModuli(spec);
+  if (!(mod.shear > 0.0) || !(mod.bulk > 0.0))
+    throw m.errorAt(m.raw("law"), m.path(), spec.law,
+                    fmt::format("gives a non-positive initial shear ({:g} Pa) or bulk ({:g} Pa) modulus", mod.shear,
+                                mod.bulk),
+                    "parameters with a positive initial shear modulus");
+  return spec;
+}
+
+LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockLength) {
+  LayerSpec L;
+  if (shorthand) {
+    L.name = "tissue";
+    L.thickness = blockLength;
+    if (!s.has("material"))
+      throw s.error("material", "", "is required: give tissue.material (one layer) or tissue.layers",
+                    "a library name or a material section");
+  } else {
+    L.name = s.text("name");
+    if (L.name.empty()) L.name = fmt::format("layer{}", index + 1);
+    L.thickness = s.number("thickness");
+  }
+  L.material = readMaterial(s, "material");
+
+  Section p = s.sub("puncture");
+  auto pf = p.optNumber("force");
+  auto pd = p.optNumber("depth");
+  if (pf && pd) throw p.error("depth", "", "give the puncture force or depth, not both", "force or depth");
+  if (pf) L.puncture_force = *pf;
+  // A depth is converted to a force by the stiffness law at run time; keep it negative to mark it.
+  if (pd) L.puncture_force = -*pd;
+
+  Section c = s.sub("cutting");
+  L.cutting_force = c.number("force");
+
+  Section f = s.sub("friction");
+  FrictionSpec& fr = L.friction;
+  fr.C_p = f.number("C_p");
+  fr.b_p = f.number("b_p");
+  fr.C_n = f.optNumber("C_n").value_or(fr.C_p);
+  fr.b_n = f.optNumber("b_n").value_or(fr.b_p);
+  fr.static_band = f.number("static_band");
+  // seed 003 eq 3.23: continuity of the Karnopp law at |v| = Delta v / 2 by default.
+  fr.D_p = f.optNumber("D_p").value_or(fr.C_p + fr.b_p * fr.static_band / 2.0);
+  fr.D_n = f.optNumber("D_n").value_or(fr.C_n + fr.b_n * fr.static_band / 2.0);
+  fr.coefficient = f.number("coefficient");
+
+  Section in = s.sub("interaction");
+  L.interaction_stiffness = in.optNumber("K_T").value_or(0.0);
+  L.toughness = in.optNumber("toughness").value_or(0.0);
+  return L;
+}
+
+TissueSpec readTissue(Section& t) {
+  TissueSpec T;
+  Section b = t.sub("block");
+  T.length = b.number("length");
+  T.width = b.number("width");
+  T.height = b.number("height");
+  auto layers = t.list("layers");
+  if (layers.empty()) {
+    T.layers.push_back(readLayer(t, 0, true, T.length));
+  } else {
+    for (const char* k : {"material", "puncture", "cutting", "friction", "interaction"})
+      if (t.has(k))
+        throw t.error(k, "", "is given both here and in tissue.layers",
+                      "either tissue.layers, or one layer's fields directly under tissue");
+    for (std::size_t i = 0; i < layers.size(); ++i) {
+      Section l = t.element(layers[i], "layers", i);
+      T.layers.push_back(readLayer(l, i, false, T.length));
+    }
+    double sum = 0.0;
+    for (const auto& L : T.layers) sum += L.thickness;
+    if (std::abs(sum - T.length) > 1e-9 + 1e-6 * T.length)
+      throw t.error("layers", fmt::format("{:g} mm in all", sum * 1e3),
+                    fmt::format("the layer thicknesses must add up to block.length ({:g} mm)", T.length * 1e3),
+                    "thicknesses that sum to block.length");
+  }
+  return T;
+}
+
+NeedleSpec readNeedle(Section& s) {
+  NeedleSpec N;
+  units::Quantity od = s.lengthOrGauge("outer_diameter");
+  double defaultInner = 0.0;
+  if (od.gauge) {
+    auto g = units::gaugeSize(static_cast<int>(od.value));
+    N.outer_diameter = g->outer;
+    defaultInner = g->inner;
+  } else {
+    N.outer_diameter = od.value;
+  }
+  N.inner_diameter = s.optNumber("inner_diameter").value_or(defaultInner);
+  if (N.inner_diameter >= N.outer_diameter)
+    throw s.error("inner_diameter", fmt::format("{:g} mm", N.inner_diameter * 1e3),
+                  "must be smaller than the outer diameter",
+                  fmt::format("< {:g} mm", N.outer_diameter * 1e3));
+  N.length = s.number("length");
+  N.bevel_angle = s.number("bevel_angle");
+  std::string tip = s.choice("tip");
+  N.tip = tip == "bevel" ? TipType::Bevel : tip == "conical" ? TipType::Conical : TipType::Blunt;
+  N.youngs_modulus = s.number("youngs_modulus");
+  N.poisson = s.number("poisson");
+  N.density = s.number("density");
+  return N;
+}
+
+InsertionSpec readInsertion(Section& s, const NeedleSpec& needle) {
+  InsertionSpec I;
+  I.entry_angle = s.number("entry_angle");
+  I.entry_offset = s.number("entry_offset");
+  I.start_depth = s.number("start_depth");
+  I.bevel_orientation = s.number("bevel_orientation");
+  if (I.start_depth > needle.length)
+    throw s.error("start_depth", "", "is deeper than the needle is long", fmt::format("<= {:g} mm", needle.length * 1e3));
+  auto segs = s.list("profile");
+  double depth = I.start_depth;
+  for (std::size_t i = 0; i < segs.size(); ++i) {
+    if (!segs[i].IsMap() || segs[i].size() != 1)
+      throw s.errorAt(segs[i], fmt::format("insertion.profile[{}]", i), segs[i].IsScalar() ? segs[i].Scalar() : "",
+                      "each segment must be exactly one of insert / pause / retract / rotate",
+                      "e.g. '- insert: {to: 60 mm, speed: 3 mm/s}'");
+    Section seg = s.element(segs[i], "profile", i);
+    MotionSegment m;
+    std::string kind = segs[i].begin()->first.as<std::string>();
+    Section body = seg.sub(kind);
+    if (kind == "insert" || kind == "retract") {
+      m.kind = kind == "insert" ? MotionSegment::Kind::Insert : MotionSegment::Kind::Retract;
+      m.to_depth = body.number("to");
+      m.speed = body.number("speed");
+      if (kind == "insert") {
+        m.rate = body.number("spin_rate");
+        m.duty_cycle = body.number("duty_cycle");
+        if (m.to_depth <= depth)
+          throw body.error("to", fmt::format("{:g} mm", m.to_depth * 1e3),
+                           fmt::format("an insert must go deeper than where the tip is ({:g} mm)", depth * 1e3),
+                           fmt::format("> {:g} mm (use retract to go back)", depth * 1e3));
+        if (m.to_depth > needle.length)
+          throw body.error("to", fmt::format("{:g} mm", m.to_depth * 1e3), "is deeper than the needle is long",
+                           fmt::format("<= needle.length = {:g} mm", needle.length * 1e3));
+      } else if (m.to_depth >= depth) {
+        throw body.error("to", fmt::format("{:g} mm", m.to_depth * 1e3),
+                         fmt::format("a retract must end shallower than where the tip is ({:g} mm)", depth * 1e3),
+                         fmt::format("< {:g} mm", depth * 1e3));
+      }
+      depth = m.to_depth;
+    } else if (kind == "pause") {
+      m.kind = MotionSegment::Kind::Pause;
+      m.duration = body.number("duration");
+    } else {
+      m.kind = MotionSegment::Kind::Rotate;
+      m.angle = body.number("by");
+      m.rate = body.number("rate");
+      m.axial = body.choice("axis") == "axial";
+      if (m.angle == 0.0) throw body.error("by", "0", "a rotation must turn by a non-zero angle", "!= 0 deg");
+      m.duration = std::abs(m.angle) / m.rate;
+    }
+    I.segments.push_back(m);
+  }
+  return I;
+}
+
+Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared_ptr<const std::string> file) {
+  Section top(root, "scenario", "", file);
+  Scenario sc;
+  sc.source = source;
+  sc.name = top.text("name");
+  if (sc.name.empty()) {
+    std::filesystem::path p(source);
+    sc.name = p.has_stem() ? p.stem().string() : "scenario";
+  }
+  for (char ch : sc.name)
+    if (!(std::isalnum(static_cast<unsigned char>(ch)) || ch == '_' || ch == '-' || ch == '.'))
+      throw top.error("name", sc.name, "may be used as a folder name and must not contain spaces or symbols",
+                      "letters, digits, '_', '-', '.'");
+  sc.description = top.text("description");
+  Section tissue = top.sub("tissue");
+  sc.tissue = readTissue(tissue);
+  Section needle = top.sub("needle");
+  sc.needle = readNeedle(needle);
+  Section ins = top.sub("insertion");
+  sc.insertion = readInsertion(ins, sc.needle);
+
+  Section model = top.sub("model");
+  sc.model.engine = model.choice("engine");
+  sc.model.time_step = model.number("time_step");
+  Section lumped = model.sub("lumped");
+  sc.model.lumped.relaxation_time = lumped.number("relaxation_time");
+
+  Section out = top.sub("output");
+  sc.output.directory = out.text("directory");
+  sc.output.interval = out.number("interval");
+  sc.output.csv = out.boolean("csv");
+  sc.output.html = out.boolean("html");
+  if (sc.output.interval > 0.0 && sc.output.interval < sc.model.time_step)
+    throw out.error("interval", fmt::format("{:g} s", sc.output.interval), "is shorter than model.time_step",
+                    fmt::format(">= {:g} s, or 0 for every step", sc.model.time_step));
+  if (sc.totalDuration() / sc.model.time_step > 1e9)
+    throw model.error("time_step", fmt::format("{:g} s", sc.model.time_step),
+                      fmt::format("gives more than 1e9 steps for a {:g} s profile", sc.totalDuration()),
+                      "a larger time step");
+  return sc;
+}
+
+}  // namespace
+
+Scenario readText(std::string_view yaml, const std::string& source_name) {
+  auto file = std::make_shared<const std::string>(source_name);
+  YAML::Node root;
+  try {
+    root = YAML::Load(std::string(yaml));
+  } catch (const YAML::Exception& e) {
+    SourceLocation loc{source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
+                       e.mark.is_null() ? 0 : e.mark.column + 1};
+    throw InputError(loc, "", "", "is not valid YAML: " + e.msg, "YAML 'key: value' sections (see docs/scenario-format.md)");
+  }
+  if (!root || root.IsNull())
+    throw InputError(SourceLocation{source_name, 0, 0}, "", "", "is empty",
+                     "a scenario with tissue, needle and insertion sections");
+  try {
+    return readRoot(root, source_name, file);
+  } catch (const YAML::Exception& e) {
+    SourceLocation loc{source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
+                       e.mark.is_null() ? 0 : e.mark.column + 1};
+    throw InputError(loc, "", "", "could not be read: " + e.msg, "see docs/scenario-format.md");
+  }
+}
+
+Scenario readFile(const std::filesystem::path& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in)
+    throw InputError(SourceLocation{path.string(), 0, 0}, "", "", "cannot be opened (missing or unreadable)",
+                     "a readable scenario file");
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return readText(ss.str(), path.string());
+}
+
+Scenario defaultScenario() {
+  return readText(embedded::kDefaultScenario, "<built-in default: examples/gelatin_18G_3mms.yaml>");
+}
+
+}  // namespace needlesim::scenario

@@ -1,0 +1,18 @@
+#pragma once
+// Reads and validates a scenario (YAML) into the typed Scenario, converting
+// every quantity to SI. Any problem throws needlesim::InputError naming file,
+// line, column, field, value and what is allowed.
+#include <filesystem>
+#include <string>
+#include <string_view>
+
+#include "needlesim/scenario/scenario.hpp"
+
+namespace needlesim::scenario {
+
+Scenario readFile(const std::filesystem::path& path);
+Scenario readText(std::string_view yaml, const std::string& source_name);
+// The built-in default: examples/gelatin_18G_3mms.yaml compiled into the binary.
+Scenario defaultScenario();
+
+}  // namespace needlesim::scenario

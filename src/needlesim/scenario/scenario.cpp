@@ -1,0 +1,31 @@
+#include "needlesim/scenario/scenario.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+namespace needlesim {
+
+double Scenario::maxDepth() const {
+  double d = insertion.start_depth;
+  for (const auto& s : insertion.segments)
+    if (s.kind == MotionSegment::Kind::Insert) d = std::max(d, s.to_depth);
+  return d;
+}
+
+double Scenario::totalDuration() const {
+  double t = 0.0, depth = insertion.start_depth;
+  for (const auto& s : insertion.segments) {
+    switch (s.kind) {
+      case MotionSegment::Kind::Insert:
+      case MotionSegment::Kind::Retract:
+        t += std::abs(s.to_depth - depth) / s.speed;
+        depth = s.to_depth;
+        break;
+      case MotionSegment::Kind::Pause:
+      case MotionSegment::Kind::Rotate: t += s.duration; break;
+    }
+  }
+  return t;
+}
+
+}  // namespace needlesim

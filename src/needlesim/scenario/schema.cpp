@@ -1,0 +1,278 @@
+#include "needlesim/scenario/schema.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/materials/material_spec.hpp"
+
+namespace needlesim::scenario {
+namespace {
+
+constexpr double kInf = std::numeric_limits<double>::infinity();
+namespace D = units::dim;
+
+FieldDoc q(std::string sec, std::string key, units::Dim d, std::string def, double lo, double hi,
+           bool lo_open, bool hi_open, std::string help, bool required = false) {
+  FieldDoc f;
+  f.section = std::move(sec);
+  f.key = std::move(key);
+  f.kind = d == D::None ? Kind::Number : Kind::Quantity;
+  f.dim = d;
+  f.default_text = std::move(def);
+  f.required = required;
+  f.lo = lo;
+  f.hi = hi;
+  f.lo_open = lo_open;
+  f.hi_open = hi_open;
+  f.help = std::move(help);
+  return f;
+}
+FieldDoc positive(std::string sec, std::string key, units::Dim d, std::string def, std::string help,
+                  bool required = false) {
+  return q(std::move(sec), std::move(key), d, std::move(def), 0.0, kInf, true, false,
+           std::move(help), required);
+}
+FieldDoc nonneg(std::string sec, std::string key, units::Dim d, std::string def, std::string help) {
+  return q(std::move(sec), std::move(key), d, std::move(def), 0.0, kInf, false, false,
+           std::move(help));
+}
+FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::string help,
+               bool required = false, std::string child = {}, std::vector<std::string> choices = {}) {
+  FieldDoc f;
+  f.section = std::move(sec);
+  f.key = std::move(key);
+  f.kind = k;
+  f.default_text = std::move(def);
+  f.help = std::move(help);
+  f.required = required;
+  f.child = std::move(child);
+  f.choices = std::move(choices);
+  return f;
+}
+
+std::vector<FieldDoc> build() {
+  std::vector<FieldDoc> s;
+  auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
+  const double deg = M_PI / 180.0;
+
+  // --- top level
+  add(other("scenario", "name", Kind::String, "file name", "name of the scenario, used for the results folder"));
+  add(other("scenario", "description", Kind::String, "", "free text"));
+  add(other("scenario", "tissue", Kind::Section, "", "the tissue block and its layers", true, "tissue"));
+  add(other("scenario", "needle", Kind::Section, "", "needle geometry and material", true, "needle"));
+  add(other("scenario", "insertion", Kind::Section, "", "entry pose and motion profile", true, "insertion"));
+  add(other("scenario", "model", Kind::Section, "engine: lumped", "which engine and its parameters", false, "model"));
+  add(other("scenario", "output", Kind::Section, "", "where and what to write", false, "output"));
+
+  // --- tissue
+  add(other("tissue", "block", Kind::Section, "", "block size", true, "block"));
+  add(other("tissue", "layers", Kind::List, "",
+            "layers from the entry face inwards; omit for one layer and write the layer's fields "
+            "(material, puncture, cutting, friction, interaction) directly under tissue",
+            false, "layer"));
+  add(positive("block", "length", D::Length, "", "extent along the insertion axis (entry face to exit face)", true));
+  add(positive("block", "width", D::Length, "", "extent across the insertion axis, in the insertion plane", true));
+  add(positive("block", "height", D::Length, "", "extent out of the insertion plane", true));
+
+  // --- layer
+  add(other("layer", "name", Kind::String, "layer<i>", "label in results"));
+  add(positive("layer", "thickness", D::Length, "", "thickness along the surface normal; layers must add up to block.length", true));
+  add(other("layer", "material", Kind::MaterialRef, "", "a library name (e.g. gelatin_10wt) or a material section", true, "material"));
+  add(other("layer", "puncture", Kind::Section, "", "puncture threshold; omitted = punctures on contact", false, "puncture"));
+  add(other("layer", "cutting", Kind::Section, "force: 0 N", "cutting at the tip", false, "cutting"));
+  add(other("layer", "friction", Kind::Section, "all zero", "friction along the shaft", false, "friction"));
+  add(other("layer", "interaction", Kind::Section, "", "needle-tissue interaction parameters", false, "interaction"));
+
+  // --- material
+  add(other("material", "base", Kind::String, "", "start from a library material and override the fields given"));
+  add(other("material", "name", Kind::String, "custom", "label"));
+  add(other("material", "law", Kind::Choice, "", "constitutive law (required unless base is given)", false, {},
+            materials::lawNames()));
+  add(positive("material", "density", D::Density, "1000 kg/m^3", "mass density"));
+  add(positive("material", "E", D::Pressure, "", "Young's modulus (linear)"));
+  add(q("material", "nu", D::None, "", -1.0, 0.5, true, true, "Poisson ratio (linear; or the volumetric part of a hyperelastic law)"));
+  add(positive("material", "K", D::Pressure, "", "bulk modulus of a hyperelastic law (instead of nu)"));
+  add(positive("material", "C10", D::Pressure, "", "neo-Hookean / Mooney-Rivlin / Yeoh first coefficient"));
+  add(nonneg("material", "C01", D::Pressure, "", "Mooney-Rivlin second coefficient"));
+  add(q("material", "C20", D::Pressure, "", -kInf, kInf, false, false, "Yeoh second coefficient"));
+  add(q("material", "C30", D::Pressure, "", -kInf, kInf, false, false, "Yeoh third coefficient"));
+  for (int i = 1; i <= 3; ++i) {
+    add(q("material", fmt::format("mu{}", i), D::Pressure, "", -kInf, kInf, false, false, fmt::format("Ogden modulus of term {}", i)));
+    add(q("material", fmt::format("alpha{}", i), D::None, "", -kInf, kInf, false, false, fmt::format("Ogden exponent of term {}", i)));
+  }
+  add(positive("material", "mu", D::Pressure, "", "Fung-Demiray modulus (seed 000 eq 8)"));
+  add(positive("material", "gamma", D::None, "", "Fung-Demiray exponent (seed 000 eq 8)"));
+  add(other("material", "prony", Kind::List, "", "Prony series terms (seed 001 eqs 1-4)", false, "prony"));
+  add(q("prony", "g", D::None, "", 0.0, 1.0, true, true, "relative modulus g_i; the g_i must sum to less than 1", true));
+  add(positive("prony", "tau", D::Time, "", "relaxation time tau_i", true));
+
+  // --- lumped force parameters of a layer
+  add(positive("puncture", "force", D::Force, "", "force at which the tip punctures the layer (give force or depth)"));
+  add(positive("puncture", "depth", D::Length, "", "indentation at which the tip punctures the layer (give force or depth)"));
+  add(nonneg("cutting", "force", D::Force, "0 N", "constant cutting force while the tip advances inside the layer (seed 003 eq 3.24)"));
+  add(nonneg("friction", "C_p", D::ForcePerLength, "0 N/m", "dynamic friction per length in contact, insertion (seed 003 eqs 3.23, 5.1)"));
+  add(nonneg("friction", "b_p", D::ForceTimePerArea, "0 N s/m^2", "viscous friction per length in contact, insertion"));
+  add(nonneg("friction", "C_n", D::ForcePerLength, "C_p", "dynamic friction per length, retraction"));
+  add(nonneg("friction", "b_n", D::ForceTimePerArea, "b_p", "viscous friction per length, retraction"));
+  add(nonneg("friction", "D_p", D::ForcePerLength, "C_p + b_p static_band/2", "static friction limit per length, positive direction"));
+  add(nonneg("friction", "D_n", D::ForcePerLength, "C_n + b_n static_band/2", "static friction limit per length, negative direction (magnitude)"));
+  add(positive("friction", "static_band", D::Velocity, "0.1 mm/s", "Karnopp band Delta v: |v| < Delta v/2 sticks"));
+  add(nonneg("friction", "coefficient", D::None, "0", "Coulomb coefficient for the contact engines (seed 001: 0.3)"));
+  add(positive("interaction", "K_T", D::Pressure, "", "needle-tissue interaction stiffness per unit length (seed 002 eq 13)"));
+  add(positive("interaction", "toughness", D::ForcePerLength, "", "rupture toughness G_c (seed 002 eq 19, seed 004 Table I)"));
+
+  // --- needle
+  add(positive("needle", "outer_diameter", D::Length, "", "outer diameter, or a gauge such as 18 G", true));
+  add(nonneg("needle", "inner_diameter", D::Length, "from the gauge, else 0 mm", "bore diameter (0 = solid)"));
+  add(positive("needle", "length", D::Length, "", "free length from the base to the tip", true));
+  add(q("needle", "bevel_angle", D::Angle, "20 deg", 0.0, 90.0 * deg, true, false, "tip angle alpha of the bevel or cone"));
+  add(other("needle", "tip", Kind::Choice, "bevel", "tip type", false, {}, {"bevel", "conical", "blunt"}));
+  add(positive("needle", "youngs_modulus", D::Pressure, "200 GPa", "needle material (stainless steel; Nitinol is 50 GPa in seed 002)"));
+  add(q("needle", "poisson", D::None, "0.3", -1.0, 0.5, true, true, "needle Poisson ratio"));
+  add(positive("needle", "density", D::Density, "7850 kg/m^3", "needle density"));
+
+  // --- insertion
+  add(q("insertion", "entry_angle", D::Angle, "90 deg", 0.0, 90.0 * deg, true, false, "angle between needle and entry face (90 deg = perpendicular)"));
+  add(q("insertion", "entry_offset", D::Length, "0 mm", -kInf, kInf, false, false, "entry point from the centre of the entry face, in the insertion plane"));
+  add(q("insertion", "start_depth", D::Length, "0 mm", -kInf, kInf, false, false, "tip position along the needle axis at t = 0 (negative = outside)"));
+  add(q("insertion", "bevel_orientation", D::Angle, "0 deg", -kInf, kInf, false, false, "initial axial orientation of the bevel"));
+  add(other("insertion", "profile", Kind::List, "", "motion segments, each one of insert / pause / retract / rotate", true, "segment"));
+  add(other("segment", "insert", Kind::Section, "", "advance the tip", false, "insert"));
+  add(other("segment", "pause", Kind::Section, "", "hold still", false, "pause"));
+  add(other("segment", "retract", Kind::Section, "", "withdraw the tip", false, "retract"));
+  add(other("segment", "rotate", Kind::Section, "", "rotate the needle at the current depth", false, "rotate"));
+  add(q("insert", "to", D::Length, "", -kInf, kInf, false, false, "tip depth at the end of the segment (deeper than at its start)", true));
+  add(positive("insert", "speed", D::Velocity, "", "insertion speed", true));
+  add(nonneg("insert", "spin_rate", D::AngularVelocity, "0 deg/s", "axial spin rate while inserting (duty-cycled steering)"));
+  add(q("insert", "duty_cycle", D::None, "0", 0.0, 1.0, false, false, "fraction of each cycle spent spinning"));
+  add(q("retract", "to", D::Length, "", -kInf, kInf, false, false, "tip depth at the end of the segment (shallower than at its start)", true));
+  add(positive("retract", "speed", D::Velocity, "", "retraction speed", true));
+  add(positive("pause", "duration", D::Time, "", "how long to hold still", true));
+  add(q("rotate", "by", D::Angle, "", -kInf, kInf, false, false, "rotation angle (non-zero)", true));
+  add(positive("rotate", "rate", D::AngularVelocity, "", "rotation rate", true));
+  add(other("rotate", "axis", Kind::Choice, "axial", "about the needle axis (bevel flip) or the base in the insertion plane",
+            false, {}, {"axial", "in-plane"}));
+
+  // --- model
+  add(other("model", "engine", Kind::Choice, "lumped",
+            "engine: lumped (seed 003 lumped force model). Reserved for later releases: kinematic, energy, "
+            "beam-foundation, realtime2d, explicit, mpm",
+            false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "explicit", "mpm"}));
+  add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
+  add(other("model", "lumped", Kind::Section, "", "parameters of the lumped force model", false, "lumped"));
+  add(nonneg("lumped", "relaxation_time", D::Time, "0 s", "decay time of the friction held during a pause (0 = held)"));
+
+  // --- output
+  add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));
+  add(nonneg("output", "interval", D::Time, "0 s", "sampling interval of the time series (0 = every step)"));
+  add(other("output", "csv", Kind::Bool, "true", "write CSV time series"));
+  add(other("output", "html", Kind::Bool, "true", "write report.html"));
+
+  // A one-layer tissue may carry the layer's fields directly.
+  for (const char* k : {"material", "puncture", "cutting", "friction", "interaction"}) {
+    for (const auto& f : std::vector<FieldDoc>(s)) {
+      if (f.section == "layer" && f.key == k) {
+        FieldDoc g = f;
+        g.section = "tissue";
+        g.required = false;
+        g.help += " (one-layer shorthand)";
+        s.push_back(g);
+      }
+    }
+  }
+  return s;
+}
+
+std::string num(double v) { return fmt::format("{:g}", v); }
+
+}  // namespace
+
+std::string FieldDoc::rangeText() const {
+  if (kind == Kind::Choice) {
+    std::string t = "one of: ";
+    for (std::size_t i = 0; i < choices.size(); ++i) t += (i ? ", " : "") + choices[i];
+    return t;
+  }
+  if (kind != Kind::Quantity && kind != Kind::Number) return "";
+  std::string unit = kind == Kind::Quantity ? " " + units::siName(dim) : "";
+  bool hasLo = std::isfinite(lo), hasHi = std::isfinite(hi);
+  if (!hasLo && !hasHi) return "any";
+  if (hasLo && !hasHi) return (lo_open ? "> " : ">= ") + num(lo) + unit;
+  if (!hasLo && hasHi) return (hi_open ? "< " : "<= ") + num(hi) + unit;
+  return (lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]") + unit;
+}
+
+bool FieldDoc::inRange(double v) const {
+  if (lo_open ? !(v > lo) : !(v >= lo)) return false;
+  if (hi_open ? !(v < hi) : !(v <= hi)) return false;
+  return true;
+}
+
+const std::vector<FieldDoc>& schema() {
+  static const std::vector<FieldDoc> s = build();
+  return s;
+}
+
+const FieldDoc& field(const std::string& section, const std::string& key) {
+  for (const auto& f : schema())
+    if (f.section == section && f.key == key) return f;
+  throw Error("internal: field " + section + "." + key + " is not in the schema");
+}
+
+std::vector<const FieldDoc*> fieldsOf(const std::string& section) {
+  std::vector<const FieldDoc*> out;
+  for (const auto& f : schema())
+    if (f.section == section) out.push_back(&f);
+  return out;
+}
+
+std::vector<std::string> sectionTypes() {
+  std::vector<std::string> out;
+  for (const auto& f : schema())
+    if (std::find(out.begin(), out.end(), f.section) == out.end()) out.push_back(f.section);
+  return out;
+}
+
+static std::string unitText(const FieldDoc& f) {
+  switch (f.kind) {
+    case Kind::Quantity: return units::examples(f.dim);
+    case Kind::Number: return "number";
+    case Kind::String: return "text";
+    case Kind::Choice: return "word";
+    case Kind::Bool: return "true/false";
+    case Kind::Section: return "section `" + f.child + "`";
+    case Kind::List: return "list of `" + f.child + "`";
+    case Kind::MaterialRef: return "name or section `material`";
+  }
+  return "";
+}
+
+std::string schemaMarkdown() {
+  std::string out;
+  for (const auto& sec : sectionTypes()) {
+    out += fmt::format("\n### `{}`\n\n| field | unit | required | default | allowed | meaning |\n|---|---|---|---|---|---|\n", sec);
+    for (const auto* f : fieldsOf(sec))
+      out += fmt::format("| `{}` | {} | {} | {} | {} | {} |\n", f->key, unitText(*f),
+                         f->required ? "yes" : "no", f->default_text, f->rangeText(), f->help);
+  }
+  return out;
+}
+
+std::string schemaText() {
+  std::string out;
+  for (const auto& sec : sectionTypes()) {
+    out += "[" + sec + "]\n";
+    for (const auto* f : fieldsOf(sec)) {
+      out += fmt::format("  {:<18} {:<30} {}{}{}\n", f->key, unitText(*f),
+                         f->required ? "required" : ("default " + (f->default_text.empty() ? std::string("none") : f->default_text)),
+                         f->rangeText().empty() ? "" : "; " + f->rangeText(), "");
+      out += fmt::format("  {:<18} {}\n", "", f->help);
+    }
+  }
+  return out;
+}
+
+}  // namespace needlesim::scenario

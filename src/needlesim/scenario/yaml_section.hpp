@@ -1,0 +1,60 @@
+#pragma once
+// A YAML mapping being read against the schema: each getter consults the
+// FieldDoc of (section type, key) for unit, default and range, and done()
+// rejects keys that the schema does not know. Internal to the reader.
+#include <yaml-cpp/yaml.h>
+
+#include <memory>
+#include <optional>
+#include <set>
+#include <string>
+#include <vector>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/scenario/schema.hpp"
+
+namespace needlesim::scenario {
+
+class Section {
+ public:
+  Section(YAML::Node node, std::string type, std::string path, std::shared_ptr<const std::string> file);
+
+  const std::string& type() const { return type_; }
+  const std::string& path() const { return path_; }
+  bool has(const std::string& key) const;
+
+  // Quantity or plain number (for dimensionless fields), in SI.
+  double number(const std::string& key);                // required, or the schema default
+  std::optional<double> optNumber(const std::string& key);  // absent and no default -> nullopt
+  // Outer diameter style: a length or a gauge ("18 G"); returns the quantity.
+  units::Quantity lengthOrGauge(const std::string& key);
+  std::string text(const std::string& key);            // String (default from schema text if any)
+  std::string choice(const std::string& key);
+  bool boolean(const std::string& key);
+  Section sub(const std::string& key);                  // Section field (must be a mapping)
+  std::vector<YAML::Node> list(const std::string& key);  // List field (must be a sequence)
+  Section element(const YAML::Node& node, const std::string& key, std::size_t index);
+  YAML::Node raw(const std::string& key) const;
+
+  // A key the schema does not know is an error listing the allowed keys
+  // (checked on construction, before any missing-field error).
+  void checkKeys() const;
+
+  InputError error(const std::string& key, const std::string& value, const std::string& problem,
+                   const std::string& allowed) const;
+  InputError errorAt(const YAML::Node& at, const std::string& field, const std::string& value,
+                     const std::string& problem, const std::string& allowed) const;
+  SourceLocation location(const YAML::Node& at) const;
+  std::string fieldPath(const std::string& key) const;
+
+ private:
+  units::Quantity parseQuantity(const std::string& key, const FieldDoc& f, const YAML::Node& n,
+                                const std::string& text);
+  YAML::Node node_;
+  std::string type_;
+  std::string path_;
+  std::shared_ptr<const std::string> file_;
+  mutable std::set<std::string> used_;
+};
+
+}  // namespace needlesim::scenario
