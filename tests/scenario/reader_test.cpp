@@ -1,0 +1,194 @@
+// The scenario reader: SI conversion of a valid file, and one test per class
+// of bad input checking that the message names file, line, field and what is allowed.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <numbers>
+#include <string>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/scenario/reader.hpp"
+#include "needlesim/scenario/schema.hpp"
+
+using namespace needlesim;
+
+namespace {
+
+const std::string kBase = R"(name: t
+tissue:
+  block: {length: 55 mm, width: 120 mm, height: 80 mm}
+  material: {law: linear, E: 30.74 kPa, nu: 0.422}
+  puncture: {force: 0.1 N}
+  cutting: {force: 0.04335 N}
+  friction: {C_p: 3.791 N/m, b_p: 285.053 N s/m^2}
+needle:
+  outer_diameter: 18 G
+  length: 150 mm
+insertion:
+  profile:
+    - insert: {to: 60 mm, speed: 3 mm/s}
+)";
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  auto pos = s.find(from);
+  EXPECT_NE(pos, std::string::npos) << from;
+  if (pos != std::string::npos) s.replace(pos, from.size(), to);
+  return s;
+}
+
+// Reads `yaml` expecting an InputError whose message holds every `parts`.
+std::string expectError(const std::string& yaml, std::initializer_list<std::string> parts) {
+  try {
+    scenario::readText(yaml, "case.yaml");
+  } catch (const InputError& e) {
+    std::string msg = e.what();
+    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "missing '" << p << "' in: " << msg;
+    return msg;
+  }
+  ADD_FAILURE() << "no error for:\n" << yaml;
+  return {};
+}
+
+}  // namespace
+
+TEST(ScenarioReader, ConvertsEverythingToSI) {
+  Scenario s = scenario::readText(kBase, "case.yaml");
+  ASSERT_EQ(s.tissue.layers.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.tissue.length, 0.055);
+  EXPECT_DOUBLE_EQ(s.tissue.layers[0].thickness, 0.055);
+  EXPECT_DOUBLE_EQ(s.tissue.layers[0].material.param("E"), 30740.0);
+  EXPECT_DOUBLE_EQ(s.tissue.layers[0].friction.b_p, 285.053);
+  // Defaults: C_n = C_p, D_p = C_p + b_p dv/2 (continuity of eq 3.23), dv = 0.1 mm/s.
+  EXPECT_DOUBLE_EQ(s.tissue.layers[0].friction.C_n, 3.791);
+  EXPECT_DOUBLE_EQ(s.tissue.layers[0].friction.static_band, 1e-4);
+  EXPECT_NEAR(s.tissue.layers[0].friction.D_p, 3.791 + 285.053 * 0.5e-4, 1e-12);
+  EXPECT_NEAR(s.needle.outer_diameter, 1.27e-3, 1e-12);
+  EXPECT_NEAR(s.needle.inner_diameter, 0.838e-3, 1e-12);
+  EXPECT_NEAR(s.needle.bevel_angle, 20 * std::numbers::pi / 180, 1e-12);
+  EXPECT_NEAR(s.insertion.entry_angle, std::numbers::pi / 2, 1e-12);
+  ASSERT_EQ(s.insertion.segments.size(), 1u);
+  EXPECT_DOUBLE_EQ(s.insertion.segments[0].speed, 3e-3);
+  EXPECT_EQ(s.model.engine, "lumped");
+  EXPECT_NEAR(s.totalDuration(), 20.0, 1e-12);
+}
+
+TEST(ScenarioReader, BuiltInDefaultIsTheGelatinExample) {
+  Scenario s = scenario::defaultScenario();
+  EXPECT_EQ(s.name, "gelatin_18G_3mms");
+  EXPECT_DOUBLE_EQ(s.tissue.layers[0].cutting_force, 0.04335);
+  EXPECT_EQ(s.insertion.segments.size(), 3u);
+}
+
+TEST(ScenarioReader, ReadsEveryShippedExample) {
+  for (const char* f : {"gelatin_18G_3mms.yaml", "layered_skin_fat_muscle.yaml"}) {
+    Scenario s = scenario::readFile(std::string(NEEDLESIM_SOURCE_DIR) + "/examples/" + f);
+    EXPECT_FALSE(s.tissue.layers.empty()) << f;
+  }
+  Scenario layered = scenario::readFile(std::string(NEEDLESIM_SOURCE_DIR) + "/examples/layered_skin_fat_muscle.yaml");
+  EXPECT_EQ(layered.tissue.layers.size(), 4u);
+  EXPECT_EQ(layered.tissue.layers[3].material.law, "fung");
+}
+
+TEST(ScenarioReaderErrors, UnknownKeyNamesLineColumnAndAllowedKeys) {
+  std::string msg = expectError(replaced(kBase, "  length: 150 mm", "  lenght: 150 mm"),
+                                {"case.yaml:10:3", "needle.lenght", "not a known field", "length"});
+}
+
+TEST(ScenarioReaderErrors, MissingRequiredKey) {
+  expectError(replaced(kBase, "  length: 150 mm\n", ""), {"case.yaml:9", "needle.length", "required"});
+  expectError(replaced(kBase, "needle:", "needles:"), {"case.yaml", "needles", "not a known field"});
+}
+
+TEST(ScenarioReaderErrors, NegativeModulus) {
+  expectError(replaced(kBase, "E: 30.74 kPa", "E: -30.74 kPa"),
+              {"case.yaml:4", "tissue.material.E", "-30.74 kPa", "out of range", "> 0 Pa"});
+}
+
+TEST(ScenarioReaderErrors, PoissonRatioAtOneHalf) {
+  expectError(replaced(kBase, "nu: 0.422", "nu: 0.5"), {"case.yaml:4", "tissue.material.nu", "0.5", "(-1, 0.5)"});
+}
+
+TEST(ScenarioReaderErrors, ZeroSpeedForAMovingSegment) {
+  expectError(replaced(kBase, "speed: 3 mm/s", "speed: 0 mm/s"),
+              {"case.yaml:13", "insertion.profile[0].insert.speed", "out of range", "> 0 m/s"});
+}
+
+TEST(ScenarioReaderErrors, MissingUnit) {
+  expectError(replaced(kBase, "E: 30.74 kPa", "E: 30.74"), {"case.yaml:4", "tissue.material.E", "has no unit", "kPa"});
+}
+
+TEST(ScenarioReaderErrors, WrongUnit) {
+  expectError(replaced(kBase, "speed: 3 mm/s", "speed: 3 mm"),
+              {"case.yaml:13", "insert.speed", "wrong unit", "mm/s"});
+  expectError(replaced(kBase, "nu: 0.422", "nu: 0.422 kPa"), {"tissue.material.nu", "without a unit"});
+  expectError(replaced(kBase, "E: 30.74 kPa", "E: 30.74 parsecs"), {"tissue.material.E", "unknown unit 'parsecs'"});
+}
+
+TEST(ScenarioReaderErrors, InvalidYamlNamesTheLine) {
+  expectError(replaced(kBase, "  length: 150 mm", "  length: [150 mm"), {"case.yaml:", "not valid YAML"});
+}
+
+TEST(ScenarioReaderErrors, ProfileInconsistencies) {
+  std::string y = replaced(kBase, "    - insert: {to: 60 mm, speed: 3 mm/s}\n",
+                           "    - insert: {to: 60 mm, speed: 3 mm/s}\n    - insert: {to: 40 mm, speed: 3 mm/s}\n");
+  expectError(y, {"case.yaml:14", "insertion.profile[1].insert.to", "deeper"});
+  expectError(replaced(kBase, "to: 60 mm", "to: 200 mm"), {"insert.to", "needle.length"});
+  expectError(replaced(kBase, "- insert: {to: 60 mm, speed: 3 mm/s}", "- jump: {to: 60 mm}"),
+              {"case.yaml:13", "profile[0].jump", "insert"});
+  expectError(replaced(kBase, "- insert: {to: 60 mm, speed: 3 mm/s}", "- pause: {duration: 0 s}"),
+              {"pause.duration", "out of range"});
+}
+
+TEST(ScenarioReaderErrors, LayersMustFillTheBlock) {
+  std::string y = R"(tissue:
+  block: {length: 55 mm, width: 120 mm, height: 80 mm}
+  layers:
+    - {name: skin, thickness: 2 mm, material: gelatin_10wt}
+    - {name: fat, thickness: 10 mm, material: gelatin_10wt}
+needle: {outer_diameter: 1.27 mm, length: 150 mm}
+insertion:
+  profile: [{insert: {to: 30 mm, speed: 3 mm/s}}]
+)";
+  expectError(y, {"case.yaml:4", "tissue.layers", "12 mm", "55 mm"});
+}
+
+TEST(ScenarioReaderErrors, MaterialProblems) {
+  expectError(replaced(kBase, "material: {law: linear, E: 30.74 kPa, nu: 0.422}", "material: jelly"),
+              {"tissue.material", "jelly", "gelatin_10wt"});
+  expectError(replaced(kBase, "{law: linear, E: 30.74 kPa, nu: 0.422}", "{law: neo-hookean, E: 30.74 kPa}"),
+              {"tissue.material.E", "not a parameter of law 'neo-hookean'", "C10"});
+  expectError(replaced(kBase, "{law: linear, E: 30.74 kPa, nu: 0.422}", "{law: neo-hookian, C10: 3 kPa}"),
+              {"tissue.material.law", "neo-hookian", "neo-hookean"});
+  expectError(replaced(kBase, "{law: linear, E: 30.74 kPa, nu: 0.422}",
+                       "{law: neo-hookean, C10: 3 kPa, prony: [{g: 0.6, tau: 1 s}, {g: 0.5, tau: 10 s}]}"),
+              {"tissue.material.prony", "sum to less than 1"});
+}
+
+TEST(ScenarioReaderErrors, NeedleProblems) {
+  expectError(replaced(kBase, "outer_diameter: 18 G", "outer_diameter: 99 G"), {"needle.outer_diameter", "gauge"});
+  expectError(replaced(kBase, "outer_diameter: 18 G", "outer_diameter: 18 G\n  inner_diameter: 2 mm"),
+              {"needle.inner_diameter", "smaller than the outer diameter"});
+  expectError(replaced(kBase, "outer_diameter: 18 G", "outer_diameter: 1.27"), {"needle.outer_diameter", "no unit"});
+}
+
+TEST(ScenarioReaderErrors, EmptyAndMissingFiles) {
+  expectError("", {"case.yaml", "empty"});
+  expectError("just text", {"case.yaml", "section"});
+  try {
+    scenario::readFile("/nonexistent/x.yaml");
+    ADD_FAILURE();
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("/nonexistent/x.yaml"), std::string::npos);
+  }
+}
+
+TEST(Schema, EveryFieldHasHelpAndEveryChildSectionExists) {
+  auto types = scenario::sectionTypes();
+  for (const auto& f : scenario::schema()) {
+    EXPECT_FALSE(f.help.empty()) << f.section << "." << f.key;
+    if (!f.child.empty())
+      EXPECT_NE(std::find(types.begin(), types.end(), f.child), types.end()) << f.section << "." << f.key;
+  }
+  std::string md = scenario::schemaMarkdown();
+  EXPECT_NE(md.find("| `static_band` | mm/s, m/s |"), std::string::npos);
+}
