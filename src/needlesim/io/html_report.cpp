@@ -111,7 +111,7 @@ std::string HtmlReport::render() const {
     type: 'scatter',
     data: {datasets: p.datasets},
     options: {
-      responsive: true, maintainAspectRatio: false, animation: false, parsing: false,
+      responsive: true, maintainAspectRatio: false, animation: false,
       plugins: {title: {display: true, text: p.title}, legend: {position: 'bottom'}},
       scales: {
         x: {type: p.logx ? 'logarithmic' : 'linear', title: {display: true, text: p.xlabel}},

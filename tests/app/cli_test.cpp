@@ -1,0 +1,116 @@
+// The needlesim command line end to end: run, check, schema, --version, and
+// the exit codes and messages a user sees for bad input.
+#include <gtest/gtest.h>
+
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <sys/wait.h>
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct Result {
+  int code;
+  std::string out;  // stdout and stderr together
+};
+
+Result runCli(const std::string& args) {
+  std::string cmd = std::string(NEEDLESIM_BINARY) + " " + args + " 2>&1";
+  Result r{-1, {}};
+  FILE* p = popen(cmd.c_str(), "r");
+  if (!p) return r;
+  std::array<char, 4096> buf{};
+  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
+  int status = pclose(p);
+  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+fs::path scratch(const std::string& name) {
+  fs::path d = fs::temp_directory_path() / ("needlesim_cli_" + std::to_string(::getpid())) / name;
+  fs::remove_all(d);
+  fs::create_directories(d.parent_path());
+  return d;
+}
+
+std::string example(const std::string& f) { return std::string(NEEDLESIM_SOURCE_DIR) + "/examples/" + f; }
+
+}  // namespace
+
+TEST(Cli, VersionAndHelp) {
+  auto v = runCli("--version");
+  EXPECT_EQ(v.code, 0);
+  EXPECT_NE(v.out.find("needlesim 0."), std::string::npos);
+  auto h = runCli("--help");
+  EXPECT_EQ(h.code, 0);
+  for (const char* c : {"run", "check", "schema"}) EXPECT_NE(h.out.find(c), std::string::npos) << c;
+}
+
+TEST(Cli, RunWritesSummaryCsvAndSelfContainedReport) {
+  fs::path out = scratch("run");
+  auto r = runCli("run " + example("gelatin_18G_3mms.yaml") + " --quiet --out " + out.string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  ASSERT_TRUE(fs::exists(out / "summary.json"));
+  ASSERT_TRUE(fs::exists(out / "forces.csv"));
+  ASSERT_TRUE(fs::exists(out / "report.html"));
+  nlohmann::json s = nlohmann::json::parse(std::ifstream(out / "summary.json"));
+  EXPECT_EQ(s["engine"], "lumped");
+  EXPECT_EQ(s["scenario"]["tissue"]["block"]["length"]["unit"], "m");
+  EXPECT_DOUBLE_EQ(s["scenario"]["tissue"]["block"]["length"]["value"].get<double>(), 0.055);
+  EXPECT_TRUE(s["needlesim"].contains("git_revision"));
+  // Exit force at 3 mm/s: 0.04335 + 0.055 (3.791 + 285.053 x 0.003) N (seed 003 eq 5.1).
+  double expected = 0.04335 + 0.055 * (3.791 + 285.053 * 0.003);
+  EXPECT_NEAR(s["results"]["exit_force"]["value"].get<double>(), expected, 2e-3 * expected);
+  std::ifstream csv(out / "forces.csv");
+  std::string header;
+  std::getline(csv, header);
+  EXPECT_EQ(header.rfind("time [s],depth [m],velocity [m/s],force_total [N]", 0), 0u) << header;
+  std::string html((std::istreambuf_iterator<char>(std::ifstream(out / "report.html").rdbuf())), {});
+  EXPECT_NE(html.find("new Chart("), std::string::npos);
+  EXPECT_EQ(html.find("<script src="), std::string::npos);  // nothing fetched from the network
+  EXPECT_EQ(html.find("<link "), std::string::npos);
+}
+
+TEST(Cli, ExistingResultsFolderIsNeverSilentlyOverwritten) {
+  fs::path out = scratch("keep");
+  fs::create_directories(out);
+  std::ofstream(out / "mine.txt") << "user data";
+  auto r = runCli("run " + example("gelatin_18G_3mms.yaml") + " --quiet --out " + out.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find("already exists"), std::string::npos) << r.out;
+  EXPECT_TRUE(fs::exists(out / "mine.txt"));
+  auto again = runCli("run " + example("gelatin_18G_3mms.yaml") + " --quiet --overwrite --out " + out.string());
+  EXPECT_EQ(again.code, 0) << again.out;
+  EXPECT_TRUE(fs::exists(out / "summary.json"));
+}
+
+TEST(Cli, CheckAcceptsExamplesAndRejectsBadFilesWithExitCode2) {
+  auto ok = runCli("check " + example("gelatin_18G_3mms.yaml") + " " + example("layered_skin_fat_muscle.yaml"));
+  EXPECT_EQ(ok.code, 0) << ok.out;
+  fs::path bad = scratch("bad.yaml");
+  std::ofstream(bad) << "tissue:\n  block: {length: 55 mm, width: 1 m, height: 1 m}\n"
+                        "  material: {law: linear, E: -3 kPa, nu: 0.4}\n"
+                        "needle: {outer_diameter: 18 G, length: 150 mm}\n"
+                        "insertion: {profile: [{insert: {to: 10 mm, speed: 1 mm/s}}]}\n";
+  auto r = runCli("check " + bad.string());
+  EXPECT_EQ(r.code, 2);
+  EXPECT_NE(r.out.find(bad.string() + ":3:"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("tissue.material.E"), std::string::npos) << r.out;
+  auto missing = runCli("check /no/such/file.yaml");
+  EXPECT_EQ(missing.code, 2);
+  auto badArg = runCli("run --frobnicate");
+  EXPECT_NE(badArg.code, 0);
+}
+
+TEST(Cli, SchemaListsEveryFieldWithUnits) {
+  auto r = runCli("schema");
+  EXPECT_EQ(r.code, 0);
+  for (const char* f : {"outer_diameter", "static_band", "puncture", "entry_angle", "time_step"})
+    EXPECT_NE(r.out.find(f), std::string::npos) << f;
+}

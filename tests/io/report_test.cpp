@@ -1,0 +1,56 @@
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/io/atomic_file.hpp"
+#include "needlesim/io/html_report.hpp"
+#include "needlesim/io/table.hpp"
+
+using namespace needlesim::io;
+
+TEST(Table, CsvHeaderNamesQuantitiesAndUnitsAndKeepsPrecision) {
+  Table t({{"time", "s"}, {"force", "N"}});
+  t.addRow({0.0, 1.0 / 3.0});
+  t.addRow({1e-3, -2.5e-7});
+  EXPECT_EQ(t.csv(), "time [s],force [N]\n0,0.3333333333\n0.001,-2.5e-07\n");
+  EXPECT_EQ(t.column("force")[1], -2.5e-7);
+  EXPECT_THROW(t.addRow({1.0}), needlesim::Error);
+}
+
+TEST(AtomicFile, ReplacesContentAndLeavesNoTemporaryFile) {
+  auto dir = std::filesystem::temp_directory_path() / ("needlesim_atomic_" + std::to_string(::getpid()));
+  std::filesystem::remove_all(dir);
+  writeFileAtomic(dir / "a.txt", "one");
+  writeFileAtomic(dir / "a.txt", "two");
+  std::ifstream in(dir / "a.txt");
+  std::string s;
+  in >> s;
+  EXPECT_EQ(s, "two");
+  int files = 0;
+  for (auto& e : std::filesystem::directory_iterator(dir)) (void)e, ++files;
+  EXPECT_EQ(files, 1);
+  std::filesystem::remove_all(dir);
+}
+
+TEST(HtmlReport, ThinsLongSeriesButKeepsThePeakAndDropsNaN) {
+  HtmlReport r;
+  r.title = "t <&>";
+  PlotSeries s{"force", {}, {}};
+  for (int i = 0; i < 100000; ++i) {
+    s.x.push_back(i);
+    s.y.push_back(i == 54321 ? 99.0 : std::sin(i * 1e-3));
+  }
+  s.x.push_back(1e6);
+  s.y.push_back(NAN);
+  r.plots.push_back(Plot{"p", "x", "y", {s}});
+  std::string html = r.render();
+  EXPECT_NE(html.find("t &lt;&amp;&gt;"), std::string::npos);
+  EXPECT_NE(html.find("\"x\":54321.0,\"y\":99.0"), std::string::npos);
+  std::string data = html.substr(html.find("const plots = "));
+  EXPECT_EQ(data.find("NaN"), std::string::npos);
+  EXPECT_EQ(data.find("null"), std::string::npos);
+  EXPECT_LT(html.size(), 600000u);
+}
