@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <fstream>
 #include <numbers>
 #include <string>
 
@@ -191,4 +192,12 @@ TEST(Schema, EveryFieldHasHelpAndEveryChildSectionExists) {
   }
   std::string md = scenario::schemaMarkdown();
   EXPECT_NE(md.find("| `static_band` | mm/s, m/s |"), std::string::npos);
+}
+
+TEST(Schema, DocsReferenceIsUpToDate) {
+  std::ifstream in(std::string(NEEDLESIM_SOURCE_DIR) + "/docs/scenario-format.md");
+  std::string doc((std::istreambuf_iterator<char>(in)), {});
+  EXPECT_NE(doc.find(scenario::schemaMarkdown()), std::string::npos)
+      << "docs/scenario-format.md is out of date: regenerate its Reference part with "
+         "`needlesim schema --markdown`";
 }
