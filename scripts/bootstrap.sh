@@ -7,6 +7,7 @@ PKGS=(
   libeigen3-dev libyaml-cpp-dev libcli11-dev libfmt-dev nlohmann-json3-dev
   libhdf5-dev libgtest-dev libbenchmark-dev
   libjs-chart.js
+  libopenmpi-dev openmpi-bin
 )
 missing=()
 for p in "${PKGS[@]}"; do

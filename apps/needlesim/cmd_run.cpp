@@ -3,14 +3,13 @@
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
 
-#include <chrono>
 #include <filesystem>
 
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
 #include "needlesim/engines/engine.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 namespace needlesim::app {
@@ -33,11 +32,6 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_flag("-q,--quiet", args->quiet, "no progress and no summary on the terminal");
   cmd->callback([args] {
     Scenario sc = args->file.empty() ? scenario::defaultScenario() : scenario::readFile(args->file);
-    const EngineInfo* engine = findEngine(sc.model.engine);
-    if (!engine)
-      throw InputError(SourceLocation{sc.source, 0, 0}, "model.engine", sc.model.engine,
-                       "is reserved for an engine that this build does not have yet",
-                       "lumped (see needlesim schema)");
     namespace fs = std::filesystem;
     fs::path target;
     bool explicitTarget = true;
@@ -53,15 +47,11 @@ void registerRunCommand(CLI::App& app) {
                        "a new folder, or --overwrite to replace it");
     if (!args->quiet)
       fmt::print("needlesim: running '{}' ({}) with engine '{}'\n", sc.name, sc.source, sc.model.engine);
-    io::ResultsFolder folder(sc, target);
     RunOptions opts;
     opts.progress = !args->quiet;
-    auto t0 = std::chrono::steady_clock::now();
-    engine->run(sc, folder, opts);
-    double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    folder.commit(args->overwrite, wall);
+    RunOutcome outcome = runScenario(sc, target, args->overwrite, opts);
     if (!args->quiet) {
-      for (const auto& r : folder.results())
+      for (const auto& r : outcome.results)
         fmt::print("  {:<24} {:>12.6g} {:<6} {}\n", r.key, r.value, r.unit == "1" ? "" : r.unit, r.meaning);
       fmt::print("results: {}/ (summary.json, report.html, CSV time series)\n", target.string());
     }

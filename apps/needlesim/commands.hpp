@@ -8,6 +8,7 @@ namespace needlesim::app {
 void registerRunCommand(CLI::App& app);
 void registerCheckCommand(CLI::App& app);
 void registerSchemaCommand(CLI::App& app);
+void registerSweepCommand(CLI::App& app);
 }  // namespace needlesim::app
 
 // Defined in cmd_fit.cpp (tissue characterisation).

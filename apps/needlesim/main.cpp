@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   needlesim::app::registerRunCommand(app);
   needlesim::app::registerCheckCommand(app);
   needlesim::app::registerSchemaCommand(app);
+  needlesim::app::registerSweepCommand(app);
   if (registerFitCommand) registerFitCommand(app);
   try {
     app.parse(argc, argv);

@@ -171,6 +171,24 @@ std::vector<FieldDoc> build() {
   add(other("output", "csv", Kind::Bool, "true", "write CSV time series"));
   add(other("output", "html", Kind::Bool, "true", "write report.html"));
 
+  // --- parameter studies (`needlesim sweep STUDY.yaml`), not part of a scenario
+  add(other("study", "scenario", Kind::String, "", "base scenario file, relative to the study file", true));
+  add(other("study", "name", Kind::String, "study file name", "name of the study, used for its folder"));
+  add(other("study", "method", Kind::Choice, "grid",
+            "grid: every combination; list: the i-th values together; one-at-a-time: the base case and each "
+            "parameter changed by each percent; latin-hypercube: samples between min and max",
+            false, {}, {"grid", "list", "one-at-a-time", "latin-hypercube"}));
+  add(other("study", "vary", Kind::List, "", "the fields to vary", true, "parameter"));
+  add(q("study", "samples", D::None, "10", 1.0, 1e6, false, false, "number of latin-hypercube samples"));
+  add(q("study", "seed", D::None, "1", 0.0, 1e18, false, false, "random seed of the latin hypercube"));
+  add(q("study", "parallel", D::None, "0", 0.0, 1024.0, false, false, "cases run at once per process (0 = all cores)"));
+  add(other("study", "directory", Kind::String, "results/<name>", "study folder: one folder per case, study.csv, report.html"));
+  add(other("parameter", "field", Kind::String, "", "scenario field to vary, e.g. tissue.friction.C_p or insertion.profile[0].insert.speed", true));
+  add(other("parameter", "values", Kind::List, "", "grid / list: the values, with units (e.g. [2 mm/s, 5 mm/s])"));
+  add(other("parameter", "percent", Kind::List, "", "one-at-a-time: changes of the base value in percent (e.g. [-10, 10])"));
+  add(other("parameter", "min", Kind::String, "", "latin-hypercube: lower bound, with unit"));
+  add(other("parameter", "max", Kind::String, "", "latin-hypercube: upper bound, with unit"));
+
   // A one-layer tissue may carry the layer's fields directly.
   for (const char* k : {"material", "puncture", "cutting", "friction", "interaction"}) {
     for (const auto& f : std::vector<FieldDoc>(s)) {

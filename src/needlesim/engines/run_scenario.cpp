@@ -1,0 +1,26 @@
+#include "needlesim/engines/run_scenario.hpp"
+
+#include <chrono>
+
+#include "needlesim/core/error.hpp"
+
+namespace needlesim {
+
+RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, bool overwrite,
+                       const RunOptions& options) {
+  const EngineInfo* engine = findEngine(sc.model.engine);
+  if (!engine) {
+    std::string names;
+    for (const auto& e : engineRegistry()) names += (names.empty() ? "" : ", ") + e.name;
+    throw InputError(SourceLocation{sc.source, 0, 0}, "model.engine", sc.model.engine,
+                     "is reserved for an engine that this build does not have yet", names);
+  }
+  io::ResultsFolder folder(sc, target);
+  auto t0 = std::chrono::steady_clock::now();
+  engine->run(sc, folder, options);
+  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  folder.commit(overwrite, wall);
+  return RunOutcome{target, folder.results(), wall};
+}
+
+}  // namespace needlesim

@@ -1,0 +1,22 @@
+#pragma once
+// Runs one scenario with its engine into a results folder: the one path that
+// `needlesim run` and every case of `needlesim sweep` go through.
+#include <filesystem>
+#include <vector>
+
+#include "needlesim/engines/engine.hpp"
+#include "needlesim/io/results_folder.hpp"
+
+namespace needlesim {
+
+struct RunOutcome {
+  std::filesystem::path folder;
+  std::vector<io::KeyResult> results;
+  double wall_seconds = 0.0;
+};
+
+// Throws InputError if the engine is not in this build, SolverError if it stops.
+RunOutcome runScenario(const Scenario& scenario, const std::filesystem::path& target, bool overwrite,
+                       const RunOptions& options);
+
+}  // namespace needlesim

@@ -1,0 +1,68 @@
+#pragma once
+// Parameter studies (`needlesim sweep`): one base scenario, the fields to
+// vary, a sampling method; every case runs through the same scenario reader
+// and engine as `needlesim run`, so a study works with any engine.
+#include <cstdint>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "needlesim/core/units.hpp"
+
+namespace needlesim::study {
+
+enum class Method { Grid, OneAtATime, LatinHypercube, List };
+
+struct Parameter {
+  std::string field;                // path in the scenario, e.g. tissue.friction.C_p, insertion.profile[0].insert.speed
+  std::vector<std::string> values;  // Grid / List: values as a user writes them ("3 N/m")
+  std::vector<double> percent;      // OneAtATime: changes of the base value in percent
+  double min = 0.0, max = 0.0;      // LatinHypercube, SI
+  units::Dim dim{};                 // dimension of min/max
+  int line = 0;                     // where it was given in the study file
+};
+
+struct StudySpec {
+  std::string name;
+  std::filesystem::path file;           // the study file
+  std::filesystem::path scenario_file;  // base scenario (resolved relative to the study file)
+  Method method = Method::Grid;
+  std::vector<Parameter> parameters;
+  int samples = 0;          // LatinHypercube
+  std::uint64_t seed = 1;   // LatinHypercube
+  int parallel = 0;         // worker threads per process (0 = all cores)
+  std::string directory;    // study folder (default results/<name>)
+};
+
+// One case: the field assignments (value texts with units) applied to the base scenario.
+struct Case {
+  int index = 0;  // 1-based
+  std::vector<std::pair<std::string, std::string>> assignments;
+  std::vector<double> values_si;  // one per parameter, SI (NaN if not numeric)
+};
+
+StudySpec readStudyFile(const std::filesystem::path& path);
+// Expands the sampling method into cases; needs the base scenario text for
+// one-at-a-time (base values) and checks every case scenario is valid.
+std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml);
+// The base scenario YAML with a case's assignments applied.
+std::string caseYaml(const std::string& baseYaml, const Case& c);
+
+struct SweepOptions {
+  bool progress = true;
+  bool resume = false;  // reuse cases whose folder is complete
+  int rank = 0, ranks = 1;  // MPI: this process runs cases with (index - 1) % ranks == rank
+};
+
+struct SweepReport {
+  std::filesystem::path folder;
+  int cases = 0, ran = 0, reused = 0;
+  std::vector<int> failed;  // case indices that failed (rerun with --resume)
+};
+
+// Runs the cases of this rank, then (rank 0) gathers every case's summary
+// into study.csv, study.json and report.html in the study folder.
+SweepReport runSweep(const StudySpec& spec, const SweepOptions& options);
+void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepReport& report);
+
+}  // namespace needlesim::study

@@ -1,0 +1,288 @@
+#include <fmt/format.h>
+#include <yaml-cpp/yaml.h>
+
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/scenario/reader.hpp"
+#include "needlesim/scenario/yaml_section.hpp"
+#include "needlesim/study/samplers.hpp"
+#include "needlesim/study/study.hpp"
+
+namespace needlesim::study {
+namespace fs = std::filesystem;
+using scenario::Section;
+
+namespace {
+
+std::string readAll(const fs::path& p, const std::string& what) {
+  std::ifstream in(p, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{p.string(), 0, 0}, "", "", "cannot be opened (missing or unreadable)", what);
+  std::stringstream ss;
+  ss << in.rdbuf();
+  return ss.str();
+}
+
+std::vector<std::string> scalarList(Section& s, const std::string& key) {
+  std::vector<std::string> out;
+  for (const auto& n : s.list(key)) {
+    if (!n.IsScalar()) throw s.errorAt(n, s.fieldPath(key), "", "each entry must be a single value", "e.g. [2 mm/s, 5 mm/s]");
+    out.push_back(n.Scalar());
+  }
+  return out;
+}
+
+// Splits "a.b[2].c" into keys and indices.
+struct Step {
+  std::string key;
+  int index = -1;
+};
+std::vector<Step> splitPath(const std::string& path) {
+  std::vector<Step> steps;
+  std::stringstream ss(path);
+  std::string part;
+  while (std::getline(ss, part, '.')) {
+    Step st;
+    auto b = part.find('[');
+    if (b != std::string::npos) {
+      auto e = part.find(']', b);
+      if (e == std::string::npos) throw std::invalid_argument("unclosed '[' in '" + part + "'");
+      st.key = part.substr(0, b);
+      st.index = std::stoi(part.substr(b + 1, e - b - 1));
+    } else {
+      st.key = part;
+    }
+    if (st.key.empty()) throw std::invalid_argument("empty name in '" + path + "'");
+    steps.push_back(st);
+  }
+  if (steps.empty()) throw std::invalid_argument("empty field path");
+  return steps;
+}
+
+// The node at `path`, creating missing mappings on the way; throws for a bad index.
+YAML::Node nodeAt(YAML::Node root, const std::string& path) {
+  YAML::Node n;
+  n.reset(root);
+  for (const auto& st : splitPath(path)) {
+    if (!n.IsMap() && !n.IsNull()) throw std::invalid_argument("'" + st.key + "' is not inside a section");
+    YAML::Node next = n[st.key];
+    if (st.index >= 0) {
+      if (!next.IsSequence() || st.index >= static_cast<int>(next.size()))
+        throw std::invalid_argument(fmt::format("'{}' has no entry [{}]", st.key, st.index));
+      YAML::Node e = next[static_cast<std::size_t>(st.index)];
+      n.reset(e);
+    } else {
+      n.reset(next);
+    }
+  }
+  return n;
+}
+
+Method methodOf(const std::string& m) {
+  if (m == "grid") return Method::Grid;
+  if (m == "list") return Method::List;
+  if (m == "one-at-a-time") return Method::OneAtATime;
+  return Method::LatinHypercube;
+}
+
+}  // namespace
+
+StudySpec readStudyFile(const fs::path& path) {
+  std::string text = readAll(path, "a readable study file");
+  auto file = std::make_shared<const std::string>(path.string());
+  YAML::Node root;
+  try {
+    root = YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(SourceLocation{path.string(), e.mark.line + 1, e.mark.column + 1}, "", "",
+                     "is not valid YAML: " + e.msg, "a study (see docs/studies.md)");
+  }
+  if (!root || root.IsNull())
+    throw InputError(SourceLocation{path.string(), 0, 0}, "", "", "is empty", "a study with scenario and vary");
+  Section top(root, "study", "", file);
+  StudySpec spec;
+  spec.file = path;
+  std::string scen = top.text("scenario");
+  spec.scenario_file = fs::path(scen).is_absolute() ? fs::path(scen) : path.parent_path() / scen;
+  if (!fs::exists(spec.scenario_file))
+    throw top.error("scenario", scen, "names a file that does not exist (" + spec.scenario_file.string() + ")",
+                    "a scenario file path relative to the study file");
+  spec.name = top.text("name");
+  if (spec.name.empty()) spec.name = path.stem().string();
+  spec.method = methodOf(top.choice("method"));
+  spec.samples = static_cast<int>(top.number("samples"));
+  spec.seed = static_cast<std::uint64_t>(top.number("seed"));
+  spec.parallel = static_cast<int>(top.number("parallel"));
+  spec.directory = top.text("directory");
+  auto vary = top.list("vary");
+  for (std::size_t i = 0; i < vary.size(); ++i) {
+    Section p = top.element(vary[i], "vary", i);
+    Parameter par;
+    par.field = p.text("field");
+    par.line = p.location(vary[i]).line;
+    try {
+      splitPath(par.field);
+    } catch (const std::invalid_argument& e) {
+      throw p.error("field", par.field, std::string("is not a field path: ") + e.what(), "e.g. tissue.friction.C_p");
+    }
+    par.values = scalarList(p, "values");
+    for (const auto& s : scalarList(p, "percent")) {
+      try {
+        par.percent.push_back(std::stod(s));
+      } catch (const std::exception&) {
+        throw p.error("percent", s, "is not a number", "plain numbers such as -10, 10");
+      }
+    }
+    std::string mn = p.text("min"), mx = p.text("max");
+    switch (spec.method) {
+      case Method::Grid:
+      case Method::List:
+        if (par.values.empty()) throw p.error("values", "", "is required for method grid or list", "a list of values with units");
+        break;
+      case Method::OneAtATime:
+        if (par.percent.empty()) throw p.error("percent", "", "is required for method one-at-a-time", "e.g. [-10, 10]");
+        break;
+      case Method::LatinHypercube: {
+        if (mn.empty() || mx.empty()) throw p.error(mn.empty() ? "min" : "max", "", "is required for latin-hypercube", "a value with its unit");
+        units::Quantity a, b;
+        try {
+          a = units::parse(mn);
+          b = units::parse(mx);
+        } catch (const std::invalid_argument& e) {
+          throw p.error("min", mn + " .. " + mx, std::string("is not a valid quantity: it ") + e.what(), "a value with its unit");
+        }
+        if (!(a.dim == b.dim)) throw p.error("max", mx, "has another unit than min", units::siName(a.dim));
+        if (!(b.value > a.value)) throw p.error("max", mx, "must be larger than min", "> " + mn);
+        par.min = a.value;
+        par.max = b.value;
+        par.dim = a.dim;
+        break;
+      }
+    }
+    spec.parameters.push_back(par);
+  }
+  if (spec.method == Method::List) {
+    for (const auto& par : spec.parameters)
+      if (par.values.size() != spec.parameters.front().values.size())
+        throw top.errorAt(vary[0], "vary", par.field, "method list needs the same number of values for every field",
+                          fmt::format("{} values each", spec.parameters.front().values.size()));
+  }
+  return spec;
+}
+
+std::string caseYaml(const std::string& baseYaml, const Case& c) {
+  YAML::Node root = YAML::Load(baseYaml);
+  for (const auto& [field, value] : c.assignments) {
+    YAML::Node n = nodeAt(root, field);
+    n = value;
+  }
+  YAML::Emitter out;
+  out << root;
+  return std::string(out.c_str()) + "\n";
+}
+
+static double siValue(const std::string& text) {
+  try {
+    return units::parse(text).value;
+  } catch (const std::invalid_argument&) {
+    return NAN;
+  }
+}
+
+static std::string siText(double v, const units::Dim& d) {
+  if (d == units::dim::None) return fmt::format("{:.12g}", v);
+  return fmt::format("{:.12g} {}", v, units::siName(d));
+}
+
+std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml) {
+  std::vector<Case> cases;
+  const auto& P = spec.parameters;
+  auto push = [&](std::vector<std::pair<std::string, std::string>> a) {
+    Case c;
+    c.index = static_cast<int>(cases.size()) + 1;
+    for (const auto& [f, v] : a) c.values_si.push_back(siValue(v));
+    c.assignments = std::move(a);
+    cases.push_back(std::move(c));
+  };
+  YAML::Node base = YAML::Load(baseYaml);
+  auto baseValue = [&](const Parameter& p) -> units::Quantity {
+    YAML::Node n;
+    try {
+      n = nodeAt(YAML::Clone(base), p.field);
+    } catch (const std::invalid_argument& e) {
+      throw InputError(SourceLocation{spec.file.string(), p.line, 0}, p.field, "", e.what(), "a field of the base scenario");
+    }
+    if (!n || !n.IsScalar())
+      throw InputError(SourceLocation{spec.file.string(), p.line, 0}, p.field, "",
+                       "one-at-a-time needs the base scenario to give this field a value", "a field written in the scenario");
+    try {
+      return units::parse(n.Scalar());
+    } catch (const std::invalid_argument&) {
+      throw InputError(SourceLocation{spec.file.string(), p.line, 0}, p.field, n.Scalar(), "is not a number in the base scenario",
+                       "a numeric field");
+    }
+  };
+  switch (spec.method) {
+    case Method::Grid: {
+      std::vector<int> sizes;
+      for (const auto& p : P) sizes.push_back(static_cast<int>(p.values.size()));
+      for (const auto& idx : gridIndices(sizes)) {
+        std::vector<std::pair<std::string, std::string>> a;
+        for (std::size_t k = 0; k < P.size(); ++k) a.emplace_back(P[k].field, P[k].values[idx[k]]);
+        push(a);
+      }
+      break;
+    }
+    case Method::List:
+      for (std::size_t i = 0; i < P.front().values.size(); ++i) {
+        std::vector<std::pair<std::string, std::string>> a;
+        for (const auto& p : P) a.emplace_back(p.field, p.values[i]);
+        push(a);
+      }
+      break;
+    case Method::OneAtATime: {
+      std::vector<units::Quantity> b;
+      for (const auto& p : P) b.push_back(baseValue(p));
+      std::vector<std::pair<std::string, std::string>> a0;
+      for (std::size_t k = 0; k < P.size(); ++k) a0.emplace_back(P[k].field, siText(b[k].value, b[k].dim));
+      push(a0);  // case 1: the base
+      for (std::size_t k = 0; k < P.size(); ++k)
+        for (double pc : P[k].percent) {
+          auto a = a0;
+          a[k].second = siText(b[k].value * (1.0 + pc / 100.0), b[k].dim);
+          push(a);
+        }
+      break;
+    }
+    case Method::LatinHypercube: {
+      auto u = latinHypercube(spec.samples, static_cast<int>(P.size()), spec.seed);
+      for (const auto& row : u) {
+        std::vector<std::pair<std::string, std::string>> a;
+        for (std::size_t k = 0; k < P.size(); ++k)
+          a.emplace_back(P[k].field, siText(P[k].min + row[k] * (P[k].max - P[k].min), P[k].dim));
+        push(a);
+      }
+      break;
+    }
+  }
+  // Every case must be a valid scenario before anything runs.
+  for (const auto& c : cases) {
+    std::string label = fmt::format("{} case {}", spec.file.string(), c.index);
+    try {
+      scenario::readText(caseYaml(baseYaml, c), label);
+    } catch (const InputError& e) {
+      std::string what;
+      for (const auto& [f, v] : c.assignments) what += (what.empty() ? "" : ", ") + f + " = " + v;
+      throw InputError(SourceLocation{spec.file.string(), 0, 0}, "vary", what,
+                       fmt::format("gives an invalid scenario in case {}: {}", c.index, e.what()),
+                       "values the scenario accepts (see needlesim schema)");
+    } catch (const std::invalid_argument& e) {
+      throw InputError(SourceLocation{spec.file.string(), 0, 0}, "vary", "", e.what(), "field paths of the base scenario");
+    }
+  }
+  return cases;
+}
+
+}  // namespace needlesim::study
