@@ -1,0 +1,537 @@
+#include "needlesim/fit/hyperelastic_fit.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numbers>
+#include <numeric>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/fit/least_squares.hpp"
+#include "needlesim/materials/homogeneous.hpp"
+#include "needlesim/materials/hyperelastic.hpp"
+
+namespace needlesim::fit {
+
+namespace mat = needlesim::materials;
+
+namespace {
+
+std::string fmtNum(double v) {
+  char b[64];
+  std::snprintf(b, sizeof b, "%.6g", v);
+  return b;
+}
+
+bool startsWith(const std::string& s, const char* p) { return s.rfind(p, 0) == 0; }
+
+int lastLine(const std::vector<int>& lines) { return lines.empty() ? 0 : lines.back(); }
+
+// Residual statistics shared by every fit.
+void finishStats(FitResult& r, int k) {
+  r.n = static_cast<int>(r.data.size());
+  double sse = 0, sumAbs = 0, maxAbs = 0, mean = 0;
+  for (double d : r.data) mean += d;
+  mean /= std::max(1, r.n);
+  double sst = 0;
+  for (int i = 0; i < r.n; ++i) {
+    double e = r.fitted[i] - r.data[i];
+    sse += e * e;
+    sumAbs += std::abs(e);
+    maxAbs = std::max(maxAbs, std::abs(e));
+    sst += (r.data[i] - mean) * (r.data[i] - mean);
+  }
+  r.sse = sse;
+  r.rmse = std::sqrt(sse / std::max(1, r.n));
+  r.meanAbsResidual = sumAbs / std::max(1, r.n);  // seed 000 eq 34, rho_bar
+  r.maxAbsResidual = maxAbs;                      // seed 000 eq 34, rho_max
+  r.rSquared = sst > 0 ? 1.0 - sse / sst : 1.0;
+  r.aicc = aicc(sse, r.n, k);
+}
+
+// A parameter of a law fit: sign +1 (positive, theta = exp p), -1 (negative), 0 (free, theta = p * scale).
+struct PDef {
+  std::string name, unit;
+  int sign;
+  double scale;  // typical magnitude, for conditioning of free parameters
+};
+
+double toInternal(const PDef& d, double theta) {
+  if (d.sign == 0) return theta / d.scale;
+  return std::log(std::max(std::abs(theta), 1e-300));
+}
+double toPhysical(const PDef& d, double p) {
+  if (d.sign == 0) return p * d.scale;
+  return d.sign * std::exp(std::clamp(p, -700.0, 700.0));
+}
+
+mat::Hyperelastic buildLaw(const std::string& law, const std::vector<double>& th) {
+  mat::Hyperelastic h;
+  h.kind = mat::lawKind(law == "linear" ? "neo-hookean" : law);
+  h.bulk = 1.0;  // not used by incompressible responses
+  switch (h.kind) {
+    case mat::LawKind::NeoHookean: h.C10 = th[0]; break;
+    case mat::LawKind::MooneyRivlin: h.C10 = th[0]; h.C01 = th[1]; break;
+    case mat::LawKind::Yeoh:
+      h.C10 = th[0];
+      h.C20 = th.size() > 1 ? th[1] : 0.0;
+      h.C30 = th.size() > 2 ? th[2] : 0.0;
+      break;
+    case mat::LawKind::Ogden:
+      for (std::size_t i = 0; i + 1 < th.size(); i += 2) {
+        h.ogdenMu.push_back(th[i]);
+        h.ogdenAlpha.push_back(th[i + 1]);
+      }
+      break;
+    case mat::LawKind::Fung: h.mu = th[0]; h.gamma = th[1]; break;
+    default: break;
+  }
+  return h;
+}
+
+double modelValue(const std::string& law, const mat::Hyperelastic& h, const std::vector<double>& th,
+                  double lam, StressMeasure m) {
+  if (law == "linear") return th[0] * (lam - 1.0);  // sigma = E * engineering strain
+  return m == StressMeasure::Cauchy ? mat::uniaxialCauchyIncompressible(h, lam)
+                                    : mat::uniaxialNominalIncompressible(h, lam);
+}
+
+}  // namespace
+
+const FitParam& FitResult::param(const std::string& name) const {
+  for (const auto& p : params)
+    if (p.name == name) return p;
+  throw Error("fit result for '" + law + "' has no parameter " + name);
+}
+
+const std::vector<std::string>& hyperelasticFitLaws() {
+  static const std::vector<std::string> v{"linear", "neo-hookean", "mooney-rivlin", "yeoh", "ogden", "fung"};
+  return v;
+}
+
+UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt) {
+  UniaxialData d;
+  d.file = csv.file;
+  d.lines = csv.lines;
+  const std::size_t n = csv.rows();
+  std::vector<double> x(n);
+  bool compressionNamed = false;
+  int cs = csv.find({"strain", "engineering strain", "compressive strain", "tensile strain"});
+  int cl = csv.find({"stretch", "lambda", "stretch ratio"});
+  int cd = csv.find({"displacement", "compression", "deformation"});
+  std::string xKind;
+  if (cs >= 0) {
+    csv.checkDim(cs, units::dim::None, "strain");
+    x = csv.col(cs);
+    compressionNamed = startsWith(csv.columns[cs].name, "compressive");
+    xKind = "strain";
+  } else if (cl >= 0) {
+    csv.checkDim(cl, units::dim::None, "stretch");
+    for (std::size_t i = 0; i < n; ++i) x[i] = csv.col(cl)[i] - 1.0;
+    xKind = "stretch";
+  } else if (cd >= 0) {
+    csv.checkDim(cd, units::dim::Length, "displacement");
+    if (!(opt.sample.height > 0))
+      throw InputError({csv.file, csv.headerLine, csv.columns[cd].headerColumn}, "--height", "",
+                       "displacement data need the sample height to compute strain (seed 000 eq 29)",
+                       "--height with a length, e.g. --height '18 mm'");
+    for (std::size_t i = 0; i < n; ++i) x[i] = csv.col(cd)[i] / opt.sample.height;
+    compressionNamed = csv.columns[cd].name == "compression";
+    xKind = "displacement / height";
+  } else {
+    csv.require({"strain", "stretch", "displacement"}, units::dim::None, "strain, stretch or displacement");
+  }
+  int cy = csv.find({"stress", "cauchy stress", "true stress", "nominal stress", "engineering stress",
+                     "compressive stress", "tensile stress"});
+  int cf = csv.find({"force", "load"});
+  std::vector<double> y(n);
+  if (cy >= 0) {
+    csv.checkDim(cy, units::dim::Pressure, "stress");
+    y = csv.col(cy);
+    const std::string& nm = csv.columns[cy].name;
+    if (nm.find("nominal") != std::string::npos || nm.find("engineering") != std::string::npos)
+      d.measure = StressMeasure::Nominal;
+    else if (nm.find("cauchy") != std::string::npos || nm.find("true") != std::string::npos)
+      d.measure = StressMeasure::Cauchy;
+    else {
+      d.measure = opt.plainStress;
+      d.notes.push_back(std::string("column '") + nm + "' read as " +
+                        (d.measure == StressMeasure::Cauchy ? "Cauchy (true) stress, as the seeds' closed forms"
+                                                            : "nominal stress"));
+    }
+    compressionNamed = compressionNamed || startsWith(nm, "compressive");
+  } else if (cf >= 0) {
+    csv.checkDim(cf, units::dim::Force, "force");
+    double A = opt.sample.area > 0 ? opt.sample.area
+                                   : (opt.sample.diameter > 0 ? std::numbers::pi / 4 * opt.sample.diameter * opt.sample.diameter : 0);
+    if (!(A > 0))
+      throw InputError({csv.file, csv.headerLine, csv.columns[cf].headerColumn}, "--area", "",
+                       "force data need the sample cross-section to compute stress (seed 000 eq 30)",
+                       "--area '900 mm^2' or --diameter '6.34 mm'");
+    for (std::size_t i = 0; i < n; ++i) y[i] = csv.col(cf)[i] / A;
+    d.measure = StressMeasure::Nominal;
+    d.notes.push_back("force / undeformed area read as nominal stress");
+  } else {
+    csv.require({"stress", "force"}, units::dim::Pressure, "stress or force");
+  }
+  bool compression = opt.loading == Loading::Compression ||
+                     (opt.loading == Loading::Auto && compressionNamed);
+  if (compression) {
+    for (std::size_t i = 0; i < n; ++i) {
+      x[i] = -std::abs(x[i]);
+      y[i] = -std::abs(y[i]);
+    }
+    d.notes.push_back("compression: positive " + xKind + " and stress taken as compressive");
+  }
+  d.stretch.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    d.stretch[i] = 1.0 + x[i];
+    if (!(d.stretch[i] > 0.0))
+      throw InputError({csv.file, csv.lines[i], 0}, xKind, fmtNum(x[i]),
+                       "gives a stretch <= 0 (a strain of -100 % or more)", "strains above -1 (stretches above 0)");
+  }
+  d.stress = y;
+  // Loading curves only: the stretch must move away from 1 monotonically.
+  if (n >= 2) {
+    double dir = d.stretch.back() - d.stretch.front();
+    for (std::size_t i = 1; i < n; ++i) {
+      double step = d.stretch[i] - d.stretch[i - 1];
+      if (!(step * dir > 0))
+        throw InputError({csv.file, csv.lines[i], 0}, xKind, fmtNum(x[i]),
+                         "the strain is not monotonic (previous row, line " + std::to_string(csv.lines[i - 1]) +
+                             ", has " + fmtNum(x[i - 1]) + ")",
+                         "a single loading curve with strictly increasing strain magnitude; remove unloading and repeated points");
+    }
+  }
+  return d;
+}
+
+double uniaxialModel(const materials::MaterialSpec& spec, double stretch, StressMeasure measure) {
+  if (spec.law == "linear") return spec.param("E") * (stretch - 1.0);
+  auto h = mat::Hyperelastic::fromSpec(spec);
+  return measure == StressMeasure::Cauchy ? mat::uniaxialCauchyIncompressible(h, stretch)
+                                          : mat::uniaxialNominalIncompressible(h, stretch);
+}
+
+FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int terms) {
+  const auto& laws = hyperelasticFitLaws();
+  if (std::find(laws.begin(), laws.end(), law) == laws.end())
+    throw InputError({data.file, 0, 0}, "--law", law, "unknown law for stress-strain data",
+                     "linear, neo-hookean, mooney-rivlin, yeoh, ogden, fung, prony, auto");
+  int maxTerms = (law == "yeoh" || law == "ogden") ? 3 : 1;
+  if (terms == 0) terms = law == "yeoh" ? 3 : 1;
+  if (terms < 1 || terms > maxTerms)
+    throw InputError({data.file, 0, 0}, "--terms", std::to_string(terms), "not allowed for law " + law,
+                     maxTerms == 1 ? std::string("1 (or leave it out)") : std::string("1, 2 or 3"));
+  const int n = static_cast<int>(data.stretch.size());
+
+  // Robust starting values: initial slope from the first third of the points.
+  int m = std::max(2, n / 3);
+  double num = 0, den = 0, ymax = 0;
+  for (int i = 0; i < n; ++i) ymax = std::max(ymax, std::abs(data.stress[i]));
+  for (int i = 0; i < std::min(m, n); ++i) {
+    double e = data.stretch[i] - 1.0;
+    num += e * data.stress[i];
+    den += e * e;
+  }
+  double E0 = den > 0 ? num / den : 0.0;
+  if (!(E0 > 0)) {
+    double emax = std::abs(data.stretch.back() - 1.0);
+    E0 = emax > 0 ? ymax / emax : 1.0;
+  }
+  if (!(E0 > 0)) E0 = 1e3;
+  const double mu0 = E0 / 3.0;
+
+  std::vector<PDef> defs;
+  std::vector<std::vector<double>> starts;  // physical values
+  if (law == "linear") {
+    defs = {{"E", "Pa", 1, E0}};
+    starts = {{E0}};
+  } else if (law == "neo-hookean") {
+    defs = {{"C10", "Pa", 1, mu0}};
+    starts = {{mu0 / 2}};
+  } else if (law == "mooney-rivlin") {
+    defs = {{"C10", "Pa", 1, mu0}, {"C01", "Pa", 1, mu0}};
+    starts = {{mu0 / 4, mu0 / 4}, {0.45 * mu0, 0.05 * mu0}, {0.05 * mu0, 0.45 * mu0}};
+  } else if (law == "yeoh") {
+    const char* nm[3] = {"C10", "C20", "C30"};
+    for (int i = 0; i < terms; ++i) defs.push_back({nm[i], "Pa", i == 0 ? 1 : 0, mu0});
+    std::vector<double> s0(terms, 0.0), s1(terms, 0.0);
+    s0[0] = s1[0] = mu0 / 2;
+    if (terms > 1) s1[1] = 0.1 * mu0;
+    starts = {s0, s1};
+  } else if (law == "ogden") {
+    // sign patterns and exponents; mu_p alpha_p > 0 is kept by construction
+    std::vector<std::vector<double>> alphaSets;
+    if (terms == 1) alphaSets = {{2.0}, {5.0}, {10.0}, {-2.0}, {-6.0}};
+    if (terms == 2) alphaSets = {{2.0, -2.0}, {6.0, -2.0}, {2.0, 8.0}, {10.0, -4.0}, {1.5, 5.0}};
+    if (terms == 3) alphaSets = {{2.0, -2.0, 6.0}, {1.0, 4.0, -2.0}, {8.0, -4.0, 2.0}, {2.0, 5.0, 10.0}};
+    for (std::size_t s = 0; s < alphaSets.size(); ++s) {
+      std::vector<double> st;
+      for (double a : alphaSets[s]) {
+        st.push_back(2.0 * mu0 / (a * terms));  // each term carries mu0/terms
+        st.push_back(a);
+      }
+      starts.push_back(st);
+    }
+    // defs depend on the sign pattern: built per start below
+  } else if (law == "fung") {
+    defs = {{"mu", "Pa", 1, mu0}, {"gamma", "1", 1, 1.0}};
+    starts = {{mu0, 0.1}, {mu0, 1.0}, {mu0, 5.0}, {0.3 * mu0, 10.0}};
+  }
+
+  const double sc = ymax > 0 ? ymax : 1.0;
+  FitResult best;
+  best.sse = std::numeric_limits<double>::infinity();
+  bool any = false;
+  for (const auto& start : starts) {
+    std::vector<PDef> d = defs;
+    if (law == "ogden") {
+      d.clear();
+      for (int t = 0; t < terms; ++t) {
+        int sgn = start[2 * t + 1] > 0 ? 1 : -1;
+        d.push_back({"mu" + std::to_string(t + 1), "Pa", sgn, mu0});
+        d.push_back({"alpha" + std::to_string(t + 1), "1", sgn, 1.0});
+      }
+    }
+    const int k = static_cast<int>(d.size());
+    if (n < k + 1)
+      throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(n) + " points",
+                       "too few points to fit " + std::to_string(k) + " parameter(s) of law " + law,
+                       "at least " + std::to_string(k + 1) + " points");
+    LsqProblem prob;
+    prob.nParams = k;
+    prob.nResiduals = n;
+    auto phys = [d](const Eigen::VectorXd& p) {
+      Eigen::VectorXd th(p.size());
+      for (int i = 0; i < p.size(); ++i) th[i] = toPhysical(d[i], p[i]);
+      return th;
+    };
+    prob.physical = phys;
+    prob.residuals = [&, phys](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
+      Eigen::VectorXd th = phys(p);
+      std::vector<double> tv(th.data(), th.data() + th.size());
+      mat::Hyperelastic h = buildLaw(law, tv);
+      for (int i = 0; i < n; ++i)
+        r[i] = (modelValue(law, h, tv, data.stretch[i], data.measure) - data.stress[i]) / sc;
+    };
+    Eigen::VectorXd p0(k);
+    for (int i = 0; i < k; ++i) p0[i] = toInternal(d[i], start[i]);
+    prob.starts = {p0};
+    LsqResult res = solveLeastSquares(prob);
+    double sse = res.cost * sc * sc;
+    if (!std::isfinite(sse) || sse >= best.sse) continue;
+    any = true;
+    best = FitResult{};
+    best.sse = sse;
+    best.law = law;
+    best.terms = terms;
+    best.converged = res.converged;
+    for (int i = 0; i < k; ++i) best.params.push_back({d[i].name, d[i].unit, res.theta[i], res.stdErr[i]});
+  }
+  if (!any) throw SolverError("fit of law " + law + " did not produce a finite result from any starting point");
+
+  std::vector<double> tv;
+  for (const auto& p : best.params) tv.push_back(p.value);
+  mat::Hyperelastic h = buildLaw(law, tv);
+  best.x = data.stretch;
+  best.data = data.stress;
+  for (int i = 0; i < n; ++i) best.fitted.push_back(modelValue(law, h, tv, data.stretch[i], data.measure));
+  finishStats(best, static_cast<int>(best.params.size()));
+  best.spec.name = "fitted";
+  best.spec.law = law;
+  for (const auto& p : best.params) best.spec.params[p.name] = p.value;
+  if (law == "linear")
+    best.spec.params["nu"] = 0.49;
+  best.notes = data.notes;
+  if (law != "linear")
+    best.notes.push_back("uniaxial data do not identify the bulk modulus; the material block uses nu = 0.49");
+  if (!best.converged) best.notes.push_back("the optimiser stopped before its tolerances were met");
+  return best;
+}
+
+std::vector<FitResult> fitAllLaws(const UniaxialData& data) {
+  std::vector<FitResult> out;
+  struct L { const char* law; int terms; };
+  for (L l : {L{"linear", 1}, L{"neo-hookean", 1}, L{"mooney-rivlin", 1}, L{"yeoh", 2}, L{"yeoh", 3},
+              L{"ogden", 1}, L{"ogden", 2}, L{"fung", 1}}) {
+    int k = (std::string(l.law) == "mooney-rivlin" || std::string(l.law) == "fung") ? 2
+            : std::string(l.law) == "ogden" ? 2 * l.terms
+            : std::string(l.law) == "yeoh" ? l.terms : 1;
+    if (static_cast<int>(data.stretch.size()) < k + 2) continue;
+    try {
+      out.push_back(fitHyperelastic(data, l.law, l.terms));
+    } catch (const SolverError&) {
+    }
+  }
+  if (out.empty())
+    throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(data.stretch.size()) + " points",
+                     "too few points to compare laws", "at least 3 points");
+  std::stable_sort(out.begin(), out.end(), [](const FitResult& a, const FitResult& b) { return a.aicc < b.aicc; });
+  return out;
+}
+
+// ---------------- Prony ----------------
+
+RelaxationData readRelaxation(const io::CsvData& csv, const SampleSize& sample) {
+  RelaxationData d;
+  d.file = csv.file;
+  d.lines = csv.lines;
+  int ct = csv.require({"time", "t"}, units::dim::Time, "time");
+  d.time = csv.col(ct);
+  const std::size_t n = csv.rows();
+  int cy = csv.find({"stress", "cauchy stress", "nominal stress", "compressive stress", "tensile stress"});
+  if (cy >= 0) {
+    csv.checkDim(cy, units::dim::Pressure, "stress");
+    d.stress = csv.col(cy);
+  } else {
+    int cf = csv.require({"force", "stress"}, units::dim::Force, "force or stress");
+    double A = sample.area > 0 ? sample.area : std::numbers::pi / 4 * sample.diameter * sample.diameter;
+    if (!(A > 0))
+      throw InputError({csv.file, csv.headerLine, csv.columns[cf].headerColumn}, "--area", "",
+                       "force data need the sample cross-section", "--area '900 mm^2' or --diameter '30 mm'");
+    for (double f : csv.col(cf)) d.stress.push_back(f / A);
+  }
+  for (std::size_t i = 1; i < n; ++i)
+    if (!(d.time[i] > d.time[i - 1]))
+      throw InputError({csv.file, csv.lines[i], 0}, "time", fmtNum(d.time[i]),
+                       "time is not increasing (line " + std::to_string(csv.lines[i - 1]) + " has " +
+                           fmtNum(d.time[i - 1]) + " s)",
+                       "strictly increasing times");
+  const double t0 = d.time.front();
+  for (auto& t : d.time) t -= t0;
+  std::size_t iEnd = 0;
+  int cs = csv.find({"strain", "compressive strain", "stretch", "displacement"});
+  if (cs >= 0) {
+    const auto& s = csv.col(cs);
+    double ref = csv.columns[cs].name == "stretch" ? 1.0 : 0.0;
+    double mx = 0;
+    for (double v : s) mx = std::max(mx, std::abs(v - ref));
+    while (iEnd + 1 < n && std::abs(s[iEnd] - ref) < (1 - 1e-9) * mx) ++iEnd;
+    d.notes.push_back("ramp end taken where the strain first reaches its maximum");
+  } else {
+    double mx = 0;
+    for (std::size_t i = 0; i < n; ++i)
+      if (std::abs(d.stress[i]) > mx) {
+        mx = std::abs(d.stress[i]);
+        iEnd = i;
+      }
+    d.notes.push_back("no strain column: ramp end taken at the peak stress");
+  }
+  d.rampTime = d.time[iEnd];
+  d.holdStart = iEnd;
+  return d;
+}
+
+FitResult fitProny(const RelaxationData& data, int terms) {
+  const int nHold = static_cast<int>(data.time.size() - data.holdStart);
+  if (terms < 0 || terms > 5)
+    throw InputError({data.file, 0, 0}, "--terms", std::to_string(terms), "not allowed for a Prony series",
+                     "1 to 5, or leave it out to choose by AICc");
+  if (terms == 0) {
+    FitResult best;
+    bool have = false;
+    for (int N = 1; N <= 5 && nHold >= 2 * N + 3; ++N) {
+      FitResult r = fitProny(data, N);
+      if (!have || r.aicc < best.aicc - 2.0) {  // a term must earn its keep (AICc drop > 2)
+        best = r;
+        have = true;
+      } else {
+        break;
+      }
+    }
+    if (!have)
+      throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(nHold) + " hold points",
+                       "too few points in the hold phase for a Prony series", "at least 5 points after the ramp");
+    best.notes.push_back("number of terms chosen by AICc: " + std::to_string(best.terms));
+    return best;
+  }
+  const int k = 2 * terms + 1;
+  if (nHold < k + 1)
+    throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(nHold) + " hold points",
+                     "too few points after the ramp to fit " + std::to_string(k) + " Prony parameters",
+                     "at least " + std::to_string(k + 1) + " points in the hold phase");
+  const double tr = data.rampTime;
+  double peak = data.stress[data.holdStart], last = data.stress.back();
+  double sgn = peak >= 0 ? 1.0 : -1.0;
+  double ymax = 0;
+  for (std::size_t i = data.holdStart; i < data.time.size(); ++i) ymax = std::max(ymax, std::abs(data.stress[i]));
+  const double sc = ymax > 0 ? ymax : 1.0;
+  const double tEnd = data.time.back();
+  double tFirst = std::max(1e-3 * tEnd, data.time.size() > data.holdStart + 1
+                                            ? data.time[data.holdStart + 1] - tr
+                                            : 1e-3 * tEnd);
+  // internal p = [log|sigma0|, q_1..q_N (g_i = e^q_i / (1 + sum e^q)), log tau_1..N]
+  auto physical = [terms, sgn](const Eigen::VectorXd& p) {
+    Eigen::VectorXd th(2 * terms + 1);
+    th[0] = sgn * std::exp(p[0]);
+    double den = 1.0;
+    for (int i = 0; i < terms; ++i) den += std::exp(std::clamp(p[1 + i], -700.0, 700.0));
+    for (int i = 0; i < terms; ++i) {
+      th[1 + 2 * i] = std::exp(std::clamp(p[1 + i], -700.0, 700.0)) / den;
+      th[2 + 2 * i] = std::exp(std::clamp(p[1 + terms + i], -700.0, 700.0));
+    }
+    return th;
+  };
+  auto pronyOf = [terms](const Eigen::VectorXd& th) {
+    mat::Prony pr;
+    for (int i = 0; i < terms; ++i) pr.terms.push_back({th[1 + 2 * i], th[2 + 2 * i]});
+    return pr;
+  };
+  LsqProblem prob;
+  prob.nParams = k;
+  prob.nResiduals = nHold;
+  prob.physical = physical;
+  prob.residuals = [&](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
+    Eigen::VectorXd th = physical(p);
+    mat::Prony pr = pronyOf(th);
+    for (int i = 0; i < nHold; ++i) {
+      std::size_t j = data.holdStart + i;
+      r[i] = (mat::rampRelaxationClosedForm(pr, th[0], tr, data.time[j]) - data.stress[j]) / sc;
+    }
+  };
+  // Starts: tau spread log-uniformly over the record; total relaxation from the data.
+  double gTot = std::clamp(1.0 - last / peak, 0.05, 0.95);
+  for (double shift : {1.0, 0.3, 3.0}) {
+    Eigen::VectorXd p0(k);
+    p0[0] = std::log(std::abs(peak) * 1.05 + 1e-300);
+    double gEach = gTot / terms;
+    for (int i = 0; i < terms; ++i) {
+      double g = gEach;
+      p0[1 + i] = std::log(g / (1.0 - gTot));
+      double f = terms == 1 ? 0.5 : static_cast<double>(i) / (terms - 1);
+      double tau = std::exp(std::log(tFirst) + f * (std::log(tEnd / 3) - std::log(tFirst))) * shift;
+      p0[1 + terms + i] = std::log(std::max(tau, 1e-9));
+    }
+    prob.starts.push_back(p0);
+  }
+  LsqResult res = solveLeastSquares(prob);
+  FitResult out;
+  out.law = "prony";
+  out.terms = terms;
+  out.converged = res.converged;
+  out.params.push_back({"sigma0", "Pa", res.theta[0], res.stdErr[0]});
+  for (int i = 0; i < terms; ++i) {
+    std::string s = std::to_string(i + 1);
+    out.params.push_back({"g" + s, "1", res.theta[1 + 2 * i], res.stdErr[1 + 2 * i]});
+    out.params.push_back({"tau" + s, "s", res.theta[2 + 2 * i], res.stdErr[2 + 2 * i]});
+  }
+  mat::Prony pr = pronyOf(res.theta);
+  for (int i = 0; i < nHold; ++i) {
+    std::size_t j = data.holdStart + i;
+    out.x.push_back(data.time[j]);
+    out.data.push_back(data.stress[j]);
+    out.fitted.push_back(mat::rampRelaxationClosedForm(pr, res.theta[0], tr, data.time[j]));
+  }
+  finishStats(out, k);
+  out.spec.name = "fitted";
+  out.spec.law = "";
+  out.spec.prony.clear();
+  for (const auto& t : pr.terms) out.spec.prony.push_back(t);
+  out.notes = data.notes;
+  out.notes.push_back("ramp time " + fmtNum(tr) + " s; the elastic stress is taken as linear in time during the ramp");
+  if (!out.converged) out.notes.push_back("the optimiser stopped before its tolerances were met");
+  return out;
+}
+
+}  // namespace needlesim::fit

@@ -1,0 +1,44 @@
+#pragma once
+// Reads numeric CSV data whose header names each column with its unit,
+// "name [unit]" (e.g. "strain [%]", "stress [kPa]", "depth [mm]"); values are
+// converted to SI. Lines starting with '#' and blank lines are skipped. Every
+// problem is an InputError naming file, line, column and value.
+#include <filesystem>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "needlesim/core/units.hpp"
+
+namespace needlesim::io {
+
+struct CsvColumn {
+  std::string name;  // lower case, trimmed
+  std::string unit;  // as written ("" for none)
+  units::Dim dim;
+  double scale = 1.0;  // SI value of one unit
+  int headerColumn = 0;
+};
+
+struct CsvData {
+  std::string file;  // for messages
+  int headerLine = 0;
+  std::vector<CsvColumn> columns;
+  std::vector<std::vector<double>> values;  // values[column][row], SI
+  std::vector<int> lines;                   // source line of each row
+
+  std::size_t rows() const { return lines.size(); }
+  // Index of the first column whose name is one of names; -1 if none.
+  int find(const std::vector<std::string>& names) const;
+  // Like find, but throws an InputError (naming the header line and what is
+  // allowed) when absent or when the column's unit has another dimension.
+  int require(const std::vector<std::string>& names, units::Dim dim, const std::string& what) const;
+  // Checks the dimension of an existing column; throws InputError otherwise.
+  void checkDim(int column, units::Dim dim, const std::string& what) const;
+  const std::vector<double>& col(int c) const { return values.at(static_cast<std::size_t>(c)); }
+};
+
+CsvData parseCsv(std::string_view text, const std::string& fileName);
+CsvData readCsv(const std::filesystem::path& path);  // throws InputError if unreadable
+
+}  // namespace needlesim::io
