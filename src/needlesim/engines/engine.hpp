@@ -10,6 +10,9 @@
 #include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim {
+namespace io {
+class FieldSeries;
+}
 
 class ResultSink {
  public:
@@ -21,6 +24,9 @@ class ResultSink {
                       const std::string& meaning) = 0;
   virtual void plot(io::Plot plot) = 0;
   virtual void note(const std::string& text) = 0;
+  // A field time series for ParaView (<name>.h5 + <name>.xdmf), streamed step
+  // by step; nullptr when this sink keeps no fields (tests, sweeps without fields).
+  virtual io::FieldSeries* fields(const std::string& /*name*/, int /*dim*/) { return nullptr; }
 };
 
 struct RunOptions {

@@ -17,8 +17,15 @@ RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, 
   }
   io::ResultsFolder folder(sc, target);
   auto t0 = std::chrono::steady_clock::now();
-  engine->run(sc, folder, options);
-  double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
+  try {
+    engine->run(sc, folder, options);
+  } catch (const SolverError& e) {
+    // Keep what was computed up to the failure, marked as stopped, then report.
+    folder.commit(overwrite, elapsed(), e.what());
+    throw SolverError(std::string(e.what()) + " (results up to this point are in " + target.string() + ")");
+  }
+  const double wall = elapsed();
   folder.commit(overwrite, wall);
   return RunOutcome{target, folder.results(), wall};
 }

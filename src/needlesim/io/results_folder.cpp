@@ -113,7 +113,25 @@ fs::path freeResultsPath(const fs::path& base) {
 }
 
 ResultsFolder::ResultsFolder(const Scenario& scenario, fs::path target)
-    : scenario_(scenario), target_(std::move(target)) {}
+    : scenario_(scenario), target_(std::move(target)) {
+  fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
+  stage_ = parent / fmt::format(".{}.partial-{}", target_.filename().string(), ::getpid());
+}
+
+ResultsFolder::~ResultsFolder() {
+  fields_.clear();
+  if (!committed_) {
+    std::error_code ec;
+    fs::remove_all(stage_, ec);
+  }
+}
+
+FieldSeries* ResultsFolder::fields(const std::string& name, int dim) {
+  fs::create_directories(stage_);
+  fields_.push_back(std::make_unique<FieldSeries>(stage_ / (name + ".h5"), stage_ / (name + ".xdmf"), dim));
+  field_names_.push_back(name);
+  return fields_.back().get();
+}
 
 void ResultsFolder::table(const std::string& name, Table t) { tables_.emplace_back(name, std::move(t)); }
 
@@ -125,15 +143,15 @@ void ResultsFolder::result(const std::string& key, double value, const std::stri
 void ResultsFolder::plot(Plot p) { plots_.push_back(std::move(p)); }
 void ResultsFolder::note(const std::string& text) { notes_.push_back(text); }
 
-void ResultsFolder::commit(bool replace, double wall_seconds) {
+void ResultsFolder::commit(bool replace, double wall_seconds, const std::string& failure) {
   if (fs::exists(target_) && !replace)
     throw Error("results folder " + target_.string() +
                 " already exists; choose another with --out or pass --overwrite to replace it");
   fs::path parent = target_.has_parent_path() ? target_.parent_path() : fs::path(".");
   fs::create_directories(parent);
-  fs::path stage = parent / fmt::format(".{}.partial-{}", target_.filename().string(), ::getpid());
-  fs::remove_all(stage);
+  const fs::path& stage = stage_;
   fs::create_directories(stage);
+  fields_.clear();  // closes the HDF5 files
 
   nlohmann::json files = nlohmann::json::array();
   if (scenario_.output.csv)
@@ -144,10 +162,16 @@ void ResultsFolder::commit(bool replace, double wall_seconds) {
   nlohmann::json res = nlohmann::json::object();
   for (const auto& r : results_)
     res[r.key] = {{"value", safeNumber(r.value)}, {"unit", r.unit}, {"meaning", r.meaning}};
+  for (const auto& f : field_names_) {
+    files.push_back(f + ".xdmf");
+    files.push_back(f + ".h5");
+  }
   if (scenario_.output.html) files.push_back("report.html");
   files.push_back("summary.json");
   nlohmann::json summary = {{"needlesim", {{"version", kVersion}, {"git_revision", kGitRevision}}},
                             {"engine", scenario_.model.engine},
+                            {"status", failure.empty() ? "complete" : "stopped"},
+                            {"stopped_because", failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(failure)},
                             {"wall_time", {{"value", wall_seconds}, {"unit", "s"}}},
                             {"results", res},
                             {"files", files},
@@ -160,6 +184,7 @@ void ResultsFolder::commit(bool replace, double wall_seconds) {
     rep.subtitle = scenario_.description.empty() ? scenario_.source : scenario_.description;
     rep.facts.emplace_back("engine", scenario_.model.engine);
     rep.facts.emplace_back("scenario", scenario_.source);
+    if (!failure.empty()) rep.facts.emplace_back("STOPPED", failure);
     for (const auto& r : results_)
       rep.facts.emplace_back(r.key + " (" + r.meaning + ")",
                              std::isfinite(r.value) ? fmt::format("{:.6g} {}", r.value, r.unit == "1" ? "" : r.unit)
@@ -178,6 +203,7 @@ void ResultsFolder::commit(bool replace, double wall_seconds) {
   } else {
     fs::rename(stage, target_);
   }
+  committed_ = true;
 }
 
 }  // namespace needlesim::io

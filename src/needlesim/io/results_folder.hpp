@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "needlesim/engines/engine.hpp"
+#include "needlesim/io/field_series.hpp"
 
 namespace needlesim::io {
 
@@ -29,10 +30,13 @@ class ResultsFolder : public ResultSink {
   void result(const std::string& key, double value, const std::string& unit, const std::string& meaning) override;
   void plot(Plot plot) override;
   void note(const std::string& text) override;
+  FieldSeries* fields(const std::string& name, int dim) override;
 
   // Writes everything and moves the folder into place; `replace` allows an
   // existing target to be replaced (only after the new one is complete).
-  void commit(bool replace, double wall_seconds);
+  // A run that stopped early commits what it has with its `failure` message.
+  void commit(bool replace, double wall_seconds, const std::string& failure = {});
+  ~ResultsFolder() override;
 
   const std::vector<KeyResult>& results() const { return results_; }
   const std::vector<std::pair<std::string, Table>>& tables() const { return tables_; }
@@ -45,6 +49,10 @@ class ResultsFolder : public ResultSink {
   std::vector<KeyResult> results_;
   std::vector<Plot> plots_;
   std::vector<std::string> notes_;
+  std::filesystem::path stage_;
+  std::vector<std::unique_ptr<FieldSeries>> fields_;
+  std::vector<std::string> field_names_;
+  bool committed_ = false;
 };
 
 // results/<name>, or results/<name>-2, -3, ... if taken.

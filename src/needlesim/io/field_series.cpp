@@ -1,0 +1,194 @@
+#include "needlesim/io/field_series.hpp"
+
+#include <fmt/format.h>
+#include <hdf5.h>
+
+#include <cmath>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/io/atomic_file.hpp"
+
+namespace needlesim::io {
+namespace {
+
+struct Attr {
+  std::string name;
+  bool cell;
+  int components;
+  std::string dataset;
+  std::size_t count;
+};
+
+struct Step {
+  double time;
+  std::string points;  // dataset of this step's points, empty = reference mesh
+  std::size_t npoints;
+  std::vector<Attr> attrs;
+};
+
+const char* topologyName(CellType t) {
+  switch (t) {
+    case CellType::Points: return "Polyvertex";
+    case CellType::Triangle: return "Triangle";
+    case CellType::Quad: return "Quadrilateral";
+    case CellType::Tetra: return "Tetrahedron";
+    case CellType::Hexa: return "Hexahedron";
+    case CellType::Line: return "Polyline";
+  }
+  return "Polyvertex";
+}
+
+int nodesPerCell(CellType t) {
+  switch (t) {
+    case CellType::Points: return 1;
+    case CellType::Triangle: return 3;
+    case CellType::Quad: return 4;
+    case CellType::Tetra: return 4;
+    case CellType::Hexa: return 8;
+    case CellType::Line: return 2;
+  }
+  return 1;
+}
+
+}  // namespace
+
+struct FieldSeries::Impl {
+  std::filesystem::path h5path, xdmfpath;
+  int dim;
+  hid_t file = -1;
+  CellType type = CellType::Points;
+  std::size_t npoints = 0, ncells = 0;
+  bool meshSet = false;
+  std::vector<Step> steps;
+  bool open = false;
+
+  void write(const std::string& path, const std::vector<double>& v, std::size_t rows, std::size_t cols) {
+    hsize_t dims[2] = {rows, cols};
+    hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
+    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    hid_t ds = H5Dcreate2(file, path.c_str(), H5T_IEEE_F64LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+    if (ds < 0) throw Error("cannot create dataset " + path + " in " + h5path.string());
+    // Never write NaN: a field with a NaN means the solver failed to detect its own divergence.
+    for (double x : v)
+      if (!std::isfinite(x)) throw SolverError("field " + path + " holds a non-finite value; the run diverged");
+    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(ds);
+    H5Pclose(lcpl);
+    H5Sclose(space);
+  }
+  void writeInt(const std::string& path, const std::vector<int>& v, std::size_t rows, std::size_t cols) {
+    hsize_t dims[2] = {rows, cols};
+    hid_t space = H5Screate_simple(2, dims, nullptr);
+    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
+    H5Pset_create_intermediate_group(lcpl, 1);
+    hid_t ds = H5Dcreate2(file, path.c_str(), H5T_STD_I32LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
+    H5Dwrite(ds, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+    H5Dclose(ds);
+    H5Pclose(lcpl);
+    H5Sclose(space);
+  }
+
+  std::string xdmf() const {
+    std::string h5 = h5path.filename().string();
+    std::string geomType = dim == 2 ? "XY" : "XYZ";
+    std::string s = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
+                    "<Grid Name=\"series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
+    for (std::size_t k = 0; k < steps.size(); ++k) {
+      const Step& st = steps[k];
+      s += fmt::format("<Grid Name=\"step{}\" GridType=\"Uniform\">\n<Time Value=\"{:.12g}\"/>\n", k, st.time);
+      std::size_t np = st.points.empty() ? npoints : st.npoints;
+      if (type == CellType::Points)
+        s += fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", np);
+      else
+        s += fmt::format(
+            "<Topology TopologyType=\"{}\" NumberOfElements=\"{}\">\n<DataItem Dimensions=\"{} {}\" NumberType=\"Int\" "
+            "Format=\"HDF\">{}:/mesh/cells</DataItem>\n</Topology>\n",
+            topologyName(type), ncells, ncells, nodesPerCell(type), h5);
+      s += fmt::format(
+          "<Geometry GeometryType=\"{}\">\n<DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" "
+          "Format=\"HDF\">{}:{}</DataItem>\n</Geometry>\n",
+          geomType, np, dim, h5, st.points.empty() ? "/mesh/points" : st.points);
+      for (const auto& a : st.attrs) {
+        const char* at = a.components == 1 ? "Scalar" : a.components == 6 ? "Tensor6" : "Vector";
+        s += fmt::format(
+            "<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n<DataItem Dimensions=\"{}{}\" "
+            "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:{}</DataItem>\n</Attribute>\n",
+            a.name, at, a.cell ? "Cell" : "Node", a.count, a.components == 1 ? "" : fmt::format(" {}", a.components), h5,
+            a.dataset);
+      }
+      s += "</Grid>\n";
+    }
+    s += "</Grid>\n</Domain>\n</Xdmf>\n";
+    return s;
+  }
+};
+
+FieldSeries::FieldSeries(std::filesystem::path h5, std::filesystem::path xdmf, int dim) : impl_(new Impl) {
+  impl_->h5path = std::move(h5);
+  impl_->xdmfpath = std::move(xdmf);
+  impl_->dim = dim;
+  if (impl_->h5path.has_parent_path()) std::filesystem::create_directories(impl_->h5path.parent_path());
+  impl_->file = H5Fcreate(impl_->h5path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
+  if (impl_->file < 0) throw Error("cannot create " + impl_->h5path.string());
+}
+
+FieldSeries::~FieldSeries() {
+  if (impl_->file >= 0) H5Fclose(impl_->file);
+}
+
+void FieldSeries::setMesh(const std::vector<double>& points, CellType type, const std::vector<int>& conn) {
+  auto& I = *impl_;
+  I.type = type;
+  I.npoints = points.size() / I.dim;
+  I.write("/mesh/points", points, I.npoints, I.dim);
+  if (type != CellType::Points) {
+    I.ncells = conn.size() / nodesPerCell(type);
+    I.writeInt("/mesh/cells", conn, I.ncells, nodesPerCell(type));
+  } else {
+    I.ncells = I.npoints;
+  }
+  I.meshSet = true;
+}
+
+void FieldSeries::beginStep(double time) {
+  if (!impl_->meshSet) throw Error("internal: FieldSeries::setMesh must come before the first step");
+  impl_->steps.push_back(Step{time, {}, impl_->npoints, {}});
+  impl_->open = true;
+}
+
+void FieldSeries::stepPoints(const std::vector<double>& points) {
+  auto& I = *impl_;
+  auto& st = I.steps.back();
+  st.points = fmt::format("/step{:06d}/points", I.steps.size() - 1);
+  st.npoints = points.size() / I.dim;
+  I.write(st.points, points, st.npoints, I.dim);
+}
+
+void FieldSeries::pointData(const std::string& name, const std::vector<double>& v, int comp) {
+  auto& I = *impl_;
+  auto& st = I.steps.back();
+  std::string ds = fmt::format("/step{:06d}/point/{}", I.steps.size() - 1, name);
+  I.write(ds, v, v.size() / comp, comp);
+  st.attrs.push_back(Attr{name, false, comp, ds, v.size() / comp});
+}
+
+void FieldSeries::cellData(const std::string& name, const std::vector<double>& v, int comp) {
+  auto& I = *impl_;
+  auto& st = I.steps.back();
+  std::string ds = fmt::format("/step{:06d}/cell/{}", I.steps.size() - 1, name);
+  I.write(ds, v, v.size() / comp, comp);
+  st.attrs.push_back(Attr{name, true, comp, ds, v.size() / comp});
+}
+
+void FieldSeries::endStep() {
+  auto& I = *impl_;
+  H5Fflush(I.file, H5F_SCOPE_GLOBAL);
+  writeFileAtomic(I.xdmfpath, I.xdmf());
+  I.open = false;
+}
+
+std::size_t FieldSeries::steps() const { return impl_->steps.size(); }
+const std::filesystem::path& FieldSeries::xdmfPath() const { return impl_->xdmfpath; }
+
+}  // namespace needlesim::io

@@ -1,0 +1,43 @@
+#pragma once
+// Field time series for ParaView: one HDF5 file with the arrays and one XDMF
+// file that describes them (open the .xdmf in ParaView). The XDMF is
+// rewritten atomically after every step, so a run that stops part-way leaves
+// every completed step readable.
+#include <filesystem>
+#include <memory>
+#include <string>
+#include <vector>
+
+namespace needlesim::io {
+
+enum class CellType { Points, Triangle, Quad, Tetra, Hexa, Line };
+
+class FieldSeries {
+ public:
+  // dim: 2 or 3 coordinates per point.
+  FieldSeries(std::filesystem::path h5, std::filesystem::path xdmf, int dim);
+  ~FieldSeries();
+  FieldSeries(const FieldSeries&) = delete;
+  FieldSeries& operator=(const FieldSeries&) = delete;
+
+  // Reference mesh (points dim x n, cells as flat connectivity). For
+  // CellType::Points the connectivity may be empty (one vertex per point).
+  void setMesh(const std::vector<double>& points, CellType type, const std::vector<int>& connectivity);
+
+  void beginStep(double time);
+  // Moved points for this step (particles; or the deformed mesh). Optional.
+  void stepPoints(const std::vector<double>& points);
+  // Point or cell data: `components` values per point/cell (1 scalar, dim vector, 6 symmetric tensor).
+  void pointData(const std::string& name, const std::vector<double>& values, int components);
+  void cellData(const std::string& name, const std::vector<double>& values, int components);
+  void endStep();
+
+  std::size_t steps() const;
+  const std::filesystem::path& xdmfPath() const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace needlesim::io

@@ -1,0 +1,93 @@
+#include <gtest/gtest.h>
+#include <hdf5.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/io/field_series.hpp"
+#include "needlesim/io/results_folder.hpp"
+#include "needlesim/scenario/reader.hpp"
+
+using namespace needlesim;
+namespace fs = std::filesystem;
+
+namespace {
+fs::path scratch(const std::string& n) {
+  fs::path d = fs::temp_directory_path() / ("needlesim_fields_" + std::to_string(::getpid())) / n;
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+std::vector<double> readDataset(const fs::path& h5, const std::string& name) {
+  hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  hid_t sp = H5Dget_space(ds);
+  hssize_t n = H5Sget_simple_extent_npoints(sp);
+  std::vector<double> v(static_cast<std::size_t>(n));
+  H5Dread(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
+  H5Sclose(sp);
+  H5Dclose(ds);
+  H5Fclose(f);
+  return v;
+}
+}  // namespace
+
+TEST(FieldSeries, WritesMeshStepsAndAnXdmfParaViewReads) {
+  fs::path d = scratch("quads");
+  {
+    io::FieldSeries fsr(d / "tissue.h5", d / "tissue.xdmf", 2);
+    // Two quads side by side.
+    fsr.setMesh({0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1}, io::CellType::Quad, {0, 1, 4, 3, 1, 2, 5, 4});
+    for (int k = 0; k < 2; ++k) {
+      fsr.beginStep(0.5 * k);
+      std::vector<double> u(12, 0.1 * k);
+      fsr.pointData("displacement", u, 2);
+      fsr.cellData("von_mises", {1.0 * k, 2.0 * k}, 1);
+      fsr.endStep();
+    }
+    EXPECT_EQ(fsr.steps(), 2u);
+  }
+  auto u1 = readDataset(d / "tissue.h5", "/step000001/point/displacement");
+  ASSERT_EQ(u1.size(), 12u);
+  EXPECT_DOUBLE_EQ(u1[5], 0.1);
+  auto vm = readDataset(d / "tissue.h5", "/step000001/cell/von_mises");
+  EXPECT_EQ(vm, (std::vector<double>{1.0, 2.0}));
+  std::ifstream x(d / "tissue.xdmf");
+  std::string xdmf((std::istreambuf_iterator<char>(x)), {});
+  EXPECT_NE(xdmf.find("TopologyType=\"Quadrilateral\" NumberOfElements=\"2\""), std::string::npos);
+  EXPECT_NE(xdmf.find("<Time Value=\"0.5\"/>"), std::string::npos);
+  EXPECT_NE(xdmf.find("tissue.h5:/step000001/point/displacement"), std::string::npos);
+}
+
+TEST(FieldSeries, RefusesToWriteNaN) {
+  fs::path d = scratch("nan");
+  io::FieldSeries fsr(d / "p.h5", d / "p.xdmf", 3);
+  fsr.setMesh({0, 0, 0, 1, 1, 1}, io::CellType::Points, {});
+  fsr.beginStep(0.0);
+  EXPECT_THROW(fsr.pointData("v", {1.0, NAN}, 1), SolverError);
+}
+
+TEST(ResultsFolder, AStoppedRunKeepsItsResultsMarkedAsStopped) {
+  fs::path d = scratch("stopped");
+  Scenario sc = scenario::defaultScenario();
+  {
+    io::ResultsFolder folder(sc, d / "run");
+    auto* f = folder.fields("tissue", 2);
+    ASSERT_NE(f, nullptr);
+    f->setMesh({0, 0, 1, 0, 0, 1}, io::CellType::Triangle, {0, 1, 2});
+    f->beginStep(0.0);
+    f->pointData("u", {0, 0, 0, 0, 0, 0}, 2);
+    f->endStep();
+    folder.result("x", 1.0, "m", "a value");
+    folder.commit(false, 0.1, "time step too large for the mesh: reduce model.time_step");
+  }
+  nlohmann::json s = nlohmann::json::parse(std::ifstream(d / "run" / "summary.json"));
+  EXPECT_EQ(s["status"], "stopped");
+  EXPECT_NE(s["stopped_because"].get<std::string>().find("time step"), std::string::npos);
+  EXPECT_TRUE(fs::exists(d / "run" / "tissue.xdmf"));
+  EXPECT_TRUE(fs::exists(d / "run" / "tissue.h5"));
+  // No staging folder is left behind.
+  for (auto& e : fs::directory_iterator(d)) EXPECT_EQ(e.path().filename(), "run");
+}
