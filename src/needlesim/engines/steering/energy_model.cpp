@@ -1,0 +1,158 @@
+#include "needlesim/engines/steering/energy_model.hpp"
+
+#include <cmath>
+#include <numbers>
+#include <stdexcept>
+
+#include <Eigen/Dense>
+
+#include "needlesim/needle/beam_element.hpp"
+#include "needlesim/needle/section.hpp"
+
+namespace needlesim::steering {
+namespace {
+
+using Vec4 = Eigen::Vector4d;
+using Mat4 = Eigen::Matrix4d;
+
+// Two Hermite pieces on [0, l/2] and [l/2, l] (eq 45) clamped at x = 0 (eqs 47-48):
+// free coefficients c = (v(l/2), v'(l/2), v(l), v'(l)).
+void assemble(double EI, double KT, double l, Mat4& Kb, Mat4& Kf) {
+  const double h = l / 2;
+  const Mat4 kb = needle::bendingStiffness(EI, h), kf = needle::foundationStiffness(KT, h);
+  Kb.setZero();
+  Kf.setZero();
+  // element 0: dofs (fixed, fixed, 0, 1); element 1: (0, 1, 2, 3)
+  Kb.topLeftCorner<2, 2>() += kb.bottomRightCorner<2, 2>();
+  Kf.topLeftCorner<2, 2>() += kf.bottomRightCorner<2, 2>();
+  Kb += kb;
+  Kf += kf;
+}
+
+// Value and slope of the previous deflection (length l_old, coefficients c) at x;
+// beyond the old tip it continues straight along the tip tangent [choice 2].
+inline void evalPrev(const Vec4& c, double l_old, double x, double& v, double& dv) {
+  if (l_old <= 0) {
+    v = dv = 0;
+    return;
+  }
+  if (x >= l_old) {
+    v = c(2) + c(3) * (x - l_old);
+    dv = c(3);
+    return;
+  }
+  const double h = l_old / 2;
+  Vec4 q;
+  double xi;
+  if (x <= h) {
+    q << 0, 0, c(0), c(1);
+    xi = x / h;
+  } else {
+    q = c;
+    xi = (x - h) / h;
+  }
+  v = needle::hermiteN(xi, h).dot(q);
+  dv = needle::hermiteDN(xi, h).dot(q);
+}
+
+}  // namespace
+
+EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>* path,
+                            double record_every, std::vector<EnergyIncrement>* incs) {
+  if (!(p.diameter > 0 && p.E > 0 && p.K_T > 0 && p.P_input > 0))
+    throw std::invalid_argument("energy model needs diameter, E, K_T and P_input > 0");
+  if (!(p.alpha > 0 && p.alpha < std::numbers::pi / 2) || p.beta_ratio < 0 || p.beta_ratio > 1)
+    throw std::invalid_argument("energy model needs 0 < alpha < 90 deg and 0 <= beta/alpha <= 1");
+  if (!(p.friction_fraction >= 0 && p.friction_fraction < 1))
+    throw std::invalid_argument("friction fraction must lie in [0, 1)");
+  if (!(p.initial_length > 0 && p.max_step > 0 && p.insertion > p.initial_length))
+    throw std::invalid_argument("energy model needs 0 < initial_length < insertion, max_step > 0");
+
+  const needle::Section sec{p.E, p.diameter, p.inner_diameter};
+  const double EI = sec.EI(), EA = sec.EA(), A = sec.area();
+  const double beta0 = p.beta_ratio * p.alpha;
+  const double P_eff = (1.0 - p.friction_fraction) * p.P_input;  // Fig 23 [choice 7]
+  const double tear = p.tear_length >= 0 ? p.tear_length : p.diameter / 2;
+
+  EnergyResult r;
+  Vec4 c = Vec4::Zero();  // previous deflection coefficients
+  double l_old = 0.0;     // length the coefficients refer to (0 = straight)
+  double l = p.initial_length;
+  double next_record = 0.0;
+  size_t next_flip = 0;
+  double sign = 1.0;  // bevel orientation: +1 initial, -1 after an odd number of flips
+  if (path) path->push_back(Eigen::Vector3d(l, 0, 0));
+  next_record = l + record_every;
+  Mat4 Kb, Kf;
+  while (l < p.insertion && r.increments < p.max_increments) {
+    while (next_flip < p.flip_depths.size() && p.flip_depths[next_flip] <= l) {
+      sign = -sign;
+      ++next_flip;
+    }
+    assemble(EI, p.K_T, l, Kb, Kf);
+    const Mat4 K = Kb + Kf;
+    // previous configuration projected on the current trial space [choice 2]
+    Vec4 vp;
+    evalPrev(c, l_old, l / 2, vp(0), vp(1));
+    evalPrev(c, l_old, l, vp(2), vp(3));
+    const double phi = std::atan(vp(3));  // eq 29
+    const double tau = std::tan(sign * beta0 + phi);
+
+    // Sub-step 1 (eqs 30, 47): minimise 1/2 D^T K D + EA/(2l)(u2-u0)^2 - P u0 with the
+    // roller D_v(l) = u(l) tan(beta + phi). Static condensation on v(l): the shape is
+    // K^-1 e_v(l) scaled, k_eff = 1 / (K^-1)_{v(l) v(l)}.
+    const Eigen::LDLT<Mat4> ldlt(K);
+    const Vec4 g = ldlt.solve(Vec4(0, 0, 1, 0));
+    const double k_eff = 1.0 / g(2);
+    double u2;
+    if (std::abs(tau) < 1e-12) {
+      u2 = p.max_step;  // roller along the axis: nothing bends [choice 4]
+      r.capped = true;
+    } else {
+      u2 = P_eff / (k_eff * tau * tau);  // d Lambda_1 / d u = 0
+      if (u2 > p.max_step) {
+        u2 = p.max_step;
+        r.capped = true;
+      }
+    }
+    const double dv_tip = tau * u2;
+    const double V = k_eff * dv_tip;      // eq 28, variationally consistent nodal reaction [choice 3]
+    const double H = -V * tau;            // eq 27: EA/l (u(l) - u(0)); = -P_eff when not capped
+    const double u0 = u2 - H * l / EA;    // base advance u(0)
+    // global reactions (rotate by phi) released onto the needle in sub-step 2 [choice 1]
+    const double cp = std::cos(phi), sp = std::sin(phi);
+    const double Pg = H * cp - V * sp, Qg = H * sp + V * cp;
+
+    // Sub-step 2 (eqs 31, 48): the tissue has ruptured along the roller path, so the
+    // foundation now holds configuration b (D1) [choice 2]; the reactions are released,
+    // i.e. applied reversed (Q_i = -Qg) [choice 1]. Minimise
+    // 1/2 D^T Kb D + 1/2 (D - D1)^T Kf (D - D1) - Q_i D_v(l) - P_i (u(l) - u(0)), u(0) = 0:
+    // K D = Kf D1 - Qg e_v(l). The needle springs back towards straight; what the
+    // tissue retains is the increment's deflection.
+    const Vec4 D1 = g * (V * g(2) > 0 ? dv_tip / g(2) : 0.0);
+    const Vec4 D2 = ldlt.solve(Kf * D1 - Vec4(0, 0, Qg, 0));
+    const double u2b = -Pg * l / EA;
+    r.W_Q += -Qg * D2(2);                              // eq 42
+    r.W_P += -Pg * u2b;                                // eq 43
+    r.U_B += 0.5 * D2.dot(Kb * D2);                   // eq 35, increment part
+    r.U_T += 0.5 * D2.dot(Kf * D2);                   // eq 40
+    r.W_input += P_eff * u0;                          // eq 41 [choice 1]
+    r.W_R += tear * p.Gc * u0;                        // eq 44 per increment [choice 5]
+    c = vp + D2;
+    l_old = l;
+    ++r.increments;
+    if (incs) incs->push_back({l, l, c(2), phi, Pg, Qg, H, V});
+    l += u0;
+    if (path && (l >= next_record || l >= p.insertion)) {
+      path->push_back(Eigen::Vector3d(l_old, c(2), 0));
+      next_record = l_old + record_every;
+    }
+  }
+  if (p.medium_volume > 0 && p.E_T > 0)  // eq 39 at the final length (reporting only)
+    r.U_C = p.E_T * (A * l_old) * (A * l_old) / (3 * p.medium_volume * (1 - 2 * p.nu_T));
+  r.final_deflection = c(2);
+  r.final_length = l_old;
+  return r;
+}
+
+}  // namespace needlesim::steering

@@ -1,0 +1,60 @@
+#pragma once
+// Energy-based incremental deflection model of seed 002 section 4 (eqs 27-49):
+// per insertion increment a roller-constrained push (sub-step 1, potential
+// Lambda_1 of eq 30) and the release of the tip reactions (sub-step 2, Lambda_2
+// of eq 31), each minimised with Rayleigh-Ritz over the piecewise Hermite trial
+// functions of eqs 45-48. The choices where the paper is silent are documented
+// in docs/models/bevel-tip-energy.md; the comments cite them as [choice N].
+#include <span>
+#include <vector>
+
+#include <Eigen/Core>
+
+namespace needlesim::steering {
+
+struct EnergyParams {
+  double E = 50e9;          // Pa, needle Young's modulus (Nitinol, seed 002 section 5.2)
+  double diameter = 0.0;    // m, needle diameter (solid)
+  double inner_diameter = 0.0;  // m, 0 = solid
+  double alpha = 0.0;       // rad, bevel angle
+  double beta_ratio = 0.0;  // beta/alpha, cut-angle ratio (seed 002 section 5.2)
+  double K_T = 0.0;         // N/m^2, interaction stiffness (eq 13)
+  double P_input = 0.0;     // N, insertion force
+  double friction_fraction = 0.0;  // share of input work dissipated by friction (Fig 23)
+  double Gc = 0.0;          // J/m^2, rupture toughness (only enters W_R, eq 44)
+  double tear_length = -1;  // m, a in eq 44; < 0 = the needle radius [choice 5]
+  double E_T = 0.0, nu_T = 0.45, medium_volume = 0.0;  // for U_C (eq 39), reporting only
+  double insertion = 0.150;  // m, insertion distance to simulate
+  double initial_length = 1e-3;  // m, l_0 [choice 6]
+  double max_step = 1e-3;   // m, cap on the advance of one increment [choice 4]
+  int max_increments = 2000000;
+  std::vector<double> flip_depths;  // m, inserted lengths at which the bevel turns 180 deg
+};
+
+struct EnergyIncrement {
+  double length = 0.0;   // m, l_i
+  double tip_x = 0.0;    // m, tip position along the insertion axis
+  double tip_v = 0.0;    // m, tip deflection v_i(l_i)
+  double phi = 0.0;      // rad, tip slope angle (eq 29)
+  double P = 0.0, Q = 0.0;  // N, released tip loads (global, sub-step 2)
+  double H = 0.0, V = 0.0;  // N, roller reactions (local, eqs 27-28)
+};
+
+struct EnergyResult {
+  int increments = 0;
+  double final_deflection = 0.0;  // m, tip deflection at the end of the insertion
+  double final_length = 0.0;      // m
+  // energy bookkeeping summed over the increments (J)
+  double W_input = 0.0, W_Q = 0.0, W_P = 0.0, W_R = 0.0, U_B = 0.0, U_T = 0.0, U_C = 0.0;
+  bool capped = false;  // some increment hit max_step
+};
+
+// Runs the model. Tip positions (x, v, 0) are appended to `path` every
+// `record_every` metres of insertion (and at the end) if path is non-null;
+// `increments` (optional) receives every increment. Throws std::invalid_argument
+// for non-physical input.
+EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>* path = nullptr,
+                            double record_every = 1e-3,
+                            std::vector<EnergyIncrement>* increments = nullptr);
+
+}  // namespace needlesim::steering
