@@ -1,0 +1,357 @@
+#include "needlesim/fit/fit_command.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/io/atomic_file.hpp"
+#include "needlesim/io/csv_reader.hpp"
+#include "needlesim/io/html_report.hpp"
+
+namespace needlesim::fit {
+
+namespace fs = std::filesystem;
+using nlohmann::json;
+
+namespace {
+
+json num(double v) { return std::isfinite(v) ? json(v) : json(nullptr); }
+
+std::string g6(double v) { return std::isfinite(v) ? fmt::format("{:.6g}", v) : std::string("n/a"); }
+
+// A value with its unit, in the unit a scenario file reads best.
+std::string withUnit(double v, const std::string& unit) {
+  if (unit == "Pa") return std::abs(v) >= 1e3 ? fmt::format("{:.6g} kPa", v / 1e3) : fmt::format("{:.6g} Pa", v);
+  if (unit == "1" || unit.empty()) return fmt::format("{:.6g}", v);
+  return fmt::format("{:.6g} {}", v, unit);
+}
+
+bool isHyperLaw(const std::string& law) {
+  const auto& l = hyperelasticFitLaws();
+  return std::find(l.begin(), l.end(), law) != l.end();
+}
+
+std::string materialYaml(const FitResult& r) {
+  if (r.law == "prony") {
+    std::string s = "prony: [";
+    for (std::size_t i = 0; i < r.spec.prony.size(); ++i)
+      s += fmt::format("{}{{g: {:.6g}, tau: {:.6g} s}}", i ? ", " : "", r.spec.prony[i].g, r.spec.prony[i].tau);
+    return s + "]   # add to the material section";
+  }
+  std::string s = "material: {law: " + r.law;
+  for (const auto& p : r.params) s += ", " + p.name + ": " + withUnit(p.value, p.unit);
+  s += ", nu: 0.49}";
+  return s;
+}
+
+json fitJson(const FitResult& r) {
+  json j;
+  j["law"] = r.law;
+  j["terms"] = r.terms;
+  j["converged"] = r.converged;
+  json ps = json::array();
+  for (const auto& p : r.params)
+    ps.push_back({{"name", p.name}, {"value", num(p.value)}, {"unit", p.unit}, {"std_error", num(p.stdErr)}});
+  j["parameters"] = ps;
+  j["statistics"] = {{"n", r.n},
+                     {"sse", num(r.sse)},
+                     {"rmse", num(r.rmse)},
+                     {"mean_abs_residual", num(r.meanAbsResidual)},
+                     {"max_abs_residual", num(r.maxAbsResidual)},
+                     {"r_squared", num(r.rSquared)},
+                     {"aicc", num(r.aicc)}};
+  json res = json::array();
+  for (std::size_t i = 0; i < r.data.size(); ++i) res.push_back(num(r.fitted[i] - r.data[i]));
+  j["residuals"] = res;
+  j["material_yaml"] = materialYaml(r);
+  j["notes"] = r.notes;
+  return j;
+}
+
+std::string paramTable(const FitResult& r) {
+  std::string t = fmt::format("  {:<10} {:>14} {:>14}  {}\n", "parameter", "value", "std. error", "unit");
+  for (const auto& p : r.params)
+    t += fmt::format("  {:<10} {:>14} {:>14}  {}\n", p.name, g6(p.value), g6(p.stdErr), p.unit);
+  t += fmt::format("  n = {}, RMSE = {} , mean |res| = {}, max |res| = {} (seed 000 eq 34), R^2 = {:.5f}, AICc = {:.2f}\n",
+                   r.n, g6(r.rmse), g6(r.meanAbsResidual), g6(r.maxAbsResidual), r.rSquared, r.aicc);
+  return t;
+}
+
+io::Plot curvePlot(const std::vector<FitResult>& fits, bool prony) {
+  io::Plot p;
+  const auto& f0 = fits.front();
+  p.title = prony ? "Relaxation: data and Prony fit" : "Uniaxial response: data and fit";
+  p.xlabel = prony ? "time [s]" : "stretch [1]";
+  p.ylabel = prony ? "stress [kPa]" : "stress [kPa]";
+  p.logx = prony;
+  io::PlotSeries d{"data", f0.x, {}, true, false};
+  for (double v : f0.data) d.y.push_back(v / 1e3);
+  p.series.push_back(d);
+  for (std::size_t k = 0; k < fits.size() && k < 8; ++k) {
+    const auto& f = fits[k];
+    io::PlotSeries s{f.law + (f.terms > 1 ? fmt::format(" ({} terms)", f.terms) : ""), f.x, {}, false, k > 0};
+    for (double v : f.fitted) s.y.push_back(v / 1e3);
+    p.series.push_back(s);
+  }
+  return p;
+}
+
+io::Plot residualPlot(const FitResult& f, bool prony) {
+  io::Plot p;
+  p.title = "Residuals (fit - data)";
+  p.xlabel = prony ? "time [s]" : "stretch [1]";
+  p.ylabel = "residual [kPa]";
+  p.logx = prony;
+  io::PlotSeries s{"residual", f.x, {}, true, false};
+  for (std::size_t i = 0; i < f.data.size(); ++i) s.y.push_back((f.fitted[i] - f.data[i]) / 1e3);
+  p.series.push_back(s);
+  return p;
+}
+
+io::CsvData readOne(const FitRequest& rq) {
+  if (rq.data.size() != 1)
+    throw InputError({}, "DATA", std::to_string(rq.data.size()) + " files",
+                     "analysis '" + rq.law + "' reads exactly one data file", "one CSV file");
+  return io::readCsv(rq.data.front());
+}
+
+}  // namespace
+
+const std::vector<std::string>& fitAnalyses() {
+  static const std::vector<std::string> v{"linear", "neo-hookean", "mooney-rivlin", "yeoh",    "ogden",
+                                          "fung",   "auto",        "prony",         "toughness", "friction",
+                                          "puncture", "stiffness"};
+  return v;
+}
+
+double parseQuantityOption(const std::string& option, const std::string& text, units::Dim dim) {
+  units::Quantity q;
+  try {
+    q = units::parse(text);
+  } catch (const std::invalid_argument& e) {
+    throw InputError({"command line", 0, 0}, option, text, std::string("not a quantity: ") + e.what(),
+                     units::examples(dim));
+  }
+  if (q.gauge && dim == units::dim::Length) {
+    auto g = units::gaugeSize(static_cast<int>(q.value));
+    if (!g) throw InputError({"command line", 0, 0}, option, text, "unknown needle gauge", "a gauge from 7 G to 34 G");
+    return g->outer;
+  }
+  if (!(q.dim == dim) || q.gauge)
+    throw InputError({"command line", 0, 0}, option, text, "has the wrong unit", units::examples(dim));
+  return q.value;
+}
+
+FitOutcome runFit(const FitRequest& rq) {
+  const auto& all = fitAnalyses();
+  if (std::find(all.begin(), all.end(), rq.law) == all.end()) {
+    std::string allowed;
+    for (const auto& a : all) allowed += (allowed.empty() ? "" : ", ") + a;
+    throw InputError({"command line", 0, 0}, "--law", rq.law, "unknown law or analysis", allowed);
+  }
+  if (rq.data.empty()) throw InputError({"command line", 0, 0}, "DATA", "", "no data file given", "one or more CSV files");
+  FitOutcome out;
+  if (rq.write) {
+    out.outDir = rq.out;
+    if (out.outDir.empty()) {
+      fs::path d = rq.data.front();
+      out.outDir = d.parent_path() / (d.stem().string() + ".fit");
+    }
+    if (fs::exists(out.outDir) && !rq.overwrite)
+      throw InputError({"command line", 0, 0}, "--out", out.outDir.string(), "the output folder already exists",
+                       "a new folder (--out DIR), or --overwrite to replace its fit.json and report.html");
+  }
+  json j;
+  j["tool"] = "needlesim fit";
+  j["analysis"] = rq.law;
+  j["data"] = json::array();
+  for (const auto& d : rq.data) j["data"].push_back(d.string());
+  io::HtmlReport rep;
+  rep.title = "needlesim fit: " + rq.law;
+  rep.subtitle = rq.data.front().filename().string();
+  std::string table;
+
+  if (isHyperLaw(rq.law) || rq.law == "auto" || rq.law == "stiffness") {
+    io::CsvData csv = readOne(rq);
+    UniaxialData data = readUniaxial(csv, rq.uniaxial);
+    std::vector<FitResult> fits;
+    if (rq.law == "auto") {
+      fits = fitAllLaws(data);
+    } else if (rq.law == "stiffness") {
+      fits.push_back(fitHyperelastic(data, "neo-hookean"));
+      fits.push_back(fitHyperelastic(data, "linear"));
+    } else {
+      fits.push_back(fitHyperelastic(data, rq.law, rq.terms));
+    }
+    const FitResult& best = fits.front();
+    j["measure"] = data.measure == StressMeasure::Cauchy ? "cauchy" : "nominal";
+    j["result"] = fitJson(best);
+    out.materialYaml = materialYaml(best);
+    if (rq.law == "auto") {
+      json rk = json::array();
+      table += fmt::format("  {:<4} {:<18} {:>12} {:>12} {:>12}\n", "rank", "law", "AICc", "RMSE [Pa]", "max|res| [Pa]");
+      for (std::size_t k = 0; k < fits.size(); ++k) {
+        rk.push_back(fitJson(fits[k]));
+        table += fmt::format("  {:<4} {:<18} {:>12.2f} {:>12} {:>12}\n", k + 1,
+                             fits[k].law + (fits[k].terms > 1 ? fmt::format(" ({})", fits[k].terms) : ""),
+                             fits[k].aicc, g6(fits[k].rmse), g6(fits[k].maxAbsResidual));
+      }
+      j["ranking"] = rk;
+      table += "best: " + best.law + "\n";
+    }
+    table += paramTable(best);
+    if (rq.law == "stiffness") {
+      const auto& s = rq.uniaxial.sample;
+      if (!(s.diameter > 0) || !(s.height > 0))
+        throw InputError({"command line", 0, 0}, "--diameter/--height", "",
+                         "K_T (seed 002 eq 13) needs the sample diameter and height", "--diameter '6.34 mm' --height '7.31 mm'");
+      double C10 = best.param("C10").value, ET = fits[1].param("E").value;
+      double KT = interactionStiffness(C10, s.diameter, s.height);
+      double KTE = interactionStiffnessFromModulus(ET, s.diameter, s.height);
+      j["interaction"] = {{"K_T", KT}, {"K_T_from_linear_E", KTE}, {"C10", C10}, {"E_T", ET}, {"unit", "N/m^2"}};
+      table += fmt::format("  K_T = 3/2 C10 d/h = {} N/m^2 (seed 002 eq 13); from the linear fit E_T = {} Pa: {} N/m^2 (eq 11)\n",
+                           g6(KT), g6(ET), g6(KTE));
+      out.materialYaml = fmt::format("interaction: {{K_T: {:.6g} N/m^2}}", KT);
+      rep.facts.push_back({"K_T (eq 13)", g6(KT) + " N/m^2"});
+    }
+    for (const auto& p : best.params) rep.facts.push_back({p.name, g6(p.value) + " ± " + g6(p.stdErr) + " " + p.unit});
+    rep.facts.push_back({"RMSE", g6(best.rmse) + " Pa"});
+    rep.facts.push_back({"mean / max |residual| (seed 000 eq 34)", g6(best.meanAbsResidual) + " / " + g6(best.maxAbsResidual) + " Pa"});
+    rep.plots.push_back(curvePlot(fits, false));
+    rep.plots.push_back(residualPlot(best, false));
+    rep.notes = best.notes;
+  } else if (rq.law == "prony") {
+    io::CsvData csv = readOne(rq);
+    RelaxationData data = readRelaxation(csv, rq.uniaxial.sample);
+    FitResult r = fitProny(data, rq.terms);
+    j["result"] = fitJson(r);
+    out.materialYaml = materialYaml(r);
+    table += paramTable(r);
+    for (const auto& p : r.params) rep.facts.push_back({p.name, g6(p.value) + " ± " + g6(p.stdErr) + " " + p.unit});
+    rep.plots.push_back(curvePlot({r}, true));
+    rep.plots.push_back(residualPlot(r, true));
+    rep.notes = r.notes;
+  } else if (rq.law == "friction") {
+    // summaries (seed 003 eq 5.1 rows) or raw logs
+    io::CsvData first = io::readCsv(rq.data.front());
+    FrictionFit f;
+    if (first.find({"cutting force", "cutting"}) >= 0) {
+      if (rq.data.size() != 1) throw InputError({}, "DATA", "", "a summary table is read alone", "one CSV file");
+      f = frictionFromSummaries(readFrictionSummaries(first), first.file);
+      j["input"] = "summary rows (seed 003 eq 5.1)";
+    } else {
+      std::vector<InsertionLog> logs;
+      for (const auto& d : rq.data) {
+        auto l = readInsertionLogs(io::readCsv(d), rq.speed);
+        logs.insert(logs.end(), l.begin(), l.end());
+      }
+      f = fitFrictionCutting(logs, rq.thickness, rq.cutting);
+      j["input"] = "insertion logs";
+      io::Plot p;
+      p.title = "Insertion force after puncture: data and fit (seed 003 eq 5.1)";
+      p.xlabel = "depth [mm]";
+      p.ylabel = "force [N]";
+      for (std::size_t r = 0; r < f.depth.size(); ++r) {
+        std::vector<double> zmm;
+        for (double z : f.depth[r]) zmm.push_back(z * 1e3);
+        p.series.push_back({fmt::format("data {:.3g} mm/s", logs[r].speed * 1e3), zmm, f.measured[r], true, false});
+        p.series.push_back({fmt::format("fit {:.3g} mm/s", logs[r].speed * 1e3), zmm, f.fitted[r], false, false});
+      }
+      rep.plots.push_back(p);
+    }
+    json cut = json::array();
+    for (std::size_t s = 0; s < f.speeds.size(); ++s)
+      cut.push_back({{"speed", f.speeds[s]}, {"cutting_force", num(f.cutting[s])}, {"std_error", num(f.seCutting[s])}});
+    j["result"] = {{"parameters",
+                    {{{"name", "C_p"}, {"value", f.C}, {"unit", "N/m"}, {"std_error", num(f.seC)}},
+                     {{"name", "b_p"}, {"value", f.b}, {"unit", "N s/m^2"}, {"std_error", num(f.seB)}}}},
+                   {"cutting", cut},
+                   {"statistics", {{"n", f.n}, {"rmse", f.rmse}}}};
+    table += fmt::format("  C_p = {} ± {} N/m, b_p = {} ± {} N s/m^2 (seed 003 eq 5.1, least squares over {} points)\n",
+                         g6(f.C), g6(f.seC), g6(f.b), g6(f.seB), f.n);
+    for (std::size_t s = 0; s < f.speeds.size(); ++s)
+      table += fmt::format("  speed {:>8} mm/s: cutting force {} ± {} N\n", g6(f.speeds[s] * 1e3), g6(f.cutting[s]),
+                           g6(f.seCutting[s]));
+    double meanCut = 0;
+    for (double c : f.cutting) meanCut += c / f.cutting.size();
+    out.materialYaml = fmt::format("friction: {{C_p: {:.6g} N/m, b_p: {:.6g} N s/m^2}}\ncutting: {{force: {:.6g} N}}",
+                                   f.C, f.b, meanCut);
+    rep.facts = {{"C_p", g6(f.C) + " ± " + g6(f.seC) + " N/m"}, {"b_p", g6(f.b) + " ± " + g6(f.seB) + " N s/m^2"}};
+  } else if (rq.law == "toughness" || rq.law == "puncture") {
+    json runs = json::array();
+    double sumGc = 0;
+    int nGc = 0;
+    double sumPf = 0;
+    int nP = 0;
+    for (const auto& d : rq.data) {
+      for (const auto& log : readInsertionLogs(io::readCsv(d), rq.speed)) {
+        json run{{"file", log.file}, {"speed", log.speed}};
+        Puncture p = detectPuncture(log, rq.dropFraction);
+        run["puncture"] = {{"found", p.found}, {"depth", p.depth}, {"force", p.force}, {"drop", p.drop},
+                           {"stiffness", p.stiffness}, {"line", p.line}};
+        if (p.found) {
+          sumPf += p.force;
+          ++nP;
+          table += fmt::format("  {}: puncture at depth {} mm, force {} N (drop {} N, line {})\n", log.file,
+                               g6(p.depth * 1e3), g6(p.force), g6(p.drop), p.line);
+        } else {
+          table += fmt::format("  {}: no puncture (no drop by {} % of the peak)\n", log.file, rq.dropFraction * 100);
+        }
+        io::Plot pl;
+        pl.title = "Insertion force: " + fs::path(log.file).filename().string();
+        pl.xlabel = "depth [mm]";
+        pl.ylabel = "force [N]";
+        std::vector<double> zmm;
+        for (double z : log.depth) zmm.push_back(z * 1e3);
+        pl.series.push_back({"force", zmm, log.force, false, false});
+        if (p.found) pl.series.push_back({"puncture", {p.depth * 1e3}, {p.force}, true, false});
+        if (rq.law == "toughness") {
+          ToughnessOptions o;
+          o.diameter = rq.needleDiameter;
+          o.shaftLength = rq.thickness;
+          o.windowStart = rq.windowStart;
+          o.windowLength = rq.windowLength;
+          o.literalEq12 = rq.literalEq12;
+          ToughnessResult t = ruptureToughness(log, o);
+          run["toughness"] = {{"G_c", t.Gc}, {"G_ftc", t.Gftc}, {"G_ft", t.Gft}, {"F2", t.F2},
+                              {"L1", t.L1}, {"L2", t.L2}, {"window_start", t.windowStart}, {"area", t.area}};
+          if (rq.deltaC > 0) run["toughness"]["t_c"] = cohesiveStrength(t.Gc, rq.deltaC);
+          table += fmt::format("  G_c = {} J/m^2 (G_ftc {} - G_ft {}; L1 = {} mm from {} mm, L2 = {} mm, F2 = {} N){}\n",
+                               g6(t.Gc), g6(t.Gftc), g6(t.Gft), g6(t.L1 * 1e3), g6(t.windowStart * 1e3),
+                               g6(t.L2 * 1e3), g6(t.F2),
+                               rq.deltaC > 0 ? fmt::format("; t_c = 2 G_c/delta_c = {} Pa", g6(cohesiveStrength(t.Gc, rq.deltaC))) : "");
+          sumGc += t.Gc;
+          ++nGc;
+          pl.series.push_back({"L1 window", {t.windowStart * 1e3, (t.windowStart + t.L1) * 1e3}, {0.0, 0.0}, true, false});
+        }
+        rep.plots.push_back(pl);
+        runs.push_back(run);
+      }
+    }
+    j["runs"] = runs;
+    if (nGc > 0) {
+      j["G_c_mean"] = sumGc / nGc;
+      out.materialYaml = fmt::format("interaction: {{toughness: {:.6g} N/m}}", sumGc / nGc);
+      rep.facts.push_back({"G_c (mean)", g6(sumGc / nGc) + " J/m^2"});
+    } else if (nP > 0) {
+      j["puncture_force_mean"] = sumPf / nP;
+      out.materialYaml = fmt::format("puncture: {{force: {:.6g} N}}", sumPf / nP);
+      rep.facts.push_back({"puncture force (mean)", g6(sumPf / nP) + " N"});
+    }
+  }
+  j["material_yaml"] = out.materialYaml;
+  if (!out.materialYaml.empty()) table += "scenario block:\n  " + out.materialYaml + "\n";
+  out.json = j;
+  out.table = table;
+  if (rq.write) {
+    fs::create_directories(out.outDir);
+    io::writeFileAtomic(out.outDir / "fit.json", j.dump(2) + "\n");
+    io::writeFileAtomic(out.outDir / "report.html", rep.render());
+  }
+  return out;
+}
+
+}  // namespace needlesim::fit
