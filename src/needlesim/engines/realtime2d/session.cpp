@@ -1,0 +1,347 @@
+#include "needlesim/engines/realtime2d/session.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/engines/realtime2d/beam.hpp"
+#include "needlesim/forces/karnopp.hpp"
+
+namespace needlesim::realtime2d {
+
+namespace {
+// A coupled node is released only once it lies this far ahead of the tip, so a node
+// dragged along right at the tip does not flicker between coupled and free.
+constexpr double kReleaseGap = 1e-4;  // m
+Eigen::Vector2d entryOf(const SessionConfig& c) {
+  return {0.0, 0.5 * c.tissue.mesh.width + c.entry_offset};
+}
+Eigen::Vector2d axisOf(const SessionConfig& c) { return {std::cos(c.entry_angle), std::sin(c.entry_angle)}; }
+SessionConfig normalised(SessionConfig c) {
+  // The refined line of the mesh runs through the entry point.
+  c.tissue.mesh.path_y = 0.5 * c.tissue.mesh.width + c.entry_offset;
+  if (c.friction.D_p <= 0.0) c.friction.D_p = c.friction.C_p;  // static limit defaults to dynamic
+  if (c.friction.D_n <= 0.0) c.friction.D_n = c.friction.C_n;
+  if (!(c.needle.EI > 0.0) || !(c.needle.length > 0.0))
+    throw SolverError("realtime2d: the needle needs EI > 0 and length > 0");
+  if (!c.tissue.newmark.unconditionallyStable())
+    throw SolverError("realtime2d: Newmark gamma/beta are not unconditionally stable (need gamma >= 1/2, "
+                      "beta >= (gamma + 1/2)^2 / 4); use gamma = 0.5, beta = 0.25");
+  return c;
+}
+}  // namespace
+
+Session::Session(const SessionConfig& cfg_in)
+    : cfg_(normalised(cfg_in)),
+      entry_(entryOf(cfg_)),
+      t0_(axisOf(cfg_)),
+      n0_(-t0_.y(), t0_.x()),
+      theta0_(cfg_.entry_angle),
+      tissue_(cfg_.tissue, entry_, t0_, cfg_.dt) {
+  stiffness_.E = cfg_.tissue.material.E;
+  stiffness_.nu = cfg_.tissue.material.nu;
+  stiffness_.alpha = cfg_.needle.bevel_angle;
+  stiffness_.theta = 0.5 * std::numbers::pi - std::abs(cfg_.entry_angle);  // angle to the surface
+  EI_ = cfg_.needle.EI;
+  L_ = cfg_.needle.length;
+  s_exit_ = (tissue_.mesh().length() - entry_.x()) / t0_.x();
+  P_ = static_cast<int>(tissue_.path().size());
+  const int D = 2 * P_;
+  status_.assign(static_cast<std::size_t>(P_), Status::Stick);
+  offset_.assign(static_cast<std::size_t>(P_), 0.0);
+  sigma_.assign(static_cast<std::size_t>(P_), 0.0);
+  ell_.assign(static_cast<std::size_t>(P_), 0.0);
+  pos_.assign(static_cast<std::size_t>(P_), 0.0);
+  lambda_.assign(static_cast<std::size_t>(P_), 0.0);
+  idx_.assign(static_cast<std::size_t>(D), 0);
+  fK_.setZero(D); f_.setZero(D); y_.setZero(D); rhs_.setZero(D); x_.setZero(D);
+  H_.setZero(D, D);
+}
+
+BasePose Session::poseAtDepth(double depth, double lateral, double rotation, double roll) const {
+  const Eigen::Vector2d b = entry_ + (depth - L_) * t0_ + lateral * n0_;
+  return {b.x(), b.y(), theta0_ + rotation, roll};
+}
+
+double Session::needleDeflection(double sigma) const {
+  double w = Q_ * cantileverDeflection(sigma, L_, EI_);
+  for (int i = 0; i < k_; ++i) w -= lambda_[static_cast<std::size_t>(i)] * cantileverDeflection(sigma, sigma_[static_cast<std::size_t>(i)], EI_);
+  return w;
+}
+
+double Session::needleLateralAt(double p) const {
+  return rigidLateral(p) + needleDeflection((p - sB_) / cosphi_);
+}
+
+void Session::needleShape(int count, Eigen::Matrix2Xd& out) const {
+  count = std::max(count, 2);
+  if (out.cols() != count) out.resize(2, count);
+  for (int c = 0; c < count; ++c) {
+    const double sigma = L_ * c / (count - 1);
+    const double ax = sB_ + sigma * cosphi_;
+    const double lat = dB_ + sigma * std::sin(phi_) + needleDeflection(sigma);
+    out.col(c) = entry_ + ax * t0_ + lat * n0_;
+  }
+}
+
+// In-place Cholesky solve of the leading m x m block of H_ with rhs_ -> x_.
+bool Session::solveSmall(int m) {
+  double* A = H_.data();
+  const Eigen::Index ld = H_.outerStride();
+  for (int j = 0; j < m; ++j) {
+    double d = A[j + j * ld];
+    for (int k = 0; k < j; ++k) d -= A[j + k * ld] * A[j + k * ld];
+    if (!(d > 0.0)) return false;
+    d = std::sqrt(d);
+    A[j + j * ld] = d;
+    for (int i = j + 1; i < m; ++i) {
+      double s = A[i + j * ld];
+      for (int k = 0; k < j; ++k) s -= A[i + k * ld] * A[j + k * ld];
+      A[i + j * ld] = s / d;
+    }
+  }
+  for (int i = 0; i < m; ++i) {  // L z = rhs
+    double s = rhs_[i];
+    for (int k = 0; k < i; ++k) s -= A[i + k * ld] * x_[k];
+    x_[i] = s / A[i + i * ld];
+  }
+  for (int i = m - 1; i >= 0; --i) {  // L^T x = z
+    double s = x_[i];
+    for (int k = i + 1; k < m; ++k) s -= A[k + i * ld] * x_[k];
+    x_[i] = s / A[i + i * ld];
+  }
+  return true;
+}
+
+const StepResult& Session::step(const BasePose& pose, double dt) {
+  tissue_.setTimeStep(dt);
+  const auto& path = tissue_.path();
+  const auto& S = tissue_.pathCompliance();
+  const auto& c = tissue_.coefficients();
+  const auto& fr = cfg_.friction;
+  const double gam = cfg_.tissue.newmark.gamma;
+  const double band = 0.5 * fr.static_band;
+
+  // Needle kinematics in the reference frame (entry point, axis t0, normal n0).
+  const Eigen::Vector2d d = Eigen::Vector2d(pose.x, pose.y) - entry_;
+  sB_ = d.dot(t0_);
+  dB_ = d.dot(n0_);
+  phi_ = pose.angle - theta0_;
+  cosphi_ = std::cos(phi_);
+  tanphi_ = std::tan(phi_);
+  if (!started_) { sB_prev_ = sB_; started_ = true; }
+  const double ds = sB_ - sB_prev_;
+  const double v_ax = ds / dt;
+  const double s_tip = sB_ + L_ * cosphi_;
+  StepResult& o = out_;
+  o = StepResult{};
+  time_ += dt;
+  o.time = time_;
+  o.depth = s_tip;
+
+  tissue_.predict();
+  const Eigen::VectorXd& u0 = tissue_.predictedPath();
+  const Eigen::VectorXd& pu = tissue_.pathU();
+  const Eigen::VectorXd& pv = tissue_.pathV();
+  const Eigen::VectorXd& pa = tissue_.pathA();
+  fK_.setZero();
+
+  // Phase A: the tip indents the surface (eq 3.16) until the puncture threshold.
+  double F1 = 0.0;
+  if (!punctured_ && s_tip > 0.0) {
+    F1 = stiffness_.force(s_tip);
+    if (F1 >= cfg_.puncture_force) {
+      punctured_ = true;  // phase B: the load is released and the tissue relaxes
+      o.punctured_now = true;
+      front_ = s_tip;
+      F1 = 0.0;
+    } else {
+      fK_[0] += F1;  // axial load on the entry node
+    }
+  }
+  const bool inside = punctured_ && s_tip > 0.0 && s_tip < s_exit_;
+  // Cutting (eq 3.24) only when the tip advances into uncut tissue.
+  double Fc = 0.0;
+  // While resting at the front (|v| inside the static band) the cutting load is held,
+  // as in the lumped force model; retraction releases it.
+  if (inside && v_ax > -band && s_tip >= front_ - 1e-9) Fc = cfg_.cutting_force;
+  if (punctured_) front_ = std::max(front_, std::min(s_tip, s_exit_));
+  if (Fc > 0.0) {  // consistent (linear) split between the path nodes around the tip
+    int k = 0;
+    while (k + 1 < P_ && path[static_cast<std::size_t>(k + 1)].s <= s_tip) ++k;
+    if (k + 1 < P_) {
+      const double s0 = path[static_cast<std::size_t>(k)].s, s1 = path[static_cast<std::size_t>(k + 1)].s;
+      const double w1 = std::clamp((s_tip - s0) / (s1 - s0), 0.0, 1.0);
+      fK_[2 * k] += (1.0 - w1) * Fc;
+      fK_[2 * k + 2] += w1 * Fc;
+    } else {
+      fK_[2 * k] += Fc;
+    }
+  }
+  const double ratio = cfg_.needle.tip_load_ratio >= 0.0 ? cfg_.needle.tip_load_ratio
+                                                          : 1.0 / std::tan(cfg_.needle.bevel_angle);
+  const double Qnew = ratio * Fc * std::cos(pose.roll);
+
+  // Coupled nodes: the path prefix the tip has passed (current axial positions).
+  int k = 0;
+  if (punctured_ && s_tip > 0.0)
+    while (k < P_ && path[static_cast<std::size_t>(k)].s + pu[2 * k] <= s_tip + (k < k_ ? kReleaseGap : 0.0)) ++k;
+  for (int i = k_; i < k; ++i) {  // newly coupled: tie at the current gap (no jump)
+    offset_[static_cast<std::size_t>(i)] = pu[2 * i + 1] - needleLateralAt(path[static_cast<std::size_t>(i)].s + pu[2 * i]);
+    status_[static_cast<std::size_t>(i)] = Status::Stick;
+  }
+  for (int i = k; i < k_; ++i) lambda_[static_cast<std::size_t>(i)] = 0.0;  // released behind a retracting tip
+  k_ = k;
+  Q_ = Qnew;
+  for (int i = 0; i < k; ++i) pos_[static_cast<std::size_t>(i)] = path[static_cast<std::size_t>(i)].s + pu[2 * i];
+  for (int i = 0; i < k; ++i) {  // tributary shaft lengths and arc positions from the base
+    // Shaft in contact only: boundaries clamped to the tissue (0 .. tip or exit face).
+    const double top = std::min(s_tip, s_exit_);
+    const double lo = i == 0 ? 0.0 : std::clamp(0.5 * (pos_[static_cast<std::size_t>(i - 1)] + pos_[static_cast<std::size_t>(i)]), 0.0, top);
+    const double hi = i + 1 == k ? top : std::clamp(0.5 * (pos_[static_cast<std::size_t>(i)] + pos_[static_cast<std::size_t>(i + 1)]), 0.0, top);
+    ell_[static_cast<std::size_t>(i)] = std::max(hi - lo, 0.0);
+    sigma_[static_cast<std::size_t>(i)] = std::max((pos_[static_cast<std::size_t>(i)] - sB_) / cosphi_, 0.0);
+  }
+
+  // Active set on the axial status of each coupled node.
+  int it = 0;
+  for (; it < cfg_.max_active_set_iterations; ++it) {
+    // Known loads: press, cutting, held static friction, undamped slip.
+    f_ = fK_;
+    for (int i = 0; i < k; ++i) {
+      const auto st = status_[static_cast<std::size_t>(i)];
+      const double l = ell_[static_cast<std::size_t>(i)];
+      if (!(l > 1e-9)) continue;
+      if (st == Status::HoldPos) f_[2 * i] += fr.D_p * l;
+      if (st == Status::HoldNeg) f_[2 * i] -= fr.D_n * l;
+      if (st == Status::SlipPos && !(fr.b_p * l > 1e-12)) f_[2 * i] += fr.C_p * l;
+      if (st == Status::SlipNeg && !(fr.b_n * l > 1e-12)) f_[2 * i] -= fr.C_n * l;
+    }
+    // y = u0 + S f_known
+    y_ = u0;
+    for (int l = 0; l < 2 * P_; ++l)
+      if (f_[l] != 0.0) y_.noalias() += f_[l] * S.col(l);
+    // Unknown slots: all lateral ties, axial stick and damped slip.
+    int m = 0;
+    for (int i = 0; i < k; ++i) {
+      idx_[static_cast<std::size_t>(m++)] = 2 * i + 1;
+      const auto st = status_[static_cast<std::size_t>(i)];
+      const double l = ell_[static_cast<std::size_t>(i)];
+      if (!(l > 1e-9)) continue;  // no shaft in contact (dragged out of the tissue): no axial load
+      if (st == Status::Stick || (st == Status::SlipPos && fr.b_p * l > 1e-12) ||
+          (st == Status::SlipNeg && fr.b_n * l > 1e-12))
+        idx_[static_cast<std::size_t>(m++)] = 2 * i;
+    }
+    for (int a = 0; a < m; ++a) {
+      const int ia = idx_[static_cast<std::size_t>(a)];
+      const int na = ia / 2;
+      for (int b = 0; b <= a; ++b) {
+        const int ib = idx_[static_cast<std::size_t>(b)];
+        double h = S(ia, ib);
+        if (ia % 2 == 1 && ib % 2 == 1)  // needle flexibility between lateral ties (eq 3.12)
+          h += cantileverDeflection(sigma_[static_cast<std::size_t>(na)], sigma_[static_cast<std::size_t>(ib / 2)], EI_);
+        H_(a, b) = h;
+        H_(b, a) = h;
+      }
+      const auto p = static_cast<std::size_t>(na);
+      if (ia % 2 == 1) {  // lateral tie: u_n = needle lateral + offset
+        rhs_[a] = rigidLateral(pos_[p]) + Q_ * cantileverDeflection(sigma_[p], L_, EI_) + offset_[p] - y_[ia];
+      } else if (status_[p] == Status::Stick) {  // axial: moves with the needle
+        rhs_[a] = pu[ia] + ds - y_[ia];
+      } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity)
+        const bool posv = status_[p] == Status::SlipPos;
+        const double C = posv ? fr.C_p : -fr.C_n, b = posv ? fr.b_p : fr.b_n;
+        const double e = pv[ia] + dt * (1.0 - gam) * pa[ia] - c.a1 * pu[ia] - dt * gam * (c.a2 * pv[ia] + c.a3 * pa[ia]);
+        const double r = ell_[p] * (C + b * (v_ax - e)), cc = ell_[p] * b * c.a1;
+        H_(a, a) += 1.0 / cc;
+        rhs_[a] = r / cc - y_[ia];
+      }
+    }
+    if (!solveSmall(m)) throw SolverError("realtime2d: the coupling system is not positive definite");
+    for (int a = 0; a < m; ++a) f_[idx_[static_cast<std::size_t>(a)]] += x_[a];
+    // New path displacement and the status checks of eq 3.23.
+    bool changed = false;
+    for (int i = 0; i < k; ++i) {
+      const auto p = static_cast<std::size_t>(i);
+      const int ia = 2 * i;
+      double un = u0[ia];
+      for (int l = 0; l < 2 * P_; ++l)
+        if (f_[l] != 0.0) un += S(ia, l) * f_[l];
+      const double an = c.a0 * (un - pu[ia]) - c.a2 * pv[ia] - c.a3 * pa[ia];
+      const double vn = pv[ia] + dt * ((1.0 - gam) * pa[ia] + gam * an);
+      const double vrel = v_ax - vn;
+      const double Fa = ell_[p] > 0.0 ? f_[ia] / ell_[p] : 0.0;
+      Status next = status_[p];
+      switch (status_[p]) {
+        case Status::Stick:
+          if (Fa > fr.D_p) next = Status::HoldPos;
+          else if (Fa < -fr.D_n) next = Status::HoldNeg;
+          break;
+        case Status::HoldPos:
+          if (vrel >= band) next = Status::SlipPos;
+          else if (vrel <= 0.0) next = Status::Stick;
+          break;
+        case Status::HoldNeg:
+          if (vrel <= -band) next = Status::SlipNeg;
+          else if (vrel >= 0.0) next = Status::Stick;
+          break;
+        case Status::SlipPos:
+          if (vrel < band) next = Status::Stick;
+          break;
+        case Status::SlipNeg:
+          if (vrel > -band) next = Status::Stick;
+          break;
+      }
+      if (next != status_[p]) { status_[p] = next; changed = true; }
+    }
+    if (!changed) break;
+  }
+  o.iterations = it + 1;
+  tissue_.commit(f_);
+
+  // Needle loads and outputs: the tissue pushes the needle with -f on each tie.
+  Eigen::Vector2d F = Eigen::Vector2d::Zero();
+  double T = 0.0, fric = 0.0, lat = 0.0;
+  for (int i = 0; i < k; ++i) {
+    const auto p = static_cast<std::size_t>(i);
+    lambda_[p] = f_[2 * i + 1];
+    fric += f_[2 * i];
+    lat -= f_[2 * i + 1];
+    if (status_[p] == Status::Stick) ++o.sticking;
+  }
+  for (int i = 0; i < k; ++i) {
+    const auto p = static_cast<std::size_t>(i);
+    const Eigen::Vector2d Fi = -f_[2 * i] * t0_ - f_[2 * i + 1] * n0_;
+    const Eigen::Vector2d r = (pos_[p] - sB_) * t0_ + (needleLateralAt(pos_[p]) - dB_) * n0_;
+    F += Fi;
+    T += r.x() * Fi.y() - r.y() * Fi.x();
+  }
+  const Eigen::Vector2d tipF = -(F1 + Fc) * t0_ + Q_ * n0_;
+  const Eigen::Vector2d rt = L_ * cosphi_ * t0_ + (L_ * std::sin(phi_) + needleDeflection(L_)) * n0_;
+  F += tipF;
+  T += rt.x() * tipF.y() - rt.y() * tipF.x();
+  o.force = F;
+  o.torque = T;
+  o.axial_force = -F.dot(t0_);
+  o.stiffness_force = F1;
+  o.cutting_force = Fc;
+  o.friction_force = fric;
+  o.lateral_force = lat;
+  o.tip_load = Q_;
+  o.tip_deflection = needleDeflection(L_);
+  double slope = Q_ * L_ * L_ / (2.0 * EI_);
+  for (int i = 0; i < k; ++i) slope -= lambda_[static_cast<std::size_t>(i)] * cantileverSlope(L_, sigma_[static_cast<std::size_t>(i)], EI_);
+  o.tip_angle = pose.angle + slope;
+  o.tip_position = entry_ + s_tip * t0_ + (dB_ + L_ * std::sin(phi_) + o.tip_deflection) * n0_;
+  o.coupled = k;
+  if (s_tip <= 0.0) o.phase = Phase::Outside;
+  else if (!punctured_) o.phase = Phase::Pressing;
+  else if (s_tip >= s_exit_) o.phase = Phase::Through;
+  else if (Fc > 0.0 && v_ax >= band) o.phase = Phase::Cutting;
+  else o.phase = Phase::Inside;
+  sB_prev_ = sB_;
+  return o;
+}
+
+}  // namespace needlesim::realtime2d

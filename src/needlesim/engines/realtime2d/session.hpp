@@ -1,0 +1,124 @@
+#pragma once
+// Real-time session of the 2D FE needle insertion model (seed 003 sections
+// 3.1-3.5): linear elastic tissue (tissue.hpp), an Euler-Bernoulli needle
+// clamped at its base (beam.hpp), the needle-tissue coupling on the path nodes
+// (eqs 3.18-3.21, with the modified local constraints of Gao et al. 2016, seed
+// 003 ref 16) and the lumped forces of section 3.2: pre-puncture stiffness
+// (eq 3.16), constant cutting (eq 3.24) and modified Karnopp friction (eq 3.23).
+//
+// Per step the tissue predicts its path displacements, a small SPD system on the
+// coupled nodes (lateral ties + axial stick or implicit slip) is solved by an
+// active set, and the tissue commits the resulting path loads. step() allocates
+// nothing as long as dt stays the same (a new dt refactorises) and is deterministic.
+#include <Eigen/Core>
+#include <vector>
+
+#include "needlesim/engines/realtime2d/tissue.hpp"
+#include "needlesim/forces/stiffness.hpp"
+#include "needlesim/scenario/scenario.hpp"
+
+namespace needlesim::realtime2d {
+
+struct NeedleConfig {
+  double length = 0.1;          // m, base (hub, clamped) to tip
+  double EI = 0.0;              // N m^2, bending stiffness
+  double bevel_angle = 0.5236;  // rad, tip (bevel) angle alpha
+  // Transverse bevel load Q / cutting force; < 0 selects the wedge estimate cot(alpha)
+  // (the bevel face carries the cutting force: axial N sin a = F_cut, lateral N cos a).
+  double tip_load_ratio = -1.0;
+};
+
+struct SessionConfig {
+  TissueConfig tissue;
+  NeedleConfig needle;
+  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
+  double cutting_force = 0.0;  // N (eq 3.24)
+  double puncture_force = 0.0; // N, threshold of eq 3.16
+  double entry_offset = 0.0;   // m, lateral entry point from the centre of the entry face
+  double entry_angle = 0.0;    // rad, reference needle axis from the depth direction (0 = normal)
+  double dt = 1e-3;            // s
+  int max_active_set_iterations = 12;
+};
+
+struct BasePose {
+  double x = 0.0, y = 0.0;  // m, needle base (hub) in tissue coordinates
+  double angle = 0.0;       // rad, needle axis from +x (depth direction)
+  double roll = 0.0;        // rad, axial rotation: bevel load along +n for roll = 0, -n for pi
+};
+
+enum class Phase : int { Outside = 0, Pressing = 1, Cutting = 2, Inside = 3, Through = 4 };
+
+struct StepResult {
+  double time = 0.0;
+  Eigen::Vector2d force = Eigen::Vector2d::Zero();  // N, total force of the tissue on the needle
+  double torque = 0.0;          // N m, moment of that force about the base (+z)
+  double axial_force = 0.0;     // N, resistance to insertion: -force . axis
+  double stiffness_force = 0.0; // N, eq 3.16 part (axial)
+  double cutting_force = 0.0;   // N, eq 3.24 part (axial)
+  double friction_force = 0.0;  // N, friction on the shaft resisting insertion
+  double lateral_force = 0.0;   // N, lateral tissue load on the needle (+n)
+  double tip_load = 0.0;        // N, transverse bevel load (+n)
+  Eigen::Vector2d tip_position = Eigen::Vector2d::Zero();  // m
+  double tip_angle = 0.0;       // rad
+  double tip_deflection = 0.0;  // m, elastic lateral tip deflection (+n) from the straight needle
+  double depth = 0.0;           // m, tip position along the reference axis from the entry point
+  Phase phase = Phase::Outside;
+  int coupled = 0;              // coupled tissue nodes
+  int sticking = 0;             // of which sticking axially
+  bool punctured_now = false;
+  int iterations = 0;           // active-set iterations
+};
+
+class Session {
+ public:
+  explicit Session(const SessionConfig& cfg);
+
+  // Base pose that puts the straight needle's tip at `depth` along the reference axis.
+  BasePose poseAtDepth(double depth, double lateral = 0.0, double rotation = 0.0, double roll = 0.0) const;
+  // Advances by dt with the base at `pose`; the returned reference stays valid until the next call.
+  const StepResult& step(const BasePose& pose, double dt);
+  const StepResult& last() const { return out_; }
+
+  const Tissue& tissue() const { return tissue_; }
+  const Mesh& mesh() const { return tissue_.mesh(); }
+  const Eigen::VectorXd& displacement() const { return tissue_.displacement(); }  // 2 per node
+  // Needle centre line from base to tip, `count` points (>= 2) into `out` (2 x count).
+  void needleShape(int count, Eigen::Matrix2Xd& out) const;
+  // Lateral elastic deflection (+n) of the needle at arc length sigma from the base.
+  double needleDeflection(double sigma) const;
+  const SessionConfig& config() const { return cfg_; }
+  const Eigen::Vector2d& entryPoint() const { return entry_; }
+  double exitDepth() const { return s_exit_; }
+
+ private:
+  enum class Status : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
+  double rigidLateral(double p) const { return dB_ + (p - sB_) * tanphi_; }
+  double needleLateralAt(double p) const;  // total lateral position (+n) of the needle at axial p
+  bool solveSmall(int m);
+
+  SessionConfig cfg_;
+  Eigen::Vector2d entry_, t0_, n0_;
+  double theta0_ = 0.0;
+  Tissue tissue_;
+  forces::StiffnessLaw stiffness_;
+  double EI_ = 0.0, L_ = 0.0, s_exit_ = 0.0;
+  int P_ = 0;  // path nodes
+  // Needle state of the current step.
+  double sB_ = 0.0, dB_ = 0.0, phi_ = 0.0, tanphi_ = 0.0, cosphi_ = 1.0, Q_ = 0.0;
+  double sB_prev_ = 0.0;
+  bool started_ = false, punctured_ = false;
+  double front_ = 0.0, time_ = 0.0;
+  int k_ = 0;  // coupled nodes (a prefix of the path)
+  std::vector<Status> status_;
+  std::vector<double> offset_, sigma_, ell_, pos_, lambda_;
+  std::vector<int> idx_;
+  Eigen::VectorXd fK_, f_, y_, rhs_, x_;
+  Eigen::MatrixXd H_;
+  StepResult out_;
+};
+
+// Builds a session configuration from a scenario (first layer's material, friction
+// and forces; SI units throughout). The realtime2d model section refines the mesh.
+SessionConfig sessionConfigFromScenario(const Scenario& sc);
+
+}  // namespace needlesim::realtime2d

@@ -1,0 +1,369 @@
+#include "needlesim/engines/realtime2d/tissue.hpp"
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/SparseCholesky>
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "needlesim/core/error.hpp"
+
+namespace needlesim::realtime2d {
+
+NewmarkCoefficients::NewmarkCoefficients(const NewmarkParams& p, double h) {
+  if (!(h > 0.0)) throw SolverError("realtime2d: the time step must be > 0");
+  if (!(p.beta > 0.0) || !(p.gamma > 0.0)) throw SolverError("realtime2d: Newmark gamma and beta must be > 0");
+  dt = h;
+  a0 = 1.0 / (p.beta * h * h);
+  a1 = p.gamma / (p.beta * h);
+  a2 = 1.0 / (p.beta * h);
+  a3 = 1.0 / (2.0 * p.beta) - 1.0;
+  a4 = p.gamma / p.beta - 1.0;
+  a5 = 0.5 * h * (p.gamma / p.beta - 2.0);
+}
+
+// ---------------------------------------------------------------------------
+struct PathMap {  // the path loads' placement on the free DOFs
+  const std::vector<std::array<int, 2>>* pdof;
+  Eigen::Vector2d t, n;
+  // Direction (x, y) of path load k (k = 2 i + 0: axial t, + 1: lateral n).
+  const Eigen::Vector2d& dir(int k) const { return (k % 2 == 0) ? t : n; }
+  template <class Vec>
+  double gather(const Vec& u, int k) const {
+    const auto& d = (*pdof)[static_cast<std::size_t>(k / 2)];
+    const auto& e = dir(k);
+    double s = 0.0;
+    if (d[0] >= 0) s += e.x() * u[d[0]];
+    if (d[1] >= 0) s += e.y() * u[d[1]];
+    return s;
+  }
+  template <class Vec>
+  void scatterAdd(Vec& u, int k, double f) const {
+    const auto& d = (*pdof)[static_cast<std::size_t>(k / 2)];
+    const auto& e = dir(k);
+    if (d[0] >= 0) u[d[0]] += e.x() * f;
+    if (d[1] >= 0) u[d[1]] += e.y() * f;
+  }
+  int size() const { return 2 * static_cast<int>(pdof->size()); }
+};
+
+class TissueIntegrator {
+ public:
+  virtual ~TissueIntegrator() = default;
+  virtual Backend kind() const = 0;
+  virtual void prepare(const NewmarkCoefficients& c) = 0;
+  virtual const Eigen::MatrixXd& S() const = 0;
+  virtual void predict(Eigen::VectorXd& u0P) = 0;
+  virtual void commit(const Eigen::VectorXd& f) = 0;
+  virtual void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const = 0;  // free DOFs
+  virtual void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) = 0;
+};
+
+namespace {
+
+class DirectIntegrator final : public TissueIntegrator {
+ public:
+  DirectIntegrator(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M, double alpha,
+                   double beta, PathMap map)
+      : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)) {
+    const auto n = K.rows();
+    u_.setZero(n); v_.setZero(n); a_.setZero(n);
+    b_.resize(n); u0_.resize(n); t1_.resize(n); t2_.resize(n); an_.resize(n);
+  }
+  Backend kind() const override { return Backend::Direct; }
+  void prepare(const NewmarkCoefficients& c) override {
+    c_ = c;
+    Eigen::SparseMatrix<double> A = K_ * (1.0 + c.a1 * beta_) + M_ * (c.a0 + c.a1 * alpha_);
+    ldlt_.compute(A);
+    if (ldlt_.info() != Eigen::Success) throw SolverError("realtime2d: the effective tissue matrix is not positive definite");
+    const int P = map_.size();
+    Z_.resize(K_.rows(), P);
+    Eigen::VectorXd g(K_.rows());
+    for (int k = 0; k < P; ++k) {
+      g.setZero();
+      map_.scatterAdd(g, k, 1.0);
+      Z_.col(k) = ldlt_.solve(g);
+    }
+    S_.resize(P, P);
+    for (int k = 0; k < P; ++k)
+      for (int l = 0; l < P; ++l) S_(l, k) = map_.gather(Z_.col(k), l);
+    S_ = 0.5 * (S_ + S_.transpose()).eval();
+  }
+  const Eigen::MatrixXd& S() const override { return S_; }
+  void predict(Eigen::VectorXd& u0P) override {
+    // Right side of eq 3.4 with C = alpha M + beta K (eq 3.8).
+    t1_ = (c_.a0 + alpha_ * c_.a1) * u_ + (c_.a2 + alpha_ * c_.a4) * v_ + (c_.a3 + alpha_ * c_.a5) * a_;
+    t2_ = beta_ * (c_.a1 * u_ + c_.a4 * v_ + c_.a5 * a_);
+    b_.noalias() = M_ * t1_;
+    b_.noalias() += K_ * t2_;
+    u0_ = ldlt_.solve(b_);
+    for (int k = 0; k < map_.size(); ++k) u0P[k] = map_.gather(u0_, k);
+  }
+  void commit(const Eigen::VectorXd& f) override {
+    for (int k = 0; k < f.size(); ++k)
+      if (f[k] != 0.0) u0_.noalias() += f[k] * Z_.col(k);
+    // eq 3.3 solved for the new acceleration, then eq 3.2.
+    an_ = c_.a0 * (u0_ - u_) - c_.a2 * v_ - c_.a3 * a_;
+    v_ += c_.dt * ((1.0 - gammaOf()) * a_ + gammaOf() * an_);
+    a_.swap(an_);
+    u_.swap(u0_);
+  }
+  void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override { u = u_; v = v_; }
+  void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
+    u_ = u; v_ = v; a_ = a;
+  }
+
+ private:
+  double gammaOf() const { return c_.a1 / (c_.a2 == 0 ? 1.0 : c_.a2) ; }  // a1/a2 = gamma
+  Eigen::SparseMatrix<double> K_, M_;
+  double alpha_, beta_;
+  PathMap map_;
+  NewmarkCoefficients c_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
+  Eigen::MatrixXd Z_, S_;
+  Eigen::VectorXd u_, v_, a_, b_, u0_, t1_, t2_, an_;
+};
+
+class ModalIntegrator final : public TissueIntegrator {
+ public:
+  ModalIntegrator(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M, double alpha,
+                  double beta, PathMap map)
+      : alpha_(alpha), beta_(beta), map_(std::move(map)) {
+    const Eigen::MatrixXd Kd(K), Md(M);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Kd, Md);
+    if (es.info() != Eigen::Success) throw SolverError("realtime2d: modal decomposition of the tissue failed");
+    Phi_ = es.eigenvectors();  // M-orthonormal
+    w2_ = es.eigenvalues().cwiseMax(0.0);
+    const auto n = Phi_.cols();
+    const int P = map_.size();
+    PhiP_.resize(P, n);
+    for (int k = 0; k < P; ++k)
+      for (Eigen::Index m = 0; m < n; ++m) PhiP_(k, m) = map_.gather(Phi_.col(m), k);
+    damp_ = (alpha_ + beta_ * w2_.array()).matrix();  // modal damping of eq 3.8
+    q_.setZero(n); qd_.setZero(n); qdd_.setZero(n); q0_.resize(n); invA_.resize(n); g_.resize(n);
+  }
+  Backend kind() const override { return Backend::Modal; }
+  void prepare(const NewmarkCoefficients& c) override {
+    c_ = c;
+    invA_ = (w2_.array() + c.a0 + c.a1 * damp_.array()).inverse().matrix();
+    S_ = PhiP_ * invA_.asDiagonal() * PhiP_.transpose();
+  }
+  const Eigen::MatrixXd& S() const override { return S_; }
+  void predict(Eigen::VectorXd& u0P) override {
+    const auto& c = c_;
+    q0_.array() = ((c.a0 * q_.array() + c.a2 * qd_.array() + c.a3 * qdd_.array()) +
+                   damp_.array() * (c.a1 * q_.array() + c.a4 * qd_.array() + c.a5 * qdd_.array())) *
+                  invA_.array();
+    u0P.noalias() = PhiP_ * q0_;
+  }
+  void commit(const Eigen::VectorXd& f) override {
+    g_.setZero();
+    for (int k = 0; k < f.size(); ++k)
+      if (f[k] != 0.0) g_.noalias() += f[k] * PhiP_.row(k).transpose();
+    const double gam = c_.a1 / c_.a2;
+    q0_.array() += g_.array() * invA_.array();
+    // New acceleration from eq 3.3, velocity from eq 3.2, mode by mode.
+    g_.array() = c_.a0 * (q0_.array() - q_.array()) - c_.a2 * qd_.array() - c_.a3 * qdd_.array();
+    qd_.array() += c_.dt * ((1.0 - gam) * qdd_.array() + gam * g_.array());
+    qdd_.swap(g_);
+    q_.swap(q0_);
+  }
+  void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override {
+    u.noalias() = Phi_ * q_;
+    v.noalias() = Phi_ * qd_;
+  }
+  void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
+    // Phi^T M Phi = I, so q = Phi^-1 u; solve with the dense basis (setup only).
+    const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Phi_);
+    q_ = lu.solve(u); qd_ = lu.solve(v); qdd_ = lu.solve(a);
+  }
+
+ private:
+  double alpha_, beta_;
+  PathMap map_;
+  NewmarkCoefficients c_;
+  Eigen::MatrixXd Phi_;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> PhiP_;
+  Eigen::VectorXd w2_, damp_, q_, qd_, qdd_, q0_, invA_, g_;
+  Eigen::MatrixXd S_;
+};
+
+}  // namespace
+
+// ---------------------------------------------------------------------------
+Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eigen::Vector2d& axis, double dt)
+    : mesh_(generateMesh(cfg.mesh)), cfg_(cfg) {
+  t_ = axis.normalized();
+  n_ = Eigen::Vector2d(-t_.y(), t_.x());
+  const auto asm_ = assemble(mesh_, cfg.material, cfg.lumped_mass);
+  const int N = mesh_.nodeCount();
+  const auto onSides = nodesOnHeldSides(mesh_);
+  std::vector<bool> held(static_cast<std::size_t>(2 * N), false);
+  Eigen::SparseMatrix<double> Kfull = asm_.K;
+  if (cfg.support_stiffness > 0.0) {
+    // Winkler springs on the held sides: tributary boundary length per node.
+    std::vector<Eigen::Triplet<double>> t;
+    auto add = [&](int node, double len) {
+      const double k = cfg.support_stiffness * len * cfg.material.thickness;
+      t.emplace_back(2 * node, 2 * node, k);
+      t.emplace_back(2 * node + 1, 2 * node + 1, k);
+    };
+    const auto& xs = mesh_.xs; const auto& ys = mesh_.ys;
+    auto trib = [](const std::vector<double>& c, int i) {
+      const int n = static_cast<int>(c.size());
+      double l = 0.0;
+      if (i > 0) l += 0.5 * (c[static_cast<std::size_t>(i)] - c[static_cast<std::size_t>(i - 1)]);
+      if (i + 1 < n) l += 0.5 * (c[static_cast<std::size_t>(i + 1)] - c[static_cast<std::size_t>(i)]);
+      return l;
+    };
+    for (int i = 0; i < mesh_.nx; ++i) {
+      add(mesh_.node(i, 0), trib(xs, i));
+      add(mesh_.node(i, mesh_.ny - 1), trib(xs, i));
+    }
+    for (int j = 0; j < mesh_.ny; ++j) add(mesh_.node(mesh_.nx - 1, j), trib(ys, j));
+    Eigen::SparseMatrix<double> Ks(2 * N, 2 * N);
+    Ks.setFromTriplets(t.begin(), t.end());
+    Kfull += Ks;
+  } else {
+    for (int i = 0; i < N; ++i)
+      if (onSides[static_cast<std::size_t>(i)]) held[static_cast<std::size_t>(2 * i)] = held[static_cast<std::size_t>(2 * i + 1)] = true;
+  }
+  map_ = makeDofMap(2 * N, held);
+  K_ = restrictToFree(Kfull, map_);
+  M_ = restrictToFree(asm_.M, map_);
+
+  // Path: per depth column the node nearest to the reference axis line (axis within
+  // 45 deg of the depth direction), from the entry face on; held nodes excluded.
+  if (!(t_.x() > std::sqrt(0.5) - 1e-12))
+    throw SolverError("realtime2d: the needle axis must be within 45 degrees of the entry-face normal");
+  for (int i = 0; i < mesh_.nx; ++i) {
+    const double s = (mesh_.xs[static_cast<std::size_t>(i)] - entry.x()) / t_.x();
+    if (s < -1e-12) continue;
+    const double y = entry.y() + s * t_.y();
+    const auto it = std::min_element(mesh_.ys.begin(), mesh_.ys.end(),
+                                     [&](double a, double b) { return std::abs(a - y) < std::abs(b - y); });
+    const int j = static_cast<int>(it - mesh_.ys.begin());
+    const int node = mesh_.node(i, j);
+    if (held[static_cast<std::size_t>(2 * node)] || (cfg.support_stiffness <= 0.0 && onSides[static_cast<std::size_t>(node)]))
+      continue;
+    const Eigen::Vector2d d = mesh_.nodes.col(node) - entry;
+    path_.push_back({node, d.dot(t_), d.dot(n_)});
+  }
+  if (path_.empty()) throw SolverError("realtime2d: no mesh node lies on the needle path");
+  for (const auto& p : path_)
+    pdof_.push_back({map_.free_of_dof[static_cast<std::size_t>(2 * p.node)],
+                     map_.free_of_dof[static_cast<std::size_t>(2 * p.node + 1)]});
+
+  PathMap pm{&pdof_, t_, n_};
+  const bool modal = cfg.backend == Backend::Modal ||
+                     (cfg.backend == Backend::Auto && map_.freeCount() <= cfg.modal_max_dofs);
+  const double a = cfg.rayleigh_alpha, b = cfg.rayleigh_beta;
+  if (modal) impl_ = std::make_unique<ModalIntegrator>(K_, M_, a, b, pm);
+  else impl_ = std::make_unique<DirectIntegrator>(K_, M_, a, b, pm);
+  nm_ = NewmarkCoefficients(cfg.newmark, dt);
+  impl_->prepare(nm_);
+  pu_.setZero(pathDofs()); pv_.setZero(pathDofs()); pa_.setZero(pathDofs());
+  full_u_.setZero(2 * N); full_v_.setZero(2 * N);
+  u0P_.setZero(pathDofs());
+}
+
+Tissue::~Tissue() = default;
+Tissue::Tissue(Tissue&&) noexcept = default;
+Tissue& Tissue::operator=(Tissue&&) noexcept = default;
+
+Backend Tissue::backend() const { return impl_->kind(); }
+void Tissue::setTimeStep(double dt) {
+  if (dt == nm_.dt) return;
+  nm_ = NewmarkCoefficients(cfg_.newmark, dt);
+  impl_->prepare(nm_);
+}
+const Eigen::MatrixXd& Tissue::pathCompliance() const { return impl_->S(); }
+void Tissue::predict() { impl_->predict(u0P_); }
+const Eigen::VectorXd& Tissue::predictedPath() const { return u0P_; }
+
+void Tissue::commit(const Eigen::VectorXd& f) {
+  impl_->commit(f);
+  // Path state: u = u0 + S f exactly; v and a by eqs 3.2-3.3 on those DOFs.
+  const auto& c = nm_;
+  const double gam = cfg_.newmark.gamma;
+  for (int k = 0; k < pathDofs(); ++k) {
+    double u = u0P_[k];
+    for (int l = 0; l < pathDofs(); ++l)
+      if (f[l] != 0.0) u += impl_->S()(k, l) * f[l];
+    const double an = c.a0 * (u - pu_[k]) - c.a2 * pv_[k] - c.a3 * pa_[k];
+    pv_[k] += c.dt * ((1.0 - gam) * pa_[k] + gam * an);
+    pa_[k] = an;
+    pu_[k] = u;
+  }
+  dirty_ = true;
+}
+
+void Tissue::refreshFull() const {
+  if (!dirty_) return;
+  impl_->fullState(fu_, fv_);
+  for (int k = 0; k < map_.freeCount(); ++k) {
+    full_u_[map_.dof_of_free[static_cast<std::size_t>(k)]] = fu_[k];
+    full_v_[map_.dof_of_free[static_cast<std::size_t>(k)]] = fv_[k];
+  }
+  dirty_ = false;
+}
+const Eigen::VectorXd& Tissue::displacement() const { refreshFull(); return full_u_; }
+const Eigen::VectorXd& Tissue::velocity() const { refreshFull(); return full_v_; }
+
+double Tissue::kineticEnergy() const {
+  refreshFull();
+  return 0.5 * fv_.dot(M_ * fv_);
+}
+double Tissue::strainEnergy() const {
+  refreshFull();
+  return 0.5 * fu_.dot(K_ * fu_);
+}
+
+void Tissue::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v) {
+  const int n = map_.freeCount();
+  Eigen::VectorXd uf(n), vf(n);
+  for (int k = 0; k < n; ++k) {
+    uf[k] = u[map_.dof_of_free[static_cast<std::size_t>(k)]];
+    vf[k] = v[map_.dof_of_free[static_cast<std::size_t>(k)]];
+  }
+  const Eigen::SparseMatrix<double> C = cfg_.rayleigh_alpha * M_ + cfg_.rayleigh_beta * K_;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf(M_);
+  const Eigen::VectorXd rhs = -(C * vf + K_ * uf);
+  const Eigen::VectorXd af = mf.solve(rhs);
+  impl_->setState(uf, vf, af);
+  PathMap pm{&pdof_, t_, n_};
+  for (int k = 0; k < pathDofs(); ++k) {
+    pu_[k] = pm.gather(uf, k); pv_[k] = pm.gather(vf, k); pa_[k] = pm.gather(af, k);
+  }
+  dirty_ = true;
+}
+
+double Tissue::highestFrequency() const {
+  // Power iteration on M^-1 K (Rayleigh quotient), deterministic start vector.
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf(M_);
+  Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(M_.rows(), 1.0, 2.0);
+  for (Eigen::Index i = 0; i < x.size(); i += 2) x[i] = -x[i];
+  double lam = 0.0;
+  for (int it = 0; it < 300; ++it) {
+    Eigen::VectorXd y = mf.solve(K_ * x);
+    const double nl = x.dot(K_ * x) / x.dot(M_ * x);
+    x = y / y.norm();
+    if (it > 10 && std::abs(nl - lam) < 1e-6 * nl) { lam = nl; break; }
+    lam = nl;
+  }
+  return std::sqrt(std::max(lam, 0.0));
+}
+
+Eigen::VectorXd Tissue::staticSolve(const Eigen::VectorXd& f) const {
+  const int n = map_.freeCount();
+  Eigen::VectorXd ff(n);
+  for (int k = 0; k < n; ++k) ff[k] = f[map_.dof_of_free[static_cast<std::size_t>(k)]];
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kf(K_);
+  if (kf.info() != Eigen::Success) throw SolverError("realtime2d: the tissue stiffness is singular (no supports?)");
+  const Eigen::VectorXd uf = kf.solve(ff);
+  Eigen::VectorXd u = Eigen::VectorXd::Zero(f.size());
+  for (int k = 0; k < n; ++k) u[map_.dof_of_free[static_cast<std::size_t>(k)]] = uf[k];
+  return u;
+}
+
+}  // namespace needlesim::realtime2d
