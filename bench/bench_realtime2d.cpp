@@ -1,0 +1,56 @@
+// Steps per second of the real-time 2D FE session on one core (seed 003 model):
+// the thesis mesh (120 x 80 mm, 21 x 31 = 651 nodes, modal back-end) and a
+// 10,000-node mesh (80 x 125 nodes, graded, direct sparse back-end), each during
+// a steady 3 mm/s insertion with coupled nodes along the shaft.
+#include <benchmark/benchmark.h>
+
+#include <cmath>
+#include <numbers>
+
+#include "needlesim/engines/realtime2d/session.hpp"
+
+using namespace needlesim::realtime2d;
+
+namespace {
+SessionConfig config(int nx, int ny, Backend b) {
+  SessionConfig c;
+  c.tissue.mesh.nodes_depth = nx;
+  c.tissue.mesh.nodes_lateral = ny;
+  c.tissue.mesh.grading = nx > 40 ? 3.0 : 1.0;
+  c.tissue.backend = b;
+  const double D = 1.27e-3, d = 0.838e-3;
+  c.needle.EI = 200e9 * std::numbers::pi / 64 * (std::pow(D, 4) - std::pow(d, 4));
+  c.needle.length = 0.1;
+  c.needle.bevel_angle = std::numbers::pi / 6;
+  c.friction.C_p = c.friction.C_n = 3.791;
+  c.friction.b_p = c.friction.b_n = 285.053;
+  c.friction.static_band = 1e-4;
+  c.cutting_force = 0.04335;
+  c.dt = 1e-3;
+  return c;
+}
+
+void run(benchmark::State& state, int nx, int ny, Backend b) {
+  Session s(config(nx, ny, b));
+  const double dt = 1e-3, v = 3e-3;
+  double depth = 0.0;
+  for (int n = 0; n < 10000; ++n) s.step(s.poseAtDepth(depth += v * dt), dt);  // 30 mm in
+  for (auto _ : state) {
+    depth += v * dt;
+    if (depth > 0.06) depth = 0.03;  // stay in the insertion phase
+    benchmark::DoNotOptimize(s.step(s.poseAtDepth(depth), dt).axial_force);
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["nodes"] = s.mesh().nodeCount();
+  state.counters["coupled"] = s.last().coupled;
+}
+}  // namespace
+
+static void BM_ThesisMesh651_Modal(benchmark::State& st) { run(st, 21, 31, Backend::Modal); }
+static void BM_ThesisMesh651_Direct(benchmark::State& st) { run(st, 21, 31, Backend::Direct); }
+static void BM_Mesh10000_Direct(benchmark::State& st) { run(st, 80, 125, Backend::Direct); }
+BENCHMARK(BM_ThesisMesh651_Modal)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_ThesisMesh651_Direct)->Unit(benchmark::kMicrosecond);
+BENCHMARK(BM_Mesh10000_Direct)->Unit(benchmark::kMicrosecond)->Iterations(300);
+
+BENCHMARK_MAIN();
