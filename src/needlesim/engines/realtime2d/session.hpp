@@ -117,8 +117,4 @@ class Session {
   StepResult out_;
 };
 
-// Builds a session configuration from a scenario (first layer's material, friction
-// and forces; SI units throughout). The realtime2d model section refines the mesh.
-SessionConfig sessionConfigFromScenario(const Scenario& sc);
-
 }  // namespace needlesim::realtime2d
