@@ -343,7 +343,16 @@ FitOutcome runFit(const FitRequest& rq) {
     }
   }
   j["material_yaml"] = out.materialYaml;
-  if (!out.materialYaml.empty()) table += "scenario block:\n  " + out.materialYaml + "\n";
+  if (!out.materialYaml.empty()) {
+    table += "scenario block:\n";
+    std::size_t start = 0;
+    while (start < out.materialYaml.size()) {
+      std::size_t end = out.materialYaml.find('\n', start);
+      if (end == std::string::npos) end = out.materialYaml.size();
+      table += "  " + out.materialYaml.substr(start, end - start) + "\n";
+      start = end + 1;
+    }
+  }
   out.json = j;
   out.table = table;
   if (rq.write) {

@@ -165,7 +165,6 @@ Hyperelastic Hyperelastic::fromSpec(const MaterialSpec& spec) {
 namespace {
 
 using Sym6 = Eigen::Matrix<double, 6, 6>;
-constexpr int NV = 6;  // variables: J, I1, I2, h1, h2, h3
 
 // Tensor-component 6x6 of A (x) B for symmetric A, B.
 Sym6 outer(const Mat3& A, const Mat3& B) {
@@ -189,9 +188,9 @@ Sym6 symProduct(const Mat3& A) {
   return M;
 }
 
-}  // namespace
-
-Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
+// NV variables: J, I1, I2 (3), plus h1..h3 for Ogden (6).
+template <int NV>
+Stress3 evaluateImpl(const Hyperelastic& m, const Mat3& F, bool withTangent) {
   const double Jv = F.determinant();
   if (!(Jv > 0.0) || !std::isfinite(Jv))
     throw SolverError("deformation gradient with det F = " + num(Jv) +
@@ -199,7 +198,7 @@ Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
   const Mat3 C = F.transpose() * F;
   const double I1v = C.trace();
   const double I2v = 0.5 * (I1v * I1v - (C * C).trace());
-  const int nOgden = m.kind == LawKind::Ogden ? static_cast<int>(m.ogdenAlpha.size()) : 0;
+  const int nOgden = m.kind == LawKind::Ogden ? std::min(static_cast<int>(m.ogdenAlpha.size()), NV - 3) : 0;
 
   // Spectral data for the Ogden invariants h_p = tr C^(alpha_p/2).
   Eigen::SelfAdjointEigenSolver<Mat3> eig;
@@ -213,7 +212,7 @@ Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
 
   using A = detail::Ad2<NV>;
   A Jx = A::variable(Jv, 0), I1x = A::variable(I1v, 1), I2x = A::variable(I2v, 2);
-  A hx[3] = {A(0.0), A(0.0), A(0.0)};
+  A hx[3] = {A(0.0), A(0.0), A(0.0)};  // constant zero unless Ogden
   for (int p = 0; p < nOgden; ++p) {
     double a = m.ogdenAlpha[p];
     double h = 0;
@@ -229,7 +228,7 @@ Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
   G[0] = 0.5 * Jv * Cinv;
   G[1] = I;
   G[2] = I1v * I - C;
-  for (int p = 0; p < 3; ++p) G[3 + p].setZero();
+  for (int p = 3; p < NV; ++p) G[p].setZero();
   for (int p = 0; p < nOgden; ++p) {
     double a = m.ogdenAlpha[p];
     Eigen::Vector3d f1;
@@ -250,7 +249,7 @@ Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
   H[0] = 0.25 * Jv * outer(Cinv, Cinv) - 0.5 * Jv * symProduct(Cinv);
   H[1].setZero();
   H[2] = outer(I, I) - symProduct(I);
-  for (int p = 0; p < 3; ++p) H[3 + p].setZero();
+  for (int p = 3; p < NV; ++p) H[p].setZero();
   for (int p = 0; p < nOgden; ++p) {
     // Daleckii-Krein: d(f'(C)) = sum_ab d_ab P_a dC P_b with divided differences d_ab.
     double a = m.ogdenAlpha[p];
@@ -290,6 +289,12 @@ Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
   }
   out.tangent = 4.0 * 0.5 * (T + T.transpose());
   return out;
+}
+
+}  // namespace
+
+Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
+  return m.kind == LawKind::Ogden ? evaluateImpl<6>(m, F, withTangent) : evaluateImpl<3>(m, F, withTangent);
 }
 
 Stress2 evaluatePlaneStrain(const Hyperelastic& m, const Mat2& F, bool withTangent) {
