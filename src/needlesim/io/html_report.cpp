@@ -95,7 +95,19 @@ std::string HtmlReport::render() const {
           ".plot{position:relative;height:420px;margin:1.5em 0}footer{color:#777;font-size:.8em;margin-top:3em}\n"
           "</style>\n";
   // Chart.js, MIT licence (c) Chart.js Contributors; from Debian's libjs-chart.js.
-  html += "<script>/*! Chart.js | MIT License | (c) Chart.js Contributors | https://www.chartjs.org */\n";
+  html += "<script>/*! Chart.js (https://www.chartjs.org), from Debian's libjs-chart.js.\n"
+          "Copyright (c) 2014-2021 Chart.js Contributors. MIT (Expat) licence:\n"
+          "Permission is hereby granted, free of charge, to any person obtaining a copy of this software and\n"
+          "associated documentation files (the \"Software\"), to deal in the Software without restriction,\n"
+          "including without limitation the rights to use, copy, modify, merge, publish, distribute, sublicense,\n"
+          "and/or sell copies of the Software, and to permit persons to whom the Software is furnished to do so,\n"
+          "subject to the following conditions: The above copyright notice and this permission notice shall be\n"
+          "included in all copies or substantial portions of the Software. THE SOFTWARE IS PROVIDED \"AS IS\",\n"
+          "WITHOUT WARRANTY OF ANY KIND, EXPRESS OR IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF\n"
+          "MERCHANTABILITY, FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE AUTHORS OR\n"
+          "COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER LIABILITY, WHETHER IN AN ACTION OF CONTRACT,\n"
+          "TORT OR OTHERWISE, ARISING FROM, OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS\n"
+          "IN THE SOFTWARE. */\n";
   html += embedded::kChartJs;
   html += "\n</script>\n</head><body>\n";
   html += "<h1>" + escape(title) + "</h1>\n";
