@@ -191,6 +191,9 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
                        "gives a stretch <= 0 (a strain of -100 % or more)", "strains above -1 (stretches above 0)");
   }
   d.stress = y;
+  if (std::all_of(y.begin(), y.end(), [](double v) { return v == 0.0; }))
+    throw InputError({csv.file, csv.lines.back(), 0}, "stress", "0", "every stress is zero, so there is nothing to fit",
+                     "a loading curve with non-zero stress");
   // Loading curves only: the stretch must move away from 1 monotonically.
   if (n >= 2) {
     double dir = d.stretch.back() - d.stretch.front();
