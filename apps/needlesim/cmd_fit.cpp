@@ -13,7 +13,7 @@ namespace {
 
 struct FitArgs {
   std::vector<std::string> data;
-  std::string law, out, loading = "auto", stress = "cauchy", cutting = "per-speed";
+  std::string law, out, loading = "auto", mode = "uniaxial", stress = "cauchy", cutting = "per-speed";
   std::string height, area, diameter, needleDiameter, thickness, windowStart, windowLength, deltaC, speed;
   int terms = 0;
   double dropFraction = 0.2;
@@ -33,6 +33,7 @@ void registerFitCommand(CLI::App& app) {
   cmd->add_option("-o,--out", a->out, "output folder (default: DATA.fit next to the data)");
   cmd->add_flag("--overwrite", a->overwrite, "replace fit.json and report.html in an existing output folder");
   cmd->add_option("--loading", a->loading, "auto, compression (positive values are compressive) or tension");
+  cmd->add_option("--mode", a->mode, "homogeneous test: uniaxial (default), equibiaxial or shear");
   cmd->add_option("--stress", a->stress, "measure of a column named plainly 'stress': cauchy (seed convention) or nominal");
   cmd->add_option("--height", a->height, "sample height, for displacement data and K_T (e.g. '7.31 mm')");
   cmd->add_option("--area", a->area, "sample cross-section, for force data (e.g. '900 mm^2')");
@@ -62,6 +63,10 @@ void registerFitCommand(CLI::App& app) {
     else if (a->loading == "compression") rq.uniaxial.loading = fit::Loading::Compression;
     else if (a->loading == "tension") rq.uniaxial.loading = fit::Loading::Tension;
     else throw bad("--loading", a->loading, "auto, compression, tension");
+    if (a->mode == "uniaxial") rq.uniaxial.mode = fit::TestMode::Uniaxial;
+    else if (a->mode == "equibiaxial") rq.uniaxial.mode = fit::TestMode::Equibiaxial;
+    else if (a->mode == "shear") rq.uniaxial.mode = fit::TestMode::Shear;
+    else throw bad("--mode", a->mode, "uniaxial, equibiaxial, shear");
     if (a->stress == "cauchy") rq.uniaxial.plainStress = fit::StressMeasure::Cauchy;
     else if (a->stress == "nominal") rq.uniaxial.plainStress = fit::StressMeasure::Nominal;
     else throw bad("--stress", a->stress, "cauchy, nominal");

@@ -17,16 +17,17 @@ namespace {
 // here 40 % so that the nonlinear terms are identifiable), 80 points, each
 // stress with 1 % multiplicative Gaussian noise (fixed seed).
 UniaxialData synthetic(const materials::MaterialSpec& truth, StressMeasure m, unsigned seed = 7,
-                       double lamEnd = 0.6, int n = 80, double noise = 0.01) {
+                       double lamEnd = 0.6, int n = 80, double noise = 0.01, TestMode mode = TestMode::Uniaxial) {
   std::mt19937 rng(seed);
   std::normal_distribution<double> N(0.0, noise);
   UniaxialData d;
   d.file = "synthetic.csv";
   d.measure = m;
+  d.mode = mode;
   for (int i = 1; i <= n; ++i) {
     double lam = 1.0 + (lamEnd - 1.0) * i / n;
     d.stretch.push_back(lam);
-    d.stress.push_back(uniaxialModel(truth, lam, m) * (1.0 + N(rng)));
+    d.stress.push_back(uniaxialModel(truth, lam, m, mode) * (1.0 + N(rng)));
     d.lines.push_back(i + 1);
   }
   return d;
@@ -50,7 +51,7 @@ void expectRecovered(const FitResult& r, const materials::MaterialSpec& truth, c
   }
   double sseTruth = 0;
   for (std::size_t i = 0; i < d.stress.size(); ++i) {
-    double e = uniaxialModel(truth, d.stretch[i], d.measure) - d.stress[i];
+    double e = uniaxialModel(truth, d.stretch[i], d.measure, d.mode) - d.stress[i];
     sseTruth += e * e;
   }
   EXPECT_LE(r.sse, sseTruth * (1 + 1e-9)) << r.law << " terms " << r.terms;
@@ -148,4 +149,31 @@ TEST(PronyFit, RecoversTwoTermsAndChoosesTheirNumber) {
   near("g" + std::to_string(b), 0.25);
   near("tau" + std::to_string(b), 15.0);
   near("sigma0", peak);
+}
+
+// Equibiaxial and simple-shear data (the other homogeneous tests) fit too.
+TEST(HyperelasticFit, RecoversFromEquibiaxialAndShearData) {
+  struct Case {
+    std::string law;
+    int terms;
+    std::map<std::string, double> p;
+  };
+  std::vector<Case> cases = {{"neo-hookean", 1, {{"C10", 3.6e3}}},
+                             {"mooney-rivlin", 1, {{"C10", 2.0e3}, {"C01", 1.5e3}}},
+                             {"fung", 1, {{"mu", 2.3e3}, {"gamma", 3.1}}},
+                             {"ogden", 1, {{"mu1", 3.0e3}, {"alpha1", 6.0}}}};
+  for (const auto& c : cases) {
+    auto truth = spec(c.law, c.p);
+    SCOPED_TRACE(c.law);
+    // equibiaxial tension to lambda = 1.4 (nominal stress), simple shear to gamma = 0.8
+    auto e = synthetic(truth, StressMeasure::Nominal, 21, 1.4, 80, 0.01, TestMode::Equibiaxial);
+    expectRecovered(fitHyperelastic(e, c.law, c.terms), truth, e);
+    if (c.law == "mooney-rivlin") continue;  // C10 and C01 are indistinguishable in simple shear (2 (C10 + C01) gamma)
+    auto s = synthetic(truth, StressMeasure::Cauchy, 22, 1.8, 80, 0.01, TestMode::Shear);
+    expectRecovered(fitHyperelastic(s, c.law, c.terms), truth, s);
+  }
+  // linear: equibiaxial slope 2 E, shear slope E/3
+  auto lin = spec("linear", {{"E", 30e3}});
+  auto s = synthetic(lin, StressMeasure::Cauchy, 23, 1.05, 40, 0.01, TestMode::Shear);
+  EXPECT_NEAR(fitHyperelastic(s, "linear").param("E").value, 30e3, 0.01 * 30e3);
 }

@@ -222,6 +222,11 @@ FitOutcome runFit(const FitRequest& rq) {
     rep.facts.push_back({"mean / max |residual| (seed 000 eq 34)", g6(best.meanAbsResidual) + " / " + g6(best.maxAbsResidual) + " Pa"});
     rep.plots.push_back(curvePlot(fits, false));
     rep.plots.push_back(residualPlot(best, false));
+    const char* modeName = data.mode == TestMode::Uniaxial ? "uniaxial" : data.mode == TestMode::Equibiaxial ? "equibiaxial" : "simple shear";
+    j["mode"] = modeName;
+    if (data.mode == TestMode::Shear)
+      for (auto& p : rep.plots) p.xlabel = "1 + shear strain [1]";
+    rep.subtitle += std::string(" (") + modeName + ")";
     rep.notes = best.notes;
   } else if (rq.law == "prony") {
     io::CsvData csv = readOne(rq);

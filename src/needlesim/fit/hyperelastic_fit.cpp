@@ -90,10 +90,28 @@ mat::Hyperelastic buildLaw(const std::string& law, const std::vector<double>& th
 }
 
 double modelValue(const std::string& law, const mat::Hyperelastic& h, const std::vector<double>& th,
-                  double lam, StressMeasure m) {
-  if (law == "linear") return th[0] * (lam - 1.0);  // sigma = E * engineering strain
-  return m == StressMeasure::Cauchy ? mat::uniaxialCauchyIncompressible(h, lam)
-                                    : mat::uniaxialNominalIncompressible(h, lam);
+                  double x, StressMeasure m, TestMode mode) {
+  if (law == "linear") {  // small strain, incompressible: E eps, 2 E eps, E/3 gamma
+    double f = mode == TestMode::Uniaxial ? 1.0 : mode == TestMode::Equibiaxial ? 2.0 : 1.0 / 3.0;
+    return f * th[0] * (x - 1.0);
+  }
+  switch (mode) {
+    case TestMode::Uniaxial:
+      return m == StressMeasure::Cauchy ? mat::uniaxialCauchyIncompressible(h, x)
+                                        : mat::uniaxialNominalIncompressible(h, x);
+    case TestMode::Equibiaxial: {
+      double s = mat::equibiaxialCauchyIncompressible(h, x);
+      return m == StressMeasure::Cauchy ? s : s / x;  // nominal = sigma / lambda
+    }
+    case TestMode::Shear:
+      return mat::simpleShearIncompressible(h, x - 1.0);  // nominal = Cauchy in simple shear
+  }
+  return 0.0;
+}
+
+// Small-strain slope of the test in units of the initial shear modulus mu0.
+double slopeOverMu0(TestMode mode) {
+  return mode == TestMode::Uniaxial ? 3.0 : mode == TestMode::Equibiaxial ? 6.0 : 1.0;
 }
 
 }  // namespace
@@ -116,7 +134,10 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
   const std::size_t n = csv.rows();
   std::vector<double> x(n);
   bool compressionNamed = false;
-  int cs = csv.find({"strain", "engineering strain", "compressive strain", "tensile strain"});
+  d.mode = opt.mode;
+  int cg = csv.find({"shear strain", "gamma"});
+  if (cg >= 0) d.mode = TestMode::Shear;
+  int cs = cg >= 0 ? cg : csv.find({"strain", "engineering strain", "compressive strain", "tensile strain"});
   int cl = csv.find({"stretch", "lambda", "stretch ratio"});
   int cd = csv.find({"displacement", "compression", "deformation"});
   std::string xKind;
@@ -124,7 +145,7 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
     csv.checkDim(cs, units::dim::None, "strain");
     x = csv.col(cs);
     compressionNamed = startsWith(csv.columns[cs].name, "compressive");
-    xKind = "strain";
+    xKind = cg >= 0 ? "shear strain" : "strain";
   } else if (cl >= 0) {
     csv.checkDim(cl, units::dim::None, "stretch");
     for (std::size_t i = 0; i < n; ++i) x[i] = csv.col(cl)[i] - 1.0;
@@ -141,8 +162,8 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
   } else {
     csv.require({"strain", "stretch", "displacement"}, units::dim::None, "strain, stretch or displacement");
   }
-  int cy = csv.find({"stress", "cauchy stress", "true stress", "nominal stress", "engineering stress",
-                     "compressive stress", "tensile stress"});
+  int cy = csv.find({"shear stress", "stress", "cauchy stress", "true stress", "nominal stress",
+                     "engineering stress", "compressive stress", "tensile stress"});
   int cf = csv.find({"force", "load"});
   std::vector<double> y(n);
   if (cy >= 0) {
@@ -151,7 +172,8 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
     const std::string& nm = csv.columns[cy].name;
     if (nm.find("nominal") != std::string::npos || nm.find("engineering") != std::string::npos)
       d.measure = StressMeasure::Nominal;
-    else if (nm.find("cauchy") != std::string::npos || nm.find("true") != std::string::npos)
+    else if (nm.find("cauchy") != std::string::npos || nm.find("true") != std::string::npos ||
+             nm == "shear stress")
       d.measure = StressMeasure::Cauchy;
     else {
       d.measure = opt.plainStress;
@@ -209,11 +231,10 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
   return d;
 }
 
-double uniaxialModel(const materials::MaterialSpec& spec, double stretch, StressMeasure measure) {
-  if (spec.law == "linear") return spec.param("E") * (stretch - 1.0);
+double uniaxialModel(const materials::MaterialSpec& spec, double stretch, StressMeasure measure, TestMode mode) {
+  if (spec.law == "linear") return modelValue("linear", {}, {spec.param("E")}, stretch, measure, mode);
   auto h = mat::Hyperelastic::fromSpec(spec);
-  return measure == StressMeasure::Cauchy ? mat::uniaxialCauchyIncompressible(h, stretch)
-                                          : mat::uniaxialNominalIncompressible(h, stretch);
+  return modelValue(spec.law, h, {}, stretch, measure, mode);
 }
 
 FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int terms) {
@@ -243,7 +264,8 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
     E0 = emax > 0 ? ymax / emax : 1.0;
   }
   if (!(E0 > 0)) E0 = 1e3;
-  const double mu0 = E0 / 3.0;
+  const double mu0 = E0 / slopeOverMu0(data.mode);
+  if (law == "linear") E0 = 3.0 * mu0;  // E of the linear law
 
   std::vector<PDef> defs;
   std::vector<std::vector<double>> starts;  // physical values
@@ -316,7 +338,7 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
       std::vector<double> tv(th.data(), th.data() + th.size());
       mat::Hyperelastic h = buildLaw(law, tv);
       for (int i = 0; i < n; ++i)
-        r[i] = (modelValue(law, h, tv, data.stretch[i], data.measure) - data.stress[i]) / sc;
+        r[i] = (modelValue(law, h, tv, data.stretch[i], data.measure, data.mode) - data.stress[i]) / sc;
     };
     Eigen::VectorXd p0(k);
     for (int i = 0; i < k; ++i) p0[i] = toInternal(d[i], start[i]);
@@ -339,7 +361,7 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
   mat::Hyperelastic h = buildLaw(law, tv);
   best.x = data.stretch;
   best.data = data.stress;
-  for (int i = 0; i < n; ++i) best.fitted.push_back(modelValue(law, h, tv, data.stretch[i], data.measure));
+  for (int i = 0; i < n; ++i) best.fitted.push_back(modelValue(law, h, tv, data.stretch[i], data.measure, data.mode));
   finishStats(best, static_cast<int>(best.params.size()));
   best.spec.name = "fitted";
   best.spec.law = law;

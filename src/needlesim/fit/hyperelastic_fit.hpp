@@ -12,13 +12,18 @@ namespace needlesim::fit {
 
 enum class StressMeasure { Cauchy, Nominal };
 enum class Loading { Auto, Compression, Tension };
+// Homogeneous test: uniaxial (tension or compression), equibiaxial, or simple shear.
+enum class TestMode { Uniaxial, Equibiaxial, Shear };
 
-// Uniaxial data in SI: stretch lambda (compression < 1) and stress (compression < 0).
+// Homogeneous test data in SI: stretch lambda (compression < 1) and stress
+// (compression < 0). For simple shear, stretch holds 1 + gamma and stress the
+// shear stress sigma_12.
 struct UniaxialData {
   std::string file;
   std::vector<double> stretch, stress;
   std::vector<int> lines;
   StressMeasure measure = StressMeasure::Cauchy;
+  TestMode mode = TestMode::Uniaxial;
   std::vector<std::string> notes;  // how the columns were read
 };
 
@@ -30,6 +35,8 @@ struct SampleSize {
 
 struct UniaxialReadOptions {
   Loading loading = Loading::Auto;
+  // Uniaxial unless given, or unless the columns are named "shear strain"/"shear stress".
+  TestMode mode = TestMode::Uniaxial;
   SampleSize sample;
   // For a column named plainly "stress": the seeds fit their F/A data to Cauchy
   // closed forms (seed 000 eq 33, seed 002 eq 10), so Cauchy is the default.
@@ -76,8 +83,12 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
 // Fits every law and ranks them by AICc (best first).
 std::vector<FitResult> fitAllLaws(const UniaxialData& data);
 
-// Model response used by the fits (exposed for tests and synthetic data).
-double uniaxialModel(const materials::MaterialSpec& spec, double stretch, StressMeasure measure);
+// Model response used by the fits (exposed for tests and synthetic data):
+// incompressible uniaxial, equibiaxial (stress in each loaded direction) or
+// simple-shear (x = 1 + gamma) response; "linear" is small-strain
+// sigma = E eps (uniaxial), 2 E eps (equibiaxial), E/3 gamma (shear).
+double uniaxialModel(const materials::MaterialSpec& spec, double stretch, StressMeasure measure,
+                     TestMode mode = TestMode::Uniaxial);
 
 // ---- Stress relaxation ----
 struct RelaxationData {
