@@ -208,9 +208,31 @@ TEST(Realtime2dSession, DeterministicAndAllocationFree) {
   EXPECT_EQ(a.displacement(), b.displacement());
 }
 
-// An integrator that is not unconditionally stable is refused before the run.
+// Newmark that is unstable for this mesh and step is refused before the run: gamma < 1/2
+// always; beta < gamma/2 when dt w_max > 1/sqrt(gamma/2 - beta) (w_max of the mesh).
 TEST(Realtime2dSession, RefusesConditionallyStableNewmark) {
   auto c = thesisLike();
-  c.tissue.newmark.beta = 0.1;
+  c.tissue.newmark.gamma = 0.4;
   EXPECT_THROW({ Session s(c); }, needlesim::SolverError);
+  c = thesisLike();
+  c.tissue.newmark.beta = 0.0625;  // conditionally stable
+  c.dt = 1e-6;
+  Session probe(c);
+  const double limit = probe.tissue().stableTimeStep();
+  const double w = probe.tissue().highestFrequency();
+  EXPECT_NEAR(limit, 1.0 / (std::sqrt(0.25 - 0.0625) * w), 1e-9 * limit);
+  c.dt = 1.05 * limit;
+  EXPECT_THROW({ Session s(c); }, needlesim::SolverError);
+  // Just below the limit the free vibration stays bounded (no damping).
+  c.dt = 0.95 * limit;
+  c.tissue.rayleigh_alpha = c.tissue.rayleigh_beta = 0.0;
+  c.tissue.backend = Backend::Direct;
+  Session s(c);
+  Eigen::VectorXd u = Eigen::VectorXd::Random(2 * s.mesh().nodeCount()) * 1e-4, v = Eigen::VectorXd::Zero(u.size());
+  auto& t = const_cast<Tissue&>(s.tissue());
+  t.setState(u, v);
+  const double E0 = t.strainEnergy() + t.kineticEnergy();
+  Eigen::VectorXd f = Eigen::VectorXd::Zero(t.pathDofs());
+  for (int n = 0; n < 2000; ++n) { t.predict(); t.commit(f); }
+  EXPECT_LT(t.strainEnergy() + t.kineticEnergy(), 2.0 * E0);
 }

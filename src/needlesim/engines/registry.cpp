@@ -2,12 +2,14 @@
 
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/lumped/lumped_engine.hpp"
+#include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
 
 namespace needlesim {
 
 const std::vector<EngineInfo>& engineRegistry() {
   static const std::vector<EngineInfo> list{
       {"lumped", "lumped insertion-force model (seed 003 section 3.2)", engines::runLumped},
+      {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", engines::runRealtime2d},
   };
   return list;
 }

@@ -278,6 +278,59 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
   sc.model.time_step = model.number("time_step");
   Section lumped = model.sub("lumped");
   sc.model.lumped.relaxation_time = lumped.number("relaxation_time");
+  Section rt = model.sub("realtime2d");
+  {
+    Realtime2dModelSpec& r = sc.model.realtime2d;
+    if (auto h = rt.optNumber("element_size")) {
+      if (rt.has("nodes_depth") || rt.has("nodes_lateral"))
+        throw rt.error("element_size", "", "give element_size or the node counts, not both",
+                       "element_size, or nodes_depth and nodes_lateral");
+      r.element_size = *h;
+      r.nodes_depth = static_cast<int>(std::lround(sc.tissue.length / *h)) + 1;
+      r.nodes_lateral = static_cast<int>(std::lround(sc.tissue.width / *h)) + 1;
+      if (r.nodes_depth < 2 || r.nodes_lateral < 3 || r.nodes_depth * r.nodes_lateral > 4000000)
+        throw rt.error("element_size", fmt::format("{:g} mm", *h * 1e3),
+                       fmt::format("gives {} x {} nodes for the {:g} x {:g} mm block", r.nodes_depth,
+                                   r.nodes_lateral, sc.tissue.length * 1e3, sc.tissue.width * 1e3),
+                       "at least 2 x 3 and at most 4 million nodes");
+    } else {
+      r.nodes_depth = static_cast<int>(std::lround(rt.number("nodes_depth")));
+      r.nodes_lateral = static_cast<int>(std::lround(rt.number("nodes_lateral")));
+    }
+    r.refinement = rt.number("refinement");
+    r.plane_strain = rt.choice("plane") == "strain";
+    r.thickness = rt.number("thickness");
+    r.lumped_mass = rt.choice("mass") == "lumped";
+    r.rayleigh_alpha = rt.number("rayleigh_alpha");
+    r.rayleigh_beta = rt.number("rayleigh_beta");
+    r.newmark_gamma = rt.number("newmark_gamma");
+    r.newmark_beta = rt.number("newmark_beta");
+    r.spring_boundary = rt.choice("boundary") == "springs";
+    if (r.spring_boundary) {
+      auto k = rt.optNumber("spring_stiffness");
+      if (!k) throw rt.error("spring_stiffness", "", "is required for boundary: springs", "> 0 N/m^3");
+      r.spring_stiffness = *k;
+    } else if (rt.has("spring_stiffness")) {
+      throw rt.error("spring_stiffness", "", "only applies to boundary: springs", "boundary: springs");
+    }
+    r.solver = rt.choice("solver");
+    r.tip_load_ratio = rt.optNumber("tip_load_ratio").value_or(-1.0);
+    r.field_interval = rt.number("field_interval");
+    auto markers = rt.list("markers");
+    for (std::size_t i = 0; i < markers.size(); ++i) {
+      Section m = rt.element(markers[i], "markers", i);
+      MarkerSpec mk{m.text("name"), m.number("x"), m.number("y")};
+      const double ylo = -0.5 * sc.tissue.width - sc.insertion.entry_offset, yhi = ylo + sc.tissue.width;
+      if (mk.x > sc.tissue.length || !(mk.y >= ylo && mk.y <= yhi))
+        throw m.error("x", fmt::format("({:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3), "lies outside the tissue block",
+                      fmt::format("0 <= x <= {:g} mm and {:g} mm <= y <= {:g} mm", sc.tissue.length * 1e3,
+                                  ylo * 1e3, yhi * 1e3));
+      for (const auto& o : r.markers)
+        if (o.name == mk.name) throw m.error("name", mk.name, "is used by two markers", "unique names");
+      r.markers.push_back(mk);
+    }
+  }
+
 
   Section out = top.sub("output");
   sc.output.directory = out.text("directory");

@@ -76,10 +76,39 @@ struct LumpedModelSpec {
   double relaxation_time = 0.0;  // s, decay of the held friction during pauses (0 = none)
 };
 
+// A point of the tissue whose displacement is reported (realtime2d engine).
+struct MarkerSpec {
+  std::string name;
+  double x = 0.0;  // m, depth from the entry face
+  double y = 0.0;  // m, lateral from the needle path line through the entry point
+};
+
+// Real-time 2D FE engine (seed 003 sections 3.1-3.5; docs/models/realtime2d.md).
+struct Realtime2dModelSpec {
+  double element_size = 0.0;   // m, 0 = use the node counts
+  int nodes_depth = 21;        // nodes along the insertion axis
+  int nodes_lateral = 31;      // nodes across it
+  double refinement = 1.0;     // coarsest / finest lateral element size (finest on the path)
+  bool plane_strain = true;    // false = plane stress
+  double thickness = 1e-3;     // m, out-of-plane extent of the slab
+  bool lumped_mass = false;
+  double rayleigh_alpha = 0.01;  // 1/s (seed 003 eq 3.8)
+  double rayleigh_beta = 0.1;    // s
+  double newmark_gamma = 0.5;    // eq 3.2
+  double newmark_beta = 0.25;    // eq 3.3
+  bool spring_boundary = false;  // false: sides held; true: spring supports
+  double spring_stiffness = 0.0; // N/m^3
+  std::string solver = "auto";   // auto, direct, modal, reduced
+  double tip_load_ratio = -1.0;  // transverse bevel load / cutting force; < 0 = cot(bevel angle)
+  double field_interval = 0.5;   // s, tissue field output interval (0 = none)
+  std::vector<MarkerSpec> markers;
+};
+
 struct ModelSpec {
   std::string engine = "lumped";  // lumped (others are listed in docs/scenario-format.md)
   double time_step = 1e-3;        // s, output and integration step
   LumpedModelSpec lumped;
+  Realtime2dModelSpec realtime2d;
 };
 
 struct OutputSpec {

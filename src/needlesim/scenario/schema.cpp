@@ -158,12 +158,41 @@ std::vector<FieldDoc> build() {
 
   // --- model
   add(other("model", "engine", Kind::Choice, "lumped",
-            "engine: lumped (seed 003 lumped force model). Reserved for later releases: kinematic, energy, "
-            "beam-foundation, realtime2d, explicit, mpm",
+            "engine: lumped (seed 003 lumped force model), realtime2d (seed 003 2D FE tissue with a needle "
+            "beam). Reserved for later releases: kinematic, energy, beam-foundation, explicit, mpm",
             false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "explicit", "mpm"}));
   add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
   add(other("model", "lumped", Kind::Section, "", "parameters of the lumped force model", false, "lumped"));
   add(nonneg("lumped", "relaxation_time", D::Time, "0 s", "decay time of the friction held during a pause (0 = held)"));
+  add(other("model", "realtime2d", Kind::Section, "", "parameters of the real-time 2D FE engine", false, "realtime2d"));
+  add(positive("realtime2d", "element_size", D::Length, "", "element size of a uniform mesh (instead of the node counts)"));
+  add(q("realtime2d", "nodes_depth", D::None, "21", 2.0, 2000.0, false, false, "nodes along the insertion axis (block.length)"));
+  add(q("realtime2d", "nodes_lateral", D::None, "31", 3.0, 2000.0, false, false, "nodes across it (block.width); a node row lies on the path"));
+  add(q("realtime2d", "refinement", D::None, "1", 1.0, 100.0, false, false,
+        "coarsest / finest lateral element size; the finest elements lie on the needle path"));
+  add(other("realtime2d", "plane", Kind::Choice, "strain", "plane strain or plane stress", false, {}, {"strain", "stress"}));
+  add(positive("realtime2d", "thickness", D::Length, "1 mm", "out-of-plane extent of the 2D slab"));
+  add(other("realtime2d", "mass", Kind::Choice, "consistent", "mass matrix (seed 003 eq 3.7)", false, {}, {"consistent", "lumped"}));
+  add(nonneg("realtime2d", "rayleigh_alpha", D::Frequency, "0.01 1/s", "mass-proportional Rayleigh damping (seed 003 eq 3.8)"));
+  add(nonneg("realtime2d", "rayleigh_beta", D::Time, "0.1 s", "stiffness-proportional Rayleigh damping (seed 003 eq 3.8)"));
+  add(q("realtime2d", "newmark_gamma", D::None, "0.5", 0.0, 1.0, false, false, "Newmark gamma (delta of seed 003 eq 3.2)"));
+  add(q("realtime2d", "newmark_beta", D::None, "0.25", 0.0, 1.0, true, false, "Newmark beta (seed 003 eq 3.3)"));
+  add(other("realtime2d", "boundary", Kind::Choice, "held",
+            "held: all sides but the entry face fixed (seed 003 section 3.5); springs: spring supports there", false, {},
+            {"held", "springs"}));
+  add(positive("realtime2d", "spring_stiffness", units::Dim{-2, 1, -2, 0}, "",
+                "support stiffness per boundary area (N/m^3), for boundary: springs"));
+  add(other("realtime2d", "solver", Kind::Choice, "auto",
+            "direct: sparse LDLT; modal: all modes (exact); reduced: truncated modes plus residual flexibility "
+            "(10k-node meshes); auto: modal up to 2600 free DOFs, else reduced",
+            false, {}, {"auto", "direct", "modal", "reduced"}));
+  add(nonneg("realtime2d", "tip_load_ratio", D::None, "cot(bevel_angle)",
+             "transverse bevel load per unit cutting force"));
+  add(nonneg("realtime2d", "field_interval", D::Time, "0.5 s", "interval of the tissue field output for ParaView (0 = none)"));
+  add(other("realtime2d", "markers", Kind::List, "", "tissue points whose displacement is reported", false, "marker"));
+  add(other("marker", "name", Kind::String, "", "label in results", true));
+  add(q("marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
+  add(q("marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point)", true));
 
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));

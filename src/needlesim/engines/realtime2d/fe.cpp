@@ -95,13 +95,20 @@ Eigen::Vector3d quadCentreStress(const Eigen::Matrix<double, 2, 4>& xy, const Ei
 }
 
 Assembled assemble(const Mesh& mesh, const ElasticMaterial& mat, bool lumped_mass) {
-  const Eigen::Matrix3d D = elasticity(mat);
-  if (!(mat.thickness > 0.0) || !(mat.density > 0.0))
-    throw SolverError("realtime2d: need thickness > 0 and density > 0");
+  return assemble(mesh, std::vector<ElasticMaterial>(static_cast<std::size_t>(mesh.elementCount()), mat), lumped_mass);
+}
+
+Assembled assemble(const Mesh& mesh, const std::vector<ElasticMaterial>& mats, bool lumped_mass) {
+  if (mats.size() != static_cast<std::size_t>(mesh.elementCount()))
+    throw SolverError("realtime2d: one material per element expected");
   std::vector<Eigen::Triplet<double>> tk, tm;
   tk.reserve(static_cast<std::size_t>(mesh.elementCount()) * 64);
   tm.reserve(static_cast<std::size_t>(mesh.elementCount()) * 64);
   for (int e = 0; e < mesh.elementCount(); ++e) {
+    const auto& mat = mats[static_cast<std::size_t>(e)];
+    const Eigen::Matrix3d D = elasticity(mat);
+    if (!(mat.thickness > 0.0) || !(mat.density > 0.0))
+      throw SolverError("realtime2d: need thickness > 0 and density > 0");
     Eigen::Matrix<double, 2, 4> xy;
     for (int a = 0; a < 4; ++a) xy.col(a) = mesh.nodes.col(mesh.quads(a, e));
     const auto Ke = quadStiffness(xy, D, mat.thickness);

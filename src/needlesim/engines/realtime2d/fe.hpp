@@ -35,6 +35,8 @@ struct Assembled {
   Eigen::SparseMatrix<double> K, M;
 };
 Assembled assemble(const Mesh& mesh, const ElasticMaterial& mat, bool lumped_mass);
+// One material per element (layered blocks).
+Assembled assemble(const Mesh& mesh, const std::vector<ElasticMaterial>& per_element, bool lumped_mass);
 
 // Numbering of the free DOFs after removing the held ones.
 struct DofMap {

@@ -25,9 +25,16 @@ SessionConfig normalised(SessionConfig c) {
   if (c.friction.D_n <= 0.0) c.friction.D_n = c.friction.C_n;
   if (!(c.needle.EI > 0.0) || !(c.needle.length > 0.0))
     throw SolverError("realtime2d: the needle needs EI > 0 and length > 0");
-  if (!c.tissue.newmark.unconditionallyStable())
-    throw SolverError("realtime2d: Newmark gamma/beta are not unconditionally stable (need gamma >= 1/2, "
-                      "beta >= (gamma + 1/2)^2 / 4); use gamma = 0.5, beta = 0.25");
+  for (auto& L : c.layers) {
+    if (L.friction.D_p <= 0.0) L.friction.D_p = L.friction.C_p;
+    if (L.friction.D_n <= 0.0) L.friction.D_n = L.friction.C_n;
+  }
+  if (!(c.dt > 0.0)) throw SolverError("realtime2d: the time step must be > 0");
+  // Newmark stability (seed 003 eqs 3.2-3.4): gamma < 1/2 amplifies every mode; beta below
+  // (gamma + 1/2)^2 / 4 is only conditionally stable and is checked against the mesh in Tissue.
+  if (c.tissue.newmark.gamma < 0.5)
+    throw SolverError("realtime2d: Newmark gamma = " + std::to_string(c.tissue.newmark.gamma) +
+                      " < 1/2 is unstable (negative numerical damping); use gamma >= 0.5");
   return c;
 }
 }  // namespace
@@ -49,6 +56,14 @@ Session::Session(const SessionConfig& cfg_in)
   P_ = static_cast<int>(tissue_.path().size());
   const int D = 2 * P_;
   status_.assign(static_cast<std::size_t>(P_), Status::Stick);
+  nodeFriction_.assign(static_cast<std::size_t>(P_), cfg_.friction);
+  if (!cfg_.layers.empty())
+    for (int i = 0; i < P_; ++i) {  // the layer holding the node (by its depth x)
+      const double x = tissue_.mesh().nodes(0, tissue_.path()[static_cast<std::size_t>(i)].node);
+      std::size_t L = 0;
+      while (L + 1 < cfg_.layers.size() && x > cfg_.layers[L].depth_end + 1e-12) ++L;
+      nodeFriction_[static_cast<std::size_t>(i)] = cfg_.layers[L].friction;
+    }
   offset_.assign(static_cast<std::size_t>(P_), 0.0);
   sigma_.assign(static_cast<std::size_t>(P_), 0.0);
   ell_.assign(static_cast<std::size_t>(P_), 0.0);
@@ -57,6 +72,14 @@ Session::Session(const SessionConfig& cfg_in)
   idx_.assign(static_cast<std::size_t>(D), 0);
   fK_.setZero(D); f_.setZero(D); y_.setZero(D); rhs_.setZero(D); x_.setZero(D);
   H_.setZero(D, D);
+}
+
+double Session::cuttingAt(double s_tip) const {
+  if (cfg_.layers.empty()) return cfg_.cutting_force;
+  const double x = entry_.x() + s_tip * t0_.x();
+  std::size_t L = 0;
+  while (L + 1 < cfg_.layers.size() && x > cfg_.layers[L].depth_end) ++L;
+  return cfg_.layers[L].cutting_force;
 }
 
 BasePose Session::poseAtDepth(double depth, double lateral, double rotation, double roll) const {
@@ -119,9 +142,8 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   const auto& path = tissue_.path();
   const auto& S = tissue_.pathCompliance();
   const auto& c = tissue_.coefficients();
-  const auto& fr = cfg_.friction;
   const double gam = cfg_.tissue.newmark.gamma;
-  const double band = 0.5 * fr.static_band;
+  const double band = 0.5 * cfg_.friction.static_band;
 
   // Needle kinematics in the reference frame (entry point, axis t0, normal n0).
   const Eigen::Vector2d d = Eigen::Vector2d(pose.x, pose.y) - entry_;
@@ -165,7 +187,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   double Fc = 0.0;
   // While resting at the front (|v| inside the static band) the cutting load is held,
   // as in the lumped force model; retraction releases it.
-  if (inside && v_ax > -band && s_tip >= front_ - 1e-9) Fc = cfg_.cutting_force;
+  if (inside && v_ax > -band && s_tip >= front_ - 1e-9) Fc = cuttingAt(s_tip);
   if (punctured_) front_ = std::max(front_, std::min(s_tip, s_exit_));
   if (Fc > 0.0) {  // consistent (linear) split between the path nodes around the tip
     int k = 0;
@@ -212,6 +234,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
     for (int i = 0; i < k; ++i) {
       const auto st = status_[static_cast<std::size_t>(i)];
       const double l = ell_[static_cast<std::size_t>(i)];
+      const auto& fr = nodeFriction_[static_cast<std::size_t>(i)];
       if (!(l > 1e-9)) continue;
       if (st == Status::HoldPos) f_[2 * i] += fr.D_p * l;
       if (st == Status::HoldNeg) f_[2 * i] -= fr.D_n * l;
@@ -228,6 +251,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
       idx_[static_cast<std::size_t>(m++)] = 2 * i + 1;
       const auto st = status_[static_cast<std::size_t>(i)];
       const double l = ell_[static_cast<std::size_t>(i)];
+      const auto& fr = nodeFriction_[static_cast<std::size_t>(i)];
       if (!(l > 1e-9)) continue;  // no shaft in contact (dragged out of the tissue): no axial load
       if (st == Status::Stick || (st == Status::SlipPos && fr.b_p * l > 1e-12) ||
           (st == Status::SlipNeg && fr.b_n * l > 1e-12))
@@ -250,6 +274,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
       } else if (status_[p] == Status::Stick) {  // axial: moves with the needle
         rhs_[a] = pu[ia] + ds - y_[ia];
       } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity)
+        const auto& fr = nodeFriction_[p];
         const bool posv = status_[p] == Status::SlipPos;
         const double C = posv ? fr.C_p : -fr.C_n, b = posv ? fr.b_p : fr.b_n;
         const double e = pv[ia] + dt * (1.0 - gam) * pa[ia] - c.a1 * pu[ia] - dt * gam * (c.a2 * pv[ia] + c.a3 * pa[ia]);
@@ -272,6 +297,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
       const double vn = pv[ia] + dt * ((1.0 - gam) * pa[ia] + gam * an);
       const double vrel = v_ax - vn;
       const double Fa = ell_[p] > 0.0 ? f_[ia] / ell_[p] : 0.0;
+      const auto& fr = nodeFriction_[p];
       Status next = status_[p];
       switch (status_[p]) {
         case Status::Stick:

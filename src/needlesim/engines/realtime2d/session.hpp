@@ -28,11 +28,21 @@ struct NeedleConfig {
   double tip_load_ratio = -1.0;
 };
 
+// Forces of one layer of a layered block (depth bands from the entry face).
+struct LayerForces {
+  double depth_end = 0.0;      // m, x of the layer's far boundary
+  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
+  double cutting_force = 0.0;  // N (eq 3.24)
+};
+
 struct SessionConfig {
   TissueConfig tissue;
   NeedleConfig needle;
   FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
   double cutting_force = 0.0;  // N (eq 3.24)
+  // Optional layered forces: when not empty they replace `friction` and `cutting_force`,
+  // by the depth x of each path node (friction) and of the tip (cutting).
+  std::vector<LayerForces> layers;
   double puncture_force = 0.0; // N, threshold of eq 3.16
   double entry_offset = 0.0;   // m, lateral entry point from the centre of the entry face
   double entry_angle = 0.0;    // rad, reference needle axis from the depth direction (0 = normal)
@@ -92,6 +102,7 @@ class Session {
 
  private:
   enum class Status : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
+  double cuttingAt(double s_tip) const;
   double rigidLateral(double p) const { return dB_ + (p - sB_) * tanphi_; }
   double needleLateralAt(double p) const;  // total lateral position (+n) of the needle at axial p
   bool solveSmall(int m);
@@ -110,6 +121,7 @@ class Session {
   double front_ = 0.0, time_ = 0.0;
   int k_ = 0;  // coupled nodes (a prefix of the path)
   std::vector<Status> status_;
+  std::vector<FrictionSpec> nodeFriction_;  // per path node (layer of its depth)
   std::vector<double> offset_, sigma_, ell_, pos_, lambda_;
   std::vector<int> idx_;
   Eigen::VectorXd fK_, f_, y_, rhs_, x_;

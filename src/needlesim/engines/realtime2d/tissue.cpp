@@ -1,6 +1,8 @@
 #include "needlesim/engines/realtime2d/tissue.hpp"
 
 #include <Eigen/Eigenvalues>
+#include <fmt/format.h>
+#include <limits>
 #include <Eigen/SparseCholesky>
 #include <algorithm>
 #include <cmath>
@@ -57,6 +59,7 @@ class TissueIntegrator {
   virtual void commit(const Eigen::VectorXd& f) = 0;
   virtual void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const = 0;  // free DOFs
   virtual void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) = 0;
+  virtual double freeDisplacement(int k) const = 0;  // one free DOF of u
 };
 
 namespace {
@@ -109,6 +112,7 @@ class DirectIntegrator final : public TissueIntegrator {
     u_.swap(u0_);
   }
   void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override { u = u_; v = v_; }
+  double freeDisplacement(int k) const override { return u_[k]; }
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
     u_ = u; v_ = v; a_ = a;
   }
@@ -172,6 +176,7 @@ class ModalIntegrator final : public TissueIntegrator {
     u.noalias() = Phi_ * q_;
     v.noalias() = Phi_ * qd_;
   }
+  double freeDisplacement(int k) const override { return Phi_.row(k).dot(q_); }
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
     // Phi^T M Phi = I, so q = Phi^-1 u; solve with the dense basis (setup only).
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Phi_);
@@ -195,7 +200,17 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
     : mesh_(generateMesh(cfg.mesh)), cfg_(cfg) {
   t_ = axis.normalized();
   n_ = Eigen::Vector2d(-t_.y(), t_.x());
-  const auto asm_ = assemble(mesh_, cfg.material, cfg.lumped_mass);
+  elem_mat_.assign(static_cast<std::size_t>(mesh_.elementCount()), cfg.material);
+  for (int e = 0; e < mesh_.elementCount() && !cfg.layers.empty(); ++e) {  // layer of the element centre
+    double xc = 0.0;
+    for (int a = 0; a < 4; ++a) xc += 0.25 * mesh_.nodes(0, mesh_.quads(a, e));
+    std::size_t L = 0;
+    while (L + 1 < cfg.layers.size() && xc > cfg.layers[L].first) ++L;
+    elem_mat_[static_cast<std::size_t>(e)] = cfg.layers[L].second;
+    elem_mat_[static_cast<std::size_t>(e)].thickness = cfg.material.thickness;
+    elem_mat_[static_cast<std::size_t>(e)].plane_strain = cfg.material.plane_strain;
+  }
+  const auto asm_ = assemble(mesh_, elem_mat_, cfg.lumped_mass);
   const int N = mesh_.nodeCount();
   const auto onSides = nodesOnHeldSides(mesh_);
   std::vector<bool> held(static_cast<std::size_t>(2 * N), false);
@@ -260,6 +275,11 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
   const double a = cfg.rayleigh_alpha, b = cfg.rayleigh_beta;
   if (modal) impl_ = std::make_unique<ModalIntegrator>(K_, M_, a, b, pm);
   else impl_ = std::make_unique<DirectIntegrator>(K_, M_, a, b, pm);
+  // Conditionally stable Newmark: dt w_max <= 1 / sqrt(gamma/2 - beta) (undamped limit).
+  dt_limit_ = std::numeric_limits<double>::infinity();
+  if (cfg.newmark.beta < 0.5 * cfg.newmark.gamma && !cfg.newmark.unconditionallyStable())
+    dt_limit_ = 1.0 / (std::sqrt(0.5 * cfg.newmark.gamma - cfg.newmark.beta) * highestFrequency());
+  checkStable(dt);
   nm_ = NewmarkCoefficients(cfg.newmark, dt);
   impl_->prepare(nm_);
   pu_.setZero(pathDofs()); pv_.setZero(pathDofs()); pa_.setZero(pathDofs());
@@ -272,8 +292,19 @@ Tissue::Tissue(Tissue&&) noexcept = default;
 Tissue& Tissue::operator=(Tissue&&) noexcept = default;
 
 Backend Tissue::backend() const { return impl_->kind(); }
+void Tissue::checkStable(double dt) const {
+  if (dt > dt_limit_)
+    throw SolverError(fmt::format(
+        "realtime2d: time step {:g} s exceeds the stability limit {:g} s of Newmark gamma = {:g}, beta = {:g} "
+        "for this mesh (highest frequency {:.4g} rad/s; limit dt w_max <= 1/sqrt(gamma/2 - beta)). Use a "
+        "smaller time step, a coarser mesh, or gamma = 0.5, beta = 0.25 (unconditionally stable)",
+        dt, dt_limit_, cfg_.newmark.gamma, cfg_.newmark.beta,
+        1.0 / (std::sqrt(0.5 * cfg_.newmark.gamma - cfg_.newmark.beta) * dt_limit_)));
+}
+
 void Tissue::setTimeStep(double dt) {
   if (dt == nm_.dt) return;
+  checkStable(dt);
   nm_ = NewmarkCoefficients(cfg_.newmark, dt);
   impl_->prepare(nm_);
 }
@@ -308,6 +339,33 @@ void Tissue::refreshFull() const {
   dirty_ = false;
 }
 const Eigen::VectorXd& Tissue::displacement() const { refreshFull(); return full_u_; }
+
+Eigen::Vector2d Tissue::nodeDisplacement(int node) const {
+  Eigen::Vector2d u = Eigen::Vector2d::Zero();
+  for (int c = 0; c < 2; ++c) {
+    const int k = map_.free_of_dof[static_cast<std::size_t>(2 * node + c)];
+    if (k >= 0) u[c] = dirty_ ? impl_->freeDisplacement(k) : full_u_[2 * node + c];
+  }
+  return u;
+}
+
+Eigen::Matrix4Xd Tissue::elementStresses() const {
+  const auto& u = displacement();
+  Eigen::Matrix4Xd s(4, mesh_.elementCount());
+  for (int e = 0; e < mesh_.elementCount(); ++e) {
+    Eigen::Matrix<double, 2, 4> xy;
+    Eigen::Matrix<double, 8, 1> ue;
+    for (int a = 0; a < 4; ++a) {
+      const int n = mesh_.quads(a, e);
+      xy.col(a) = mesh_.nodes.col(n);
+      ue.segment<2>(2 * a) = u.segment<2>(2 * n);
+    }
+    const auto& m = elem_mat_[static_cast<std::size_t>(e)];
+    const Eigen::Vector3d sig = quadCentreStress(xy, elasticity(m), ue);
+    s.col(e) << sig, m.plane_strain ? m.nu * (sig[0] + sig[1]) : 0.0;
+  }
+  return s;
+}
 const Eigen::VectorXd& Tissue::velocity() const { refreshFull(); return full_v_; }
 
 double Tissue::kineticEnergy() const {

@@ -39,7 +39,7 @@ struct NewmarkCoefficients {  // eq 3.4 written as A u = Q + M(...) + C(...)
   NewmarkCoefficients(const NewmarkParams& p, double dt);
 };
 
-enum class Backend { Auto, Direct, Modal };
+enum class Backend { Auto, Direct, Modal, Reduced };
 
 struct TissueConfig {
   ElasticMaterial material;
@@ -52,6 +52,9 @@ struct TissueConfig {
   // or, with support_stiffness > 0, spring supports there instead (N/m^3: a
   // Winkler foundation per unit boundary area; node spring = k * tributary length * thickness).
   double support_stiffness = 0.0;
+  // Layered block: materials by depth band (x of each band's far boundary, ascending);
+  // when not empty it replaces `material` element by element (thickness from `material`).
+  std::vector<std::pair<double, ElasticMaterial>> layers;
   Backend backend = Backend::Auto;
   int modal_max_dofs = 2600;  // Auto picks Modal up to this many free DOFs
 };
@@ -94,6 +97,14 @@ class Tissue {
   // Full nodal displacement (2 * nodes; held DOFs 0). Modal back-end rebuilds it lazily.
   const Eigen::VectorXd& displacement() const;
   const Eigen::VectorXd& velocity() const;
+  // Displacement of one node (held: 0) without rebuilding the full field.
+  Eigen::Vector2d nodeDisplacement(int node) const;
+  // Centre stresses (sxx, syy, sxy, szz) of every element from displacement() (4 x elements);
+  // szz = nu (sxx + syy) in plane strain, 0 in plane stress.
+  Eigen::Matrix4Xd elementStresses() const;
+  // Highest free-mesh frequency (rad/s) and the Newmark time-step limit it sets
+  // (infinity when gamma/beta are unconditionally stable).
+  double stableTimeStep() const { return dt_limit_; }
 
   // Energies of the current state (J): 0.5 v'Mv and 0.5 u'Ku.
   double kineticEnergy() const;
@@ -122,6 +133,9 @@ class Tissue {
   Eigen::VectorXd u0P_;
   mutable Eigen::VectorXd full_u_, full_v_, fu_, fv_;
   mutable bool dirty_ = true;
+  double dt_limit_ = 0.0;
+  std::vector<ElasticMaterial> elem_mat_;
+  void checkStable(double dt) const;
 };
 
 }  // namespace needlesim::realtime2d
