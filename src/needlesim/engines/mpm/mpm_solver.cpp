@@ -1,0 +1,860 @@
+// Explicit MPM core: seed 000 eqs 1-4 (mapping and update), 14-21 (grid
+// contact), 25-28 (time step, mass scaling). See docs/models/mpm.md.
+#include "needlesim/engines/mpm/mpm_solver.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <atomic>
+#include <cmath>
+#include <limits>
+
+#include "needlesim/core/error.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace needlesim::mpm {
+
+namespace {
+constexpr double kInf = std::numeric_limits<double>::infinity();
+
+inline int threadId() {
+#ifdef _OPENMP
+  return omp_get_thread_num();
+#else
+  return 0;
+#endif
+}
+
+// Shape functions along one axis: base node index, weights and derivatives.
+template <int S>
+inline int weights(double xi, double invh, double* w, double* dw) {
+  if constexpr (S == 2) {  // linear hat
+    const double b = std::floor(xi);
+    const double f = xi - b;
+    w[0] = 1.0 - f;
+    w[1] = f;
+    dw[0] = -invh;
+    dw[1] = invh;
+    return static_cast<int>(b);
+  } else {  // quadratic B-spline, support 3 nodes
+    const double b = std::floor(xi - 0.5);
+    const double f = xi - b;  // in [0.5, 1.5)
+    const double a0 = 1.5 - f, a1 = f - 1.0, a2 = f - 0.5;
+    w[0] = 0.5 * a0 * a0;
+    w[1] = 0.75 - a1 * a1;
+    w[2] = 0.5 * a2 * a2;
+    dw[0] = -a0 * invh;
+    dw[1] = -2.0 * a1 * invh;
+    dw[2] = a2 * invh;
+    return static_cast<int>(b);
+  }
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------- materials
+
+MpmMaterial MpmMaterial::fromSpec(const materials::MaterialSpec& spec) {
+  MpmMaterial m;
+  m.law = materials::Hyperelastic::fromSpec(spec);
+  m.density = spec.density;
+  return m;
+}
+
+// ---------------------------------------------------------------- rigid bodies
+
+double RigidBody::distance(const Vec3& x, Vec3* n, int* part) const {
+  if (kind == Kind::Plane) {
+    if (n) *n = normal;
+    if (part) *part = 0;
+    return (x - point).dot(normal);
+  }
+  const Vec3& e = axis;
+  // Axis point level with the tip: the tip itself, or R off the sharp point of a bevel.
+  const Vec3 c = tip == Tip::Bevel ? Vec3(point - radius * bevelDir) : point;
+  const Vec3 rel = x - c;
+  const double s = -rel.dot(e);  // distance behind the tip plane along the axis
+  Vec3 rv = rel + s * e;         // radial vector
+  double r = rv.norm();
+  Vec3 er = r > 1e-14 ? Vec3(rv / r) : bevelDir;
+  const double dCyl = r - radius;
+  double dTip;
+  Vec3 nTip;
+  switch (tip) {
+    case Tip::Conical: {
+      const double cb = std::cos(tipAngle), sb = std::sin(tipAngle);
+      if (s * cb + r * sb <= 0.0) {  // nearest point is the apex
+        dTip = rel.norm();
+        nTip = dTip > 1e-14 ? Vec3(rel / dTip) : e;
+      } else {
+        dTip = r * cb - s * sb;
+        nTip = cb * er + sb * e;
+      }
+      break;
+    }
+    case Tip::Bevel: {
+      nTip = std::sin(tipAngle) * e - std::cos(tipAngle) * bevelDir;  // face of the bevel
+      dTip = (x - point).dot(nTip);
+      break;
+    }
+    case Tip::Blunt:
+    default:
+      nTip = e;
+      dTip = -s;
+      break;
+  }
+  if (dTip >= dCyl) {
+    if (n) *n = nTip;
+    if (part) *part = 1;
+    return dTip;
+  }
+  if (n) *n = er;
+  if (part) *part = 0;
+  return dCyl;
+}
+
+// ---------------------------------------------------------------- setup
+
+MpmSolver::MpmSolver(const MpmConfig& cfg) : cfg_(cfg) {
+  if (!(cfg_.h > 0)) throw Error("mpm: grid spacing must be > 0");
+  if (cfg_.bodies < 1 || cfg_.bodies > 2) throw Error("mpm: 1 or 2 deformable bodies are supported");
+  for (int d = 0; d < 3; ++d) {
+    if (cfg_.cells[d] < 2) throw Error("mpm: the grid needs at least 2 cells along each axis");
+    nn_[d] = cfg_.cells[d] + 1;
+  }
+  nodes_ = static_cast<std::size_t>(nn_[0]) * nn_[1] * nn_[2];
+#ifdef _OPENMP
+  nthreads_ = cfg_.threads > 0 ? cfg_.threads : omp_get_max_threads();
+#else
+  nthreads_ = 1;
+#endif
+}
+
+int MpmSolver::addMaterial(const MpmMaterial& m) {
+  mats_.push_back(m);
+  return static_cast<int>(mats_.size()) - 1;
+}
+
+int MpmSolver::addRigid(const RigidBody& r) {
+  rigids_.push_back(r);
+  return static_cast<int>(rigids_.size()) - 1;
+}
+
+std::size_t MpmSolver::addBlock(const Vec3& lo, const Vec3& hi, double dp, int material, int body,
+                                const Vec3& velocity) {
+  if (material < 0 || material >= static_cast<int>(mats_.size())) throw Error("mpm: unknown material index");
+  if (body < 0 || body >= cfg_.bodies) throw Error("mpm: body index out of range");
+  int n[3];
+  double sp[3];
+  for (int d = 0; d < 3; ++d) {
+    n[d] = std::max(1, static_cast<int>(std::lround((hi[d] - lo[d]) / dp)));
+    sp[d] = (hi[d] - lo[d]) / n[d];
+  }
+  const std::size_t first = px_.size();
+  const double vol = sp[0] * sp[1] * sp[2];
+  const double m = mats_[static_cast<std::size_t>(material)].density * vol * cfg_.massScaling;
+  for (int i = 0; i < n[0]; ++i)
+    for (int j = 0; j < n[1]; ++j)
+      for (int k = 0; k < n[2]; ++k) {
+        px_.push_back(lo[0] + (i + 0.5) * sp[0]);
+        py_.push_back(lo[1] + (j + 0.5) * sp[1]);
+        pz_.push_back(lo[2] + (k + 0.5) * sp[2]);
+        vx_.push_back(velocity.x());
+        vy_.push_back(velocity.y());
+        vz_.push_back(velocity.z());
+        mass_.push_back(m);
+        vol0_.push_back(vol);
+        for (int c = 0; c < 9; ++c) F_[c].push_back(c % 4 == 0 ? 1.0 : 0.0);
+        for (int c = 0; c < 6; ++c) sig_[c].push_back(0.0);
+        body_.push_back(static_cast<std::uint8_t>(body));
+        mat_.push_back(static_cast<std::uint8_t>(material));
+      }
+  const double spMin = std::min({sp[0], sp[1], sp[2]});
+  dp_ = dp_ > 0 ? std::min(dp_, spMin) : spMin;
+  return first;
+}
+
+void MpmSolver::finalize() {
+  const int B = cfg_.bodies;
+  const std::size_t R = rigids_.size();
+  buf_.resize(static_cast<std::size_t>(nthreads_));
+  for (auto& b : buf_) {
+    b.mass.assign(B * nodes_, 0.0);
+    b.mom.assign(3 * B * nodes_, 0.0);
+    b.force.assign(3 * B * nodes_, 0.0);
+    if (B > 1) b.gradm.assign(3 * B * nodes_, 0.0);
+    if (B > 1) b.xm.assign(3 * B * nodes_, 0.0);
+    b.gmin.assign(R * nodes_, kInf);
+  }
+  vold_.assign(3 * B * nodes_, 0.0);
+  vnew_.assign(3 * B * nodes_, 0.0);
+  active_.assign(R * nodes_, 0);
+  rnormal_.assign(3 * R * nodes_, 0.0);
+  rforce_.assign(R, RigidForce{});
+  rforceThread_.assign(static_cast<std::size_t>(nthreads_) * std::max<std::size_t>(R, 1), {});
+  if (cfg_.contactGap < 0) cfg_.contactGap = 0.5 * dp_;
+  // Centroid separation of two touching half-spaces seen from a node on the
+  // interface: 2 x 0.406 h (quadratic B-spline), 2 h / 3 (linear).
+  pairGap_ = (cfg_.shape == Shape::Linear ? 2.0 / 3.0 : 0.8125) * cfg_.h * cfg_.pairGapFactor;
+
+  // Boundary conditions on the nodes on or beyond each face of the box.
+  fixMask_.assign(nodes_, 0);
+  dashpot_.assign(3 * nodes_, 0.0);
+  const double tol = 1e-6 * cfg_.h;
+  const MpmMaterial* m0 = mats_.empty() ? nullptr : &mats_[0];
+  double rho = 0, cp = 0, cs = 0;
+  if (m0) {
+    rho = m0->density * cfg_.massScaling;
+    const double mu = m0->law.kind == materials::LawKind::Linear ? m0->law.E / (2 * (1 + m0->law.nu))
+                                                                 : m0->law.initialShear();
+    const double K = m0->law.kind == materials::LawKind::Linear
+                         ? m0->law.E / (3 * (1 - 2 * m0->law.nu))
+                         : m0->law.bulk;
+    cp = std::sqrt((K + 4.0 / 3.0 * mu) / rho);
+    cs = std::sqrt(mu / rho);
+  }
+  for (int i = 0; i < nn_[0]; ++i)
+    for (int j = 0; j < nn_[1]; ++j)
+      for (int k = 0; k < nn_[2]; ++k) {
+        const std::size_t I = (static_cast<std::size_t>(i) * nn_[1] + j) * nn_[2] + k;
+        const int idx[3] = {i, j, k};
+        for (int f = 0; f < 6; ++f) {
+          const int d = f / 2;
+          const double x = cfg_.origin[d] + idx[d] * cfg_.h;
+          const bool beyond = (f % 2 == 0) ? x <= cfg_.boxLo[d] + tol : x >= cfg_.boxHi[d] - tol;
+          if (!beyond) continue;
+          switch (cfg_.faces[static_cast<std::size_t>(f)]) {
+            case FaceBC::Fixed: fixMask_[I] |= 7; break;
+            case FaceBC::Roller: fixMask_[I] |= static_cast<std::uint8_t>(1 << d); break;
+            case FaceBC::NonReflecting: {
+              // Lysmer-Kuhlemeyer dashpots on the face nodes (tributary area h^2).
+              const bool onFace = std::abs(x - ((f % 2 == 0) ? cfg_.boxLo[d] : cfg_.boxHi[d])) < 0.5 * cfg_.h;
+              if (!onFace) break;
+              for (int c = 0; c < 3; ++c)
+                dashpot_[3 * I + c] += rho * (c == d ? cp : cs) * cfg_.h * cfg_.h;
+              break;
+            }
+            case FaceBC::Free: break;
+          }
+        }
+      }
+
+  // Check every particle lies inside the grid, and the initial wave speed.
+  maxSpeed_ = 0.0;
+  const int S = cfg_.shape == Shape::Linear ? 2 : 3;
+  const double invh = 1.0 / cfg_.h;
+  for (std::size_t p = 0; p < size(); ++p) {
+    const double xs[3] = {px_[p], py_[p], pz_[p]};
+    for (int d = 0; d < 3; ++d) {
+      double xi = (xs[d] - cfg_.origin[d]) * invh;
+      int b = S == 2 ? static_cast<int>(std::floor(xi)) : static_cast<int>(std::floor(xi - 0.5));
+      if (b < 0 || b > nn_[d] - S) fail(p, 3);
+    }
+    double W, c;
+    stress(p, defGrad(p), W, c);
+    maxSpeed_ = std::max(maxSpeed_, c + velocity(p).norm());
+  }
+  finalized_ = true;
+}
+
+Mat3 MpmSolver::defGrad(std::size_t p) const {
+  Mat3 F;
+  for (int c = 0; c < 9; ++c) F(c / 3, c % 3) = F_[c][p];
+  return F;
+}
+
+Mat3 MpmSolver::cauchy(std::size_t p) const {
+  Mat3 s;
+  s << sig_[0][p], sig_[3][p], sig_[5][p], sig_[3][p], sig_[1][p], sig_[4][p], sig_[5][p], sig_[4][p], sig_[2][p];
+  return s;
+}
+
+double MpmSolver::stableTimeStep() const { return maxSpeed_ > 0 ? cfg_.h / maxSpeed_ : kInf; }
+
+// Stress update (Cauchy, stored on the particle), energy density per reference
+// volume and the current dilatational wave speed (eq 27 with the current
+// tangent shear modulus of the law).
+Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave) {
+  const auto& L = m.law;
+  const double J = F.determinant();
+  Mat3 sigma;
+  double muc = 0.0, K = 0.0;
+  using materials::LawKind;
+  if (L.kind == LawKind::Fung || L.kind == LawKind::NeoHookean) {
+    // Decoupled form of the materials library: W = W_iso(I1bar) + K/2 (J-1)^2,
+    // sigma = 2/J W1 dev(bbar) + K (J-1) I (seed 000 eqs 8-13 with the library's
+    // volumetric term in place of the Lagrange multiplier of eq 11).
+    const Mat3 b = F * F.transpose();
+    const double Jm23 = std::pow(J, -2.0 / 3.0);
+    const double trb = b.trace();
+    const double I1b = Jm23 * trb;
+    double W1;
+    if (L.kind == LawKind::Fung) {
+      const double x = L.gamma * (I1b - 3.0);
+      const double ex = std::exp(x);
+      W1 = 0.5 * L.mu * ex;
+      W = L.mu / (2.0 * L.gamma) * std::expm1(x);
+      muc = L.mu * ex * (1.0 + 2.0 * L.gamma * I1b);
+    } else {
+      W1 = L.C10;
+      W = L.C10 * (I1b - 3.0);
+      muc = 2.0 * L.C10;
+    }
+    K = L.bulk;
+    W += 0.5 * K * (J - 1.0) * (J - 1.0);
+    sigma = (2.0 * W1 * Jm23 / J) * b;
+    sigma.diagonal().array() += -(2.0 * W1 * Jm23 / J) * trb / 3.0 + K * (J - 1.0);
+  } else if (L.kind == LawKind::Linear) {
+    // St Venant-Kirchhoff, as the library's "linear" law.
+    const double lam = L.E * L.nu / ((1 + L.nu) * (1 - 2 * L.nu));
+    const double mu = L.E / (2 * (1 + L.nu));
+    Mat3 E = 0.5 * (F.transpose() * F - Mat3::Identity());
+    const double trE = E.trace();
+    Mat3 S = 2.0 * mu * E;
+    S.diagonal().array() += lam * trE;
+    sigma = F * S * F.transpose() / J;
+    W = 0.5 * lam * trE * trE + mu * E.squaredNorm();
+    muc = mu;
+    K = lam + 2.0 / 3.0 * mu;
+  } else {
+    materials::Stress3 s = materials::evaluate(L, F, false);
+    sigma = s.sigma;
+    W = s.energy;
+    muc = L.initialShear();
+    K = L.bulk;
+  }
+  const double rho = m.density * massScaling / J;
+  wave = std::sqrt((K + 4.0 / 3.0 * muc) / rho);
+  return sigma;
+}
+
+void MpmSolver::stress(std::size_t p, const Mat3& F, double& W, double& wave) {
+  const Mat3 sigma = evaluateStress(mats_[mat_[p]], F, cfg_.massScaling, W, wave);
+  sig_[0][p] = sigma(0, 0);
+  sig_[1][p] = sigma(1, 1);
+  sig_[2][p] = sigma(2, 2);
+  sig_[3][p] = sigma(0, 1);
+  sig_[4][p] = sigma(1, 2);
+  sig_[5][p] = sigma(0, 2);
+}
+
+void MpmSolver::fail(std::size_t p, int cause) const {
+  const Vec3 x = position(p);
+  const std::string where =
+      fmt::format("particle {} at ({:.4g}, {:.4g}, {:.4g}) mm, t = {:.6g} s, step {}", p, 1e3 * x.x(),
+                  1e3 * x.y(), 1e3 * x.z(), time_, steps_);
+  switch (cause) {
+    case 1:
+      throw SolverError("mpm: inverted or degenerate deformation gradient (det F <= 0) at " + where +
+                        "; the step is too large for the deformation: lower model.mpm.time_step_factor or "
+                        "the mass scaling, or refine the particles near the needle");
+    case 2:
+      throw SolverError("mpm: non-finite velocity or position at " + where +
+                        "; the explicit step went unstable: lower model.mpm.time_step_factor or the mass "
+                        "scaling, or check the material parameters");
+    case 3:
+    default:
+      throw SolverError("mpm: a material point left the background grid: " + where +
+                        "; enlarge the grid margin (model.mpm.margin) or constrain the block, or lower the "
+                        "time step if the point flew off");
+  }
+}
+
+// ---------------------------------------------------------------- grid buffers
+
+void MpmSolver::zeroBuffers(bool momentumOnly) {
+#pragma omp parallel num_threads(nthreads_)
+  {
+    Buf& b = buf_[static_cast<std::size_t>(threadId())];
+    std::fill(b.mom.begin(), b.mom.end(), 0.0);
+    if (!momentumOnly) {
+      std::fill(b.mass.begin(), b.mass.end(), 0.0);
+      std::fill(b.force.begin(), b.force.end(), 0.0);
+      std::fill(b.gradm.begin(), b.gradm.end(), 0.0);
+      std::fill(b.xm.begin(), b.xm.end(), 0.0);
+      std::fill(b.gmin.begin(), b.gmin.end(), kInf);
+    }
+  }
+}
+
+void MpmSolver::reduceBuffers(bool momentumOnly) {
+  if (nthreads_ == 1) return;
+  const std::size_t B = static_cast<std::size_t>(cfg_.bodies);
+  const std::size_t nm = B * nodes_, nv = 3 * B * nodes_, ng = rigids_.size() * nodes_;
+  const bool grad = B > 1;
+  Buf& out = buf_[0];
+#pragma omp parallel num_threads(nthreads_)
+  {
+    for (std::size_t t = 1; t < buf_.size(); ++t) {
+      const Buf& in = buf_[t];
+#pragma omp for schedule(static) nowait
+      for (std::size_t i = 0; i < nv; ++i) {
+        out.mom[i] += in.mom[i];
+        if (!momentumOnly) {
+          out.force[i] += in.force[i];
+          if (grad) {
+            out.gradm[i] += in.gradm[i];
+            out.xm[i] += in.xm[i];
+          }
+        }
+      }
+      if (!momentumOnly) {
+#pragma omp for schedule(static) nowait
+        for (std::size_t i = 0; i < nm; ++i) out.mass[i] += in.mass[i];
+#pragma omp for schedule(static) nowait
+        for (std::size_t i = 0; i < ng; ++i) out.gmin[i] = std::min(out.gmin[i], in.gmin[i]);
+      }
+#pragma omp barrier
+    }
+  }
+}
+
+// ---------------------------------------------------------------- particle to grid (eqs 1-3)
+
+template <int S>
+void MpmSolver::p2g() {
+  const std::size_t np = size();
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const int R = static_cast<int>(rigids_.size());
+  const bool grad = cfg_.bodies > 1;
+  const Vec3 g = cfg_.gravity;
+#pragma omp parallel num_threads(nthreads_)
+  {
+    Buf& B = buf_[static_cast<std::size_t>(threadId())];
+    double* __restrict gm = B.mass.data();
+    double* __restrict gp = B.mom.data();
+    double* __restrict gf = B.force.data();
+    double* __restrict gg = grad ? B.gradm.data() : nullptr;
+    double* __restrict gx_ = grad ? B.xm.data() : nullptr;
+#pragma omp for schedule(static)
+    for (std::size_t p = 0; p < np; ++p) {
+      double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
+      const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
+      const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
+      const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
+      const double m = mass_[p];
+      const double mvx = m * vx_[p], mvy = m * vy_[p], mvz = m * vz_[p];
+      const double fgx = m * g.x(), fgy = m * g.y(), fgz = m * g.z();
+      const double J = F_[0][p] * (F_[4][p] * F_[8][p] - F_[5][p] * F_[7][p]) -
+                       F_[1][p] * (F_[3][p] * F_[8][p] - F_[5][p] * F_[6][p]) +
+                       F_[2][p] * (F_[3][p] * F_[7][p] - F_[4][p] * F_[6][p]);
+      const double V = -vol0_[p] * J;  // -V sigma : grad N is the internal force
+      const double s00 = V * sig_[0][p], s11 = V * sig_[1][p], s22 = V * sig_[2][p];
+      const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
+      const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+      for (int i = 0; i < S; ++i)
+        for (int j = 0; j < S; ++j) {
+          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                                  static_cast<std::size_t>(bz);
+          const double wij = wx[i] * wy[j];
+          const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+          for (int k = 0; k < S; ++k) {
+            const std::size_t I = row + static_cast<std::size_t>(k);
+            const double w = wij * wz[k];
+            const double gx = gxij * wz[k], gy = gyij * wz[k], gz = wij * dz[k];
+            gm[I] += w * m;
+            gp[3 * I + 0] += w * mvx;
+            gp[3 * I + 1] += w * mvy;
+            gp[3 * I + 2] += w * mvz;
+            gf[3 * I + 0] += s00 * gx + s01 * gy + s02 * gz + w * fgx;
+            gf[3 * I + 1] += s01 * gx + s11 * gy + s12 * gz + w * fgy;
+            gf[3 * I + 2] += s02 * gx + s12 * gy + s22 * gz + w * fgz;
+            if (grad) {
+              gg[3 * I + 0] += m * gx;
+              gg[3 * I + 1] += m * gy;
+              gg[3 * I + 2] += m * gz;
+              gx_[3 * I + 0] += w * m * px_[p];
+              gx_[3 * I + 1] += w * m * py_[p];
+              gx_[3 * I + 2] += w * m * pz_[p];
+            }
+          }
+        }
+      // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
+      for (int r = 0; r < R; ++r) {
+        const double gap = rigids_[static_cast<std::size_t>(r)].distance(Vec3(px_[p], py_[p], pz_[p]), nullptr, nullptr);
+        if (gap > 2.0 * cfg_.h + cfg_.contactGap) continue;
+        double* gmin = B.gmin.data() + static_cast<std::size_t>(r) * nodes_;
+        for (int i = 0; i < S; ++i)
+          for (int j = 0; j < S; ++j)
+            for (int k = 0; k < S; ++k) {
+              const std::size_t I = (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                                    static_cast<std::size_t>(bz + k);
+              gmin[I] = std::min(gmin[I], gap);
+            }
+      }
+    }
+  }
+}
+
+// ---------------------------------------------------------------- grid update and contact
+
+namespace {
+
+// Velocity-consistent contact of two deformable fields at a node (eqs 15-21):
+// the normal velocities become equal, the tangential impulse is the sticking
+// one limited by mu times the normal impulse.
+inline void pairContact(double m0, double m1, double* v0, double* v1, const double* g0, const double* g1,
+                        double mu, const double* x0, const double* x1, double gapLimit) {
+  // sum_p m_p grad N_I(x_p) (gradient with respect to the particle position) is the outward normal of body b at I. n points from body 0 to body 1.
+  Vec3 n(g0[0] - g1[0], g0[1] - g1[1], g0[2] - g1[2]);
+  const double nn = n.norm();
+  if (!(nn > 0)) return;
+  n /= nn;
+  // Gap rule: the mass centroids of the two fields seen from this node must be
+  // closer than when the two surfaces touch (no contact a cell early).
+  const Vec3 sep(x1[0] / m1 - x0[0] / m0, x1[1] / m1 - x0[1] / m0, x1[2] / m1 - x0[2] / m0);
+  if (sep.dot(n) > gapLimit) return;
+  const Vec3 rel(v0[0] - v1[0], v0[1] - v1[1], v0[2] - v1[2]);
+  const double vn = rel.dot(n);
+  if (vn <= 0.0) return;  // separating (eq 14)
+  const double mr = m0 * m1 / (m0 + m1);
+  Vec3 dp = -mr * vn * n;                       // eq 18 times dt
+  Vec3 rt = rel - vn * n;
+  const double st = mr * rt.norm();             // eq 19 times dt
+  const double lim = mu * mr * vn;              // eq 20 times dt
+  if (st > 0) dp -= (std::min(st, lim) / st) * mr * rt;  // eq 21
+  for (int c = 0; c < 3; ++c) {
+    v0[c] += dp[c] / m0;
+    v1[c] -= dp[c] / m1;
+  }
+}
+
+// Rigid body with prescribed motion: eq 28 in the limit m_tissue/m_needle -> 0.
+// Returns the impulse given to the tissue (zero when separating).
+inline Vec3 rigidContact(double m, double* v, const Vec3& n, const Vec3& vr, double mu) {
+  const Vec3 rel(vr.x() - v[0], vr.y() - v[1], vr.z() - v[2]);
+  const double vn = rel.dot(n);
+  if (vn <= 0.0) return Vec3::Zero();  // eq 14
+  Vec3 dv = vn * n;                    // eq 15
+  const Vec3 rt = rel - vn * n;
+  const double st = rt.norm();
+  if (st > 0) dv += (std::min(st, mu * vn) / st) * rt;  // eqs 19-21
+  for (int c = 0; c < 3; ++c) v[c] += dv[c];
+  return m * dv;
+}
+
+}  // namespace
+
+void MpmSolver::gridUpdate() {
+  const int B = cfg_.bodies;
+  const std::size_t R = rigids_.size();
+  const double dt = dt_;
+  const Buf& G = buf_[0];
+  const double gap = cfg_.contactGap;
+  const double mu = cfg_.friction;
+  const double pairGap = pairGap_;
+  for (auto& a : rforceThread_) a.fill(0.0);
+#pragma omp parallel num_threads(nthreads_)
+  {
+    auto* acc = rforceThread_.data() + static_cast<std::size_t>(threadId()) * std::max<std::size_t>(R, 1);
+#pragma omp for schedule(static)
+    for (std::size_t I = 0; I < nodes_; ++I) {
+      double mb[2] = {0, 0};
+      bool any = false;
+      for (int b = 0; b < B; ++b) {
+        const std::size_t J = static_cast<std::size_t>(b) * nodes_ + I;
+        const double m = G.mass[J];
+        mb[b] = m;
+        if (!(m > 0)) {
+          for (int c = 0; c < 3; ++c) vold_[3 * J + c] = vnew_[3 * J + c] = 0.0;
+          continue;
+        }
+        any = true;
+        for (int c = 0; c < 3; ++c) {
+          const double p = G.mom[3 * J + c];
+          vold_[3 * J + c] = p / m;
+          const double d = dashpot_[3 * I + c];
+          vnew_[3 * J + c] = (p + G.force[3 * J + c] * dt) / (m + d * dt);  // eq 3 (+ dashpot)
+        }
+      }
+      for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
+      if (!any) continue;
+      if (B == 2 && mb[0] > 0 && mb[1] > 0)
+        pairContact(mb[0], mb[1], &vnew_[3 * I], &vnew_[3 * (nodes_ + I)], &G.gradm[3 * I],
+                    &G.gradm[3 * (nodes_ + I)], mu, &G.xm[3 * I], &G.xm[3 * (nodes_ + I)], pairGap);
+      if (R > 0) {
+        const int i = static_cast<int>(I / (static_cast<std::size_t>(nn_[1]) * nn_[2]));
+        const int j = static_cast<int>((I / static_cast<std::size_t>(nn_[2])) % static_cast<std::size_t>(nn_[1]));
+        const int k = static_cast<int>(I % static_cast<std::size_t>(nn_[2]));
+        const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, k);
+        for (std::size_t r = 0; r < R; ++r) {
+          if (!(G.gmin[r * nodes_ + I] < gap)) continue;  // eq 22: no particle touches the body here
+          const RigidBody& rb = rigids_[r];
+          Vec3 n;
+          int part = 0;
+          rb.distance(xI, &n, &part);
+          for (int c = 0; c < 3; ++c) rnormal_[3 * (r * nodes_ + I) + c] = n[c];
+          std::uint8_t flag = 0;
+          for (int b = 0; b < B; ++b) {
+            if (!(mb[b] > 0)) continue;
+            const Vec3 imp = rigidContact(mb[b], &vnew_[3 * (static_cast<std::size_t>(b) * nodes_ + I)], n,
+                                          rb.velocity, rb.friction);
+            if (imp.squaredNorm() == 0.0) continue;
+            flag = 1;
+            auto& a = acc[r];
+            for (int c = 0; c < 3; ++c) {
+              a[c] -= imp[c] / dt;                 // force on the rigid body
+              a[3 * (part + 1) + c] -= imp[c] / dt;  // shaft (part 0 -> 3..5) or tip (part 1 -> 6..8)
+            }
+          }
+          active_[r * nodes_ + I] = static_cast<std::uint8_t>(flag | 2 | (part << 2));
+        }
+      }
+      const std::uint8_t mask = fixMask_[I];
+      if (mask)
+        for (int b = 0; b < B; ++b)
+          for (int c = 0; c < 3; ++c)
+            if (mask & (1 << c)) vnew_[3 * (static_cast<std::size_t>(b) * nodes_ + I) + c] = 0.0;
+    }
+  }
+  for (std::size_t r = 0; r < R; ++r) {
+    RigidForce f;
+    for (int t = 0; t < nthreads_; ++t) {
+      const auto& a = rforceThread_[static_cast<std::size_t>(t) * R + r];
+      f.total += Vec3(a[0], a[1], a[2]);
+      f.tip += Vec3(a[6], a[7], a[8]);   // part 1
+      f.shaft += Vec3(a[3], a[4], a[5]);  // part 0
+    }
+    int count = 0;
+    for (std::size_t I = 0; I < nodes_; ++I) count += active_[r * nodes_ + I] & 1;
+    f.contactNodes = count;
+    rforce_[r] = f;
+  }
+}
+
+// After the momentum remap of MUSL: the same contact (at the nodes found in
+// the first update, with their normals) and boundary conditions on v*.
+void MpmSolver::remapUpdate() {
+  const int B = cfg_.bodies;
+  const std::size_t R = rigids_.size();
+  const Buf& G = buf_[0];
+  const double mu = cfg_.friction;
+  const double pairGap = pairGap_;
+#pragma omp parallel for schedule(static) num_threads(nthreads_)
+  for (std::size_t I = 0; I < nodes_; ++I) {
+    double mb[2] = {0, 0};
+    for (int b = 0; b < B; ++b) {
+      const std::size_t J = static_cast<std::size_t>(b) * nodes_ + I;
+      const double m = G.mass[J];
+      mb[b] = m;
+      for (int c = 0; c < 3; ++c) vold_[3 * J + c] = m > 0 ? G.mom[3 * J + c] / m : 0.0;
+    }
+    if (B == 2 && mb[0] > 0 && mb[1] > 0)
+      pairContact(mb[0], mb[1], &vold_[3 * I], &vold_[3 * (nodes_ + I)], &G.gradm[3 * I],
+                  &G.gradm[3 * (nodes_ + I)], mu, &G.xm[3 * I], &G.xm[3 * (nodes_ + I)], pairGap);
+    for (std::size_t r = 0; r < R; ++r) {
+      if (!(active_[r * nodes_ + I] & 2)) continue;
+      const double* nn = &rnormal_[3 * (r * nodes_ + I)];
+      const Vec3 n(nn[0], nn[1], nn[2]);
+      for (int b = 0; b < B; ++b)
+        if (mb[b] > 0)
+          rigidContact(mb[b], &vold_[3 * (static_cast<std::size_t>(b) * nodes_ + I)], n, rigids_[r].velocity,
+                       rigids_[r].friction);
+    }
+    const std::uint8_t mask = fixMask_[I];
+    if (mask)
+      for (int b = 0; b < B; ++b)
+        for (int c = 0; c < 3; ++c)
+          if (mask & (1 << c)) vold_[3 * (static_cast<std::size_t>(b) * nodes_ + I) + c] = 0.0;
+  }
+}
+
+// ---------------------------------------------------------------- grid to particle (eq 4)
+
+// MUSL: new particle velocity (FLIP/PIC blend) and scatter of its momentum.
+template <int S>
+void MpmSolver::g2pRemap() {
+  const std::size_t np = size();
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const double flip = cfg_.flip;
+  const double* __restrict vo = vold_.data();
+  const double* __restrict vn = vnew_.data();
+#pragma omp parallel num_threads(nthreads_)
+  {
+    Buf& B = buf_[static_cast<std::size_t>(threadId())];
+    double* __restrict gp = B.mom.data();
+#pragma omp for schedule(static)
+    for (std::size_t p = 0; p < np; ++p) {
+      double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
+      const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
+      const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
+      const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
+      const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+      double a[3] = {0, 0, 0}, u[3] = {0, 0, 0};  // sum N vnew, sum N (vnew - vold)
+      for (int i = 0; i < S; ++i)
+        for (int j = 0; j < S; ++j) {
+          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                                  static_cast<std::size_t>(bz);
+          const double wij = wx[i] * wy[j];
+          for (int k = 0; k < S; ++k) {
+            const std::size_t I = 3 * (row + static_cast<std::size_t>(k));
+            const double w = wij * wz[k];
+            for (int c = 0; c < 3; ++c) {
+              a[c] += w * vn[I + c];
+              u[c] += w * (vn[I + c] - vo[I + c]);
+            }
+          }
+        }
+      const double v0 = flip * (vx_[p] + u[0]) + (1 - flip) * a[0];
+      const double v1 = flip * (vy_[p] + u[1]) + (1 - flip) * a[1];
+      const double v2 = flip * (vz_[p] + u[2]) + (1 - flip) * a[2];
+      vx_[p] = v0;
+      vy_[p] = v1;
+      vz_[p] = v2;
+      const double m = mass_[p];
+      for (int i = 0; i < S; ++i)
+        for (int j = 0; j < S; ++j) {
+          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                                  static_cast<std::size_t>(bz);
+          const double wij = wx[i] * wy[j] * m;
+          for (int k = 0; k < S; ++k) {
+            const std::size_t I = 3 * (row + static_cast<std::size_t>(k));
+            const double w = wij * wz[k];
+            gp[I + 0] += w * v0;
+            gp[I + 1] += w * v1;
+            gp[I + 2] += w * v2;
+          }
+        }
+    }
+  }
+}
+
+// Final pass: position from the updated grid velocity (eq 4), velocity
+// gradient, deformation gradient and stress (update stress last). For USL the
+// particle velocity is also updated here.
+template <int S>
+void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
+  const std::size_t np = size();
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const double flip = cfg_.flip;
+  const bool usl = cfg_.update == Update::USL;
+  const double dt = dt_;
+  const double* __restrict vo = vold_.data();  // MUSL: remapped v*; USL: velocity before the update
+  const double* __restrict vn = vnew_.data();
+  const double* __restrict vg = usl ? vn : vo;  // field of the velocity gradient
+  std::atomic<int> bad{0};
+  std::atomic<std::size_t> badP{0};
+  double ek = 0, ei = 0, vmax = 0;
+  const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
+#pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax)
+  for (std::size_t p = 0; p < np; ++p) {
+    double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
+    const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
+    const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
+    const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
+    const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+    double a[3] = {0, 0, 0}, u[3] = {0, 0, 0};
+    double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    for (int i = 0; i < S; ++i)
+      for (int j = 0; j < S; ++j) {
+        const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                                static_cast<std::size_t>(bz);
+        const double wij = wx[i] * wy[j];
+        const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+        for (int k = 0; k < S; ++k) {
+          const std::size_t I = 3 * (row + static_cast<std::size_t>(k));
+          const double w = wij * wz[k];
+          const double gr[3] = {gxij * wz[k], gyij * wz[k], wij * dz[k]};
+          for (int c = 0; c < 3; ++c) {
+            a[c] += w * vn[I + c];
+            if (usl) u[c] += w * (vn[I + c] - vo[I + c]);
+            const double vc = vg[I + c];
+            L[3 * c + 0] += vc * gr[0];
+            L[3 * c + 1] += vc * gr[1];
+            L[3 * c + 2] += vc * gr[2];
+          }
+        }
+      }
+    if (usl) {
+      vx_[p] = flip * (vx_[p] + u[0]) + (1 - flip) * a[0];
+      vy_[p] = flip * (vy_[p] + u[1]) + (1 - flip) * a[1];
+      vz_[p] = flip * (vz_[p] + u[2]) + (1 - flip) * a[2];
+    }
+    px_[p] += dt * a[0];
+    py_[p] += dt * a[1];
+    pz_[p] += dt * a[2];
+    // F <- (I + dt L) F
+    double Fn[9];
+    for (int r = 0; r < 3; ++r)
+      for (int c = 0; c < 3; ++c)
+        Fn[3 * r + c] = F_[3 * r + c][p] + dt * (L[3 * r + 0] * F_[c][p] + L[3 * r + 1] * F_[3 + c][p] +
+                                                 L[3 * r + 2] * F_[6 + c][p]);
+    Mat3 F;
+    for (int c = 0; c < 9; ++c) {
+      F_[c][p] = Fn[c];
+      F(c / 3, c % 3) = Fn[c];
+    }
+    const double J = F.determinant();
+    const double speed2 = vx_[p] * vx_[p] + vy_[p] * vy_[p] + vz_[p] * vz_[p];
+    int cause = 0;
+    if (!std::isfinite(speed2) || !std::isfinite(px_[p] + py_[p] + pz_[p])) cause = 2;
+    else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
+    else {
+      const int nb[3] = {weights<S>((px_[p] - ox) * invh, invh, wx, dx), weights<S>((py_[p] - oy) * invh, invh, wy, dy),
+                         weights<S>((pz_[p] - oz) * invh, invh, wz, dz)};
+      for (int d = 0; d < 3; ++d)
+        if (nb[d] < 0 || nb[d] > lim[d]) cause = 3;
+    }
+    if (cause) {
+      int expected = 0;
+      if (bad.compare_exchange_strong(expected, cause)) badP = p;
+      continue;
+    }
+    double W, c;
+    stress(p, F, W, c);
+    ek += 0.5 * mass_[p] * speed2;
+    ei += vol0_[p] * W;
+    vmax = std::max(vmax, c + std::sqrt(speed2));
+  }
+  if (bad.load()) fail(badP.load(), bad.load());
+  ekOut = ek;
+  eiOut = ei;
+  vmaxOut = vmax;
+}
+
+// ---------------------------------------------------------------- one step
+
+StepReport MpmSolver::step() {
+  if (!finalized_) finalize();
+  const double dtcr = stableTimeStep();  // eq 25
+  dt_ = cfg_.timeStepFactor * dtcr;      // eq 26
+  if (cfg_.fixedTimeStep > 0) {
+    if (cfg_.fixedTimeStep > dtcr)
+      throw SolverError(fmt::format(
+          "mpm: the fixed time step {:.3g} s exceeds the stable limit {:.3g} s (eq 25) at t = {:.6g} s; lower it "
+          "or raise the mass scaling",
+          cfg_.fixedTimeStep, dtcr, time_));
+    dt_ = cfg_.fixedTimeStep;
+  }
+  if (!(dt_ > 0) || !std::isfinite(dt_))
+    throw SolverError("mpm: no valid time step (wave speed not finite); check the material parameters");
+  const bool lin = cfg_.shape == Shape::Linear;
+  zeroBuffers(false);
+  if (lin) p2g<2>(); else p2g<3>();
+  reduceBuffers(false);
+  gridUpdate();
+  if (cfg_.update == Update::MUSL) {
+    zeroBuffers(true);
+    if (lin) g2pRemap<2>(); else g2pRemap<3>();
+    reduceBuffers(true);
+    remapUpdate();
+  }
+  double ek = 0, ei = 0, vmax = 0;
+  if (lin) g2pFinal<2>(ek, ei, vmax); else g2pFinal<3>(ek, ei, vmax);
+  maxSpeed_ = vmax;
+  time_ += dt_;
+  ++steps_;
+  last_ = StepReport{dt_, ek, ei, vmax};
+  return last_;
+}
+
+}  // namespace needlesim::mpm

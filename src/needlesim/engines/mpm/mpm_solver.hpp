@@ -1,0 +1,170 @@
+#pragma once
+// Explicit 3D material point method (seed 000 eqs 1-4) with multi-field grid
+// contact (eqs 14-21), CFL time step (eqs 25-27) and mass scaling (eq 28).
+// Particles are stored as structure of arrays; the background grid is a dense
+// box that is reset every step. Scatter is race-free with one grid copy per
+// OpenMP thread, reduced after each scatter. Interpretations:
+// docs/models/mpm.md.
+#include <Eigen/Core>
+#include <Eigen/LU>
+#include <array>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "needlesim/materials/hyperelastic.hpp"
+
+namespace needlesim::mpm {
+
+using Vec3 = Eigen::Vector3d;
+using Mat3 = Eigen::Matrix3d;
+
+enum class Shape { Linear, BSpline2 };           // linear hat (the paper's) or quadratic B-spline
+enum class Update { USL, MUSL };                 // update-stress-last, modified USL (momentum remap)
+enum class FaceBC { Free, Fixed, Roller, NonReflecting };
+
+// A tissue material as the solver uses it: the law plus the data of a fast path.
+struct MpmMaterial {
+  materials::Hyperelastic law;
+  double density = 1000.0;  // kg/m^3, before mass scaling
+  static MpmMaterial fromSpec(const materials::MaterialSpec& spec);
+};
+
+// Cauchy stress of a material at F (fast closed forms for Fung-Demiray,
+// neo-Hookean and St Venant-Kirchhoff; the materials library otherwise), the
+// energy per reference volume W and the current dilatational wave speed (eq 27).
+Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave);
+
+// A rigid body with prescribed translation: an infinite plane or a needle
+// (cylinder with a conical or bevelled tip). Normals are analytic.
+struct RigidBody {
+  enum class Kind { Plane, Needle } kind = Kind::Plane;
+  enum class Tip { Conical, Bevel, Blunt } tip = Tip::Conical;
+  Vec3 point = Vec3::Zero();    // plane: a point on it; needle: the tip point
+  Vec3 normal = Vec3::UnitZ();  // plane: outward normal (out of the rigid half-space)
+  Vec3 axis = Vec3::UnitX();    // needle: unit insertion direction (base -> tip)
+  Vec3 bevelDir = Vec3::UnitY();  // needle, bevel tip: unit radial direction of the sharp point
+  double radius = 0.0;          // needle radius, m
+  double tipAngle = 0.35;       // rad: cone half-angle / bevel angle to the axis
+  Vec3 velocity = Vec3::Zero(); // m/s
+  double friction = 0.0;        // Coulomb coefficient against the tissue (eq 20)
+  // Signed distance (negative inside), the outward unit normal at the nearest
+  // face, and which part is nearest (0 shaft or plane, 1 tip).
+  double distance(const Vec3& x, Vec3* n, int* part) const;
+};
+
+struct MpmConfig {
+  double h = 1e-3;                 // grid spacing, m
+  Vec3 origin = Vec3::Zero();      // position of node (0,0,0)
+  std::array<int, 3> cells{{10, 10, 10}};
+  Shape shape = Shape::BSpline2;
+  Update update = Update::MUSL;
+  int bodies = 1;                  // deformable velocity fields (1 or 2)
+  double flip = 1.0;               // FLIP fraction of the particle velocity update (1 = pure FLIP, eq 4)
+  double timeStepFactor = 0.4;     // k_t (eq 26)
+  double massScaling = 1.0;        // factor on every particle mass (eq 28 discussion); dt grows with its root
+  double fixedTimeStep = 0.0;      // > 0: use this step instead of eq 25-26 (still checked against it)
+  double friction = 0.0;           // Coulomb coefficient between deformable bodies
+  Vec3 gravity = Vec3::Zero();
+  // Box whose faces carry the boundary conditions: faces x-, x+, y-, y+, z-, z+.
+  Vec3 boxLo = Vec3::Zero(), boxHi = Vec3::Zero();
+  std::array<FaceBC, 6> faces{{FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free}};
+  double contactGap = -1.0;        // eq 22 gap for rigid contact, m (< 0: half the particle spacing)
+  double pairGapFactor = 1.0;      // scales the centroid-separation gap rule of two deformable bodies
+  int threads = 0;                 // 0 = OpenMP default
+};
+
+// Totals of one step, for reporting.
+struct StepReport {
+  double dt = 0.0;
+  double kinetic = 0.0;   // J (scaled masses)
+  double internal = 0.0;  // J
+  double maxSpeed = 0.0;  // max (c_p + |v_p|), m/s
+};
+
+// Contact force the tissue exerts on one rigid body in the last step.
+struct RigidForce {
+  Vec3 total = Vec3::Zero(), tip = Vec3::Zero(), shaft = Vec3::Zero();
+  int contactNodes = 0;
+};
+
+class MpmSolver {
+ public:
+  explicit MpmSolver(const MpmConfig& cfg);
+
+  int addMaterial(const MpmMaterial& m);
+  int addRigid(const RigidBody& r);
+  RigidBody& rigid(int i) { return rigids_[static_cast<std::size_t>(i)]; }
+  // Fills the box [lo, hi] with particles on a lattice of spacing dp (nper along each edge
+  // implied); returns the index of the first new particle.
+  std::size_t addBlock(const Vec3& lo, const Vec3& hi, double dp, int material, int body,
+                       const Vec3& velocity = Vec3::Zero());
+  // Call once after adding everything (sizes scratch; no allocation afterwards).
+  void finalize();
+
+  // One explicit step; returns dt used. Throws SolverError with cause and remedy.
+  StepReport step();
+  double stableTimeStep() const;  // eqs 25-27 at the current state
+  double time() const { return time_; }
+  long long steps() const { return steps_; }
+  const RigidForce& rigidForce(int i) const { return rforce_[static_cast<std::size_t>(i)]; }
+  StepReport lastReport() const { return last_; }
+
+  // Particle data (SoA).
+  std::size_t size() const { return px_.size(); }
+  Vec3 position(std::size_t p) const { return {px_[p], py_[p], pz_[p]}; }
+  Vec3 velocity(std::size_t p) const { return {vx_[p], vy_[p], vz_[p]}; }
+  Mat3 defGrad(std::size_t p) const;
+  Mat3 cauchy(std::size_t p) const;
+  double mass(std::size_t p) const { return mass_[p]; }           // scaled
+  double volume0(std::size_t p) const { return vol0_[p]; }
+  int body(std::size_t p) const { return body_[p]; }
+  double particleSpacing() const { return dp_; }
+  void setVelocity(std::size_t p, const Vec3& v) { vx_[p] = v.x(); vy_[p] = v.y(); vz_[p] = v.z(); }
+  const MpmConfig& config() const { return cfg_; }
+  int threads() const { return nthreads_; }
+
+ private:
+  template <int S> void p2g();
+  template <int S> void g2pRemap();
+  template <int S> void g2pFinal(double& ek, double& ei, double& vmax);
+  void gridUpdate();
+  void remapUpdate();
+  void zeroBuffers(bool momentumOnly);
+  void reduceBuffers(bool momentumOnly);
+  void stress(std::size_t p, const Mat3& F, double& energy, double& wave);
+  [[noreturn]] void fail(std::size_t p, int cause) const;
+
+  MpmConfig cfg_;
+  std::vector<MpmMaterial> mats_;
+  std::vector<RigidBody> rigids_;
+  // particles
+  std::vector<double> px_, py_, pz_, vx_, vy_, vz_, mass_, vol0_;
+  std::array<std::vector<double>, 9> F_;
+  std::array<std::vector<double>, 6> sig_;  // Cauchy, Voigt 11 22 33 12 23 13
+  std::vector<std::uint8_t> body_, mat_;
+  double dp_ = 0.0;
+  // grid
+  int nn_[3] = {0, 0, 0};
+  std::size_t nodes_ = 0;
+  int nthreads_ = 1;
+  struct Buf {
+    std::vector<double> mass, mom, force, gradm, xm, gmin;  // per body (gmin per rigid)
+  };
+  std::vector<Buf> buf_;                // one per thread; buf_[0] holds the reduced grid
+  std::vector<double> vold_, vnew_;     // per body, 3 per node
+  std::vector<std::uint8_t> fixMask_;   // per node: bits 0-2 fixed velocity components
+  std::vector<double> dashpot_;         // per node: 3 viscous coefficients (non-reflecting), kg/s
+  std::vector<std::uint8_t> active_;    // per node: rigid contact flags of the first update
+  std::vector<double> rnormal_;         // per node per rigid: normal (3) used in the first update
+  std::vector<RigidForce> rforce_;
+  std::vector<std::array<double, 9>> rforceThread_;  // per thread per rigid: total(3) tip(3) shaft(3)
+  double pairGap_ = 0.0;
+  double dt_ = 0.0, time_ = 0.0, maxSpeed_ = 0.0;
+  long long steps_ = 0;
+  StepReport last_;
+  bool finalized_ = false;
+  std::size_t badParticle_ = 0;
+};
+
+}  // namespace needlesim::mpm
