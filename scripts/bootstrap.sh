@@ -8,6 +8,7 @@ PKGS=(
   libhdf5-dev libgtest-dev libbenchmark-dev
   libjs-chart.js
   libopenmpi-dev openmpi-bin
+  pybind11-dev python3-dev
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -31,3 +31,19 @@ RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, 
 }
 
 }  // namespace needlesim
+
+#include "needlesim/engines/memory_sink.hpp"
+
+namespace needlesim {
+
+MemorySink runInMemory(const Scenario& sc, const RunOptions& options) {
+  const EngineInfo* engine = findEngine(sc.model.engine);
+  if (!engine)
+    throw InputError(SourceLocation{sc.source, 0, 0}, "model.engine", sc.model.engine,
+                     "is reserved for an engine that this build does not have yet", "see needlesim schema");
+  MemorySink sink;
+  engine->run(sc, sink, options);
+  return sink;
+}
+
+}  // namespace needlesim
