@@ -417,6 +417,9 @@ RelaxationData readRelaxation(const io::CsvData& csv, const SampleSize& sample) 
                        "force data need the sample cross-section", "--area '900 mm^2' or --diameter '30 mm'");
     for (double f : csv.col(cf)) d.stress.push_back(f / A);
   }
+  if (std::all_of(d.stress.begin(), d.stress.end(), [](double v) { return v == 0.0; }))
+    throw InputError({csv.file, csv.lines.back(), 0}, "stress", "0", "every stress is zero, so there is nothing to fit",
+                     "a relaxation record with non-zero stress");
   for (std::size_t i = 1; i < n; ++i)
     if (!(d.time[i] > d.time[i - 1]))
       throw InputError({csv.file, csv.lines[i], 0}, "time", fmtNum(d.time[i]),
