@@ -97,6 +97,9 @@ CsvData parseCsv(std::string_view text, const std::string& fileName) {
     if (!haveHeader) {
       haveHeader = true;
       d.headerLine = lineNo;
+      if (fields.size() == 1 && (t.find(';') != std::string_view::npos || t.find('\t') != std::string_view::npos))
+        throw InputError({fileName, lineNo, 0}, "header", std::string(t),
+                         "columns are separated by ';' or tabs", "commas between columns, e.g. 'strain [1], stress [kPa]'");
       for (auto [f, col] : fields) {
         CsvColumn c;
         c.headerColumn = col;
@@ -112,6 +115,9 @@ CsvData parseCsv(std::string_view text, const std::string& fileName) {
             throw InputError({fileName, lineNo, col}, "column '" + c.name + "'", std::string(f),
                              "the unit has no closing ']'", kHeaderHelp);
           c.unit = std::string(trim(f.substr(lb + 1, rb - lb - 1)));
+          if (!trim(f.substr(rb + 1)).empty())
+            throw InputError({fileName, lineNo, col}, "column '" + c.name + "'", std::string(f),
+                             "text after the unit", kHeaderHelp);
         }
         if (!c.unit.empty() && c.unit != "1" && c.unit != "-") {
           try {
