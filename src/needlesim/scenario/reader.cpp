@@ -278,6 +278,22 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
   sc.model.time_step = model.number("time_step");
   Section lumped = model.sub("lumped");
   sc.model.lumped.relaxation_time = lumped.number("relaxation_time");
+  Section steer = model.sub("steering");
+  {
+    SteeringModelSpec& st = sc.model.steering;
+    st.curvature = steer.optNumber("curvature").value_or(-1.0);  // < 0: from the tip loads
+    st.beta_over_alpha = steer.number("beta_over_alpha");
+    st.input_force = steer.number("input_force");
+    st.tip_load = steer.choice("tip_load");
+    st.increment = steer.number("increment");
+    st.friction_dissipation = steer.number("friction_dissipation");
+    st.tear_length = steer.optNumber("tear_length").value_or(0.0);  // 0: the needle radius
+    st.max_step = steer.number("max_step");
+    const double snaps = steer.number("snapshots");
+    if (snaps != std::floor(snaps))
+      throw steer.error("snapshots", fmt::format("{:g}", snaps), "must be a whole number", "1, 2, ... 100");
+    st.snapshots = static_cast<int>(snaps);
+  }
   Section rt = model.sub("realtime2d");
   {
     Realtime2dModelSpec& r = sc.model.realtime2d;
@@ -330,7 +346,6 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
       r.markers.push_back(mk);
     }
   }
-
 
   Section out = top.sub("output");
   sc.output.directory = out.text("directory");

@@ -104,10 +104,25 @@ struct Realtime2dModelSpec {
   std::vector<MarkerSpec> markers;
 };
 
+// Bevel-tip steering engines kinematic, energy, beam-foundation (seed 002;
+// docs/models/steering.md, docs/models/bevel-tip-energy.md).
+struct SteeringModelSpec {
+  double curvature = -1.0;        // 1/m, kinematic: curvature with the bevel fixed; < 0 = from the tip loads
+  double beta_over_alpha = 0.5;   // cut angle / bevel angle (seed 002 sections 3.1, 5.2)
+  double input_force = 5e-3;      // N, P_input (seed 002 section 5.2)
+  std::string tip_load = "roller";  // roller (section 4 sub-step 1 reaction) | bevel-edges (eqs 24-26)
+  double increment = 1e-3;        // m, insertion increment / element length / path sampling
+  double friction_dissipation = 0.0;  // energy: share of the input work lost to friction (Fig 23)
+  double tear_length = 0.0;       // m, energy: a of eq 44; 0 = the needle radius
+  double max_step = 1e-3;         // m, energy: largest advance of one increment
+  int snapshots = 5;              // needle shapes recorded along the insertion
+};
+
 struct ModelSpec {
   std::string engine = "lumped";  // lumped (others are listed in docs/scenario-format.md)
   double time_step = 1e-3;        // s, output and integration step
   LumpedModelSpec lumped;
+  SteeringModelSpec steering;
   Realtime2dModelSpec realtime2d;
 };
 

@@ -159,11 +159,32 @@ std::vector<FieldDoc> build() {
   // --- model
   add(other("model", "engine", Kind::Choice, "lumped",
             "engine: lumped (seed 003 lumped force model), realtime2d (seed 003 2D FE tissue with a needle "
-            "beam). Reserved for later releases: kinematic, energy, beam-foundation, explicit, mpm",
+            "beam), kinematic, energy, beam-foundation (bevel-tip steering, seed 002). Reserved for later "
+            "releases: explicit, mpm",
             false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "explicit", "mpm"}));
   add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
   add(other("model", "lumped", Kind::Section, "", "parameters of the lumped force model", false, "lumped"));
   add(nonneg("lumped", "relaxation_time", D::Time, "0 s", "decay time of the friction held during a pause (0 = held)"));
+  add(other("model", "steering", Kind::Section, "",
+            "parameters of the steering engines kinematic, energy and beam-foundation", false, "steering"));
+  add(nonneg("steering", "curvature", units::Dim{-1, 0, 0, 0}, "from the tip loads",
+             "kinematic: curvature with the bevel fixed (e.g. 3.3 1/m); omitted = the beam-on-foundation "
+             "steady curvature (M + Q/lambda)/EI of the tip loads"));
+  add(q("steering", "beta_over_alpha", D::None, "0.5", 0.0, 1.0, true, false,
+        "cut angle / bevel angle (seed 002 sections 3.1, 5.2)"));
+  add(positive("steering", "input_force", D::Force, "5 mN", "insertion force P_input (seed 002 section 5.2)"));
+  add(other("steering", "tip_load", Kind::Choice, "roller",
+            "transverse tip load of beam-foundation (and of kinematic without curvature): roller = the "
+            "sub-step-1 roller reaction P_input/tan(beta) that drives seed 002's section 5 model; "
+            "bevel-edges = eqs 24-26 from K_T and the bevel geometry",
+            false, {}, {"roller", "bevel-edges"}));
+  add(positive("steering", "increment", D::Length, "1 mm",
+               "insertion increment (beam-foundation element length; path sampling)"));
+  add(q("steering", "friction_dissipation", D::None, "0", 0.0, 1.0, false, true,
+        "energy: share of the input work dissipated by friction (seed 002 Fig 23)"));
+  add(nonneg("steering", "tear_length", D::Length, "needle radius", "energy: tear length a of seed 002 eq 44"));
+  add(positive("steering", "max_step", D::Length, "1 mm", "energy: largest advance of one increment"));
+  add(q("steering", "snapshots", D::None, "5", 1.0, 100.0, false, false, "needle shapes recorded along the insertion"));
   add(other("model", "realtime2d", Kind::Section, "", "parameters of the real-time 2D FE engine", false, "realtime2d"));
   add(positive("realtime2d", "element_size", D::Length, "", "element size of a uniform mesh (instead of the node counts)"));
   add(q("realtime2d", "nodes_depth", D::None, "21", 2.0, 2000.0, false, false, "nodes along the insertion axis (block.length)"));

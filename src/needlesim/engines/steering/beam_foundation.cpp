@@ -92,7 +92,8 @@ void BeamFoundationModel::advance() {
   Vec3 m1 = n1, m2 = n2;
   if (s > 1e-15) {
     const Vec3 k = axis / s;
-    auto rot = [&](const Vec3& v) { return v * c + k.cross(v) * s + k * k.dot(v) * (1 - c); };
+    // -> Vec3: an Eigen expression returned by auto would dangle (k.cross(v) is a temporary)
+    auto rot = [&](const Vec3& v) -> Vec3 { return v * c + k.cross(v) * s + k * k.dot(v) * (1 - c); };
     m1 = rot(n1);
     m2 = rot(n2);
   }

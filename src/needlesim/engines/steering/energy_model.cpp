@@ -57,6 +57,12 @@ inline void evalPrev(const Vec4& c, double l_old, double x, double& v, double& d
 
 }  // namespace
 
+double energyDeflection(const Eigen::Vector4d& c, double l, double x) {
+  double v, dv;
+  evalPrev(c, l, x, v, dv);
+  return v;
+}
+
 EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>* path,
                             double record_every, std::vector<EnergyIncrement>* incs) {
   if (!(p.diameter > 0 && p.E > 0 && p.K_T > 0 && p.P_input > 0))
@@ -141,7 +147,7 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     c = vp + D2;
     l_old = l;
     ++r.increments;
-    if (incs) incs->push_back({l, l, c(2), phi, Pg, Qg, H, V});
+    if (incs) incs->push_back({l, l, c(2), phi, Pg, Qg, H, V, c});
     l += u0;
     if (path && (l >= next_record || l >= p.insertion)) {
       path->push_back(Eigen::Vector3d(l_old, c(2), 0));

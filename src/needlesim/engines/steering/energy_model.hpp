@@ -38,7 +38,12 @@ struct EnergyIncrement {
   double phi = 0.0;      // rad, tip slope angle (eq 29)
   double P = 0.0, Q = 0.0;  // N, released tip loads (global, sub-step 2)
   double H = 0.0, V = 0.0;  // N, roller reactions (local, eqs 27-28)
+  Eigen::Vector4d coeffs = Eigen::Vector4d::Zero();  // (v, v') at l/2 and l: the needle shape
 };
+
+// Deflection v(x) of the two-piece clamped Hermite shape (eq 45) of length l with
+// coefficients c = (v(l/2), v'(l/2), v(l), v'(l)); beyond l it continues straight.
+double energyDeflection(const Eigen::Vector4d& c, double l, double x);
 
 struct EnergyResult {
   int increments = 0;

@@ -57,11 +57,22 @@ Table2Row runTable2Case(const Table2Case& c, const std::string& model) {
     row.rho_pred = fitCircle(path).radius;
     row.deflection_pred = std::abs(r.final_deflection);
     row.increments = r.increments;
-  } else if (model == "beam-foundation") {
+  } else if (model == "beam-foundation" || model == "beam-foundation-edges") {
     const needle::Section sec{50e9, c.diameter, 0};
-    const needle::TipLoads t =
-        needle::bevelTipLoads({c.K_T, c.diameter, c.alpha, c.beta_tip * c.alpha, c.P_input});
-    BeamFoundationParams p{sec.EI(), c.K_T, t.Q, t.M, -t.P, 1e-3, L + 2e-3};
+    BeamFoundationParams p{sec.EI(), c.K_T, 0.0, 0.0, 0.0, 1e-3, L + 2e-3};
+    if (model == "beam-foundation") {
+      // the force seed 002 section 5 drives its model with: the sub-step-1 roller reaction
+      // V = P_input / tan(beta) (eqs 27-28, 47) with the section 5.2 P_input and beta/alpha
+      p.Q = -c.P_input / std::tan(c.beta_energy * c.alpha);
+      p.axial_force = -c.P_input;
+    } else {
+      // eqs 24-26 with the section 3.1 cut angles (fitted to the 15 mm scaled tips of Fig 10)
+      const needle::TipLoads t =
+          needle::bevelTipLoads({c.K_T, c.diameter, c.alpha, c.beta_tip * c.alpha, c.P_input});
+      p.Q = t.Q;
+      p.M = t.M;
+      p.axial_force = -t.P;
+    }
     BeamFoundationModel m(p);
     m.reset(Pose{});
     const int n = static_cast<int>(std::lround(L / p.increment));

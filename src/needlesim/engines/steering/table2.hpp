@@ -30,7 +30,9 @@ struct Table2Row {
   int increments = 0;
 };
 
-// model: "energy" or "beam-foundation" (insertion 150 mm, 1 mm increments for the latter).
+// model: "energy", "beam-foundation" (tip load = the section-4 roller reaction P_input/tan(beta)
+// with the section 5.2 inputs) or "beam-foundation-edges" (tip loads of eqs 24-26 with the
+// section 3.1 cut angles); 150 mm insertion, 1 mm increments for the beam.
 Table2Row runTable2Case(const Table2Case& c, const std::string& model);
 
 }  // namespace needlesim::steering
