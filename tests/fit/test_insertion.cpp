@@ -91,3 +91,24 @@ TEST(Insertion, MultiSpeedFrictionRecoversParameters) {
   // one speed only: cannot separate C and b
   EXPECT_THROW(fitFrictionCutting({logs[0]}, L), needlesim::InputError);
 }
+
+TEST(FitInsertion, FrictionFromLogsRequiresTheBlockThickness) {
+  InsertionLog a, b;
+  a.file = b.file = "x.csv";
+  a.speed = 2.5e-3;
+  b.speed = 5e-3;
+  for (int i = 0; i < 100; ++i) {
+    a.depth.push_back(i * 1e-3);
+    b.depth.push_back(i * 1e-3);
+    a.force.push_back(0.01 * i);
+    b.force.push_back(0.012 * i);
+    a.lines.push_back(i + 2);
+    b.lines.push_back(i + 2);
+  }
+  try {
+    fitFrictionCutting({a, b}, 0.0);
+    FAIL() << "no error without --thickness";
+  } catch (const needlesim::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("--thickness"), std::string::npos);
+  }
+}

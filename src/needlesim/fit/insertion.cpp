@@ -261,6 +261,13 @@ std::vector<FrictionRow> readFrictionSummaries(const io::CsvData& csv) {
 
 FrictionFit fitFrictionCutting(const std::vector<InsertionLog>& logs, double thickness, CuttingModel cutting) {
   if (logs.empty()) throw Error("friction fit: no insertion logs");
+  // Without the block thickness the contact length after the tip exits would be taken
+  // as still growing, biasing C_p and b_p without any warning: require it.
+  if (!(thickness > 0))
+    throw InputError({logs.front().file, 0, 0}, "--thickness", "",
+                     "the block thickness along the needle is needed to fit friction from insertion logs "
+                     "(the shaft length in contact stops growing once the tip exits)",
+                     "a length > 0, e.g. --thickness '55 mm'");
   // distinct speeds
   std::vector<double> speeds;
   for (const auto& l : logs) {
