@@ -119,3 +119,18 @@ TEST(Section, SolidAndHollow) {
   EXPECT_NEAR(h.secondMoment(), std::numbers::pi * (1e-12 - 0.0625e-12) / 64, 1e-25);
   EXPECT_NEAR(h.area(), std::numbers::pi / 4 * (1e-6 - 0.25e-6), 1e-18);
 }
+
+// The eq 25 magnitudes of seed 002 section 3.1 were measured on 15 mm scaled tips (Fig 10).
+// F1, F2 (eqs 22-23) integrate K_T (N/m^2) times a displacement (m) over an edge (m): N.
+// All lengths scale with d, so Q and M scale as d^2 and d^3: a 0.46 mm needle carries
+// (0.46/15)^2 ~ 1/1000 of the scaled tip's Q in the same gel.
+TEST(TipLoads, ScaleWithDiameterSquaredAndCube) {
+  const double a = 31.89 * deg, b = 0.21 * a, K = 9.21e3;
+  const TipLoads big = bevelTipLoads({K, 15e-3, a, b, 0.0});
+  const TipLoads real = bevelTipLoads({K, 0.46e-3, a, b, 0.0});
+  const double s = 15.0 / 0.46;
+  EXPECT_NEAR(big.Q / real.Q, s * s, 1e-9 * s * s);
+  EXPECT_NEAR(big.M / real.M, s * s * s, 1e-9 * s * s * s);
+  EXPECT_LT(std::abs(real.Q), 2e-3);  // about 1 mN for the Table 2 needles
+  EXPECT_GT(std::abs(big.Q), 0.1);    // the order of the Fig 14 forces
+}
