@@ -193,6 +193,187 @@ class ModalIntegrator final : public TissueIntegrator {
   Eigen::MatrixXd S_;
 };
 
+// Truncated modal basis plus residual flexibility (docs/models/realtime2d.md, "reduced").
+// The m lowest modes (shift-invert Lanczos on K, M-orthonormal) run Newmark exactly as in
+// ModalIntegrator. Every other mode i has w_i above the cutoff where the Rayleigh term
+// beta w_i^2 (eq 3.8) dwarfs 1/dt, so its inertia is negligible and it obeys
+// (alpha + beta w_i^2) q' + w_i^2 q = phi_i^T f, i.e. beta g' + g = f for
+// q_i = phi_i^T f-filtered / w_i^2 (alpha / w_i^2 << beta is dropped). Their sum on the
+// path DOFs is R g with the residual flexibility R = G^T K^-1 G - Phi_P W^-2 Phi_P^T and
+// one first-order filter g, advanced with the Newmark velocity rule (eq 3.2). Statics
+// are exact (R + Phi_P W^-2 Phi_P^T = G^T K^-1 G); a step costs O((m + 2P) 2P).
+class ReducedIntegrator final : public TissueIntegrator {
+ public:
+  ReducedIntegrator(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M, double alpha,
+                    double beta, PathMap map, double cutoff, int max_modes)
+      : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)) {
+    kf_.compute(K_);
+    if (kf_.info() != Eigen::Success) throw SolverError("realtime2d: the tissue stiffness is singular (no supports?)");
+    lanczos(cutoff, max_modes);
+    const auto n = K_.rows();
+    const int P = map_.size();
+    const auto m = Phi_.cols();
+    PhiP_.resize(P, m);
+    for (int k = 0; k < P; ++k)
+      for (Eigen::Index j = 0; j < m; ++j) PhiP_(k, j) = map_.gather(Phi_.col(j), k);
+    // Static path flexibility G^T K^-1 G, minus the kept modes' share.
+    Zs_.resize(n, P);
+    Eigen::VectorXd g(n);
+    for (int k = 0; k < P; ++k) {
+      g.setZero();
+      map_.scatterAdd(g, k, 1.0);
+      Zs_.col(k) = kf_.solve(g);
+    }
+    R_.resize(P, P);
+    for (int k = 0; k < P; ++k)
+      for (int l = 0; l < P; ++l) R_(l, k) = map_.gather(Zs_.col(k), l);
+    R_.noalias() -= PhiP_ * w2_.cwiseInverse().asDiagonal() * PhiP_.transpose();
+    R_ = 0.5 * (R_ + R_.transpose()).eval();
+    damp_ = (alpha_ + beta_ * w2_.array()).matrix();
+    q_.setZero(m); qd_.setZero(m); qdd_.setZero(m); q0_.resize(m); invA_.resize(m); h_.resize(m);
+    gres_.setZero(P); fprev_.setZero(P); t_.resize(P);
+  }
+  Backend kind() const override { return Backend::Reduced; }
+  int modes() const { return static_cast<int>(w2_.size()); }
+  void prepare(const NewmarkCoefficients& c) override {
+    c_ = c;
+    gam_ = c.a1 / c.a2;
+    invA_ = (w2_.array() + c.a0 + c.a1 * damp_.array()).inverse().matrix();
+    if (beta_ > 0.0) {  // beta g' + g = f, g1 = g0 + dt((1 - gam) g0' + gam g1')
+      const double r = c.dt / beta_;
+      cg_ = (1.0 - (1.0 - gam_) * r) / (1.0 + gam_ * r);
+      cf0_ = (1.0 - gam_) * r / (1.0 + gam_ * r);
+      cf1_ = gam_ * r / (1.0 + gam_ * r);
+    } else {  // no creep: the residual modes respond statically
+      cg_ = cf0_ = 0.0;
+      cf1_ = 1.0;
+    }
+    S_ = PhiP_ * invA_.asDiagonal() * PhiP_.transpose() + cf1_ * R_;
+  }
+  const Eigen::MatrixXd& S() const override { return S_; }
+  void predict(Eigen::VectorXd& u0P) override {
+    const auto& c = c_;
+    q0_.array() = ((c.a0 * q_.array() + c.a2 * qd_.array() + c.a3 * qdd_.array()) +
+                   damp_.array() * (c.a1 * q_.array() + c.a4 * qd_.array() + c.a5 * qdd_.array())) *
+                  invA_.array();
+    u0P.noalias() = PhiP_ * q0_;
+    t_ = cg_ * gres_ + cf0_ * fprev_;
+    u0P.noalias() += R_ * t_;
+  }
+  void commit(const Eigen::VectorXd& f) override {
+    h_.noalias() = PhiP_.transpose() * f;
+    q0_.array() += h_.array() * invA_.array();
+    h_.array() = c_.a0 * (q0_.array() - q_.array()) - c_.a2 * qd_.array() - c_.a3 * qdd_.array();
+    qd_.array() += c_.dt * ((1.0 - gam_) * qdd_.array() + gam_ * h_.array());
+    qdd_.swap(h_);
+    q_.swap(q0_);
+    gres_ = t_ + cf1_ * f;
+    fprev_ = f;
+    resid_dirty_ = true;
+  }
+  void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override {
+    u.noalias() = Phi_ * q_;
+    u += residualField(gres_);
+    v.noalias() = Phi_ * qd_;
+    if (beta_ > 0.0) v += residualField((fprev_ - gres_) / beta_);
+  }
+  double freeDisplacement(int k) const override {
+    if (resid_dirty_) { ures_ = residualField(gres_); resid_dirty_ = false; }
+    return Phi_.row(k).dot(q_) + ures_[k];
+  }
+  void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
+    q_ = Phi_.transpose() * (M_ * u);  // projection on the kept modes (Phi^T M Phi = I)
+    qd_ = Phi_.transpose() * (M_ * v);
+    qdd_ = Phi_.transpose() * (M_ * a);
+    gres_.setZero();
+    fprev_.setZero();
+    resid_dirty_ = true;
+  }
+
+ private:
+  // Field of the residual modes for filtered path loads g: (K^-1 G - Phi W^-2 Phi_P^T) g.
+  Eigen::VectorXd residualField(const Eigen::VectorXd& g) const {
+    Eigen::VectorXd r = Zs_ * g;
+    r.noalias() -= Phi_ * (w2_.cwiseInverse().asDiagonal() * (PhiP_.transpose() * g));
+    return r;
+  }
+  // Shift-invert Lanczos (operator K^-1 M, M inner product, full reorthogonalisation) for the
+  // modes below `cutoff` (rad/s), at most max_modes; deterministic start vector.
+  void lanczos(double cutoff, int max_modes) {
+    const auto n = K_.rows();
+    const int kmax = static_cast<int>(std::min<Eigen::Index>(n, std::max(3 * max_modes / 2, max_modes + 40)));
+    Eigen::MatrixXd Q(n, kmax + 1);
+    Eigen::VectorXd alpha(kmax), betas(kmax);
+    Eigen::VectorXd q = Eigen::VectorXd::LinSpaced(n, 1.0, 2.0);
+    for (Eigen::Index i = 0; i < n; i += 3) q[i] = -q[i];
+    q /= std::sqrt(q.dot(M_ * q));
+    Q.col(0) = q;
+    Eigen::VectorXd r(n), Mr(n);
+    int k = 0;
+    auto done = [&](int steps) {  // enough converged Ritz values past the cutoff?
+      Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(tridiag(alpha, betas, steps));
+      int conv = 0;
+      bool past = false;
+      for (int i = steps - 1; i >= 0; --i) {  // largest theta = lowest w
+        const double th = es.eigenvalues()[i];
+        const double err = std::abs(betas[steps - 1] * es.eigenvectors()(steps - 1, i));
+        if (!(err < 1e-9 * th)) break;
+        ++conv;
+        if (1.0 / th > cutoff * cutoff) { past = true; break; }
+      }
+      return past || conv >= max_modes;
+    };
+    for (; k < kmax; ++k) {
+      r = kf_.solve(M_ * Q.col(k));
+      alpha[k] = Q.col(k).dot(M_ * r);
+      for (int pass = 0; pass < 2; ++pass) {  // full M-reorthogonalisation
+        Mr = M_ * r;
+        r.noalias() -= Q.leftCols(k + 1) * (Q.leftCols(k + 1).transpose() * Mr);
+      }
+      betas[k] = std::sqrt(std::max(r.dot(M_ * r), 0.0));
+      if (betas[k] < 1e-14 * std::abs(alpha[k])) { ++k; break; }
+      Q.col(k + 1) = r / betas[k];
+      if ((k + 1) % 20 == 0 && done(k + 1)) { ++k; break; }
+    }
+    Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(tridiag(alpha, betas, k));
+    std::vector<int> keep;
+    for (int i = k - 1; i >= 0 && static_cast<int>(keep.size()) < max_modes; --i) {
+      const double th = es.eigenvalues()[i];
+      const double err = std::abs(betas[k - 1] * es.eigenvectors()(k - 1, i));
+      if (!(th > 0.0) || !(err < 1e-8 * th)) break;  // only converged modes, lowest first
+      keep.push_back(i);
+      if (1.0 / th > cutoff * cutoff) break;
+    }
+    if (keep.empty()) throw SolverError("realtime2d: the reduced basis (Lanczos) did not converge");
+    Phi_.resize(n, static_cast<Eigen::Index>(keep.size()));
+    w2_.resize(static_cast<Eigen::Index>(keep.size()));
+    for (std::size_t j = 0; j < keep.size(); ++j) {
+      Phi_.col(static_cast<Eigen::Index>(j)) = Q.leftCols(k) * es.eigenvectors().col(keep[j]);
+      w2_[static_cast<Eigen::Index>(j)] = 1.0 / es.eigenvalues()[keep[j]];
+    }
+  }
+  static Eigen::MatrixXd tridiag(const Eigen::VectorXd& a, const Eigen::VectorXd& b, int k) {
+    Eigen::MatrixXd T = Eigen::MatrixXd::Zero(k, k);
+    for (int i = 0; i < k; ++i) {
+      T(i, i) = a[i];
+      if (i + 1 < k) T(i, i + 1) = T(i + 1, i) = b[i];
+    }
+    return T;
+  }
+
+  Eigen::SparseMatrix<double> K_, M_;
+  double alpha_, beta_;
+  PathMap map_;
+  NewmarkCoefficients c_;
+  double gam_ = 0.5, cg_ = 0, cf0_ = 0, cf1_ = 1;
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kf_;
+  Eigen::MatrixXd Phi_, Zs_, R_, S_;
+  Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> PhiP_;
+  Eigen::VectorXd w2_, damp_, q_, qd_, qdd_, q0_, invA_, h_, gres_, fprev_, t_;
+  mutable Eigen::VectorXd ures_;
+  mutable bool resid_dirty_ = true;
+};
+
 }  // namespace
 
 // ---------------------------------------------------------------------------
@@ -270,11 +451,20 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
                      map_.free_of_dof[static_cast<std::size_t>(2 * p.node + 1)]});
 
   PathMap pm{&pdof_, t_, n_};
-  const bool modal = cfg.backend == Backend::Modal ||
-                     (cfg.backend == Backend::Auto && map_.freeCount() <= cfg.modal_max_dofs);
+  Backend chosen = cfg.backend;
+  if (chosen == Backend::Auto) chosen = map_.freeCount() <= cfg.modal_max_dofs ? Backend::Modal : Backend::Reduced;
   const double a = cfg.rayleigh_alpha, b = cfg.rayleigh_beta;
-  if (modal) impl_ = std::make_unique<ModalIntegrator>(K_, M_, a, b, pm);
-  else impl_ = std::make_unique<DirectIntegrator>(K_, M_, a, b, pm);
+  if (chosen == Backend::Modal) {
+    impl_ = std::make_unique<ModalIntegrator>(K_, M_, a, b, pm);
+  } else if (chosen == Backend::Reduced) {
+    // Keep the modes whose Rayleigh creep rate beta w^2 is below 20/dt (their inertia
+    // matters within a step); all faster ones are residual (quasi-static creep).
+    double cutoff = cfg.reduced_cutoff;
+    if (!(cutoff > 0.0)) cutoff = b > 0.0 ? std::sqrt(20.0 / (b * dt)) : 2.0 / dt;
+    impl_ = std::make_unique<ReducedIntegrator>(K_, M_, a, b, pm, cutoff, cfg.reduced_max_modes);
+  } else {
+    impl_ = std::make_unique<DirectIntegrator>(K_, M_, a, b, pm);
+  }
   // Conditionally stable Newmark: dt w_max <= 1 / sqrt(gamma/2 - beta) (undamped limit).
   dt_limit_ = std::numeric_limits<double>::infinity();
   if (cfg.newmark.beta < 0.5 * cfg.newmark.gamma && !cfg.newmark.unconditionallyStable())

@@ -16,6 +16,10 @@
 //           damping A, M, C, K are all diagonal in this basis, so Newmark is the same
 //           algorithm mode by mode; a step costs O(n * path DOFs); the full field is
 //           rebuilt (u = Phi q) only when asked for.
+//   Reduced: the lowest modes (shift-invert Lanczos) as in Modal, plus the residual
+//           flexibility of all other modes on the path DOFs, which creep with the
+//           Rayleigh time constant beta (their inertia is negligible); exact statics,
+//           O((modes + path DOFs) * path DOFs) per step. For 10k-node meshes.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
 #include <array>
@@ -56,7 +60,11 @@ struct TissueConfig {
   // when not empty it replaces `material` element by element (thickness from `material`).
   std::vector<std::pair<double, ElasticMaterial>> layers;
   Backend backend = Backend::Auto;
-  int modal_max_dofs = 2600;  // Auto picks Modal up to this many free DOFs
+  int modal_max_dofs = 2600;  // Auto picks Modal up to this many free DOFs, Reduced above
+  // Reduced: keep the modes below this frequency (rad/s; 0 = sqrt(20 / (beta dt))), at most
+  // reduced_max_modes; the rest enter as residual flexibility with Rayleigh creep.
+  double reduced_cutoff = 0.0;
+  int reduced_max_modes = 400;
 };
 
 // Reference needle axis and the nodes on it.
