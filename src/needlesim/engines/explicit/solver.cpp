@@ -1,0 +1,732 @@
+#include "needlesim/engines/explicit/solver.hpp"
+
+#include <Eigen/Dense>
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <sstream>
+
+#include "needlesim/core/error.hpp"
+
+namespace needlesim::explicit_fe {
+
+using Eigen::Matrix3d;
+using Eigen::Vector3d;
+using Voigt = Eigen::Matrix<double, 6, 1>;
+
+Material Material::fromSpec(const materials::MaterialSpec& spec) {
+  Material m;
+  m.law = materials::Hyperelastic::fromSpec(spec);
+  m.prony.terms = spec.prony;
+  m.prony.validate();
+  m.density = spec.density;
+  if (!(m.density > 0)) throw Error("material '" + spec.name + "': density must be > 0 kg/m^3");
+  return m;
+}
+
+namespace {
+
+// Natural coordinates of the hex8 and quad4 nodes.
+constexpr double kHexXi[8][3] = {{-1, -1, -1}, {1, -1, -1}, {1, 1, -1}, {-1, 1, -1},
+                                 {-1, -1, 1},  {1, -1, 1},  {1, 1, 1},  {-1, 1, 1}};
+constexpr double kQuadXi[4][2] = {{-1, -1}, {1, -1}, {1, 1}, {-1, 1}};
+// Flanagan-Belytschko (1981) hourglass base vectors.
+constexpr double kHexH[4][8] = {{1, 1, -1, -1, -1, -1, 1, 1},
+                                {1, -1, -1, 1, -1, 1, 1, -1},
+                                {1, -1, 1, -1, 1, -1, 1, -1},
+                                {-1, 1, -1, 1, 1, -1, 1, -1}};
+constexpr double kQuadH[4] = {1, -1, 1, -1};
+
+double lameLambda(const Material& m) {
+  if (m.law.kind == materials::LawKind::Linear)
+    return m.law.E * m.law.nu / ((1 + m.law.nu) * (1 - 2 * m.law.nu));
+  return m.law.bulk - 2.0 / 3.0 * m.law.initialShear();
+}
+
+// Second Piola-Kirchhoff stress and energy density. Neo-Hooke and St Venant-
+// Kirchhoff ("linear") are evaluated inline (the same formulas as
+// materials/hyperelastic.cpp, checked against it in tests/explicit); every
+// other law goes through materials::evaluate.
+inline void pk2(const Material& m, const Matrix3d& F, double J, Matrix3d& S, double& W) {
+  using materials::LawKind;
+  if (m.law.kind == LawKind::NeoHookean) {
+    // W = C10 (I1bar - 3) + K/2 (J - 1)^2
+    const Matrix3d C = F.transpose() * F;
+    const Matrix3d Ci = C.inverse();
+    const double I1 = C.trace(), Jm23 = std::cbrt(1.0 / (J * J));
+    S = 2.0 * m.law.C10 * Jm23 * (Matrix3d::Identity() - (I1 / 3.0) * Ci) + m.law.bulk * (J - 1.0) * J * Ci;
+    W = m.law.C10 * (Jm23 * I1 - 3.0) + 0.5 * m.law.bulk * (J - 1.0) * (J - 1.0);
+  } else if (m.law.kind == LawKind::Linear) {
+    // W = lambda/2 (tr E)^2 + mu E:E
+    const double mu = m.law.E / (2 * (1 + m.law.nu)), lam = m.law.E * m.law.nu / ((1 + m.law.nu) * (1 - 2 * m.law.nu));
+    const Matrix3d E = 0.5 * (F.transpose() * F - Matrix3d::Identity());
+    const double tr = E.trace();
+    S = lam * tr * Matrix3d::Identity() + 2 * mu * E;
+    W = 0.5 * lam * tr * tr + mu * (E.array() * E.array()).sum();
+  } else {
+    auto st = materials::evaluate(m.law, F, false);
+    S = st.S;
+    W = st.energy;
+  }
+}
+
+inline Voigt toVoigt(const Matrix3d& S) {
+  Voigt v;
+  v << S(0, 0), S(1, 1), S(2, 2), S(0, 1), S(1, 2), S(0, 2);
+  return v;
+}
+inline Matrix3d fromVoigt(const Voigt& v) {
+  Matrix3d S;
+  S << v[0], v[3], v[5], v[3], v[1], v[4], v[5], v[4], v[2];
+  return S;
+}
+
+// Below this many elements / nodes a loop runs serially: thread start-up and
+// barriers cost more than the work (and spin badly on a loaded machine).
+constexpr int kParallelMin = 4000;
+
+std::string fmtNum(double v) {
+  std::ostringstream o;
+  o.precision(4);
+  o << v;
+  return o.str();
+}
+
+}  // namespace
+
+ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, SolverOptions options)
+    : mesh_(std::move(mesh)), mats_(std::move(materials)), opt_(options) {
+  dim_ = mesh_.dim;
+  npe_ = nodesPerElement(mesh_.type);
+  nel_ = mesh_.elements();
+  nnode_ = mesh_.nodes();
+  nhg_ = mesh_.type == ElementType::Quad4 ? 1 : mesh_.type == ElementType::Hex8 ? 4 : 0;
+  if (elementDim(mesh_.type) != dim_) throw Error("mesh dimension does not match its element type");
+  if (mats_.empty()) throw Error("explicit FE: no material");
+  if (mesh_.region.size() != static_cast<std::size_t>(nel_)) mesh_.region.assign(nel_, 0);
+  if (!(opt_.massScaling >= 1.0)) throw Error("explicit FE: mass scaling factor must be >= 1");
+  if (!(opt_.cfl > 0 && opt_.cfl <= 1.0)) throw Error("explicit FE: CFL factor must lie in (0, 1]");
+  if (!(opt_.contactPenalty > 0 && opt_.contactPenalty < 1.0))
+    throw Error("explicit FE: contact penalty must lie in (0, 1) (fraction of m/dt^2)");
+
+  grad0_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
+  gamma_.assign(static_cast<std::size_t>(nel_) * std::max(nhg_, 1) * npe_, 0.0);
+  vol0_.assign(nel_, 0.0);
+  rho_.assign(nel_, 0.0);
+  hgStiff_.assign(static_cast<std::size_t>(nel_) * dim_ * dim_, 0.0);
+  mat_.assign(nel_, 0);
+  fe_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
+  dtElem_.assign(nel_, 0.0);
+  wElem_.assign(nel_, 0.0);
+  hgElem_.assign(nel_, 0.0);
+  hgStrain_.assign(nel_, 0.0);
+  failElem_.assign(nel_, 0);
+  spk2_.assign(static_cast<std::size_t>(nel_) * 6, 0.0);
+
+  for (auto& m : mats_) {
+    double mu = m.law.kind == materials::LawKind::Linear ? m.law.E / (2 * (1 + m.law.nu)) : m.law.initialShear();
+    double lam = lameLambda(m);
+    matWaveModulus_.push_back(lam + 2 * mu);
+    double K = lam + 2.0 / 3.0 * mu;
+    // bending modulus of the hourglass stiffness: plane-strain E' (2D) or E (3D); -> 4 mu, 3 mu as nu -> 1/2
+    matShear_.push_back(dim_ == 2 ? 4 * mu * (lam + mu) / (lam + 2 * mu) : 9 * K * mu / (3 * K + mu));
+  }
+
+  minSize_ = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < nel_; ++e) {
+    int* cn = &mesh_.conn[static_cast<std::size_t>(e) * npe_];
+    const int reg = mesh_.region[e];
+    if (reg < 0 || reg >= static_cast<int>(mats_.size()))
+      throw Error("element " + std::to_string(e) + " has region " + std::to_string(reg) + " but only " +
+                  std::to_string(mats_.size()) + " materials are given");
+    mat_[e] = reg;
+    auto X = [&](int a, int i) { return mesh_.X[static_cast<std::size_t>(cn[a]) * dim_ + i]; };
+    // Natural derivatives at the centroid, Jacobian, gradients, volume.
+    Eigen::MatrixXd dN(npe_, dim_);
+    double volFactor = 1.0;
+    for (int pass = 0; pass < 2; ++pass) {
+      switch (mesh_.type) {
+        case ElementType::Quad4:
+          for (int a = 0; a < 4; ++a)
+            for (int i = 0; i < 2; ++i) dN(a, i) = 0.25 * kQuadXi[a][i];
+          volFactor = 4.0;
+          break;
+        case ElementType::Hex8:
+          for (int a = 0; a < 8; ++a)
+            for (int i = 0; i < 3; ++i) dN(a, i) = 0.125 * kHexXi[a][i];
+          volFactor = 8.0;
+          break;
+        case ElementType::Tri3:
+          dN << -1, -1, 1, 0, 0, 1;
+          volFactor = 0.5;
+          break;
+        case ElementType::Tet4:
+          dN << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+          volFactor = 1.0 / 6.0;
+          break;
+      }
+      Eigen::MatrixXd Jm = Eigen::MatrixXd::Zero(dim_, dim_);
+      for (int a = 0; a < npe_; ++a)
+        for (int i = 0; i < dim_; ++i)
+          for (int j = 0; j < dim_; ++j) Jm(i, j) += X(a, i) * dN(a, j);
+      double det = Jm.determinant();
+      if (det > 0) {
+        Eigen::MatrixXd G = dN * Jm.inverse();  // npe x dim: dN_a/dX_j
+        for (int a = 0; a < npe_; ++a)
+          for (int j = 0; j < dim_; ++j) grad0_[(static_cast<std::size_t>(e) * npe_ + a) * dim_ + j] = G(a, j);
+        vol0_[e] = volFactor * det;
+        break;
+      }
+      if (pass == 1 || det == 0.0 || !std::isfinite(det))
+        throw Error("explicit FE: element " + std::to_string(e) + " has zero or undefined volume");
+      // Inverted node order (e.g. a clockwise Gmsh quad): mirror it once.
+      switch (mesh_.type) {
+        case ElementType::Quad4: std::swap(cn[1], cn[3]); break;
+        case ElementType::Tri3: std::swap(cn[1], cn[2]); break;
+        case ElementType::Tet4: std::swap(cn[1], cn[2]); break;
+        case ElementType::Hex8:
+          std::swap(cn[1], cn[3]);
+          std::swap(cn[5], cn[7]);
+          break;
+      }
+    }
+    const double* g = &grad0_[static_cast<std::size_t>(e) * npe_ * dim_];
+    // Hourglass shape vectors gamma = h - (h . X) grad N  (orthogonal to linear fields).
+    for (int m = 0; m < nhg_; ++m) {
+      double hx[3] = {0, 0, 0};
+      for (int a = 0; a < npe_; ++a) {
+        double h = dim_ == 2 ? kQuadH[a] : kHexH[m][a];
+        for (int i = 0; i < dim_; ++i) hx[i] += h * X(a, i);
+      }
+      for (int a = 0; a < npe_; ++a) {
+        double h = dim_ == 2 ? kQuadH[a] : kHexH[m][a];
+        double gam = h;
+        for (int i = 0; i < dim_; ++i) gam -= hx[i] * g[a * dim_ + i];
+        gamma_[(static_cast<std::size_t>(e) * nhg_ + m) * npe_ + a] = gam;
+      }
+    }
+    // Hourglass stiffness tensor K = eps E_b V0 G / (3 |h|^2), G_ij = sum_a dN_a/dX_i dN_a/dX_j: exact
+    // pure bending of a rectangular element for eps = 1 (Belytschko & Bindeman 1993 physical
+    // stabilization, in tensor form); E_b never contains the bulk modulus, so no volumetric locking.
+    double sumG = 0.0;
+    for (int i = 0; i < dim_; ++i)
+      for (int j = 0; j < dim_; ++j) {
+        double Gij = 0;
+        for (int a = 0; a < npe_; ++a) Gij += g[a * dim_ + i] * g[a * dim_ + j];
+        if (i == j) sumG += Gij;
+        if (nhg_ > 0)
+          hgStiff_[static_cast<std::size_t>(e) * dim_ * dim_ + i * dim_ + j] =
+              opt_.hourglass * matShear_[mat_[e]] * vol0_[e] * Gij / (3.0 * npe_);
+      }
+    minSize_ = std::min(minSize_, 1.0 / std::sqrt(0.5 * sumG * npe_ / dim_));
+    // Density and mass scaling (factor, then to the target step).
+    double rho = mats_[mat_[e]].density * opt_.massScaling;
+    double c = std::sqrt(matWaveModulus_[mat_[e]] / rho);
+    double dte = opt_.cfl * 2.0 / (c * std::sqrt(npe_ * sumG));
+    if (opt_.targetTimeStep > 0 && dte < opt_.targetTimeStep) rho *= std::pow(opt_.targetTimeStep / dte, 2);
+    rho_[e] = rho;
+    physicalMass_ += mats_[mat_[e]].density * vol0_[e];
+  }
+  // Prony states (allocated once).
+  prony_.resize(nel_);
+  for (int e = 0; e < nel_; ++e) {
+    const auto& pr = mats_[mat_[e]].prony;
+    if (pr.terms.empty()) continue;
+    prony_[e].H.assign(pr.terms.size(), Voigt::Zero());
+    prony_[e].SePrev = Voigt::Zero();
+    prony_[e].started = true;
+  }
+  // Node -> element slots (CSR) for a race-free gather.
+  nodeStart_.assign(nnode_ + 1, 0);
+  for (int s = 0; s < nel_ * npe_; ++s) nodeStart_[mesh_.conn[s] + 1]++;
+  for (int n = 0; n < nnode_; ++n) nodeStart_[n + 1] += nodeStart_[n];
+  nodeSlots_.assign(nel_ * npe_, 0);
+  {
+    std::vector<int> fill(nodeStart_.begin(), nodeStart_.end() - 1);
+    for (int s = 0; s < nel_ * npe_; ++s) nodeSlots_[fill[mesh_.conn[s]]++] = s;
+  }
+  // Lumped mass: rho V0 / n_a per node.
+  const std::size_t ndof = static_cast<std::size_t>(nnode_) * dim_;
+  mass_.assign(nnode_, 0.0);
+  for (int e = 0; e < nel_; ++e)
+    for (int a = 0; a < npe_; ++a) mass_[mesh_.conn[static_cast<std::size_t>(e) * npe_ + a]] += rho_[e] * vol0_[e] / npe_;
+  for (int n = 0; n < nnode_; ++n)
+    if (!(mass_[n] > 0)) throw Error("explicit FE: node " + std::to_string(n) + " belongs to no element");
+  u_.assign(ndof, 0.0);
+  vHalf_.assign(ndof, 0.0);
+  fint_.assign(ndof, 0.0);
+  fext_.assign(ndof, 0.0);
+  fcon_.assign(ndof, 0.0);
+  react_.assign(ndof, 0.0);
+  dofGroup_.assign(ndof, -1);
+  penetrationTol_ = opt_.penetrationTolerance > 0 ? opt_.penetrationTolerance : 0.5 * minSize_;
+  releaseDistance_ = minSize_;
+}
+
+int ExplicitSolver::addGroup() {
+  groupVelocity_.push_back(0.0);
+  groupReaction_.push_back(0.0);
+  return static_cast<int>(groupVelocity_.size()) - 1;
+}
+void ExplicitSolver::addDof(int group, int node, int comp) { dofGroup_[static_cast<std::size_t>(node) * dim_ + comp] = group; }
+void ExplicitSolver::addTie(int a, int b) {
+  tieA_.push_back(a);
+  tieB_.push_back(b);
+  tieOn_.push_back(1);
+  ftie_.assign(u_.size(), 0.0);
+}
+int ExplicitSolver::activeTies() const {
+  int n = 0;
+  for (char c : tieOn_) n += c;
+  return n;
+}
+
+int ExplicitSolver::addPlane(const RigidPlane& p) {
+  planes_.push_back(p);
+  planes_.back().normal.normalize();
+  planeFt_.emplace_back(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  return static_cast<int>(planes_.size()) - 1;
+}
+void ExplicitSolver::setNeedle(const RigidNeedle& n) {
+  needle_ = n;
+  hasNeedle_ = true;
+  needleFt_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
+}
+double ExplicitSolver::totalMass() const {
+  double s = 0;
+  for (double m : mass_) s += m;
+  return s;
+}
+
+std::string ExplicitSolver::elementWhere(int e) const {
+  double c[3] = {0, 0, 0};
+  for (int a = 0; a < npe_; ++a)
+    for (int i = 0; i < dim_; ++i) c[i] += mesh_.X[static_cast<std::size_t>(mesh_.conn[static_cast<std::size_t>(e) * npe_ + a]) * dim_ + i] / npe_;
+  std::string s = "element " + std::to_string(e) + " at (" + fmtNum(c[0] * 1e3) + ", " + fmtNum(c[1] * 1e3);
+  if (dim_ == 3) s += ", " + fmtNum(c[2] * 1e3);
+  return s + ") mm";
+}
+
+void ExplicitSolver::fail(const std::string& cause, const std::string& where, const std::string& remedy) const {
+  throw SolverError("explicit FE stopped at t = " + fmtNum(time_) + " s (step " + std::to_string(steps_) +
+                    "): " + cause + (where.empty() ? "" : " in " + where) + ". " + remedy);
+}
+
+template <int NPE, int DIM>
+void ExplicitSolver::internalForces(double dtStep) {
+  const double b1 = opt_.bulkViscosityLinear, b2 = opt_.bulkViscosityQuadratic;
+  double dtMin = std::numeric_limits<double>::infinity(), eW = 0.0, eHg = 0.0;
+  int bad = 0;
+  const int nhg = nhg_;
+#pragma omp parallel for schedule(static) if (nel_ >= kParallelMin) reduction(min : dtMin) reduction(+ : eW, eHg, bad)
+  for (int e = 0; e < nel_; ++e) {
+    const int* cn = &mesh_.conn[static_cast<std::size_t>(e) * NPE];
+    const double* g = &grad0_[static_cast<std::size_t>(e) * NPE * DIM];
+    const Material& mat = mats_[mat_[e]];
+    double ue[NPE][DIM], ve[NPE][DIM];
+    for (int a = 0; a < NPE; ++a)
+      for (int i = 0; i < DIM; ++i) {
+        ue[a][i] = u_[static_cast<std::size_t>(cn[a]) * DIM + i];
+        ve[a][i] = vHalf_[static_cast<std::size_t>(cn[a]) * DIM + i];
+      }
+    Matrix3d F = Matrix3d::Identity(), Fd = Matrix3d::Zero();
+    for (int a = 0; a < NPE; ++a)
+      for (int i = 0; i < DIM; ++i)
+        for (int j = 0; j < DIM; ++j) {
+          F(i, j) += ue[a][i] * g[a * DIM + j];
+          Fd(i, j) += ve[a][i] * g[a * DIM + j];
+        }
+    const double J = F.determinant();
+    double* fe = &fe_[static_cast<std::size_t>(e) * NPE * DIM];
+    if (!(J > 0.0) || !std::isfinite(J)) {  // inverted: report after the loop, never throw inside
+      failElem_[e] = 1;
+      ++bad;
+      for (int k = 0; k < NPE * DIM; ++k) fe[k] = 0.0;
+      continue;
+    }
+    Matrix3d S;
+    double W;
+    pk2(mat, F, J, S, W);
+    if (!mat.prony.terms.empty()) {
+      S = fromVoigt(materials::pronyUpdate(mat.prony, prony_[e], toVoigt(S), dtStep));
+    }
+    for (int k = 0; k < 6; ++k) spk2_[static_cast<std::size_t>(e) * 6 + k] = toVoigt(S)[k];
+    Matrix3d P = F * S;
+    // Current gradients -> characteristic length and stable step.
+    const Matrix3d Finv = F.inverse();
+    double sumG = 0.0;
+    for (int a = 0; a < NPE; ++a) {
+      for (int i = 0; i < DIM; ++i) {
+        double gi = 0.0;
+        for (int j = 0; j < DIM; ++j) gi += Finv(j, i) * g[a * DIM + j];
+        sumG += gi * gi;
+      }
+    }
+    const double rho = rho_[e];
+    const double c = std::sqrt(matWaveModulus_[mat_[e]] / rho);
+    const double Le = 1.0 / std::sqrt(sumG);
+    // Bulk viscosity (ABAQUS/Explicit): sigma_bv = rho Le ev (b1 c + b2^2 Le |min(ev, 0)|), ev = tr(D).
+    const double ev = (Fd * Finv).trace();
+    const double evc = std::min(ev, 0.0);
+    const double sbv = rho * Le * ev * (b1 * c - b2 * b2 * Le * evc);
+    P += sbv * J * Finv.transpose();
+    const double xi = b1 - b2 * b2 * Le * evc / c;
+    const double dte = 2.0 / (c * std::sqrt(NPE * sumG)) * (std::sqrt(1.0 + xi * xi) - xi);
+    dtElem_[e] = dte;
+    dtMin = std::min(dtMin, dte);
+    const double V0 = vol0_[e];
+    for (int a = 0; a < NPE; ++a)
+      for (int i = 0; i < DIM; ++i) {
+        double s = 0.0;
+        for (int j = 0; j < DIM; ++j) s += P(i, j) * g[a * DIM + j];
+        fe[a * DIM + i] = V0 * s;
+      }
+    double ehg = 0.0, hs = 0.0;
+    if constexpr ((NPE == 4 && DIM == 2) || NPE == 8) {
+      const double* K = &hgStiff_[static_cast<std::size_t>(e) * DIM * DIM];
+      for (int m = 0; m < nhg; ++m) {
+        const double* gam = &gamma_[(static_cast<std::size_t>(e) * nhg + m) * NPE];
+        double q[DIM] = {}, Kq[DIM] = {};
+        for (int a = 0; a < NPE; ++a)
+          for (int i = 0; i < DIM; ++i) q[i] += gam[a] * ue[a][i];
+        for (int i = 0; i < DIM; ++i)
+          for (int j = 0; j < DIM; ++j) Kq[i] += K[i * DIM + j] * q[j];
+        for (int a = 0; a < NPE; ++a)
+          for (int i = 0; i < DIM; ++i) fe[a * DIM + i] += gam[a] * Kq[i];
+        double qq = 0.0;
+        for (int i = 0; i < DIM; ++i) ehg += 0.5 * q[i] * Kq[i], qq += q[i] * q[i];
+        hs = std::max(hs, std::sqrt(qq * sumG) / NPE);  // zig-zag amplitude / element size
+      }
+    }
+    hgElem_[e] = ehg;
+    hgStrain_[e] = hs;
+    wElem_[e] = V0 * W;
+    eW += V0 * W;
+    eHg += ehg;
+  }
+  elementUpdates_ += nel_;
+  if (bad > 0) {
+    int e = static_cast<int>(std::find(failElem_.begin(), failElem_.end(), 1) - failElem_.begin());
+    Matrix3d F = deformationGradient(e);
+    fail("inverted element (det F = " + fmtNum(F.determinant()) + ", " + std::to_string(bad) + " element(s))",
+         elementWhere(e),
+         "Remedy: refine the mesh where the needle cuts, lower the needle speed or the mass scaling, "
+         "raise the bulk viscosity, or (near the tip) use a sharper tip / frictionless tip contact");
+  }
+  en_.strain = eW;
+  en_.hourglass = eHg;
+  dtStable_ = dtMin;
+}
+
+void ExplicitSolver::gatherForces() {
+  const int d = dim_;
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin)
+  for (int n = 0; n < nnode_; ++n) {
+    double f[3] = {0, 0, 0};
+    for (int k = nodeStart_[n]; k < nodeStart_[n + 1]; ++k) {
+      const double* fe = &fe_[static_cast<std::size_t>(nodeSlots_[k]) * d];
+      for (int i = 0; i < d; ++i) f[i] += fe[i];
+    }
+    for (int i = 0; i < d; ++i) fint_[static_cast<std::size_t>(n) * d + i] = f[i];
+  }
+}
+
+void ExplicitSolver::contactForces(double dtStep) {
+  std::fill(fcon_.begin(), fcon_.end(), 0.0);
+  if (dtStep <= 0) return;
+  const int d = dim_;
+  // Penalty from the stable step, not the (possibly shortened) last step: k = penalty m / dt_stable^2.
+  const double dtPen = opt_.cfl * dtStable_;
+  const double pen = opt_.contactPenalty / (dtPen * dtPen);
+  for (std::size_t p = 0; p < planes_.size(); ++p) {
+    RigidPlane& pl = planes_[p];
+    std::vector<double>& ftH = planeFt_[p];
+    double fx = 0, fy = 0, fz = 0;
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz)
+    for (int n = 0; n < nnode_; ++n) {
+      Vector3d x = Vector3d::Zero(), v = Vector3d::Zero();
+      for (int i = 0; i < d; ++i) {
+        x[i] = mesh_.X[static_cast<std::size_t>(n) * d + i] + u_[static_cast<std::size_t>(n) * d + i];
+        v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
+      }
+      double gap = (x - pl.point).dot(pl.normal);
+      double* ft = &ftH[static_cast<std::size_t>(n) * 3];
+      if (gap >= 0) {
+        ft[0] = ft[1] = ft[2] = 0;
+        continue;
+      }
+      const double k = pen * mass_[n];
+      const double fn = -k * gap;
+      Vector3d f = fn * pl.normal;
+      if (pl.friction > 0) {
+        Vector3d vr = v - pl.velocity;
+        Vector3d vt = vr - vr.dot(pl.normal) * pl.normal;
+        Vector3d t(ft[0], ft[1], ft[2]);
+        t -= t.dot(pl.normal) * pl.normal;
+        t -= k * dtStep * vt;  // elastic stick predictor (slip increment over the step)
+        double lim = pl.friction * fn, tn = t.norm();
+        if (tn > lim) t *= lim / tn;  // return map onto the Coulomb cone
+        ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
+        f += t;
+      }
+      for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
+      fx -= f[0], fy -= f[1], fz -= f[2];
+    }
+    pl.force = Vector3d(fx, fy, fz);
+  }
+  if (!hasNeedle_) return;
+  RigidNeedle& nd = needle_;
+  const bool planar = d == 2;
+  const Vector3d vb = nd.velocity * nd.pose.axis;
+  const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
+  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0;
+  int count = 0;
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count) \
+    reduction(max : maxPen)
+  for (int n = 0; n < nnode_; ++n) {
+    Vector3d x = Vector3d::Zero(), v = Vector3d::Zero();
+    for (int i = 0; i < d; ++i) {
+      x[i] = mesh_.X[static_cast<std::size_t>(n) * d + i] + u_[static_cast<std::size_t>(n) * d + i];
+      v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
+    }
+    double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
+    const needle::NeedleHit hit = needle::queryNeedle(nd.shape, nd.pose, x, planar);
+    if (!hit.inside) {
+      ft[0] = ft[1] = ft[2] = 0;
+      continue;
+    }
+    const double k = pen * mass_[n];
+    const double fn = k * hit.depth;
+    Vector3d f = fn * hit.normal;
+    const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
+    if (mu > 0) {
+      Vector3d vr = v - vb;
+      Vector3d vt = vr - vr.dot(hit.normal) * hit.normal;
+      Vector3d t(ft[0], ft[1], ft[2]);
+      t -= t.dot(hit.normal) * hit.normal;
+      t -= k * dtStep * vt;
+      double lim = mu * fn, tn = t.norm();
+      if (tn > lim) t *= lim / tn;
+      ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
+      f += t;
+    } else {
+      ft[0] = ft[1] = ft[2] = 0;
+    }
+    for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
+    // reaction on the needle: -f at x; moment about the base centre
+    Vector3d r = x - base, m = r.cross(-f);
+    fx -= f[0], fy -= f[1], fz -= f[2];
+    mx += m[0], my += m[1], mz += m[2];
+    if (hit.face == needle::NeedleFace::Tip) tx -= f[0], ty -= f[1], tz -= f[2];
+    fnSum += fn;
+    ++count;
+    maxPen = std::max(maxPen, hit.depth);
+  }
+  nd.force = Vector3d(fx, fy, fz);
+  nd.moment = Vector3d(mx, my, mz);
+  nd.tipForce = Vector3d(tx, ty, tz);
+  nd.normalForce = fnSum;
+  nd.nodesInContact = count;
+  nd.maxPenetration = maxPen;
+  if (maxPen > penetrationTol_)
+    fail("needle contact penetration " + fmtNum(maxPen * 1e3) + " mm exceeds the tolerance " +
+             fmtNum(penetrationTol_ * 1e3) + " mm",
+         "the needle contact zone (tip at " + fmtNum(nd.pose.tip.x() * 1e3) + ", " + fmtNum(nd.pose.tip.y() * 1e3) +
+             ", " + fmtNum(nd.pose.tip.z() * 1e3) + " mm)",
+         "Remedy: raise model.explicit.contact_penalty (up to 0.5), lower the insertion speed or the mass "
+         "scaling, or refine the mesh so that tissue nodes resolve the needle tip");
+}
+
+void ExplicitSolver::computeStableStep() {
+  double dt = opt_.cfl * dtStable_;
+  if (opt_.maxTimeStep > 0) dt = std::min(dt, opt_.maxTimeStep);
+  if (dtInitial_ == 0.0) dtInitial_ = dt;
+  if (!(dt > opt_.minTimeStepRatio * dtInitial_)) {
+    int e = static_cast<int>(std::min_element(dtElem_.begin(), dtElem_.end()) - dtElem_.begin());
+    fail("stable time step collapsed to " + fmtNum(dt) + " s (" + fmtNum(dt / dtInitial_) + " of the initial " +
+             fmtNum(dtInitial_) + " s): a badly distorted element",
+         elementWhere(e),
+         "Remedy: refine or regrade the mesh near the needle, lower the speed, or use a frictionless tip");
+  }
+  dt_ = dt;
+}
+
+void ExplicitSolver::step() {
+  const std::size_t ndof = u_.size();
+  if (steps_ == 0 && dt_ == 0.0) {
+    // forces and stable step at the initial state
+    switch (mesh_.type) {
+      case ElementType::Quad4: internalForces<4, 2>(0.0); break;
+      case ElementType::Tri3: internalForces<3, 2>(0.0); break;
+      case ElementType::Hex8: internalForces<8, 3>(0.0); break;
+      case ElementType::Tet4: internalForces<4, 3>(0.0); break;
+    }
+    gatherForces();
+    computeStableStep();
+    double ke = 0;
+    for (std::size_t k = 0; k < ndof; ++k) ke += 0.5 * mass_[k / dim_] * vHalf_[k] * vHalf_[k];
+    en_.kinetic = en_.kinetic0 = ke;
+  }
+  const double dt = dt_;
+  const double dtAvg = steps_ == 0 ? 0.5 * dt : 0.5 * (dtPrev_ + dt);
+  const double alpha = opt_.damping;
+  // Tied seam pairs move together: equal and opposite tie forces give both the
+  // pair's common acceleration (they do no work since the velocities agree).
+  if (!tieA_.empty()) {
+    const int d = dim_;
+    if (hasNeedle_) {
+      // the leading point of the tip: the sharp point of a bevel, the apex of a cone
+      const auto& nd = needle_;
+      Vector3d lead = nd.pose.tip;
+      if (nd.shape.tip == TipType::Bevel) lead -= nd.shape.radius * nd.pose.bevelSide;
+      for (std::size_t t = 0; t < tieA_.size(); ++t) {
+        if (!tieOn_[t]) continue;
+        Vector3d x = Vector3d::Zero();
+        for (int i = 0; i < d; ++i) x[i] = mesh_.X[static_cast<std::size_t>(tieA_[t]) * d + i] + u_[static_cast<std::size_t>(tieA_[t]) * d + i];
+        if ((x - lead).dot(nd.pose.axis) < releaseDistance_) tieOn_[t] = 0;
+      }
+    }
+    std::fill(ftie_.begin(), ftie_.end(), 0.0);
+    for (std::size_t t = 0; t < tieA_.size(); ++t) {
+      if (!tieOn_[t]) continue;
+      const int a = tieA_[t], b = tieB_[t];
+      const double ma = mass_[a], mb = mass_[b];
+      for (int i = 0; i < d; ++i) {
+        const std::size_t ka = static_cast<std::size_t>(a) * d + i, kb = static_cast<std::size_t>(b) * d + i;
+        double fa = fext_[ka] - fint_[ka] + fcon_[ka] - alpha * ma * vHalf_[ka];
+        double fb = fext_[kb] - fint_[kb] + fcon_[kb] - alpha * mb * vHalf_[kb];
+        double tf = ma * (fa + fb) / (ma + mb) - fa;
+        ftie_[ka] = tf;
+        ftie_[kb] = -tf;
+      }
+    }
+  }
+  const bool ties = !tieA_.empty();
+  double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0;
+  const int d = dim_;
+#pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp)
+  for (std::size_t k = 0; k < ndof; ++k) {
+    const double m = mass_[k / d];
+    const double vOld = vHalf_[k];
+    const double fd = -alpha * m * vOld;
+    const double ftot = fext_[k] - fint_[k] + fcon_[k] + fd + (ties ? ftie_[k] : 0.0);
+    const int grp = dofGroup_[k];
+    double vNew, r = 0.0;
+    if (grp >= 0) {
+      vNew = groupVelocity_[grp];
+      r = m * (vNew - vOld) / dtAvg - ftot;
+    } else {
+      vNew = vOld + dtAvg * ftot / m;
+    }
+    react_[k] = r;
+    // Work over the step with the mid-point velocity: exact energy identity of central differences.
+    const double dw = 0.5 * (vOld + vNew) * dtAvg;
+    wInt += fint_[k] * dw;
+    wExt += (fext_[k] + r) * dw;
+    wCon += fcon_[k] * dw;
+    wDamp += fd * dw;
+    ke += 0.5 * m * vNew * vNew;
+    keMid += 0.125 * m * (vOld + vNew) * (vOld + vNew);
+    vHalf_[k] = vNew;
+    u_[k] += dt * vNew;
+  }
+  if (!std::isfinite(ke)) {
+    std::size_t k = 0;
+    while (k < ndof && std::isfinite(vHalf_[k])) ++k;
+    fail("non-finite velocity at node " + std::to_string(k / d), "",
+         "Remedy: lower model.explicit.cfl or the mass scaling; check the material parameters");
+  }
+  for (double& r : groupReaction_) r = 0.0;
+  for (std::size_t k = 0; k < ndof; ++k)
+    if (dofGroup_[k] >= 0) groupReaction_[dofGroup_[k]] += react_[k];
+  en_.kinetic = ke;
+  en_.kineticMid = keMid;
+  en_.internal += wInt;
+  en_.externalWork += wExt;
+  en_.contactWork += wCon;
+  en_.dampingWork += wDamp;
+  time_ += dt;
+  dtPrev_ = dt;
+  ++steps_;
+  // Rigid bodies move with their velocities.
+  if (hasNeedle_) needle_.pose.tip += dt * needle_.velocity * needle_.pose.axis;
+  for (auto& pl : planes_) pl.point += dt * pl.velocity;
+  // Forces at the new configuration.
+  switch (mesh_.type) {
+    case ElementType::Quad4: internalForces<4, 2>(dt); break;
+    case ElementType::Tri3: internalForces<3, 2>(dt); break;
+    case ElementType::Hex8: internalForces<8, 3>(dt); break;
+    case ElementType::Tet4: internalForces<4, 3>(dt); break;
+  }
+  gatherForces();
+  contactForces(dt);
+  if (nhg_ > 0 && (steps_ & 15) == 0) {
+    int e = static_cast<int>(std::max_element(hgStrain_.begin(), hgStrain_.end()) - hgStrain_.begin());
+    if (hgStrain_[e] > opt_.hourglassStrainLimit)
+      fail("hourglassing: zig-zag (hourglass) strain " + fmtNum(hgStrain_[e]) + " exceeds the limit " +
+               fmtNum(opt_.hourglassStrainLimit),
+           elementWhere(e),
+           "Remedy: refine the mesh under the load, raise model.explicit.hourglass, or use tri3/tet4 elements");
+  }
+  computeStableStep();
+}
+
+void ExplicitSolver::setDisplacement(const std::vector<double>& u) {
+  if (u.size() != u_.size()) throw Error("setDisplacement: size mismatch");
+  u_ = u;
+  switch (mesh_.type) {
+    case ElementType::Quad4: internalForces<4, 2>(0.0); break;
+    case ElementType::Tri3: internalForces<3, 2>(0.0); break;
+    case ElementType::Hex8: internalForces<8, 3>(0.0); break;
+    case ElementType::Tet4: internalForces<4, 3>(0.0); break;
+  }
+  gatherForces();
+}
+
+void ExplicitSolver::advanceTo(double t) {
+  while (time_ < t * (1 - 1e-12) - 1e-300) {
+    if (steps_ > 0 && time_ + dt_ > t) dt_ = t - time_;
+    step();
+  }
+}
+
+Matrix3d ExplicitSolver::deformationGradient(int e) const {
+  Matrix3d F = Matrix3d::Identity();
+  const int* cn = &mesh_.conn[static_cast<std::size_t>(e) * npe_];
+  const double* g = &grad0_[static_cast<std::size_t>(e) * npe_ * dim_];
+  for (int a = 0; a < npe_; ++a)
+    for (int i = 0; i < dim_; ++i)
+      for (int j = 0; j < dim_; ++j) F(i, j) += u_[static_cast<std::size_t>(cn[a]) * dim_ + i] * g[a * dim_ + j];
+  return F;
+}
+
+void ExplicitSolver::cellFields(std::vector<double>& cauchy, std::vector<double>& mises,
+                                std::vector<double>& logStrain, std::vector<double>& Jout) const {
+  cauchy.assign(static_cast<std::size_t>(nel_) * 6, 0.0);
+  logStrain.assign(static_cast<std::size_t>(nel_) * 6, 0.0);
+  mises.assign(nel_, 0.0);
+  Jout.assign(nel_, 1.0);
+#pragma omp parallel for schedule(static)
+  for (int e = 0; e < nel_; ++e) {
+    Matrix3d F = deformationGradient(e);
+    double J = F.determinant();
+    Jout[e] = J;
+    Voigt sv;
+    for (int k = 0; k < 6; ++k) sv[k] = spk2_[static_cast<std::size_t>(e) * 6 + k];
+    Matrix3d sig = J > 0 ? Matrix3d(F * fromVoigt(sv) * F.transpose() / J) : Matrix3d::Zero();
+    Eigen::SelfAdjointEigenSolver<Matrix3d> es(F * F.transpose());
+    Eigen::Vector3d lg = es.eigenvalues().cwiseMax(1e-300).array().log() * 0.5;
+    Matrix3d eps = es.eigenvectors() * lg.asDiagonal() * es.eigenvectors().transpose();
+    Voigt s = toVoigt(sig), ls = toVoigt(eps);
+    for (int k = 0; k < 6; ++k) {
+      cauchy[static_cast<std::size_t>(e) * 6 + k] = std::isfinite(s[k]) ? s[k] : 0.0;
+      logStrain[static_cast<std::size_t>(e) * 6 + k] = std::isfinite(ls[k]) ? ls[k] : 0.0;
+    }
+    double vm = std::sqrt(0.5 * ((s[0] - s[1]) * (s[0] - s[1]) + (s[1] - s[2]) * (s[1] - s[2]) +
+                                 (s[2] - s[0]) * (s[2] - s[0])) +
+                          3 * (s[3] * s[3] + s[4] * s[4] + s[5] * s[5]));
+    mises[e] = std::isfinite(vm) ? vm : 0.0;
+  }
+}
+
+}  // namespace needlesim::explicit_fe

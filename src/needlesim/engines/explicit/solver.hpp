@@ -1,0 +1,196 @@
+#pragma once
+// Total Lagrangian explicit dynamics (Belytschko, Liu, Moran & Elkhodary,
+// "Nonlinear Finite Elements for Continua and Structures", 2nd ed., box 6.1):
+//   central difference with lumped mass, internal forces f_a = V0 P grad0 N_a,
+//   P = F S (first Piola-Kirchhoff), S from the materials library.
+// Elements: quad4 (plane strain) and hex8 with one-point (reduced) integration
+// and Flanagan-Belytschko (1981) hourglass stiffness on the displacement
+// (orthogonal to all linear fields, so patch tests and rigid motions give no
+// hourglass force); tri3 and tet4 constant-strain elements. One-point
+// integration evaluates J once per element, which is the mean-dilatation
+// treatment of near incompressibility (Nagtegaal, Parks & Rice 1974; the
+// hourglass stiffness is scaled by the shear modulus only so the bulk modulus
+// never stiffens bending). Bulk viscosity as ABAQUS/Explicit (linear b1 and
+// quadratic b2 terms). Element-wise stable step from the current mesh:
+//   dt_e = 2 / (c_d sqrt(n_a sum_a |grad N_a|^2)) (sqrt(1 + xi^2) - xi)
+// (Flanagan-Belytschko's bound on the element's highest frequency; seed 000
+// eqs 25-27 use the same CFL idea with a characteristic length), with
+// c_d = sqrt((K + 4/3 mu)/rho) and xi the bulk-viscosity damping ratio.
+// Mass scaling by a factor or to a target step (seed 000 eq 28).
+// Contact: rigid needle (needle/surface_mesh.hpp) and rigid planes, penalty
+// node-to-surface with Coulomb friction (elastic stick predictor, return map).
+#include <Eigen/Core>
+#include <string>
+#include <vector>
+
+#include "needlesim/engines/explicit/mesh.hpp"
+#include "needlesim/materials/hyperelastic.hpp"
+#include "needlesim/materials/viscoelastic.hpp"
+#include "needlesim/needle/surface_mesh.hpp"
+
+namespace needlesim::explicit_fe {
+
+struct Material {
+  materials::Hyperelastic law;
+  materials::Prony prony;  // empty = elastic
+  double density = 1000.0;  // kg/m^3
+  static Material fromSpec(const materials::MaterialSpec& spec);
+};
+
+struct SolverOptions {
+  double massScaling = 1.0;      // factor on every element's density (>= 1)
+  double targetTimeStep = 0.0;   // s; > 0: scale the mass of elements whose dt is smaller
+  double cfl = 0.9;              // fraction of the stable step used
+  double maxTimeStep = 0.0;      // s; > 0 caps the step
+  double bulkViscosityLinear = 0.06;     // b1 (ABAQUS default)
+  double bulkViscosityQuadratic = 1.2;   // b2 (ABAQUS default)
+  double hourglass = 1.0;        // hourglass stiffness; 1 = exact pure bending of a rectangular element
+  double damping = 0.0;          // 1/s, mass-proportional (dynamic relaxation; 0 = none)
+  double contactPenalty = 0.2;   // k = penalty m_a / dt^2 (dimensionless, < 1 for stability)
+  double penetrationTolerance = 0.0;  // m; 0 = half the smallest element size
+  double hourglassStrainLimit = 2.0;  // stop when an element's hourglass (zig-zag) strain exceeds this
+  double minTimeStepRatio = 1e-3;     // stop when dt falls below this fraction of the initial dt
+};
+
+struct Energies {
+  double kinetic = 0.0;       // J (2D: J per metre of thickness), at the half step
+  double kineticMid = 0.0;    // at the start of the last step, from the mean of the half-step velocities
+  double internal = 0.0;      // work of internal forces (elastic + hourglass + viscous)
+  double strain = 0.0;        // stored elastic energy sum V0 W(F) (elastic part of the law)
+  double hourglass = 0.0;     // stored hourglass energy
+  double externalWork = 0.0;  // loads and reactions at prescribed dofs
+  double contactWork = 0.0;   // work of contact forces on the body (negative = dissipated)
+  double dampingWork = 0.0;   // work of mass-proportional damping (negative)
+  double kinetic0 = 0.0;
+  // ETOTAL in ABAQUS terms: kinetic + internal - external - contact - damping, minus its start value.
+  double balance() const { return kinetic - kinetic0 + internal - externalWork - contactWork - dampingWork; }
+};
+
+struct RigidPlane {
+  Eigen::Vector3d point = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::UnitY();  // outward: the body lies on this side
+  Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
+  double friction = 0.0;
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the plane (from the body), last step
+};
+
+struct RigidNeedle {
+  needle::NeedleShape shape;
+  needle::NeedlePose pose;
+  double velocity = 0.0;         // m/s along pose.axis
+  double frictionWall = 0.0;     // Coulomb coefficient on the walls (seed 001: 0.3)
+  double frictionTip = 0.0;      // on the tip surface (seed 001: frictionless)
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();   // reaction on the needle (from the tissue)
+  Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // about the base centre
+  Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();  // part of `force` acting on the tip surface
+  double normalForce = 0.0;      // sum of normal force magnitudes
+  int nodesInContact = 0;
+  double maxPenetration = 0.0;
+};
+
+class ExplicitSolver {
+ public:
+  ExplicitSolver(Mesh mesh, std::vector<Material> materials, SolverOptions options = {});
+
+  // Boundary conditions: a group of dofs moving with one prescribed velocity (0 = fixed).
+  int addGroup();
+  void addDof(int group, int node, int component);
+  void setGroupVelocity(int group, double v) { groupVelocity_[group] = v; }
+  double groupReaction(int group) const { return groupReaction_[group]; }  // force the support applies
+  void setExternalForce(int node, int component, double f) { fext_[node * dim_ + component] = f; }
+
+  // Tie two coincident nodes (a pre-cut seam) until the needle's leading point
+  // comes within `releaseDistance` of them along the axis (node release).
+  void addTie(int a, int b);
+  void setReleaseDistance(double d) { releaseDistance_ = d; }
+  int activeTies() const;
+
+  int addPlane(const RigidPlane& plane);
+  RigidPlane& plane(int i) { return planes_[i]; }
+  void setNeedle(const RigidNeedle& n);
+  RigidNeedle* needle() { return hasNeedle_ ? &needle_ : nullptr; }
+
+  // One central-difference step; throws SolverError with cause, place, time and remedy.
+  void step();
+  // Steps until time t (the last step is shortened to land on t).
+  void advanceTo(double t);
+
+  double time() const { return time_; }
+  double timeStep() const { return dt_; }
+  double stableTimeStep() const { return dtStable_; }
+  long steps() const { return steps_; }
+  const Energies& energies() const { return en_; }
+  const Mesh& mesh() const { return mesh_; }
+  int dim() const { return dim_; }
+  const std::vector<double>& displacement() const { return u_; }
+  const std::vector<double>& velocity() const { return vHalf_; }
+  std::vector<double>& velocityMutable() { return vHalf_; }  // initial conditions
+  const std::vector<double>& nodalMass() const { return mass_; }
+  const std::vector<double>& internalForce() const { return fint_; }
+  const std::vector<double>& contactForce() const { return fcon_; }
+  // Sets the displacement (initial conditions, patch tests) and recomputes the forces there.
+  void setDisplacement(const std::vector<double>& u);
+  double totalMass() const;
+  double physicalMass() const { return physicalMass_; }
+  double minElementSize() const { return minSize_; }
+  long elementUpdates() const { return elementUpdates_; }
+
+  // Output: per element Cauchy stress (6 Voigt: xx yy zz xy yz xz), von Mises,
+  // log strain (6) and J; per node current coordinates (dim).
+  void cellFields(std::vector<double>& cauchy, std::vector<double>& mises, std::vector<double>& logStrain,
+                  std::vector<double>& J) const;
+  Eigen::Matrix3d deformationGradient(int e) const;
+
+ private:
+  template <int NPE, int DIM>
+  void internalForces(double dtStep);
+  void contactForces(double dtStep);
+  void gatherForces();
+  void computeStableStep();
+  [[noreturn]] void fail(const std::string& cause, const std::string& where, const std::string& remedy) const;
+  std::string elementWhere(int e) const;
+
+  Mesh mesh_;
+  std::vector<Material> mats_;
+  SolverOptions opt_;
+  int dim_, npe_, nel_, nnode_, nhg_;
+  // element data, structure of arrays
+  std::vector<double> grad0_;   // nel * npe * dim: dN/dX at the centroid
+  std::vector<double> gamma_;   // nel * nhg * npe: hourglass shape vectors
+  std::vector<double> vol0_;    // reference volume (2D: area x 1 m)
+  std::vector<double> rho_;     // density incl. mass scaling
+  std::vector<double> hgStiff_; // hourglass stiffness
+  std::vector<int> mat_;
+  std::vector<double> fe_;      // nel * npe * dim element forces
+  std::vector<double> dtElem_;
+  std::vector<double> wElem_, hgElem_, hgStrain_;
+  std::vector<int> failElem_;   // per element failure code (0 ok)
+  std::vector<double> spk2_;    // nel * 6: second Piola-Kirchhoff stress (Voigt) of the last step
+  std::vector<materials::PronyState<Eigen::Matrix<double, 6, 1>>> prony_;
+  std::vector<double> matWaveModulus_, matShear_;
+  // node data
+  std::vector<int> nodeStart_, nodeSlots_;  // CSR node -> element slots (e*npe + a)
+  std::vector<double> mass_, u_, vHalf_, fint_, fext_, fcon_, react_;
+  std::vector<double> vBar_;
+  std::vector<int> dofGroup_;   // -1 free
+  std::vector<double> groupVelocity_, groupReaction_;
+  // contact
+  std::vector<RigidPlane> planes_;
+  std::vector<std::vector<double>> planeFt_;
+  RigidNeedle needle_;
+  bool hasNeedle_ = false;
+  std::vector<double> needleFt_;
+  double penetrationTol_ = 0.0;
+  // seam ties
+  std::vector<int> tieA_, tieB_;
+  std::vector<char> tieOn_;
+  std::vector<double> ftie_;
+  double releaseDistance_ = 0.0;
+  // state
+  double time_ = 0.0, dt_ = 0.0, dtPrev_ = 0.0, dtStable_ = 0.0, dtInitial_ = 0.0;
+  double physicalMass_ = 0.0, minSize_ = 0.0;
+  long steps_ = 0, elementUpdates_ = 0;
+  Energies en_;
+};
+
+}  // namespace needlesim::explicit_fe

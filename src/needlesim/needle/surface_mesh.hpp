@@ -1,0 +1,73 @@
+#pragma once
+// Rigid needle surfaces from the needle geometry, shared by the explicit FE
+// and MPM engines: solid or hollow cylinder with a bevel of any angle
+// (seed 001 section 3.1: hollow 2.77/2.16 mm, 12 deg bevel; seed 004: 10-80 deg),
+// a conical or a blunt (flat) tip.
+//
+// Needle frame: the tip (most distal point) at `tip`, unit axis `axis`
+// pointing in the insertion direction, unit `bevelSide` perpendicular to it.
+// The bevel plane passes through the tip point tip - ... (the sharp point lies
+// on the wall at -R bevelSide from the axis) and makes the angle alpha with
+// the axis, so the heel lies 2R/tan(alpha) behind the tip on the +bevelSide
+// wall. Its outward normal is n = sin(alpha) axis + cos(alpha) bevelSide.
+//
+// Two views of the same solid: an exact inside/outside query (penetration
+// depth, outward normal and face for penalty contact), and a triangulated
+// surface (3D) or closed outlines (2D plane through the axis) for output and
+// for engines that need explicit facets. Faces are tagged so that contact can
+// be frictionless on the tip and frictional on the wall (seed 001 section 3.2).
+#include <Eigen/Core>
+#include <Eigen/Geometry>
+#include <vector>
+
+#include "needlesim/scenario/scenario.hpp"
+
+namespace needlesim::needle {
+
+enum class NeedleFace { OuterWall = 0, InnerWall = 1, Tip = 2, Base = 3 };
+
+struct NeedleShape {
+  double radius = 0.0;        // m, outer
+  double innerRadius = 0.0;   // m, 0 = solid
+  double length = 0.0;        // m, tip to base along the axis
+  double tipAngle = 0.0;      // rad, angle between tip surface and axis (bevel alpha; cone half-angle)
+  TipType tip = TipType::Bevel;
+
+  static NeedleShape fromSpec(const NeedleSpec& spec);
+};
+
+struct NeedlePose {
+  Eigen::Vector3d tip = Eigen::Vector3d::Zero();
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();
+  Eigen::Vector3d bevelSide = Eigen::Vector3d::UnitY();
+};
+
+struct NeedleHit {
+  bool inside = false;
+  double depth = 0.0;              // m, distance to leave the needle through `face`
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // outward unit normal of that face
+  NeedleFace face = NeedleFace::OuterWall;
+};
+
+// Inside test with penetration depth: the solid is the intersection of
+// r < R, r > R_i, the tip half-space (or cone) and s > -L; the exit is through
+// the constraint with the smallest margin. O(1) per point, no allocation.
+// planar = true: a 2D plane-strain slice through the axis (r = |offset along bevelSide|).
+NeedleHit queryNeedle(const NeedleShape& shape, const NeedlePose& pose, const Eigen::Vector3d& p,
+                      bool planar);
+
+struct SurfaceMesh {
+  std::vector<double> points;     // 3 per point (2D outlines: z = 0)
+  std::vector<int> cells;         // 3 per triangle (3D) or 2 per segment (2D)
+  std::vector<NeedleFace> faces;  // per cell
+  int pointsPerCell = 3;
+};
+
+// Closed triangulated surface, outward oriented. nCirc segments around, nAxial along the wall.
+SurfaceMesh needleSurface3D(const NeedleShape& shape, const NeedlePose& pose, int nCirc = 32,
+                            int nAxial = 8);
+// Closed outline(s) of the plane section through the axis and bevelSide
+// (two for a hollow needle), counter-clockwise seen from axis x bevelSide.
+SurfaceMesh needleOutline2D(const NeedleShape& shape, const NeedlePose& pose);
+
+}  // namespace needlesim::needle

@@ -1,0 +1,200 @@
+// Meshes (graded blocks, Gmsh import) and the needle surface generator.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+
+#include "needlesim/engines/explicit/mesh.hpp"
+#include "needlesim/needle/surface_mesh.hpp"
+
+using namespace needlesim;
+using namespace needlesim::explicit_fe;
+
+TEST(ExplicitMesh, GradedCoordinatesCoreAndGrowth) {
+  // seed 001 section 3.2: 6 mm core at 0.25 mm graded to 3 mm over a 50 mm block
+  auto x = gradedCoordinates(-0.025, 0.025, -0.003, 0.003, 0.25e-3, 3e-3, 1.25);
+  EXPECT_DOUBLE_EQ(x.front(), -0.025);
+  EXPECT_DOUBLE_EQ(x.back(), 0.025);
+  double hmin = 1, hmax = 0;
+  for (std::size_t i = 1; i < x.size(); ++i) {
+    double h = x[i] - x[i - 1];
+    ASSERT_GT(h, 0);
+    hmin = std::min(hmin, h);
+    hmax = std::max(hmax, h);
+    if (x[i] <= 0.003 + 1e-12 && x[i - 1] >= -0.003 - 1e-12) EXPECT_NEAR(h, 0.25e-3, 1e-12);
+  }
+  EXPECT_NEAR(hmin, 0.25e-3, 1e-9);
+  EXPECT_LE(hmax, 3e-3 * 1.3);  // rescaled to fit, never far above hmax
+  EXPECT_LT(x.size(), 60u);     // the grading pays: uniform 0.25 mm would need 200
+}
+
+TEST(ExplicitMesh, StructuredBlocksHaveExactVolume) {
+  auto xs = gradedCoordinates(0, 0.02, 0.0, 0.0, 0.002, 0.002);
+  auto ys = gradedCoordinates(0, 0.01, 0.004, 0.006, 0.001, 0.003);
+  for (auto t : {ElementType::Quad4, ElementType::Tri3}) {
+    Mesh m = structuredBlock(xs, ys, t);
+    double area = 0;
+    const int npe = nodesPerElement(t);
+    for (int e = 0; e < m.elements(); ++e) {
+      // shoelace
+      double a = 0;
+      for (int k = 0; k < npe; ++k) {
+        int p = m.conn[e * npe + k], q = m.conn[e * npe + (k + 1) % npe];
+        a += m.coord(p, 0) * m.coord(q, 1) - m.coord(q, 0) * m.coord(p, 1);
+      }
+      EXPECT_GT(a, 0) << "counter-clockwise";
+      area += 0.5 * a;
+    }
+    EXPECT_NEAR(area, 0.02 * 0.01, 1e-15);
+  }
+  Mesh h = structuredBlock({0, 1, 2}, {0, 1}, {0, 0.5, 1}, ElementType::Hex8);
+  EXPECT_EQ(h.elements(), 4);
+  EXPECT_EQ(h.nodes(), 18);
+  Mesh t = structuredBlock({0, 1, 2}, {0, 1}, {0, 0.5, 1}, ElementType::Tet4);
+  EXPECT_EQ(t.elements(), 24);
+  double vol = 0;
+  for (int e = 0; e < t.elements(); ++e) {
+    auto P = [&](int k, int i) { return t.coord(t.conn[e * 4 + k], i); };
+    double a[3], b[3], c[3];
+    for (int i = 0; i < 3; ++i) a[i] = P(1, i) - P(0, i), b[i] = P(2, i) - P(0, i), c[i] = P(3, i) - P(0, i);
+    double v = (a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0])) / 6;
+    EXPECT_GT(v, 0);
+    vol += v;
+  }
+  EXPECT_NEAR(vol, 2.0, 1e-12);
+}
+
+TEST(ExplicitMesh, ReadsGmsh41Ascii) {
+  auto path = std::filesystem::temp_directory_path() / "needlesim_explicit_two_quads.msh";
+  std::ofstream(path) << R"($MeshFormat
+4.1 0 8
+$EndMeshFormat
+$Entities
+0 0 1 0
+1 0 0 0 2 1 0 1 7 0
+$EndEntities
+$Nodes
+1 6 1 6
+2 1 0 6
+1
+2
+3
+4
+5
+6
+0 0 0
+1 0 0
+2 0 0
+0 1 0
+1 1 0
+2 1 0
+$EndNodes
+$Elements
+1 2 1 2
+2 1 3 2
+1 1 2 5 4
+2 2 5 6 3
+$EndElements
+)";
+  Mesh m = readGmsh(path.string());
+  EXPECT_EQ(m.dim, 2);
+  EXPECT_EQ(m.type, ElementType::Quad4);
+  EXPECT_EQ(m.elements(), 2);
+  EXPECT_EQ(m.nodes(), 6);
+  EXPECT_DOUBLE_EQ(m.coord(5, 0), 2.0);
+  EXPECT_EQ(m.region[1], 0);
+  std::filesystem::remove(path);
+}
+
+namespace {
+needle::NeedleShape seed001Needle() {
+  NeedleSpec s;
+  s.outer_diameter = 2.77e-3;
+  s.inner_diameter = 2.16e-3;
+  s.length = 0.05;
+  s.bevel_angle = 12.0 * M_PI / 180;
+  s.tip = TipType::Bevel;
+  return needle::NeedleShape::fromSpec(s);
+}
+}  // namespace
+
+TEST(NeedleSurface, QueryClassifiesWallLumenAndBevel) {
+  auto sh = seed001Needle();
+  needle::NeedlePose pose;  // tip at origin, axis +x, bevel side +y
+  const double R = sh.radius, Ri = sh.innerRadius;
+  // inside the wall, behind the heel: exits through the nearer wall
+  auto h = needle::queryNeedle(sh, pose, {-0.03, 0.5 * (R + Ri) + 0.1 * (R - Ri), 0}, false);
+  ASSERT_TRUE(h.inside);
+  EXPECT_EQ(h.face, needle::NeedleFace::OuterWall);
+  EXPECT_NEAR(h.depth, 0.4 * (R - Ri), 1e-12);
+  EXPECT_NEAR(h.normal.y(), 1.0, 1e-12);
+  // in the lumen: outside the material
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {-0.03, 0, 0}, false).inside);
+  // ahead of the tip: outside
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {1e-4, -R + 1e-5, 0}, false).inside);
+  // just behind the sharp point in the wall: exits through the bevel (tip face)
+  h = needle::queryNeedle(sh, pose, {-1e-3, -R + 0.19e-3, 0}, false);
+  ASSERT_TRUE(h.inside);
+  EXPECT_EQ(h.face, needle::NeedleFace::Tip);
+  EXPECT_NEAR(h.normal.x(), std::sin(sh.tipAngle), 1e-12);
+  // the heel is 2R/tan(alpha) behind the tip (seed 001: 13 mm for 12 deg)
+  EXPECT_TRUE(needle::queryNeedle(sh, pose, {-2 * R / std::tan(sh.tipAngle) - 1e-5, R - 1e-5, 0}, false).inside);
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {-2 * R / std::tan(sh.tipAngle) + 1e-4, R - 1e-5, 0}, false).inside);
+}
+
+TEST(NeedleSurface, ClosedSurfaceEnclosesTheNeedleVolume) {
+  // Divergence theorem: V = 1/3 sum_f (x_c . n) A over the closed, outward surface.
+  for (double angleDeg : {12.0, 45.0, 80.0, 90.0}) {
+    for (double Ri : {0.0, 2.16e-3 / 2}) {
+      NeedleSpec s;
+      s.outer_diameter = 2.77e-3;
+      s.inner_diameter = 2 * Ri;
+      s.length = 0.05;
+      s.bevel_angle = angleDeg * M_PI / 180;
+      s.tip = angleDeg == 90.0 ? TipType::Blunt : TipType::Bevel;
+      auto sh = needle::NeedleShape::fromSpec(s);
+      needle::NeedlePose pose;
+      pose.tip = {0.01, 0.002, -0.003};
+      const int nc = 256;
+      auto m = needle::needleSurface3D(sh, pose, nc, 4);
+      double V = 0;
+      for (std::size_t t = 0; t < m.cells.size() / 3; ++t) {
+        Eigen::Vector3d p[3];
+        for (int k = 0; k < 3; ++k)
+          p[k] = Eigen::Vector3d(m.points[3 * m.cells[3 * t + k]], m.points[3 * m.cells[3 * t + k] + 1],
+                                 m.points[3 * m.cells[3 * t + k] + 2]);
+        V += p[0].dot(p[1].cross(p[2])) / 6.0;
+      }
+      const double R = sh.radius;
+      // exact: annulus area x (L - mean bevel setback); the bevel removes a wedge of mean length R/tan(a)
+      double setback = angleDeg == 90.0 ? 0.0 : R / std::tan(sh.tipAngle);
+      double exact = M_PI * (R * R - Ri * Ri) * (sh.length - setback);
+      double polygonFactor = std::sin(2 * M_PI / nc) * nc / (2 * M_PI);  // inscribed polygon area
+      EXPECT_NEAR(V, exact * polygonFactor, 2e-3 * exact) << angleDeg << " deg, Ri " << Ri;
+    }
+  }
+}
+
+TEST(NeedleSurface, Outline2DIsClosedAndTagged) {
+  auto sh = seed001Needle();
+  needle::NeedlePose pose;
+  auto o = needle::needleOutline2D(sh, pose);
+  EXPECT_EQ(o.cells.size() / 2, 8u);  // two walls, 4 edges each
+  int tips = 0;
+  for (auto f : o.faces) tips += f == needle::NeedleFace::Tip;
+  EXPECT_EQ(tips, 2);
+  // polygon areas: two walls of thickness R - Ri
+  double area = 0;
+  for (std::size_t c = 0; c < o.cells.size() / 2; ++c) {
+    int a = o.cells[2 * c], b = o.cells[2 * c + 1];
+    area += 0.5 * (o.points[3 * a] * o.points[3 * b + 1] - o.points[3 * b] * o.points[3 * a + 1]);
+  }
+  const double R = sh.radius, Ri = sh.innerRadius, t = std::tan(sh.tipAngle);
+  double exact = 2 * (R - Ri) * sh.length - ((R - Ri) * (R - Ri) / t) - ((2 * R) * (2 * R) - (2 * Ri) * (2 * Ri)) / (2 * t) + (R - Ri) * (R - Ri) / (2 * t) * 0;
+  // lower wall loses the triangle (R-Ri)^2/(2t); upper wall loses the trapezoid between a = Ri and a = R
+  double lower = (R - Ri) * sh.length - (R - Ri) * (R - Ri) / (2 * t);
+  double upper = (R - Ri) * sh.length - ((R + R) + (R + Ri)) / 2 * (R - Ri) / t;
+  (void)exact;
+  EXPECT_NEAR(std::abs(area), lower + upper, 1e-12);
+}
