@@ -2,6 +2,7 @@
 
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/lumped/lumped_engine.hpp"
+#include "needlesim/engines/mpm/mpm_engine.hpp"
 #include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
 #include "needlesim/engines/steering/steering_engines.hpp"
 
@@ -14,6 +15,7 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", engines::runKinematic},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", engines::runEnergy},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)", engines::runBeamFoundation},
+      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", engines::runMpm},
   };
   return list;
 }

@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -344,6 +346,71 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
       for (const auto& o : r.markers)
         if (o.name == mk.name) throw m.error("name", mk.name, "is used by two markers", "unique names");
       r.markers.push_back(mk);
+    }
+  }
+  Section mpmSec = model.sub("mpm");
+  {
+    MpmModelSpec& m = sc.model.mpm;
+    m.grid_spacing = mpmSec.number("grid_spacing");
+    m.particle_spacing = mpmSec.optNumber("particle_spacing").value_or(0.5 * m.grid_spacing);
+    if (m.particle_spacing > m.grid_spacing)
+      throw mpmSec.error("particle_spacing", fmt::format("{:g} mm", m.particle_spacing * 1e3),
+                         "is larger than the grid spacing (cells without material points)",
+                         fmt::format("<= grid_spacing = {:g} mm", m.grid_spacing * 1e3));
+    const double minSide = std::min({sc.tissue.length, sc.tissue.width, sc.tissue.height});
+    if (m.particle_spacing > 0.5 * minSide)
+      throw mpmSec.error("particle_spacing", fmt::format("{:g} mm", m.particle_spacing * 1e3),
+                         "leaves fewer than 2 material points across the block",
+                         fmt::format("<= {:g} mm", 0.5 * minSide * 1e3));
+    const double cells = (sc.tissue.length / m.grid_spacing + 7) * (sc.tissue.width / m.grid_spacing + 7) *
+                         (sc.tissue.height / m.grid_spacing + 7);
+    const double points = sc.tissue.length * sc.tissue.width * sc.tissue.height / std::pow(m.particle_spacing, 3);
+    if (cells > 5e7 || points > 2e7)
+      throw mpmSec.error("grid_spacing", fmt::format("{:g} mm", m.grid_spacing * 1e3),
+                         fmt::format("gives {:.3g} grid nodes and {:.3g} material points for the block", cells, points),
+                         "at most 5e7 nodes and 2e7 points (coarser spacings)");
+    m.bspline = mpmSec.choice("shape") == "bspline";
+    m.musl = mpmSec.choice("update") == "musl";
+    m.flip = mpmSec.number("flip");
+    m.time_step_factor = mpmSec.number("time_step_factor");
+    m.mass_scaling = mpmSec.number("mass_scaling");
+    const double margin = mpmSec.number("margin"), threads = mpmSec.number("threads");
+    if (margin != std::floor(margin))
+      throw mpmSec.error("margin", fmt::format("{:g}", margin), "must be a whole number of cells", "2, 3, ... 100");
+    if (threads != std::floor(threads))
+      throw mpmSec.error("threads", fmt::format("{:g}", threads), "must be a whole number", "0 (all cores), 1, 2, ...");
+    m.margin = static_cast<int>(margin);
+    m.threads = static_cast<int>(threads);
+    Section faces = mpmSec.sub("faces");
+    const char* names[6] = {"entry", "exit", "y_min", "y_max", "z_min", "z_max"};
+    for (int f = 0; f < 6; ++f) m.faces[static_cast<std::size_t>(f)] = faces.choice(names[f]);
+    m.field_interval = mpmSec.number("field_interval");
+    m.marker_depth_step = mpmSec.number("marker_depth_step");
+    auto markers = mpmSec.list("markers");
+    for (std::size_t i = 0; i < markers.size(); ++i) {
+      Section e = mpmSec.element(markers[i], "markers", i);
+      MpmMarkerSpec mk{e.text("name"), e.number("x"), e.number("y"), e.number("z")};
+      const double ylo = -0.5 * sc.tissue.width - sc.insertion.entry_offset, yhi = ylo + sc.tissue.width;
+      if (mk.x > sc.tissue.length || !(mk.y >= ylo && mk.y <= yhi) || std::abs(mk.z) > 0.5 * sc.tissue.height)
+        throw e.error("x", fmt::format("({:g}, {:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3, mk.z * 1e3),
+                      "lies outside the tissue block",
+                      fmt::format("0 <= x <= {:g} mm, {:g} mm <= y <= {:g} mm, |z| <= {:g} mm",
+                                  sc.tissue.length * 1e3, ylo * 1e3, yhi * 1e3, 0.5 * sc.tissue.height * 1e3));
+      for (const auto& o : m.markers)
+        if (o.name == mk.name) throw e.error("name", mk.name, "is used by two markers", "unique names");
+      m.markers.push_back(mk);
+    }
+    m.measured_force = mpmSec.text("measured_force");
+    if (!m.measured_force.empty()) {
+      std::filesystem::path p(m.measured_force);
+      if (p.is_relative()) {
+        std::filesystem::path base = std::filesystem::path(source).parent_path();
+        if (!base.empty()) p = base / p;
+      }
+      if (!std::filesystem::exists(p))
+        throw mpmSec.error("measured_force", m.measured_force, "does not exist (paths are relative to the scenario file)",
+                           "a CSV file with columns 'depth [mm]' and 'force [N]'");
+      m.measured_force = p.string();
     }
   }
 

@@ -118,12 +118,41 @@ struct SteeringModelSpec {
   int snapshots = 5;              // needle shapes recorded along the insertion
 };
 
+// A tissue point whose displacement the mpm engine reports (seed 000 Fig 11).
+struct MpmMarkerSpec {
+  std::string name;
+  double x = 0.0;  // m, depth from the entry face
+  double y = 0.0;  // m, lateral from the needle path line, in the insertion plane
+  double z = 0.0;  // m, from the insertion plane (mid-height of the block)
+};
+
+// 3D material point method engine (seed 000; docs/models/mpm.md).
+struct MpmModelSpec {
+  double grid_spacing = 0.8e-3;      // m, background grid h
+  double particle_spacing = 0.4e-3;  // m
+  bool bspline = true;               // quadratic B-spline (false: linear hat, the paper's)
+  bool musl = true;                  // modified update-stress-last (false: USL)
+  double flip = 1.0;                 // FLIP fraction (1 = eq 4)
+  double time_step_factor = 0.4;     // k_t, eq 26
+  double mass_scaling = 1.0;         // factor on the particle masses (eq 28 discussion)
+  int margin = 3;                    // grid cells beyond the block
+  int threads = 0;                   // 0 = all cores
+  // Face conditions: entry (depth 0), exit, y_min, y_max, z_min, z_max; each
+  // "free", "fixed", "roller" or "non-reflecting".
+  std::vector<std::string> faces{"free", "fixed", "free", "free", "free", "free"};
+  double field_interval = 0.5;       // s, particle fields for ParaView (0 = none)
+  double marker_depth_step = 0.0;    // m, marker rows each time the tip advances this far (0 = output interval)
+  std::vector<MpmMarkerSpec> markers;
+  std::string measured_force;        // CSV path (resolved against the scenario file), "" = none
+};
+
 struct ModelSpec {
   std::string engine = "lumped";  // lumped (others are listed in docs/scenario-format.md)
   double time_step = 1e-3;        // s, output and integration step
   LumpedModelSpec lumped;
   SteeringModelSpec steering;
   Realtime2dModelSpec realtime2d;
+  MpmModelSpec mpm;
 };
 
 struct OutputSpec {

@@ -159,8 +159,8 @@ std::vector<FieldDoc> build() {
   // --- model
   add(other("model", "engine", Kind::Choice, "lumped",
             "engine: lumped (seed 003 lumped force model), realtime2d (seed 003 2D FE tissue with a needle "
-            "beam), kinematic, energy, beam-foundation (bevel-tip steering, seed 002). Reserved for later "
-            "releases: explicit, mpm",
+            "beam), kinematic, energy, beam-foundation (bevel-tip steering, seed 002), mpm (seed 000 3D "
+            "material point method). Reserved for later releases: explicit",
             false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "explicit", "mpm"}));
   add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
   add(other("model", "lumped", Kind::Section, "", "parameters of the lumped force model", false, "lumped"));
@@ -214,6 +214,42 @@ std::vector<FieldDoc> build() {
   add(other("marker", "name", Kind::String, "", "label in results", true));
   add(q("marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
   add(q("marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point)", true));
+  add(other("model", "mpm", Kind::Section, "", "parameters of the 3D material point method engine (seed 000)", false, "mpm"));
+  add(positive("mpm", "grid_spacing", D::Length, "0.8 mm", "background grid spacing h (seed 000 section 4.3: 0.8 mm)"));
+  add(positive("mpm", "particle_spacing", D::Length, "grid_spacing / 2", "material point spacing (seed 000 section 4.3: 0.4 mm)"));
+  add(other("mpm", "shape", Kind::Choice, "bspline",
+            "shape functions: linear (the paper's) or quadratic B-spline (removes the cross-cell noise of seed 000 section 5.2)",
+            false, {}, {"linear", "bspline"}));
+  add(other("mpm", "update", Kind::Choice, "musl", "update-stress-last or modified USL (momentum remap)", false, {},
+            {"usl", "musl"}));
+  add(q("mpm", "flip", D::None, "1", 0.0, 1.0, false, false, "FLIP fraction of the particle velocity update (1 = seed 000 eq 4, 0 = PIC)"));
+  add(q("mpm", "time_step_factor", D::None, "0.4", 0.0, 1.0, true, false, "k_t of seed 000 eq 26 (time step = k_t times the eq 25 limit)"));
+  add(q("mpm", "mass_scaling", D::None, "1", 1.0, 1e12, false, false,
+        "factor on every particle mass (seed 000 eq 28 discussion: 1e4); the time step grows with its square root"));
+  add(q("mpm", "margin", D::None, "3", 2.0, 100.0, false, false, "grid cells beyond the tissue block on each side"));
+  add(q("mpm", "threads", D::None, "0", 0.0, 1024.0, false, false, "OpenMP threads (0 = all cores)"));
+  add(other("mpm", "faces", Kind::Section, "exit fixed, others free", "boundary condition of each face of the block", false, "mpm_faces"));
+  for (const char* f : {"entry", "exit", "y_min", "y_max", "z_min", "z_max"}) {
+    const std::string k = f;
+    const std::string where = k == "entry" ? "the entry face (depth 0)"
+                              : k == "exit" ? "the face opposite the entry (depth = block.length)"
+                              : k[0] == 'y' ? "a side face across the width (normal in the insertion plane)"
+                                            : "a face across the height (normal out of the insertion plane)";
+    add(other("mpm_faces", k, Kind::Choice, k == "exit" ? "fixed" : "free",
+              where + ": free, fixed (all velocity components zero), roller (normal component zero) or "
+                      "non-reflecting (Lysmer dashpots)",
+              false, {}, {"free", "fixed", "roller", "non-reflecting"}));
+  }
+  add(nonneg("mpm", "field_interval", D::Time, "0.5 s", "interval of the particle fields (displacement, von Mises) for ParaView (0 = none)"));
+  add(nonneg("mpm", "marker_depth_step", D::Length, "0 mm", "record the markers each time the tip advances this far (seed 000: 3 mm); 0 = at the output interval"));
+  add(other("mpm", "markers", Kind::List, "", "tissue points whose displacement is reported (seed 000 Fig 11)", false, "mpm_marker"));
+  add(other("mpm_marker", "name", Kind::String, "", "label in results", true));
+  add(q("mpm_marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
+  add(q("mpm_marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line, in the insertion plane", true));
+  add(q("mpm_marker", "z", D::Length, "0 mm", -kInf, kInf, false, false, "distance from the insertion plane (mid-height of the block)"));
+  add(other("mpm", "measured_force", Kind::String, "",
+            "CSV of a measured force curve (columns 'depth [mm]' and 'force [N]', any units); RMSE and MAE of seed 000 eq 35 "
+            "are reported. Relative to the scenario file"));
 
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));

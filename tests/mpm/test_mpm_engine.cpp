@@ -1,0 +1,146 @@
+// The mpm engine end to end: scenarios read through the scenario reader and run
+// into an in-memory sink (seed 000 sections 3-4; docs/validation/mpm.md).
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/engines/mpm/mpm_engine.hpp"
+#include "needlesim/scenario/reader.hpp"
+
+using namespace needlesim;
+
+namespace {
+
+// A 6 x 4 x 4 mm Fung block, 1 mm grid, 0.5 mm points (768), a blunt 1 mm
+// needle from 0.5 mm outside to 3 mm deep: contact starts at depth 0.
+std::string smallScenario(const std::string& extra = "", const std::string& tip = "blunt") {
+  return R"(
+name: mpm_engine_test
+tissue:
+  block: {length: 6 mm, width: 4 mm, height: 4 mm}
+  material: {law: fung, mu: 10 kPa, gamma: 1.0, nu: 0.45, density: 1000 kg/m^3}
+  friction: {coefficient: 0.255}
+needle:
+  outer_diameter: 1 mm
+  length: 40 mm
+  tip: )" + tip + R"(
+insertion:
+  start_depth: -0.5 mm
+  profile:
+    - insert: {to: 3 mm, speed: 6 mm/s}
+model:
+  engine: mpm
+  mpm:
+    grid_spacing: 1 mm
+    particle_spacing: 0.5 mm
+    mass_scaling: 1e4
+    threads: 1
+    faces: {exit: fixed, y_min: roller, y_max: roller, z_min: roller, z_max: roller}
+)" + extra + R"(
+output:
+  interval: 10 ms
+)";
+}
+
+std::string replaced(std::string s, const std::string& from, const std::string& to) {
+  const auto i = s.find(from);
+  EXPECT_NE(i, std::string::npos) << from;
+  if (i != std::string::npos) s.replace(i, from.size(), to);
+  return s;
+}
+
+MemorySink runText(const std::string& yaml) {
+  const Scenario sc = scenario::readText(yaml, "mpm_engine_test.yaml");
+  MemorySink sink;
+  const EngineInfo* e = findEngine("mpm");
+  EXPECT_NE(e, nullptr);
+  if (e) e->run(sc, sink, RunOptions{false});
+  return sink;
+}
+
+}  // namespace
+
+// No force while the needle is outside the block; the blunt face meets the
+// material at depth 0 (the entry face) and the force then rises with depth.
+TEST(MpmEngine, ZeroForceBeforeContactThenRising) {
+  const MemorySink out = runText(smallScenario());
+  const io::Table& f = out.tables.at("forces");
+  const auto depth = f.column("depth"), force = f.column("force_total"), tip = f.column("force_tip"),
+             shaft = f.column("force_shaft");
+  ASSERT_GT(f.rows(), 50u);
+  double firstContact = NAN, atOne = NAN, atTwo = NAN;
+  for (std::size_t i = 0; i < f.rows(); ++i) {
+    EXPECT_TRUE(std::isfinite(force[i]));
+    EXPECT_NEAR(tip[i] + shaft[i], force[i], 1e-9 * (1 + std::abs(force[i])));
+    if (depth[i] < -0.05e-3) EXPECT_EQ(force[i], 0.0) << "force before contact at depth " << depth[i];
+    if (std::isnan(firstContact) && force[i] > 0) firstContact = depth[i];
+    if (std::isnan(atOne) && depth[i] >= 1e-3) atOne = force[i];
+    if (std::isnan(atTwo) && depth[i] >= 2e-3) atTwo = force[i];
+  }
+  // Contact within a step of the surface: the needle moves 6 mm/s x 10 ms per row.
+  EXPECT_NEAR(firstContact, 0.0, 0.1e-3);
+  EXPECT_GT(atOne, 0.0);
+  EXPECT_GT(atTwo, atOne);
+  EXPECT_GT(out.results.at("final_force").value, atTwo);
+  EXPECT_NEAR(out.results.at("final_depth").value, 3e-3, 1e-9);
+  EXPECT_EQ(out.results.at("particles").value, 768.0);
+  EXPECT_TRUE(out.tables.count("energy"));
+}
+
+// Seed 000 eq 35: a measured curve that is the simulated one plus 0.1 N gives
+// RMSE = MAE = 0.1 N (depth interpolation inside the simulated range).
+TEST(MpmEngine, RmseAndMaeAgainstMeasuredCurve) {
+  const MemorySink ref = runText(smallScenario());
+  const io::Table& f = ref.tables.at("forces");
+  const auto depth = f.column("depth"), force = f.column("force_total");
+  const auto csv = std::filesystem::temp_directory_path() / "needlesim_mpm_measured_force.csv";
+  {
+    std::ofstream o(csv);
+    o << "depth [mm],force [N]\n";
+    for (std::size_t i = 0; i < f.rows(); i += 7) o << depth[i] * 1e3 << "," << force[i] + 0.1 << "\n";
+    o << "99,1\n";  // outside the simulated depths: ignored
+  }
+  const MemorySink out = runText(smallScenario("    measured_force: " + csv.string() + "\n"));
+  std::filesystem::remove(csv);
+  EXPECT_NEAR(out.results.at("rmse_force").value, 0.1, 1e-6);
+  EXPECT_NEAR(out.results.at("mae_force").value, 0.1, 1e-6);
+  EXPECT_EQ(out.results.at("measured_points").value, static_cast<double>((f.rows() + 6) / 7));
+}
+
+// Markers follow material points: one just beside the needle path is pushed
+// away from it (sideways) and forward; one near the fixed exit face hardly moves.
+TEST(MpmEngine, MarkersMoveWithTheTissue) {
+  const MemorySink out = runText(smallScenario(
+      "    marker_depth_step: 1 mm\n"
+      "    markers:\n"
+      "      - {name: near, x: 1.25 mm, y: 0.75 mm}\n"
+      "      - {name: far, x: 5.75 mm, y: 1.75 mm}\n",
+      "conical"));
+  const io::Table& m = out.tables.at("markers");
+  EXPECT_GE(m.rows(), 4u);  // depth 0 (start row -0.5 mm), 1, 2, 3 mm
+  EXPECT_GT(m.column("near_uy").back(), 0.02e-3);  // pushed away from the path (+y side)
+  EXPECT_GT(m.column("near_ux").back(), 0.0);      // dragged forward
+  EXPECT_LT(out.results.at("marker_far_uxy_final").value, 0.25 * out.results.at("marker_near_uxy_final").value);
+}
+
+TEST(MpmEngine, ScenarioErrors) {
+  // Points coarser than the grid leave empty cells.
+  EXPECT_THROW(scenario::readText(replaced(smallScenario(), "particle_spacing: 0.5 mm", "particle_spacing: 1.5 mm"), "t.yaml"), InputError);
+  // A measured curve that does not exist is refused by `needlesim check` already.
+  EXPECT_THROW(scenario::readText(smallScenario("    measured_force: /nonexistent/f.csv\n"), "t.yaml"), InputError);
+  EXPECT_THROW(scenario::readText(replaced(smallScenario(), "exit: fixed", "entry: sticky"), "t.yaml"), InputError);
+}
+
+// The quick example of examples/mpm runs and gives a resisting force.
+TEST(MpmEngine, QuickExampleRuns) {
+  const auto path = std::filesystem::path(NEEDLESIM_SOURCE_DIR) / "examples/mpm/quick_needle_block.yaml";
+  const Scenario sc = scenario::readFile(path);
+  const MemorySink out = runInMemory(sc, RunOptions{false});
+  EXPECT_GT(out.results.at("peak_force").value, 0.0);
+  EXPECT_GT(out.results.at("final_shaft_force").value, 0.0);  // friction along the shaft (mu = 0.255)
+}
