@@ -334,6 +334,9 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
     r.solver = rt.choice("solver");
     r.tip_load_ratio = rt.optNumber("tip_load_ratio").value_or(-1.0);
     r.field_interval = rt.number("field_interval");
+    r.relaxation = rt.choice("relaxation") == "prony";
+    r.stiffening_factor = rt.number("stiffening_factor");
+    r.stiffening_radius = rt.number("stiffening_radius");
     auto markers = rt.list("markers");
     for (std::size_t i = 0; i < markers.size(); ++i) {
       Section m = rt.element(markers[i], "markers", i);

@@ -102,6 +102,9 @@ struct Realtime2dModelSpec {
   double tip_load_ratio = -1.0;  // transverse bevel load / cutting force; < 0 = cot(bevel angle)
   double field_interval = 0.5;   // s, tissue field output interval (0 = none)
   std::vector<MarkerSpec> markers;
+  bool relaxation = true;          // Prony terms of the material relax the tissue (QLV)
+  double stiffening_factor = 1.0;  // E factor of the elements around the path (seed 003 section 3.5 item 4)
+  double stiffening_radius = 0.0;  // m, half-width of that zone
 };
 
 // Bevel-tip steering engines kinematic, energy, beam-foundation (seed 002;

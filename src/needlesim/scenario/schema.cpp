@@ -211,6 +211,12 @@ std::vector<FieldDoc> build() {
              "transverse bevel load per unit cutting force"));
   add(nonneg("realtime2d", "field_interval", D::Time, "0.5 s", "interval of the tissue field output for ParaView (0 = none)"));
   add(other("realtime2d", "markers", Kind::List, "", "tissue points whose displacement is reported", false, "marker"));
+  add(other("realtime2d", "relaxation", Kind::Choice, "prony",
+            "prony: the material's Prony terms relax the whole tissue stiffness (QLV); off: elastic", false, {},
+            {"prony", "off"}));
+  add(q("realtime2d", "stiffening_factor", D::None, "1", 1.0, 1000.0, false, false,
+        "Young's modulus factor of the tissue around the needle path (seed 003 section 3.5 item 4)"));
+  add(nonneg("realtime2d", "stiffening_radius", D::Length, "0 mm", "half-width of the stiffened zone around the path line"));
   add(other("marker", "name", Kind::String, "", "label in results", true));
   add(q("marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
   add(q("marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point)", true));

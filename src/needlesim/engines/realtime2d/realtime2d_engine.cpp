@@ -102,6 +102,9 @@ SessionConfig realtime2dConfig(const Scenario& sc) {
   c.tissue.newmark.gamma = r.newmark_gamma;    // eqs 3.2-3.3
   c.tissue.newmark.beta = r.newmark_beta;
   c.tissue.support_stiffness = r.spring_boundary ? r.spring_stiffness : 0.0;
+  if (r.relaxation) c.tissue.prony = L0.material.prony;  // QLV relaxation (one set for the block)
+  c.tissue.stiffening_factor = r.stiffening_factor;
+  c.tissue.stiffening_radius = r.stiffening_radius;
   c.tissue.backend = r.solver == "direct"    ? Backend::Direct
                      : r.solver == "modal"   ? Backend::Modal
                      : r.solver == "reduced" ? Backend::Reduced
@@ -342,7 +345,13 @@ void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& optio
     prony = prony || !L.material.prony.empty();
   }
   if (hyper) sink.note("The tissue law is linearised: realtime2d uses its small-strain moduli (initial shear and bulk).");
-  if (prony) sink.note("Prony terms of the material are not used by realtime2d (linear elastic tissue).");
+  if (prony && !r.relaxation) sink.note("Prony terms of the material are not used (model.realtime2d.relaxation: off).");
+  if (prony && r.relaxation)
+    sink.note("Tissue relaxation: the first layer's Prony terms relax the whole stiffness (QLV, "
+              "materials/viscoelastic.hpp); docs/models/realtime2d.md.");
+  if (r.stiffening_factor != 1.0 && r.stiffening_radius > 0.0)
+    sink.note(fmt::format("Stiffening around the needle (seed 003 section 3.5 item 4): E x {:g} within {:g} mm of the path line.",
+                          r.stiffening_factor, r.stiffening_radius * 1e3));
   if (sc.tissue.layers.size() > 1)
     sink.note("Layers: materials, cutting and friction change at the layer boundaries; only the first layer's "
               "puncture (eq 3.16) is modelled, inner layers are cut without a puncture event.");

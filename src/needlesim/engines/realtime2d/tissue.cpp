@@ -9,6 +9,7 @@
 #include <string>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/materials/viscoelastic.hpp"
 
 namespace needlesim::realtime2d {
 
@@ -49,6 +50,25 @@ struct PathMap {  // the path loads' placement on the free DOFs
   int size() const { return 2 * static_cast<int>(pdof->size()); }
 };
 
+// Per-step factors of QLV Prony viscoelasticity on the whole stiffness (materials/viscoelastic.hpp,
+// seed 001 eqs 1-4): internal force K (g_inf u + sum g_i H_i) with
+// H_i <- exp(-dt/tau_i) H_i + phi1(dt/tau_i) (u_new - u_old), so over a step the force is
+// K (F u_new + sum g_i (decay_i H_i - phi_i u_old)), F = g_inf + sum g_i phi_i (Prony::stepFactor).
+struct PronyStep {
+  std::vector<double> g, decay, phi;
+  double F = 1.0;
+  void set(const materials::Prony& p, double dt) {
+    g.clear(); decay.clear(); phi.clear();
+    for (const auto& t : p.terms) {
+      g.push_back(t.g);
+      decay.push_back(std::exp(-dt / t.tau));
+      phi.push_back(materials::phi1(dt / t.tau));
+    }
+    F = p.terms.empty() ? 1.0 : p.stepFactor(dt);
+  }
+  int terms() const { return static_cast<int>(g.size()); }
+};
+
 class TissueIntegrator {
  public:
   virtual ~TissueIntegrator() = default;
@@ -67,16 +87,19 @@ namespace {
 class DirectIntegrator final : public TissueIntegrator {
  public:
   DirectIntegrator(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M, double alpha,
-                   double beta, PathMap map)
-      : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)) {
+                   double beta, PathMap map, materials::Prony prony = {})
+      : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)), prony_(std::move(prony)) {
     const auto n = K.rows();
     u_.setZero(n); v_.setZero(n); a_.setZero(n);
+    H_.assign(prony_.terms.size(), Eigen::VectorXd::Zero(n));
+    hist_.setZero(n);
     b_.resize(n); u0_.resize(n); t1_.resize(n); t2_.resize(n); an_.resize(n);
   }
   Backend kind() const override { return Backend::Direct; }
   void prepare(const NewmarkCoefficients& c) override {
     c_ = c;
-    Eigen::SparseMatrix<double> A = K_ * (1.0 + c.a1 * beta_) + M_ * (c.a0 + c.a1 * alpha_);
+    ps_.set(prony_, c.dt);
+    Eigen::SparseMatrix<double> A = K_ * (ps_.F + c.a1 * beta_) + M_ * (c.a0 + c.a1 * alpha_);
     ldlt_.compute(A);
     if (ldlt_.info() != Eigen::Success) throw SolverError("realtime2d: the effective tissue matrix is not positive definite");
     const int P = map_.size();
@@ -97,6 +120,11 @@ class DirectIntegrator final : public TissueIntegrator {
     // Right side of eq 3.4 with C = alpha M + beta K (eq 3.8).
     t1_ = (c_.a0 + alpha_ * c_.a1) * u_ + (c_.a2 + alpha_ * c_.a4) * v_ + (c_.a3 + alpha_ * c_.a5) * a_;
     t2_ = beta_ * (c_.a1 * u_ + c_.a4 * v_ + c_.a5 * a_);
+    if (ps_.terms() > 0) {  // known part of the relaxing internal force
+      hist_.setZero();
+      for (int i = 0; i < ps_.terms(); ++i) hist_ += ps_.g[i] * (ps_.decay[i] * H_[i] - ps_.phi[i] * u_);
+      t2_ -= hist_;
+    }
     b_.noalias() = M_ * t1_;
     b_.noalias() += K_ * t2_;
     u0_ = ldlt_.solve(b_);
@@ -108,6 +136,7 @@ class DirectIntegrator final : public TissueIntegrator {
     // eq 3.3 solved for the new acceleration, then eq 3.2.
     an_ = c_.a0 * (u0_ - u_) - c_.a2 * v_ - c_.a3 * a_;
     v_ += c_.dt * ((1.0 - gammaOf()) * a_ + gammaOf() * an_);
+    for (int i = 0; i < ps_.terms(); ++i) H_[i] = ps_.decay[i] * H_[i] + ps_.phi[i] * (u0_ - u_);
     a_.swap(an_);
     u_.swap(u0_);
   }
@@ -115,6 +144,7 @@ class DirectIntegrator final : public TissueIntegrator {
   double freeDisplacement(int k) const override { return u_[k]; }
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
     u_ = u; v_ = v; a_ = a;
+    for (auto& h : H_) h = u;  // applied instantaneously: unrelaxed
   }
 
  private:
@@ -125,14 +155,17 @@ class DirectIntegrator final : public TissueIntegrator {
   NewmarkCoefficients c_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
   Eigen::MatrixXd Z_, S_;
-  Eigen::VectorXd u_, v_, a_, b_, u0_, t1_, t2_, an_;
+  Eigen::VectorXd u_, v_, a_, b_, u0_, t1_, t2_, an_, hist_;
+  materials::Prony prony_;
+  PronyStep ps_;
+  std::vector<Eigen::VectorXd> H_;
 };
 
 class ModalIntegrator final : public TissueIntegrator {
  public:
   ModalIntegrator(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M, double alpha,
-                  double beta, PathMap map)
-      : alpha_(alpha), beta_(beta), map_(std::move(map)) {
+                  double beta, PathMap map, materials::Prony prony = {})
+      : alpha_(alpha), beta_(beta), map_(std::move(map)), prony_(std::move(prony)) {
     const Eigen::MatrixXd Kd(K), Md(M);
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Kd, Md);
     if (es.info() != Eigen::Success) throw SolverError("realtime2d: modal decomposition of the tissue failed");
@@ -145,19 +178,23 @@ class ModalIntegrator final : public TissueIntegrator {
       for (Eigen::Index m = 0; m < n; ++m) PhiP_(k, m) = map_.gather(Phi_.col(m), k);
     damp_ = (alpha_ + beta_ * w2_.array()).matrix();  // modal damping of eq 3.8
     q_.setZero(n); qd_.setZero(n); qdd_.setZero(n); q0_.resize(n); invA_.resize(n); g_.resize(n);
+    h_.assign(prony_.terms.size(), Eigen::VectorXd::Zero(n));
   }
   Backend kind() const override { return Backend::Modal; }
   void prepare(const NewmarkCoefficients& c) override {
     c_ = c;
-    invA_ = (w2_.array() + c.a0 + c.a1 * damp_.array()).inverse().matrix();
+    ps_.set(prony_, c.dt);
+    invA_ = (ps_.F * w2_.array() + c.a0 + c.a1 * damp_.array()).inverse().matrix();
     S_ = PhiP_ * invA_.asDiagonal() * PhiP_.transpose();
   }
   const Eigen::MatrixXd& S() const override { return S_; }
   void predict(Eigen::VectorXd& u0P) override {
     const auto& c = c_;
-    q0_.array() = ((c.a0 * q_.array() + c.a2 * qd_.array() + c.a3 * qdd_.array()) +
-                   damp_.array() * (c.a1 * q_.array() + c.a4 * qd_.array() + c.a5 * qdd_.array())) *
-                  invA_.array();
+    q0_.array() = (c.a0 * q_.array() + c.a2 * qd_.array() + c.a3 * qdd_.array()) +
+                  damp_.array() * (c.a1 * q_.array() + c.a4 * qd_.array() + c.a5 * qdd_.array());
+    for (int i = 0; i < ps_.terms(); ++i)  // known part of the relaxing modal force
+      q0_.array() -= w2_.array() * ps_.g[i] * (ps_.decay[i] * h_[i].array() - ps_.phi[i] * q_.array());
+    q0_.array() *= invA_.array();
     u0P.noalias() = PhiP_ * q0_;
   }
   void commit(const Eigen::VectorXd& f) override {
@@ -169,6 +206,7 @@ class ModalIntegrator final : public TissueIntegrator {
     // New acceleration from eq 3.3, velocity from eq 3.2, mode by mode.
     g_.array() = c_.a0 * (q0_.array() - q_.array()) - c_.a2 * qd_.array() - c_.a3 * qdd_.array();
     qd_.array() += c_.dt * ((1.0 - gam) * qdd_.array() + gam * g_.array());
+    for (int i = 0; i < ps_.terms(); ++i) h_[i] = ps_.decay[i] * h_[i] + ps_.phi[i] * (q0_ - q_);
     qdd_.swap(g_);
     q_.swap(q0_);
   }
@@ -181,6 +219,7 @@ class ModalIntegrator final : public TissueIntegrator {
     // Phi^T M Phi = I, so q = Phi^-1 u; solve with the dense basis (setup only).
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Phi_);
     q_ = lu.solve(u); qd_ = lu.solve(v); qdd_ = lu.solve(a);
+    for (auto& h : h_) h = q_;
   }
 
  private:
@@ -191,6 +230,9 @@ class ModalIntegrator final : public TissueIntegrator {
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> PhiP_;
   Eigen::VectorXd w2_, damp_, q_, qd_, qdd_, q0_, invA_, g_;
   Eigen::MatrixXd S_;
+  materials::Prony prony_;
+  PronyStep ps_;
+  std::vector<Eigen::VectorXd> h_;
 };
 
 // Truncated modal basis plus residual flexibility (docs/models/realtime2d.md, "reduced").
@@ -202,11 +244,12 @@ class ModalIntegrator final : public TissueIntegrator {
 // path DOFs is R g with the residual flexibility R = G^T K^-1 G - Phi_P W^-2 Phi_P^T and
 // one first-order filter g, advanced with the Newmark velocity rule (eq 3.2). Statics
 // are exact (R + Phi_P W^-2 Phi_P^T = G^T K^-1 G); a step costs O((m + 2P) 2P).
+// With Prony terms the filter relaxes too: beta g' + g_inf g + sum g_i H_i[g] = f.
 class ReducedIntegrator final : public TissueIntegrator {
  public:
   ReducedIntegrator(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M, double alpha,
-                    double beta, PathMap map, double cutoff, int max_modes)
-      : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)) {
+                    double beta, PathMap map, double cutoff, int max_modes, materials::Prony prony = {})
+      : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)), prony_(std::move(prony)) {
     kf_.compute(K_);
     if (kf_.info() != Eigen::Success) throw SolverError("realtime2d: the tissue stiffness is singular (no supports?)");
     lanczos(cutoff, max_modes);
@@ -230,52 +273,60 @@ class ReducedIntegrator final : public TissueIntegrator {
     R_.noalias() -= PhiP_ * w2_.cwiseInverse().asDiagonal() * PhiP_.transpose();
     R_ = 0.5 * (R_ + R_.transpose()).eval();
     damp_ = (alpha_ + beta_ * w2_.array()).matrix();
-    q_.setZero(m); qd_.setZero(m); qdd_.setZero(m); q0_.resize(m); invA_.resize(m); h_.resize(m);
-    gres_.setZero(P); fprev_.setZero(P); t_.resize(P);
+    q_.setZero(m); qd_.setZero(m); qdd_.setZero(m); q0_.resize(m); invA_.resize(m); hq_.resize(m);
+    gres_.setZero(P); gdot_.setZero(P); t_.resize(P); histr_.setZero(P);
+    h_.assign(prony_.terms.size(), Eigen::VectorXd::Zero(m));
+    Hr_.assign(prony_.terms.size(), Eigen::VectorXd::Zero(P));
   }
   Backend kind() const override { return Backend::Reduced; }
   int modes() const { return static_cast<int>(w2_.size()); }
   void prepare(const NewmarkCoefficients& c) override {
     c_ = c;
     gam_ = c.a1 / c.a2;
-    invA_ = (w2_.array() + c.a0 + c.a1 * damp_.array()).inverse().matrix();
-    if (beta_ > 0.0) {  // beta g' + g = f, g1 = g0 + dt((1 - gam) g0' + gam g1')
-      const double r = c.dt / beta_;
-      cg_ = (1.0 - (1.0 - gam_) * r) / (1.0 + gam_ * r);
-      cf0_ = (1.0 - gam_) * r / (1.0 + gam_ * r);
-      cf1_ = gam_ * r / (1.0 + gam_ * r);
-    } else {  // no creep: the residual modes respond statically
-      cg_ = cf0_ = 0.0;
-      cf1_ = 1.0;
-    }
+    ps_.set(prony_, c.dt);
+    invA_ = (ps_.F * w2_.array() + c.a0 + c.a1 * damp_.array()).inverse().matrix();
+    // beta g' + (g_inf g + sum g_i H_i) = f with g1 = g0 + dt((1 - gam) g0' + gam g1'):
+    // g1 = t + cf1 f1 (t from the history in predict()); no creep (beta = 0): static.
+    r_ = beta_ > 0.0 ? c.dt / beta_ : 0.0;
+    cf1_ = beta_ > 0.0 ? gam_ * r_ / (1.0 + gam_ * r_ * ps_.F) : 1.0 / ps_.F;
     S_ = PhiP_ * invA_.asDiagonal() * PhiP_.transpose() + cf1_ * R_;
   }
   const Eigen::MatrixXd& S() const override { return S_; }
   void predict(Eigen::VectorXd& u0P) override {
     const auto& c = c_;
-    q0_.array() = ((c.a0 * q_.array() + c.a2 * qd_.array() + c.a3 * qdd_.array()) +
-                   damp_.array() * (c.a1 * q_.array() + c.a4 * qd_.array() + c.a5 * qdd_.array())) *
-                  invA_.array();
+    q0_.array() = (c.a0 * q_.array() + c.a2 * qd_.array() + c.a3 * qdd_.array()) +
+                  damp_.array() * (c.a1 * q_.array() + c.a4 * qd_.array() + c.a5 * qdd_.array());
+    for (int i = 0; i < ps_.terms(); ++i)
+      q0_.array() -= w2_.array() * ps_.g[i] * (ps_.decay[i] * h_[i].array() - ps_.phi[i] * q_.array());
+    q0_.array() *= invA_.array();
     u0P.noalias() = PhiP_ * q0_;
-    t_ = cg_ * gres_ + cf0_ * fprev_;
+    histr_.setZero();
+    for (int i = 0; i < ps_.terms(); ++i) histr_ += ps_.g[i] * (ps_.decay[i] * Hr_[i] - ps_.phi[i] * gres_);
+    if (beta_ > 0.0)
+      t_ = (gres_ + c.dt * (1.0 - gam_) * gdot_ - gam_ * r_ * histr_) / (1.0 + gam_ * r_ * ps_.F);
+    else
+      t_ = -histr_ / ps_.F;
     u0P.noalias() += R_ * t_;
   }
   void commit(const Eigen::VectorXd& f) override {
-    h_.noalias() = PhiP_.transpose() * f;
-    q0_.array() += h_.array() * invA_.array();
-    h_.array() = c_.a0 * (q0_.array() - q_.array()) - c_.a2 * qd_.array() - c_.a3 * qdd_.array();
-    qd_.array() += c_.dt * ((1.0 - gam_) * qdd_.array() + gam_ * h_.array());
-    qdd_.swap(h_);
+    hq_.noalias() = PhiP_.transpose() * f;
+    q0_.array() += hq_.array() * invA_.array();
+    hq_.array() = c_.a0 * (q0_.array() - q_.array()) - c_.a2 * qd_.array() - c_.a3 * qdd_.array();
+    qd_.array() += c_.dt * ((1.0 - gam_) * qdd_.array() + gam_ * hq_.array());
+    for (int i = 0; i < ps_.terms(); ++i) h_[i] = ps_.decay[i] * h_[i] + ps_.phi[i] * (q0_ - q_);
+    qdd_.swap(hq_);
     q_.swap(q0_);
-    gres_ = t_ + cf1_ * f;
-    fprev_ = f;
+    t_ += cf1_ * f;  // g1
+    for (int i = 0; i < ps_.terms(); ++i) Hr_[i] = ps_.decay[i] * Hr_[i] + ps_.phi[i] * (t_ - gres_);
+    if (beta_ > 0.0) gdot_ = (f - ps_.F * t_ - histr_) / beta_;
+    gres_.swap(t_);
     resid_dirty_ = true;
   }
   void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override {
     u.noalias() = Phi_ * q_;
     u += residualField(gres_);
     v.noalias() = Phi_ * qd_;
-    if (beta_ > 0.0) v += residualField((fprev_ - gres_) / beta_);
+    v += residualField(gdot_);
   }
   double freeDisplacement(int k) const override {
     if (resid_dirty_) { ures_ = residualField(gres_); resid_dirty_ = false; }
@@ -285,8 +336,10 @@ class ReducedIntegrator final : public TissueIntegrator {
     q_ = Phi_.transpose() * (M_ * u);  // projection on the kept modes (Phi^T M Phi = I)
     qd_ = Phi_.transpose() * (M_ * v);
     qdd_ = Phi_.transpose() * (M_ * a);
+    for (auto& h : h_) h = q_;
     gres_.setZero();
-    fprev_.setZero();
+    gdot_.setZero();
+    for (auto& h : Hr_) h.setZero();
     resid_dirty_ = true;
   }
 
@@ -365,11 +418,14 @@ class ReducedIntegrator final : public TissueIntegrator {
   double alpha_, beta_;
   PathMap map_;
   NewmarkCoefficients c_;
-  double gam_ = 0.5, cg_ = 0, cf0_ = 0, cf1_ = 1;
+  double gam_ = 0.5, r_ = 0, cf1_ = 1;
+  materials::Prony prony_;
+  PronyStep ps_;
+  std::vector<Eigen::VectorXd> h_, Hr_;  // Prony histories: kept modes, residual filter
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kf_;
   Eigen::MatrixXd Phi_, Zs_, R_, S_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> PhiP_;
-  Eigen::VectorXd w2_, damp_, q_, qd_, qdd_, q0_, invA_, h_, gres_, fprev_, t_;
+  Eigen::VectorXd w2_, damp_, q_, qd_, qdd_, q0_, invA_, hq_, gres_, gdot_, t_, histr_;
   mutable Eigen::VectorXd ures_;
   mutable bool resid_dirty_ = true;
 };
@@ -390,6 +446,16 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
     elem_mat_[static_cast<std::size_t>(e)] = cfg.layers[L].second;
     elem_mat_[static_cast<std::size_t>(e)].thickness = cfg.material.thickness;
     elem_mat_[static_cast<std::size_t>(e)].plane_strain = cfg.material.plane_strain;
+  }
+  if (cfg.stiffening_factor != 1.0 && cfg.stiffening_radius > 0.0) {
+    if (!(cfg.stiffening_factor > 0.0)) throw SolverError("realtime2d: the stiffening factor must be > 0");
+    // Seed 003 section 3.5 item 4: the tissue around the needle path is stiffer (the shaft
+    // confines it), so nodes next to the shaft are dragged less and the needle slips past.
+    for (int e = 0; e < mesh_.elementCount(); ++e) {
+      Eigen::Vector2d c = Eigen::Vector2d::Zero();
+      for (int a = 0; a < 4; ++a) c += 0.25 * mesh_.nodes.col(mesh_.quads(a, e));
+      if (std::abs((c - entry).dot(n_)) <= cfg.stiffening_radius) elem_mat_[static_cast<std::size_t>(e)].E *= cfg.stiffening_factor;
+    }
   }
   const auto asm_ = assemble(mesh_, elem_mat_, cfg.lumped_mass);
   const int N = mesh_.nodeCount();
@@ -451,19 +517,21 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
                      map_.free_of_dof[static_cast<std::size_t>(2 * p.node + 1)]});
 
   PathMap pm{&pdof_, t_, n_};
+  materials::Prony prony{cfg.prony};
+  prony.validate();
   Backend chosen = cfg.backend;
   if (chosen == Backend::Auto) chosen = map_.freeCount() <= cfg.modal_max_dofs ? Backend::Modal : Backend::Reduced;
   const double a = cfg.rayleigh_alpha, b = cfg.rayleigh_beta;
   if (chosen == Backend::Modal) {
-    impl_ = std::make_unique<ModalIntegrator>(K_, M_, a, b, pm);
+    impl_ = std::make_unique<ModalIntegrator>(K_, M_, a, b, pm, prony);
   } else if (chosen == Backend::Reduced) {
     // Keep the modes whose Rayleigh creep rate beta w^2 is below 20/dt (their inertia
     // matters within a step); all faster ones are residual (quasi-static creep).
     double cutoff = cfg.reduced_cutoff;
     if (!(cutoff > 0.0)) cutoff = b > 0.0 ? std::sqrt(20.0 / (b * dt)) : 2.0 / dt;
-    impl_ = std::make_unique<ReducedIntegrator>(K_, M_, a, b, pm, cutoff, cfg.reduced_max_modes);
+    impl_ = std::make_unique<ReducedIntegrator>(K_, M_, a, b, pm, cutoff, cfg.reduced_max_modes, prony);
   } else {
-    impl_ = std::make_unique<DirectIntegrator>(K_, M_, a, b, pm);
+    impl_ = std::make_unique<DirectIntegrator>(K_, M_, a, b, pm, prony);
   }
   // Conditionally stable Newmark: dt w_max <= 1 / sqrt(gamma/2 - beta) (undamped limit).
   dt_limit_ = std::numeric_limits<double>::infinity();

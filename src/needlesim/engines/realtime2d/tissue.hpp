@@ -28,6 +28,7 @@
 
 #include "needlesim/engines/realtime2d/fe.hpp"
 #include "needlesim/engines/realtime2d/mesh.hpp"
+#include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::realtime2d {
 
@@ -59,6 +60,13 @@ struct TissueConfig {
   // Layered block: materials by depth band (x of each band's far boundary, ascending);
   // when not empty it replaces `material` element by element (thickness from `material`).
   std::vector<std::pair<double, ElasticMaterial>> layers;
+  // Prony terms (materials/viscoelastic.hpp, seed 001 eqs 1-4): QLV relaxation of the whole
+  // stiffness, K -> K G(t) with G = g_inf + sum g_i exp(-t/tau_i); empty = elastic.
+  std::vector<materials::PronyTerm> prony;
+  // Stiffening around the needle (seed 003 section 3.5 item 4): elements whose centre lies
+  // within `stiffening_radius` of the path line have E times `stiffening_factor`.
+  double stiffening_factor = 1.0;
+  double stiffening_radius = 0.0;  // m
   Backend backend = Backend::Auto;
   int modal_max_dofs = 2600;  // Auto picks Modal up to this many free DOFs, Reduced above
   // Reduced: keep the modes below this frequency (rad/s; 0 = sqrt(20 / (beta dt))), at most
