@@ -102,6 +102,7 @@ class DirectIntegrator final : public TissueIntegrator {
     Eigen::SparseMatrix<double> A = K_ * (ps_.F + c.a1 * beta_) + M_ * (c.a0 + c.a1 * alpha_);
     ldlt_.compute(A);
     if (ldlt_.info() != Eigen::Success) throw SolverError("realtime2d: the effective tissue matrix is not positive definite");
+    invD_ = ldlt_.vectorD().cwiseInverse();  // vectorD() returns a copy: keep it out of step()
     const int P = map_.size();
     Z_.resize(K_.rows(), P);
     Eigen::VectorXd g(K_.rows());
@@ -127,7 +128,12 @@ class DirectIntegrator final : public TissueIntegrator {
     }
     b_.noalias() = M_ * t1_;
     b_.noalias() += K_ * t2_;
-    u0_ = ldlt_.solve(b_);
+    // ldlt_.solve(b_) without its temporary: P^T L^-T D^-1 L^-1 P b, in place (no allocation).
+    an_.noalias() = ldlt_.permutationP() * b_;
+    ldlt_.matrixL().solveInPlace(an_);
+    an_.array() *= invD_.array();
+    ldlt_.matrixU().solveInPlace(an_);
+    u0_.noalias() = ldlt_.permutationPinv() * an_;
     for (int k = 0; k < map_.size(); ++k) u0P[k] = map_.gather(u0_, k);
   }
   void commit(const Eigen::VectorXd& f) override {
@@ -155,7 +161,7 @@ class DirectIntegrator final : public TissueIntegrator {
   NewmarkCoefficients c_;
   Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> ldlt_;
   Eigen::MatrixXd Z_, S_;
-  Eigen::VectorXd u_, v_, a_, b_, u0_, t1_, t2_, an_, hist_;
+  Eigen::VectorXd u_, v_, a_, b_, u0_, t1_, t2_, an_, hist_, invD_;
   materials::Prony prony_;
   PronyStep ps_;
   std::vector<Eigen::VectorXd> H_;
