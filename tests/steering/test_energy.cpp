@@ -7,6 +7,7 @@
 #include <numbers>
 #include <vector>
 
+#include "needlesim/engines/steering/curvature_fit.hpp"
 #include "needlesim/engines/steering/energy_model.hpp"
 #include "needlesim/engines/steering/table2.hpp"
 
@@ -80,11 +81,93 @@ TEST(EnergyModel, SubStepOneReactionBalancesTheInputForce) {
 }
 
 // Known open issue (docs/models/bevel-tip-energy.md): with the two-piece trial
-// functions of eq 45 the final deflection barely depends on the diameter.
+// functions of eq 45 the final deflection barely depends on the diameter. The
+// path-window frame (choice 9) has the trend in curvature
+// (EnergyModelWindow.CurvatureRisesWithSmallerDiameter) but at these Fig 22 inputs
+// (beta/alpha 0.5, 45 deg) both of its paths curl past a quarter turn within 150 mm,
+// so this final-deflection comparison still fails there (thin 87 mm, thick 107 mm).
 TEST(EnergyModel, DISABLED_DeflectionRisesWithSmallerDiameter) {
   const double thin = std::abs(runEnergyModel(fig22(0.3e-3, 0.5)).final_deflection);
   const double thick = std::abs(runEnergyModel(fig22(0.6e-3, 0.5)).final_deflection);
   EXPECT_GT(thin, 1.2 * thick);
+}
+
+// [choice 9] path-attached Ritz window: the tip turns by the same angle per unit
+// advance, so the curvature is a property of the needle and tissue.
+namespace {
+EnergyParams windowed(EnergyParams p) {
+  p.frame = EnergyFrame::PathWindow;
+  return p;
+}
+double wholeCurvature(const EnergyParams& p) {
+  std::vector<Eigen::Vector3d> path;
+  runEnergyModel(p, &path);
+  return 1.0 / fitCircle(path).radius;
+}
+}  // namespace
+
+TEST(EnergyModelWindow, CurvatureRisesWithSmallerDiameter) {
+  // Fig 22 / Table 2: thinner needles bend more (EI ~ d^4; the window model gives
+  // kappa ~ tan(beta) (K_T/EI)^(1/4) ~ 1/d). beta/alpha 0.25 keeps both paths below a half turn.
+  const double thin = wholeCurvature(windowed(fig22(0.3e-3, 0.25)));
+  const double thick = wholeCurvature(windowed(fig22(0.6e-3, 0.25)));
+  EXPECT_GT(thin, 1.6 * thick);
+  EXPECT_LT(thin, 2.4 * thick);
+  const double d_thin = std::abs(runEnergyModel(windowed(fig22(0.3e-3, 0.25))).final_deflection);
+  const double d_thick = std::abs(runEnergyModel(windowed(fig22(0.6e-3, 0.25))).final_deflection);
+  EXPECT_GT(d_thin, 1.2 * d_thick);
+}
+
+TEST(EnergyModelWindow, CurvatureRisesWithCutAngle) {
+  double prev = 0;
+  for (double br : {0.25, 0.5, 0.75, 1.0}) {
+    const double k = wholeCurvature(windowed(fig22(0.4e-3, br)));
+    EXPECT_GT(k, prev * 1.2) << br;
+    prev = k;
+  }
+}
+
+TEST(EnergyModelWindow, PathIsNearlyCircular) {
+  // seed 002 section 5.1: the radius stays nearly constant over the three 50 mm sections
+  for (const auto& c : table2Cases()) {
+    EnergyParams p = windowed(fig22(c.diameter, c.beta_tip));
+    p.alpha = c.alpha;
+    p.K_T = c.K_T;
+    p.P_input = c.P_input;
+    std::vector<Eigen::Vector3d> path;
+    runEnergyModel(p, &path);
+    const SectionRadii s = sectionRadii(path);
+    for (double rho : s.rho) EXPECT_NEAR(rho / s.whole, 1.0, 0.3) << c.gel << " " << c.diameter;
+  }
+}
+
+TEST(EnergyModelWindow, KeepsTheSubStepBalancesAndTheSymmetricTip) {
+  EnergyParams p = windowed(fig22(0.4e-3, 0.5));
+  p.insertion = 0.01;
+  std::vector<EnergyIncrement> inc;
+  runEnergyModel(p, nullptr, 1e-3, &inc);
+  ASSERT_GT(inc.size(), 10u);
+  for (const auto& e : inc) EXPECT_NEAR(e.H, -p.P_input, 1e-9 * p.P_input);  // eq 27, uncapped
+  const int n1 = static_cast<int>(inc.size());
+  p.P_input *= 4;
+  EXPECT_LT(runEnergyModel(p).increments, n1);  // Fig 21(c)
+  p = windowed(fig22(0.4e-3, 0.0));
+  std::vector<Eigen::Vector3d> path;
+  EXPECT_EQ(runEnergyModel(p, &path).final_deflection, 0.0);
+  for (const auto& x : path) EXPECT_EQ(x.y(), 0.0);
+}
+
+TEST(EnergyModelWindow, BevelFlipTurnsThePathBack) {
+  // a flip halfway makes an S: the tip ends parallel to the axis, the deflection about halves
+  EnergyParams p = windowed(fig22(0.4e-3, 0.25));
+  std::vector<EnergyIncrement> a, b;
+  const double d0 = runEnergyModel(p, nullptr, 1e-3, &a).final_deflection;
+  p.flip_depths = {0.075};
+  const double d1 = runEnergyModel(p, nullptr, 1e-3, &b).final_deflection;
+  EXPECT_LT(d0, 0.0);  // same side as the eq 45 reading (the engine maps y = v)
+  EXPECT_LT(std::abs(d1), 0.6 * std::abs(d0));
+  EXPECT_GT(std::abs(d1), 0.3 * std::abs(d0));
+  EXPECT_LT(std::abs(b.back().phi), 0.05 * std::abs(a.back().phi));
 }
 
 TEST(EnergyModel, RejectsNonPhysicalInput) {

@@ -1,5 +1,6 @@
 #include "needlesim/engines/steering/energy_model.hpp"
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -55,6 +56,119 @@ inline void evalPrev(const Vec4& c, double l_old, double x, double& v, double& d
   dv = needle::hermiteDN(xi, h).dot(q);
 }
 
+// [choice 9] PathWindow: the Ritz trial space is `window_elements` Hermite pieces over a
+// window of `window` foundation lengths behind the tip, in a frame attached to the cut
+// path (v_{i-1} of eqs 35, 40, 42 = the channel, so the increment deflection is measured
+// from it) and clamped to it at the window base (eqs 47-48 moved to the window base): the
+// tissue holds the needle behind the window. Within the window the channel is straight in
+// its own frame and the roller sits at beta from the tip tangent (eq 47, beta + phi with
+// phi = the tip angle of eq 29 measured in that frame = 0). Near the entry the window
+// reaches back into the support sheath (seed 002 section 2.4.2), taken as a straight
+// continuation of the channel with the same support. The window problem is then the same
+// in every increment: it is assembled and factored once, and each increment is linear in
+// its advance. The tissue keeps the sub-step-2 tip position and tip rotation (the new
+// channel node, as in the beam-on-foundation engine); the tip then advances straight.
+EnergyResult runWindow(const EnergyParams& p, double EI, double EA, double A, std::vector<Eigen::Vector3d>* path,
+                       double record_every, std::vector<EnergyIncrement>* incs) {
+  const int ne = p.window_elements, nd = 2 * ne;
+  const double lambda = std::sqrt(std::sqrt(p.K_T / (4 * EI)));
+  const double Lw = p.window / lambda, h = Lw / ne;
+  Eigen::MatrixXd Kb = Eigen::MatrixXd::Zero(nd, nd), Kf = Kb;
+  const Mat4 kb = needle::bendingStiffness(EI, h), kf = needle::foundationStiffness(p.K_T, h);
+  for (int e = 0; e < ne; ++e) {  // element e: dofs (2e-2, 2e-1, 2e, 2e+1); base clamped
+    const int d[4] = {2 * e - 2, 2 * e - 1, 2 * e, 2 * e + 1};
+    for (int i = 0; i < 4; ++i)
+      for (int j = 0; j < 4; ++j)
+        if (d[i] >= 0 && d[j] >= 0) {
+          Kb(d[i], d[j]) += kb(i, j);  // eq 35, increment term
+          Kf(d[i], d[j]) += kf(i, j);  // eq 40
+        }
+  }
+  const Eigen::LDLT<Eigen::MatrixXd> ldlt(Kb + Kf);
+  Eigen::VectorXd e = Eigen::VectorXd::Zero(nd);
+  e(nd - 2) = 1.0;  // tip deflection dof
+  const Eigen::VectorXd g = ldlt.solve(e);  // sub-step 1 shape per unit tip reaction
+  const double k_eff = 1.0 / g(nd - 2);
+  // sub-step 2 per unit V: K D = Kf D1 - Q e with D1 = V g, Q = V (phi = 0 in the frame)
+  // [choices 1-2]
+  const Eigen::VectorXd s2 = ldlt.solve(Kf * g - e);
+  const double s2_UB = 0.5 * s2.dot(Kb * s2), s2_UT = 0.5 * s2.dot(Kf * s2);
+
+  const double beta0 = p.beta_ratio * p.alpha;
+  const double P_eff = (1.0 - p.friction_fraction) * p.P_input;  // Fig 23 [choice 7]
+  const double tear = p.tear_length >= 0 ? p.tear_length : p.diameter / 2;
+  EnergyResult r;
+  struct Node {
+    double s, x, y, th;
+  };
+  std::vector<Node> nodes;  // channel nodes (arc length, position, tangent angle)
+  double l = p.initial_length, X = l, Y = 0.0, th = 0.0;
+  nodes.push_back({0.0, 0.0, 0.0, 0.0});
+  nodes.push_back({l, X, Y, th});
+  if (path) path->push_back(Eigen::Vector3d(X, Y, 0));
+  double next_record = l + record_every;
+  size_t next_flip = 0;
+  double sign = 1.0;
+  while (l < p.insertion && r.increments < p.max_increments) {
+    while (next_flip < p.flip_depths.size() && p.flip_depths[next_flip] <= l) {
+      sign = -sign;
+      ++next_flip;
+    }
+    const double tau = std::tan(sign * beta0);  // eq 47 in the path frame
+    double u2;
+    if (std::abs(tau) < 1e-12) {
+      u2 = p.max_step;  // [choice 4]
+      r.capped = true;
+    } else {
+      u2 = P_eff / (k_eff * tau * tau);  // d Lambda_1 / d u = 0
+      if (u2 > p.max_step) {
+        u2 = p.max_step;
+        r.capped = true;
+      }
+    }
+    const double V = k_eff * tau * u2;  // eq 28 [choice 3]
+    const double H = -V * tau;          // eq 27
+    const double u0 = u2 - H * l / EA;  // base advance u(0)
+    const double wt = V * s2(nd - 2), rt = V * s2(nd - 1);  // sub-step 2 tip deflection, rotation
+    r.W_Q += -V * wt;                                        // eq 42
+    r.W_P += H * H * l / EA;                                 // eq 43, u(l) - u(0) = -H l / EA
+    r.U_B += V * V * s2_UB;                                  // eq 35, increment part
+    r.U_T += V * V * s2_UT;                                  // eq 40
+    r.W_input += P_eff * u0;                                 // eq 41 [choice 1]
+    r.W_R += tear * p.Gc * u0;                               // eq 44 [choice 5]
+    // the tissue keeps the tip where sub-step 2 leaves it: new channel node
+    X += -std::sin(th) * wt;
+    Y += std::cos(th) * wt;
+    th += rt;
+    nodes.back() = {l, X, Y, th};
+    ++r.increments;
+    if (incs) {
+      // display shape: the channel sampled at l/2 and l (small-slope entry frame)
+      const double sh = 0.5 * l;
+      const auto it = std::lower_bound(nodes.begin(), nodes.end(), sh, [](const Node& n, double v) { return n.s < v; });
+      const Node& nh = it == nodes.end() ? nodes.back() : *it;
+      const Vec4 c(nh.y, std::tan(nh.th), Y, std::tan(th));
+      incs->push_back({l, X, Y, th, H * std::cos(th) - V * std::sin(th), H * std::sin(th) + V * std::cos(th), H, V, c});
+    }
+    const double l_old = l;
+    if (path && (l + u0 >= next_record || l + u0 >= p.insertion)) {
+      path->push_back(Eigen::Vector3d(X, Y, 0));
+      next_record = l_old + record_every;
+    }
+    if (l_old + u0 >= p.insertion) break;  // last node recorded at the end of the insertion
+    // advance straight along the new tip tangent (choice 2: beyond the tip v_{i-1} is straight)
+    l += u0;
+    X += std::cos(th) * u0;
+    Y += std::sin(th) * u0;
+    nodes.push_back({l, X, Y, th});
+  }
+  if (p.medium_volume > 0 && p.E_T > 0)  // eq 39 (reporting only)
+    r.U_C = p.E_T * (A * l) * (A * l) / (3 * p.medium_volume * (1 - 2 * p.nu_T));
+  r.final_deflection = Y;
+  r.final_length = l;
+  return r;
+}
+
 }  // namespace
 
 double energyDeflection(const Eigen::Vector4d& c, double l, double x) {
@@ -74,8 +188,12 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
   if (!(p.initial_length > 0 && p.max_step > 0 && p.insertion > p.initial_length))
     throw std::invalid_argument("energy model needs 0 < initial_length < insertion, max_step > 0");
 
+  if (p.frame == EnergyFrame::PathWindow && !(p.window > 0 && p.window_elements >= 1))
+    throw std::invalid_argument("energy model path window needs window > 0 and window_elements >= 1");
+
   const needle::Section sec{p.E, p.diameter, p.inner_diameter};
   const double EI = sec.EI(), EA = sec.EA(), A = sec.area();
+  if (p.frame == EnergyFrame::PathWindow) return runWindow(p, EI, EA, A, path, record_every, incs);
   const double beta0 = p.beta_ratio * p.alpha;
   const double P_eff = (1.0 - p.friction_fraction) * p.P_input;  // Fig 23 [choice 7]
   const double tear = p.tear_length >= 0 ? p.tear_length : p.diameter / 2;

@@ -12,6 +12,13 @@
 
 namespace needlesim::steering {
 
+// Where the Ritz trial functions live [choice 9, docs/models/bevel-tip-energy.md]:
+// Entry = the paper's eq 45 literally, two Hermite pieces over the whole inserted
+// length clamped at the entry; PathWindow = Hermite pieces over a window of
+// `window` foundation lengths (4 EI/K_T)^(1/4) behind the tip, in a frame attached
+// to the cut path and clamped to it at the window base.
+enum class EnergyFrame { Entry, PathWindow };
+
 struct EnergyParams {
   double E = 50e9;          // Pa, needle Young's modulus (Nitinol, seed 002 section 5.2)
   double diameter = 0.0;    // m, needle diameter (solid)
@@ -29,6 +36,9 @@ struct EnergyParams {
   double max_step = 1e-3;   // m, cap on the advance of one increment [choice 4]
   int max_increments = 2000000;
   std::vector<double> flip_depths;  // m, inserted lengths at which the bevel turns 180 deg
+  EnergyFrame frame = EnergyFrame::Entry;  // [choice 9]
+  double window = 4.0;      // PathWindow: window length in foundation lengths (4 EI/K_T)^(1/4)
+  int window_elements = 8;  // PathWindow: Hermite pieces over the window
 };
 
 struct EnergyIncrement {
@@ -38,7 +48,9 @@ struct EnergyIncrement {
   double phi = 0.0;      // rad, tip slope angle (eq 29)
   double P = 0.0, Q = 0.0;  // N, released tip loads (global, sub-step 2)
   double H = 0.0, V = 0.0;  // N, roller reactions (local, eqs 27-28)
-  Eigen::Vector4d coeffs = Eigen::Vector4d::Zero();  // (v, v') at l/2 and l: the needle shape
+  // (v, v') at l/2 and l: the needle shape (PathWindow: the cut path sampled there,
+  // a display approximation in the entry frame)
+  Eigen::Vector4d coeffs = Eigen::Vector4d::Zero();
 };
 
 // Deflection v(x) of the two-piece clamped Hermite shape (eq 45) of length l with

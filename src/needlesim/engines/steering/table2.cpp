@@ -39,15 +39,20 @@ const std::array<Table2Case, 12>& table2Cases() {
   return cases;
 }
 
+// Besides the models of table2.hpp: "energy-window" (path-attached Ritz window, choice 9 of
+// docs/models/bevel-tip-energy.md) and "energy-window-tip-beta" (the same with the section 3.1
+// beta/alpha fitted to the tip forces).
 Table2Row runTable2Case(const Table2Case& c, const std::string& model) {
   constexpr double L = 0.150;
   Table2Row row;
   row.deflection_exp = c.rho_exp * (1 - std::cos(L / c.rho_exp));
-  if (model == "energy") {
+  if (model == "energy" || model == "energy-window" || model == "energy-window-tip-beta") {
     EnergyParams p;
     p.diameter = c.diameter;
     p.alpha = c.alpha;
-    p.beta_ratio = c.beta_energy;
+    // section 5.2 beta/alpha; "-tip-beta": the section 3.1 values fitted to the tip forces
+    p.beta_ratio = model == "energy-window-tip-beta" ? c.beta_tip : c.beta_energy;
+    if (model != "energy") p.frame = EnergyFrame::PathWindow;  // [choice 9]
     p.K_T = c.K_T;
     p.P_input = c.P_input;
     p.insertion = L;
