@@ -1,6 +1,7 @@
 #include <algorithm>
 
 #include "needlesim/engines/engine.hpp"
+#include "needlesim/engines/explicit/explicit_engine.hpp"
 #include "needlesim/engines/lumped/lumped_engine.hpp"
 #include "needlesim/engines/mpm/mpm_engine.hpp"
 #include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
@@ -16,6 +17,7 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", engines::runEnergy},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)", engines::runBeamFoundation},
       {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", engines::runMpm},
+      {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", engines::runExplicit},
   };
   return list;
 }

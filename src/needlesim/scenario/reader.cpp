@@ -417,6 +417,36 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
     }
   }
 
+  Section exs = model.sub("explicit");
+  {
+    ExplicitModelSpec& x = sc.model.explicit_fe;
+    x.dimension = exs.choice("dimension") == "3d" ? 3 : 2;
+    if (exs.has("element")) x.element = exs.choice("element");
+    x.mesh = exs.text("mesh");
+    x.element_size = exs.number("element_size");
+    x.max_element_size = exs.number("max_element_size");
+    x.core_width = exs.number("core_width");
+    x.grading = exs.number("grading");
+    x.mass_scaling = exs.number("mass_scaling");
+    x.target_time_step = exs.number("target_time_step");
+    x.cfl = exs.number("cfl");
+    x.bulk_viscosity_linear = exs.number("bulk_viscosity_linear");
+    x.bulk_viscosity_quadratic = exs.number("bulk_viscosity_quadratic");
+    x.hourglass = exs.number("hourglass");
+    x.damping = exs.number("damping");
+    x.contact_penalty = exs.number("contact_penalty");
+    x.tip_friction = exs.number("tip_friction");
+    x.pre_cut = exs.boolean("pre_cut");
+    x.field_interval = exs.optNumber("field_interval").value_or(0.0);
+    x.threads = static_cast<int>(exs.number("threads"));
+    const bool is2d = x.dimension == 2;
+    if (!x.element.empty() && ((x.element == "quad4" || x.element == "tri3") != is2d))
+      throw exs.error("element", x.element, "does not match the dimension", is2d ? "quad4 or tri3 for 2d" : "hex8 or tet4 for 3d");
+    if (x.max_element_size < x.element_size)
+      throw exs.error("max_element_size", fmt::format("{:g} mm", x.max_element_size * 1e3), "is smaller than element_size",
+                      fmt::format(">= {:g} mm", x.element_size * 1e3));
+  }
+
   Section out = top.sub("output");
   sc.output.directory = out.text("directory");
   sc.output.interval = out.number("interval");

@@ -149,6 +149,29 @@ struct MpmModelSpec {
   std::string measured_force;        // CSV path (resolved against the scenario file), "" = none
 };
 
+// Explicit large-deformation FE (engines/explicit, docs/models/explicit.md).
+struct ExplicitModelSpec {
+  int dimension = 2;                 // 2 (plane strain) or 3
+  std::string element;               // quad4, tri3, hex8, tet4; "" = quad4 (2D) / hex8 (3D)
+  std::string mesh;                  // Gmsh .msh path (resolved against the scenario file); "" = graded block
+  double element_size = 0.5e-3;      // m, core element size around the needle path (seed 001: 0.25 mm)
+  double max_element_size = 3e-3;    // m, at the block boundary (seed 001: 3 mm)
+  double core_width = 6e-3;          // m, refined zone around the path (seed 001: 6 mm)
+  double grading = 1.25;             // growth ratio of neighbouring elements outside the core
+  double mass_scaling = 1.0;         // factor on the density
+  double target_time_step = 0.0;     // s, mass-scale elements below it (0 = off)
+  double cfl = 0.9;
+  double bulk_viscosity_linear = 0.06;
+  double bulk_viscosity_quadratic = 1.2;
+  double hourglass = 1.0;
+  double damping = 0.0;              // 1/s, mass-proportional
+  double contact_penalty = 0.2;      // k = penalty m / dt^2
+  double tip_friction = 0.0;         // Coulomb coefficient on the tip surface (seed 001: 0)
+  bool pre_cut = true;               // node-release seam along the needle path
+  double field_interval = 0.0;       // s, ParaView fields (0 = 20 frames over the run)
+  int threads = 0;                   // OpenMP threads (0 = all)
+};
+
 struct ModelSpec {
   std::string engine = "lumped";  // lumped (others are listed in docs/scenario-format.md)
   double time_step = 1e-3;        // s, output and integration step
@@ -156,6 +179,7 @@ struct ModelSpec {
   SteeringModelSpec steering;
   Realtime2dModelSpec realtime2d;
   MpmModelSpec mpm;
+  ExplicitModelSpec explicit_fe;  // `model.explicit` in a scenario
 };
 
 struct OutputSpec {

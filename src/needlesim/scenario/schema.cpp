@@ -160,7 +160,7 @@ std::vector<FieldDoc> build() {
   add(other("model", "engine", Kind::Choice, "lumped",
             "engine: lumped (seed 003 lumped force model), realtime2d (seed 003 2D FE tissue with a needle "
             "beam), kinematic, energy, beam-foundation (bevel-tip steering, seed 002), mpm (seed 000 3D "
-            "material point method). Reserved for later releases: explicit",
+            "material point method), explicit (large-deformation explicit FE with needle contact, seeds 001/004)",
             false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "explicit", "mpm"}));
   add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
   add(other("model", "lumped", Kind::Section, "", "parameters of the lumped force model", false, "lumped"));
@@ -256,6 +256,29 @@ std::vector<FieldDoc> build() {
   add(other("mpm", "measured_force", Kind::String, "",
             "CSV of a measured force curve (columns 'depth [mm]' and 'force [N]', any units); RMSE and MAE of seed 000 eq 35 "
             "are reported. Relative to the scenario file"));
+
+  add(other("model", "explicit", Kind::Section, "", "parameters of the explicit large-deformation FE engine (docs/models/explicit.md)", false, "explicit"));
+  add(other("explicit", "dimension", Kind::Choice, "2d", "2d (plane strain) or 3d", false, {}, {"2d", "3d"}));
+  add(other("explicit", "element", Kind::Choice, "quad4 (2d), hex8 (3d)",
+            "quad4 / hex8: one-point integration with hourglass control (CPE4R / C3D8R); tri3 / tet4: constant strain",
+            false, {}, {"quad4", "tri3", "hex8", "tet4"}));
+  add(other("explicit", "mesh", Kind::String, "", "Gmsh .msh (format 4.1 ASCII) instead of the graded block; relative to the scenario file"));
+  add(positive("explicit", "element_size", D::Length, "0.5 mm", "element size in the core around the needle path (seed 001: 0.25 mm)"));
+  add(positive("explicit", "max_element_size", D::Length, "3 mm", "element size at the block boundary (seed 001: 3 mm)"));
+  add(positive("explicit", "core_width", D::Length, "6 mm", "width of the refined core around the path (seed 001: 6 mm)"));
+  add(q("explicit", "grading", D::None, "1.25", 1.0, 3.0, false, false, "size ratio of neighbouring elements outside the core"));
+  add(q("explicit", "mass_scaling", D::None, "1", 1.0, 1e12, false, false, "factor on the density (the stable step grows with its square root)"));
+  add(nonneg("explicit", "target_time_step", D::Time, "0 s", "mass-scale the elements whose stable step is below this (0 = off)"));
+  add(q("explicit", "cfl", D::None, "0.9", 0.0, 1.0, true, false, "fraction of the stable time step used"));
+  add(nonneg("explicit", "bulk_viscosity_linear", D::None, "0.06", "linear bulk viscosity b1 (ABAQUS default)"));
+  add(nonneg("explicit", "bulk_viscosity_quadratic", D::None, "1.2", "quadratic bulk viscosity b2 (ABAQUS default)"));
+  add(nonneg("explicit", "hourglass", D::None, "1", "hourglass stiffness (1 = exact pure bending of a rectangular element)"));
+  add(nonneg("explicit", "damping", D::Frequency, "0 1/s", "mass-proportional damping (dynamic relaxation)"));
+  add(q("explicit", "contact_penalty", D::None, "0.2", 0.0, 1.0, true, true, "contact stiffness as a fraction of m/dt^2"));
+  add(nonneg("explicit", "tip_friction", D::None, "0", "Coulomb coefficient on the tip surface (seed 001: frictionless); the wall uses the layer's friction.coefficient"));
+  add(other("explicit", "pre_cut", Kind::Bool, "true", "pre-cut (node-release) seam along the needle path through the tip's leading point"));
+  add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
+  add(q("explicit", "threads", D::None, "0", 0.0, 1024.0, false, false, "OpenMP threads (0 = all cores)"));
 
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));

@@ -261,6 +261,15 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   dofGroup_.assign(ndof, -1);
   penetrationTol_ = opt_.penetrationTolerance > 0 ? opt_.penetrationTolerance : 0.5 * minSize_;
   releaseDistance_ = minSize_;
+  // stable step of the initial mesh, so that timeStep() is meaningful before the first step
+  switch (mesh_.type) {
+    case ElementType::Quad4: internalForces<4, 2>(0.0); break;
+    case ElementType::Tri3: internalForces<3, 2>(0.0); break;
+    case ElementType::Hex8: internalForces<8, 3>(0.0); break;
+    case ElementType::Tet4: internalForces<4, 3>(0.0); break;
+  }
+  elementUpdates_ = 0;
+  computeStableStep();
 }
 
 int ExplicitSolver::addGroup() {
@@ -553,8 +562,9 @@ void ExplicitSolver::computeStableStep() {
 
 void ExplicitSolver::step() {
   const std::size_t ndof = u_.size();
-  if (steps_ == 0 && dt_ == 0.0) {
-    // forces and stable step at the initial state
+  if (steps_ == 0) {
+    // forces and stable step at the initial state (initial displacement or velocity may have been set)
+    const double dtKeep = dt_;
     switch (mesh_.type) {
       case ElementType::Quad4: internalForces<4, 2>(0.0); break;
       case ElementType::Tri3: internalForces<3, 2>(0.0); break;
@@ -563,6 +573,7 @@ void ExplicitSolver::step() {
     }
     gatherForces();
     computeStableStep();
+    if (dtKeep > 0.0 && dtKeep < dt_) dt_ = dtKeep;  // a first step shortened by advanceTo
     double ke = 0;
     for (std::size_t k = 0; k < ndof; ++k) ke += 0.5 * mass_[k / dim_] * vHalf_[k] * vHalf_[k];
     en_.kinetic = en_.kinetic0 = ke;
@@ -685,7 +696,7 @@ void ExplicitSolver::setDisplacement(const std::vector<double>& u) {
 
 void ExplicitSolver::advanceTo(double t) {
   while (time_ < t * (1 - 1e-12) - 1e-300) {
-    if (steps_ > 0 && time_ + dt_ > t) dt_ = t - time_;
+    if (time_ + dt_ > t) dt_ = t - time_;
     step();
   }
 }

@@ -1,0 +1,293 @@
+#include "needlesim/engines/explicit/explicit_engine.hpp"
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
+#include "needlesim/engines/explicit/solver.hpp"
+#include "needlesim/insertion/motion_profile.hpp"
+#include "needlesim/io/field_series.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace needlesim::engines {
+
+using namespace explicit_fe;
+using Eigen::Vector3d;
+
+namespace {
+
+struct Setup {
+  Mesh mesh;
+  std::vector<std::pair<int, int>> seam;
+  double thickness = 1.0;  // m, out-of-plane extent of a 2D model
+};
+
+// Tissue block: depth x in [0, length] from the entry face, y across the width
+// (needle path at y = entry_offset), z across the height (path at z = 0).
+Setup buildMesh(const Scenario& sc, const ExplicitModelSpec& ex, const needle::NeedleShape& shape, double seamY,
+                bool seamOn) {
+  Setup s;
+  const auto& t = sc.tissue;
+  if (!ex.mesh.empty()) {
+    std::filesystem::path p = ex.mesh;
+    if (p.is_relative() && !sc.source.empty() && sc.source[0] != '<')
+      p = std::filesystem::path(sc.source).parent_path() / p;
+    s.mesh = readGmsh(p.string());
+    return s;
+  }
+  const double y0 = sc.insertion.entry_offset, h = ex.element_size, H = ex.max_element_size;
+  const double half = 0.5 * ex.core_width;
+  // along the path: the core size down to just past the deepest tip position, then graded
+  const double dmax = std::min(t.length, sc.maxDepth() + 2 * h);
+  auto xs = gradedCoordinates(0.0, t.length, 0.0, std::max(dmax, h), h, H, ex.grading);
+  auto ys = gradedCoordinates(-0.5 * t.width, 0.5 * t.width, y0 - half, y0 + half, h, H, ex.grading);
+  if (seamOn) snapCoordinate(ys, seamY);
+  const ElementType type = elementTypeFromName(ex.element.empty() ? (ex.dimension == 2 ? "quad4" : "hex8") : ex.element);
+  if (elementDim(type) != ex.dimension)
+    throw Error("model.explicit.element " + elementName(type) + " does not match dimension " +
+                std::to_string(ex.dimension) + "d");
+  if (ex.dimension == 2) {
+    s.mesh = structuredBlock(xs, ys, type);
+    s.thickness = 2 * shape.radius;
+  } else {
+    auto zs = gradedCoordinates(-0.5 * t.height, 0.5 * t.height, -half, half, h, H, ex.grading);
+    s.mesh = structuredBlock(xs, ys, zs, type);
+  }
+  // layers stacked from the entry face
+  double edge = 0;
+  std::vector<double> ends;
+  for (const auto& l : t.layers) ends.push_back(edge += l.thickness);
+  const int d = s.mesh.dim, npe = nodesPerElement(s.mesh.type);
+  for (int e = 0; e < s.mesh.elements(); ++e) {
+    double cx = 0;
+    for (int a = 0; a < npe; ++a) cx += s.mesh.coord(s.mesh.conn[e * npe + a], 0) / npe;
+    int r = 0;
+    while (r + 1 < static_cast<int>(ends.size()) && cx > ends[r]) ++r;
+    s.mesh.region[e] = r;
+  }
+  (void)d;
+  if (seamOn) s.seam = splitSeam(s.mesh, seamY, 0.0, dmax, ex.dimension == 3 ? shape.radius + 1.01 * h : 0.0);
+  return s;
+}
+
+io::CellType cellType(ElementType t) {
+  switch (t) {
+    case ElementType::Quad4: return io::CellType::Quad;
+    case ElementType::Tri3: return io::CellType::Triangle;
+    case ElementType::Hex8: return io::CellType::Hexa;
+    case ElementType::Tet4: return io::CellType::Tetra;
+  }
+  return io::CellType::Quad;
+}
+
+}  // namespace
+
+void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
+  const ExplicitModelSpec& ex = sc.model.explicit_fe;
+#ifdef _OPENMP
+  if (ex.threads > 0) omp_set_num_threads(ex.threads);
+#endif
+  if (sc.tissue.layers.empty()) throw Error("explicit: the tissue needs at least one layer");
+  const auto shape = needle::NeedleShape::fromSpec(sc.needle);
+  const int dim = ex.dimension;
+  // Needle frame (insertion plane x-y): axis at entry_angle to the entry face.
+  const double th = sc.insertion.entry_angle;
+  const Vector3d axis(std::sin(th), -std::cos(th), 0.0);
+  const Vector3d e1(-axis.y(), axis.x(), 0.0), e2 = Vector3d::UnitZ();
+  const double phi = sc.insertion.bevel_orientation;
+  const Vector3d bevelSide = dim == 2 ? Vector3d((std::cos(phi) >= 0 ? 1.0 : -1.0) * e1) : Vector3d(std::cos(phi) * e1 + std::sin(phi) * e2);
+  const Vector3d entry(0.0, sc.insertion.entry_offset, 0.0);
+  // The pre-cut seam runs through the leading point of the tip (the bevel's sharp point).
+  const bool aligned = std::abs(th - 0.5 * M_PI) < 1e-9 && std::abs(std::sin(phi)) < 1e-9;
+  const bool seamOn = ex.pre_cut && ex.mesh.empty() && aligned;
+  const double seamY =
+      sc.insertion.entry_offset - (sc.needle.tip == TipType::Bevel ? shape.radius * bevelSide.y() : 0.0);
+  Setup st = buildMesh(sc, ex, shape, seamY, seamOn);
+
+  std::vector<Material> mats;
+  for (const auto& l : sc.tissue.layers) mats.push_back(Material::fromSpec(l.material));
+  SolverOptions o;
+  o.massScaling = ex.mass_scaling;
+  o.targetTimeStep = ex.target_time_step;
+  o.cfl = ex.cfl;
+  o.bulkViscosityLinear = ex.bulk_viscosity_linear;
+  o.bulkViscosityQuadratic = ex.bulk_viscosity_quadratic;
+  o.hourglass = ex.hourglass;
+  o.damping = ex.damping;
+  o.contactPenalty = ex.contact_penalty;
+  const Mesh meshCopy = st.mesh;
+  ExplicitSolver solver(std::move(st.mesh), mats, o);
+  for (auto [a, b] : st.seam) solver.addTie(a, b);
+  // Distal face fixed (seed 001 section 3.2).
+  const int fixed = solver.addGroup();
+  for (int n = 0; n < meshCopy.nodes(); ++n)
+    if (meshCopy.coord(n, 0) > sc.tissue.length - 1e-9)
+      for (int i = 0; i < dim; ++i) solver.addDof(fixed, n, i);
+
+  MotionProfile motion(sc.insertion);
+  RigidNeedle nd;
+  nd.shape = shape;
+  nd.pose.axis = axis;
+  nd.pose.bevelSide = bevelSide;
+  nd.pose.tip = entry + motion.at(0.0).depth * axis;
+  nd.frictionWall = sc.tissue.layers.front().friction.coefficient;
+  nd.frictionTip = ex.tip_friction;
+  solver.setNeedle(nd);
+
+  const double T = motion.duration();
+  const double thick = dim == 2 ? st.thickness : 1.0;
+  const double outDt = sc.output.interval > 0 ? sc.output.interval : T / 500.0;
+  const double fieldDt = ex.field_interval > 0 ? ex.field_interval : T / 20.0;
+  const double depth0 = motion.at(0.0).depth;
+
+  io::Table series({{"time", "s"}, {"depth", "m"}, {"needle displacement", "m"}, {"force", "N"},
+                    {"lateral force", "N"}, {"tip force", "N"}, {"moment", "N m"}, {"contact nodes", "1"},
+                    {"kinetic energy", "J"}, {"internal energy", "J"}, {"strain energy", "J"},
+                    {"hourglass energy", "J"}, {"external work", "J"}, {"contact work", "J"},
+                    {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"}});
+  io::FieldSeries* fields = sink.fields("tissue", dim);
+  io::FieldSeries* needleFields = sink.fields("needle", dim);
+  if (fields) {
+    const int npe = nodesPerElement(meshCopy.type);
+    std::vector<int> conn(solver.mesh().conn.begin(), solver.mesh().conn.end());
+    (void)npe;
+    fields->setMesh(meshCopy.X, cellType(meshCopy.type), conn);
+  }
+  auto needleSurface = [&]() {
+    auto* n = solver.needle();
+    return dim == 2 ? needle::needleOutline2D(n->shape, n->pose) : needle::needleSurface3D(n->shape, n->pose, 24, 4);
+  };
+  if (needleFields) {
+    auto s = needleSurface();
+    std::vector<double> pts;
+    for (std::size_t i = 0; i < s.points.size() / 3; ++i)
+      for (int k = 0; k < dim; ++k) pts.push_back(s.points[3 * i + k]);
+    needleFields->setMesh(pts, dim == 2 ? io::CellType::Line : io::CellType::Triangle, s.cells);
+  }
+  std::vector<double> sig, vm, ls, J, xcur;
+  auto writeFields = [&]() {
+    if (fields) {
+      const auto& u = solver.displacement();
+      xcur.resize(u.size());
+      for (std::size_t k = 0; k < u.size(); ++k) xcur[k] = meshCopy.X[k] + u[k];
+      solver.cellFields(sig, vm, ls, J);
+      fields->beginStep(solver.time());
+      fields->stepPoints(xcur);
+      fields->pointData("displacement", u, dim);
+      fields->pointData("velocity", solver.velocity(), dim);
+      fields->cellData("cauchy_stress", sig, 6);
+      fields->cellData("von_mises", vm, 1);
+      fields->cellData("log_strain", ls, 6);
+      fields->cellData("J", J, 1);
+      fields->endStep();
+    }
+    if (needleFields) {
+      auto s = needleSurface();
+      std::vector<double> pts;
+      for (std::size_t i = 0; i < s.points.size() / 3; ++i)
+        for (int k = 0; k < dim; ++k) pts.push_back(s.points[3 * i + k]);
+      needleFields->beginStep(solver.time());
+      needleFields->stepPoints(pts);
+      needleFields->endStep();
+    }
+  };
+
+  double peak = 0, ratioMax = 0, balanceMax = 0, energyScale = 1e-300;
+  auto record = [&]() {
+    const auto* n = solver.needle();
+    const auto& E = solver.energies();
+    const double depth = (n->pose.tip - entry).dot(axis);
+    const double fAx = -n->force.dot(axis) * thick, fLat = n->force.dot(bevelSide) * thick;
+    const double tip = -n->tipForce.dot(axis) * thick;
+    const double ie = E.internal;
+    const double ratio = ie > 0 ? E.kinetic / ie : 0.0;
+    energyScale = std::max({energyScale, std::abs(ie), std::abs(E.externalWork), std::abs(E.contactWork), E.kinetic});
+    if (solver.time() > 0.1 * T) ratioMax = std::max(ratioMax, ratio);
+    balanceMax = std::max(balanceMax, std::abs(E.balance()));
+    peak = std::max(peak, fAx);
+    series.addRow({solver.time(), depth, depth - depth0, fAx, fLat, tip, n->moment.z() * thick,
+                   static_cast<double>(n->nodesInContact), E.kinetic * thick, ie * thick, E.strain * thick,
+                   E.hourglass * thick, E.externalWork * thick, E.contactWork * thick, E.balance() * thick, ratio,
+                   solver.timeStep(), static_cast<double>(st.seam.size() - solver.activeTies())});
+  };
+  auto flush = [&](const std::string& status) {
+    sink.table("explicit", series);
+    const auto disp = series.column("needle displacement"), force = series.column("force"),
+               time = series.column("time");
+    std::vector<double> dmm, tms;
+    for (double v : disp) dmm.push_back(v * 1e3);
+    io::Plot fp{"Needle force against needle displacement", "needle displacement [mm]", "force [N]", {}};
+    fp.series.push_back({"axial force (reaction at the base)", dmm, force});
+    fp.series.push_back({"tip surface", dmm, series.column("tip force"), false, true});
+    sink.plot(fp);
+    io::Plot ep{"Energies", "time [s]", "energy [J]", {}};
+    for (const char* c : {"kinetic energy", "internal energy", "external work", "contact work", "energy balance"})
+      ep.series.push_back({c, time, series.column(c)});
+    sink.plot(ep);
+    sink.result("peak_force", peak, "N", "largest axial needle force (reaction at the base)");
+    sink.result("final_force", force.empty() ? 0.0 : force.back(), "N", "axial needle force at the end");
+    sink.result("kinetic_internal_ratio_max", ratioMax, "1",
+                "largest kinetic / internal energy after the first 10 % (quasi-static if < 0.05-0.1)");
+    sink.result("energy_balance_error", balanceMax / energyScale, "1",
+                "largest |energy balance| / largest energy term");
+    sink.result("elements", solver.mesh().elements(), "1", "elements");
+    sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
+    sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");
+    sink.result("added_mass", solver.totalMass() / solver.physicalMass() - 1.0, "1", "mass added by mass scaling / physical mass");
+    if (dim == 2)
+      sink.note("2D plane strain: forces and energies are per metre of thickness times the needle diameter (" +
+                std::to_string(thick * 1e3) + " mm), i.e. a slab as thick as the needle.");
+    if (seamOn)
+      sink.note("The tissue is pre-cut along the needle path through the tip's leading point (node release when the "
+                "tip arrives): the fracture-energy-free limit of the cohesive zone of seeds 001/004.");
+    else
+      sink.note("No pre-cut seam (an imported mesh, an oblique entry or a rotated bevel): the needle indents the tissue.");
+    if (ratioMax > 0.1)
+      sink.note("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static; lower the mass "
+                "scaling or the speed.");
+    sink.note("Status: " + status);
+  };
+
+  Progress progress("explicit FE", options.progress);
+  auto t0 = std::chrono::steady_clock::now();
+  double nextOut = 0, nextField = 0;
+  try {
+    record();
+    writeFields();
+    nextOut = outDt;
+    nextField = fieldDt;
+    while (solver.time() < T * (1 - 1e-12)) {
+      const double t = solver.time(), dt = std::min(solver.timeStep(), T - t);
+      auto* n = solver.needle();
+      const auto ms = motion.at(t + 0.5 * dt);
+      n->pose.tip = entry + motion.at(t).depth * axis;
+      n->velocity = ms.velocity;
+      solver.advanceTo(std::min(T, t + solver.timeStep()));
+      if (solver.time() >= nextOut * (1 - 1e-9) || solver.time() >= T * (1 - 1e-12)) {
+        record();
+        nextOut += outDt;
+        progress.update(solver.time() / T);
+      }
+      if (solver.time() >= nextField * (1 - 1e-9)) {
+        writeFields();
+        nextField += fieldDt;
+      }
+    }
+  } catch (const SolverError& e) {
+    record();
+    flush(std::string("stopped: ") + e.what());
+    throw;
+  }
+  progress.finish();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  sink.result("element_updates_per_second", solver.elementUpdates() / std::max(wall, 1e-9), "1/s",
+              "element force evaluations per second of wall time");
+  flush("completed");
+}
+
+}  // namespace needlesim::engines
