@@ -4,6 +4,8 @@
 #include <fmt/format.h>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
@@ -11,6 +13,7 @@
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "needlesim/study/study.hpp"
 
 namespace needlesim::app {
 
@@ -60,18 +63,35 @@ void registerRunCommand(CLI::App& app) {
 
 void registerCheckCommand(CLI::App& app) {
   auto files = std::make_shared<std::vector<std::string>>();
-  auto* cmd = app.add_subcommand("check", "Validate scenario files without running them");
-  cmd->add_option("scenario", *files, "scenario files")->required();
+  auto* cmd = app.add_subcommand("check", "Validate scenario and study files without running them");
+  cmd->add_option("file", *files, "scenario or study files (a study is recognised by its 'vary' list)")->required();
   cmd->callback([files] {
+    int bad = 0;
     for (const auto& f : *files) {
-      Scenario sc = scenario::readFile(f);
-      if (!findEngine(sc.model.engine))
-        throw InputError(SourceLocation{f, 0, 0}, "model.engine", sc.model.engine,
-                         "is reserved for an engine that this build does not have yet", "lumped");
-      fmt::print("{}: ok ({} layer{}, engine {}, {:.3g} s of motion, max depth {:.4g} mm)\n", f,
-                 sc.tissue.layers.size(), sc.tissue.layers.size() == 1 ? "" : "s", sc.model.engine,
-                 sc.totalDuration(), sc.maxDepth() * 1e3);
+      try {
+        if (study::isStudyFile(f)) {
+          study::StudySpec spec = study::readStudyFile(f);
+          std::ifstream in(spec.scenario_file);
+          std::string base((std::istreambuf_iterator<char>(in)), {});
+          auto cases = study::expandCases(spec, base);  // reads every case as a scenario
+          fmt::print("{}: ok (study of {} cases on {})\n", f, cases.size(), spec.scenario_file.string());
+          continue;
+        }
+        Scenario sc = scenario::readFile(f);
+        if (!findEngine(sc.model.engine))
+          throw InputError(SourceLocation{f, 0, 0}, "model.engine", sc.model.engine,
+                           "is reserved for an engine that this build does not have yet", "see needlesim schema");
+        fmt::print("{}: ok ({} layer{}, engine {}, {:.3g} s of motion, max depth {:.4g} mm)\n", f,
+                   sc.tissue.layers.size(), sc.tissue.layers.size() == 1 ? "" : "s", sc.model.engine,
+                   sc.totalDuration(), sc.maxDepth() * 1e3);
+      } catch (const InputError& e) {
+        fmt::print(stderr, "error: {}\n", e.what());
+        ++bad;
+      }
     }
+    if (bad > 0)
+      throw InputError(SourceLocation{}, "", "", fmt::format("{} of {} files have errors (listed above)", bad, files->size()),
+                       "fix them and run needlesim check again");
   });
 }
 

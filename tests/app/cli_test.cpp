@@ -114,3 +114,20 @@ TEST(Cli, SchemaListsEveryFieldWithUnits) {
   for (const char* f : {"outer_diameter", "static_band", "puncture", "entry_angle", "time_step"})
     EXPECT_NE(r.out.find(f), std::string::npos) << f;
 }
+
+// Every scenario and study shipped in examples/ is valid (studies: every case is read).
+TEST(Cli, EveryShippedExampleAndStudyPassesCheck) {
+  std::string args;
+  int n = 0;
+  for (const auto& e : fs::recursive_directory_iterator(std::string(NEEDLESIM_SOURCE_DIR) + "/examples"))
+    if (e.path().extension() == ".yaml") {
+      args += " " + e.path().string();
+      ++n;
+    }
+  ASSERT_GT(n, 10);
+  auto r = runCli("check" + args);
+  EXPECT_EQ(r.code, 0) << r.out;
+  auto bad = runCli("check " + example("gelatin_18G_3mms.yaml") + " /no/such.yaml");
+  EXPECT_EQ(bad.code, 2);
+  EXPECT_NE(bad.out.find("1 of 2 files"), std::string::npos) << bad.out;
+}

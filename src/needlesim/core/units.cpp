@@ -174,6 +174,7 @@ std::string siName(const Dim& d) {
   if (d == dim::ForceTimePerArea) return "N s/m^2";
   if (d == dim::ForceTimePerLength) return "N s/m";
   if (d == dim::TorqueTimePerAngle) return "N m s/rad";
+  if (d == Dim{-2, 1, -2, 0}) return "N/m^3";  // spring support stiffness per area
   std::string s;
   auto part = [&](const char* sym, int e) {
     if (e == 0) return;
@@ -202,6 +203,7 @@ std::string examples(const Dim& d) {
   if (d == dim::Density) return "kg/m^3, g/cm^3";
   if (d == dim::ForcePerLength) return "N/m, N/mm, J/m^2";
   if (d == dim::ForceTimePerArea) return "N s/m^2, N s/mm^2";
+  if (d == Dim{-2, 1, -2, 0}) return "N/m^3, N/mm^3";
   return siName(d);
 }
 

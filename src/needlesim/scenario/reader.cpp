@@ -360,15 +360,17 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
       throw mpmSec.error("particle_spacing", fmt::format("{:g} mm", m.particle_spacing * 1e3),
                          "is larger than the grid spacing (cells without material points)",
                          fmt::format("<= grid_spacing = {:g} mm", m.grid_spacing * 1e3));
+    // Checks against the block size apply only when the MPM engine will build it.
+    const bool mpmRuns = sc.model.engine == "mpm";
     const double minSide = std::min({sc.tissue.length, sc.tissue.width, sc.tissue.height});
-    if (m.particle_spacing > 0.5 * minSide)
+    if (mpmRuns && m.particle_spacing > 0.5 * minSide)
       throw mpmSec.error("particle_spacing", fmt::format("{:g} mm", m.particle_spacing * 1e3),
                          "leaves fewer than 2 material points across the block",
                          fmt::format("<= {:g} mm", 0.5 * minSide * 1e3));
     const double cells = (sc.tissue.length / m.grid_spacing + 7) * (sc.tissue.width / m.grid_spacing + 7) *
                          (sc.tissue.height / m.grid_spacing + 7);
     const double points = sc.tissue.length * sc.tissue.width * sc.tissue.height / std::pow(m.particle_spacing, 3);
-    if (cells > 5e7 || points > 2e7)
+    if (mpmRuns && (cells > 5e7 || points > 2e7))
       throw mpmSec.error("grid_spacing", fmt::format("{:g} mm", m.grid_spacing * 1e3),
                          fmt::format("gives {:.3g} grid nodes and {:.3g} material points for the block", cells, points),
                          "at most 5e7 nodes and 2e7 points (coarser spacings)");

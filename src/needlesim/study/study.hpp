@@ -42,6 +42,8 @@ struct Case {
 };
 
 StudySpec readStudyFile(const std::filesystem::path& path);
+// True when the file is YAML with a top-level 'vary' list (a study, not a scenario).
+bool isStudyFile(const std::filesystem::path& path);
 // Expands the sampling method into cases; needs the base scenario text for
 // one-at-a-time (base values) and checks every case scenario is valid.
 std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml);

@@ -89,6 +89,15 @@ Method methodOf(const std::string& m) {
 
 }  // namespace
 
+bool isStudyFile(const fs::path& path) {
+  try {
+    YAML::Node root = YAML::LoadFile(path.string());
+    return root.IsMap() && root["vary"] && root["scenario"];
+  } catch (const std::exception&) {
+    return false;  // not readable as YAML: the scenario reader reports why
+  }
+}
+
 StudySpec readStudyFile(const fs::path& path) {
   std::string text = readAll(path, "a readable study file");
   auto file = std::make_shared<const std::string>(path.string());
