@@ -287,6 +287,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
     st.beta_over_alpha = steer.number("beta_over_alpha");
     st.input_force = steer.number("input_force");
     st.tip_load = steer.choice("tip_load");
+    st.energy_frame = steer.choice("energy_frame");
     st.increment = steer.number("increment");
     st.friction_dissipation = steer.number("friction_dissipation");
     st.tear_length = steer.optNumber("tear_length").value_or(0.0);  // 0: the needle radius

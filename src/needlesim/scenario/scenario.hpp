@@ -114,6 +114,7 @@ struct SteeringModelSpec {
   double beta_over_alpha = 0.5;   // cut angle / bevel angle (seed 002 sections 3.1, 5.2)
   double input_force = 5e-3;      // N, P_input (seed 002 section 5.2)
   std::string tip_load = "roller";  // roller (section 4 sub-step 1 reaction) | bevel-edges (eqs 24-26)
+  std::string energy_frame = "entry";  // entry | path-window (energy model trial-function frame)
   double increment = 1e-3;        // m, insertion increment / element length / path sampling
   double friction_dissipation = 0.0;  // energy: share of the input work lost to friction (Fig 23)
   double tear_length = 0.0;       // m, energy: a of eq 44; 0 = the needle radius

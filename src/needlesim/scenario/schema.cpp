@@ -178,6 +178,11 @@ std::vector<FieldDoc> build() {
             "sub-step-1 roller reaction P_input/tan(beta) that drives seed 002's section 5 model; "
             "bevel-edges = eqs 24-26 from K_T and the bevel geometry",
             false, {}, {"roller", "bevel-edges"}));
+  add(other("steering", "energy_frame", Kind::Choice, "entry",
+            "energy model trial functions: entry = clamped at the entry and spanning the inserted length "
+            "(the paper's eq 45 reading); path-window = Hermite pieces over 4 (4EI/K_T)^(1/4) behind the tip "
+            "in a frame attached to the cut path (circular paths; docs/models/bevel-tip-energy.md choice 9)",
+            false, {}, {"entry", "path-window"}));
   add(positive("steering", "increment", D::Length, "1 mm",
                "insertion increment (beam-foundation element length; path sampling)"));
   add(q("steering", "friction_dissipation", D::None, "0", 0.0, 1.0, false, true,

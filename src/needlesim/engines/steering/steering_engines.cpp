@@ -373,6 +373,7 @@ void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   p.medium_volume = sc.tissue.length * sc.tissue.width * sc.tissue.height;
   p.insertion = in.start + in.insertion;
   p.max_step = st.max_step;
+  p.frame = st.energy_frame == "path-window" ? steering::EnergyFrame::PathWindow : steering::EnergyFrame::Entry;
   // 2D: only 180-degree flips (seed 002 section 4 is planar)
   double s0 = in.start, orient = 0.0;
   for (std::size_t i = 0; i < in.plan.size(); ++i) {
