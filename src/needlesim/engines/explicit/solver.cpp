@@ -284,6 +284,21 @@ void ExplicitSolver::addTie(int a, int b) {
   tieOn_.push_back(1);
   ftie_.assign(u_.size(), 0.0);
 }
+void ExplicitSolver::setCohesive(CohesiveInterface c) {
+  if (dim_ != 2) throw Error("explicit FE: cohesive interfaces are 2D only");
+  coh_.assign(1, std::move(c));
+  fcoh_.assign(u_.size(), 0.0);
+  cohOmega2_ = coh_.front().maxOmega2(mass_);
+  cohesiveForces();
+  computeStableStep();
+}
+void ExplicitSolver::cohesiveForces() {
+  if (coh_.empty()) return;
+  std::fill(fcoh_.begin(), fcoh_.end(), 0.0);
+  coh_.front().addForces(mesh_.X, u_, fcoh_);
+  en_.cohesiveStored = coh_.front().stored();
+  en_.cohesiveDissipated = coh_.front().dissipated();
+}
 int ExplicitSolver::activeTies() const {
   int n = 0;
   for (char c : tieOn_) n += c;
@@ -548,6 +563,7 @@ void ExplicitSolver::contactForces(double dtStep) {
 
 void ExplicitSolver::computeStableStep() {
   double dt = opt_.cfl * dtStable_;
+  if (cohOmega2_ > 0) dt = opt_.cfl / std::sqrt(1.0 / (dtStable_ * dtStable_) + 0.25 * cohOmega2_);
   if (opt_.maxTimeStep > 0) dt = std::min(dt, opt_.maxTimeStep);
   if (dtInitial_ == 0.0) dtInitial_ = dt;
   if (!(dt > opt_.minTimeStepRatio * dtInitial_)) {
@@ -604,23 +620,24 @@ void ExplicitSolver::step() {
       const double ma = mass_[a], mb = mass_[b];
       for (int i = 0; i < d; ++i) {
         const std::size_t ka = static_cast<std::size_t>(a) * d + i, kb = static_cast<std::size_t>(b) * d + i;
-        double fa = fext_[ka] - fint_[ka] + fcon_[ka] - alpha * ma * vHalf_[ka];
-        double fb = fext_[kb] - fint_[kb] + fcon_[kb] - alpha * mb * vHalf_[kb];
+        double fa = fext_[ka] - fint_[ka] + fcon_[ka] - alpha * ma * vHalf_[ka] + (coh_.empty() ? 0.0 : fcoh_[ka]);
+        double fb = fext_[kb] - fint_[kb] + fcon_[kb] - alpha * mb * vHalf_[kb] + (coh_.empty() ? 0.0 : fcoh_[kb]);
         double tf = ma * (fa + fb) / (ma + mb) - fa;
         ftie_[ka] = tf;
         ftie_[kb] = -tf;
       }
     }
   }
-  const bool ties = !tieA_.empty();
-  double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0;
+  const bool ties = !tieA_.empty(), coh = !coh_.empty();
+  double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0, wCoh = 0;
   const int d = dim_;
-#pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp)
+#pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp, wCoh)
   for (std::size_t k = 0; k < ndof; ++k) {
     const double m = mass_[k / d];
     const double vOld = vHalf_[k];
     const double fd = -alpha * m * vOld;
-    const double ftot = fext_[k] - fint_[k] + fcon_[k] + fd + (ties ? ftie_[k] : 0.0);
+    const double fc = coh ? fcoh_[k] : 0.0;
+    const double ftot = fext_[k] - fint_[k] + fcon_[k] + fd + fc + (ties ? ftie_[k] : 0.0);
     const int grp = dofGroup_[k];
     double vNew, r = 0.0;
     if (grp >= 0) {
@@ -636,6 +653,7 @@ void ExplicitSolver::step() {
     wExt += (fext_[k] + r) * dw;
     wCon += fcon_[k] * dw;
     wDamp += fd * dw;
+    wCoh -= fc * dw;
     ke += 0.5 * m * vNew * vNew;
     keMid += 0.125 * m * (vOld + vNew) * (vOld + vNew);
     vHalf_[k] = vNew;
@@ -656,6 +674,7 @@ void ExplicitSolver::step() {
   en_.externalWork += wExt;
   en_.contactWork += wCon;
   en_.dampingWork += wDamp;
+  en_.cohesiveWork += wCoh;
   time_ += dt;
   dtPrev_ = dt;
   ++steps_;
@@ -671,6 +690,7 @@ void ExplicitSolver::step() {
   }
   gatherForces();
   contactForces(dt);
+  cohesiveForces();
   if (nhg_ > 0 && (steps_ & 15) == 0) {
     int e = static_cast<int>(std::max_element(hgStrain_.begin(), hgStrain_.end()) - hgStrain_.begin());
     if (hgStrain_[e] > opt_.hourglassStrainLimit)

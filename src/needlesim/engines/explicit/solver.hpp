@@ -23,6 +23,7 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/engines/explicit/cohesive.hpp"
 #include "needlesim/engines/explicit/mesh.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
 #include "needlesim/materials/viscoelastic.hpp"
@@ -61,9 +62,13 @@ struct Energies {
   double externalWork = 0.0;  // loads and reactions at prescribed dofs
   double contactWork = 0.0;   // work of contact forces on the body (negative = dissipated)
   double dampingWork = 0.0;   // work of mass-proportional damping (negative)
+  double cohesiveWork = 0.0;  // work done on the cohesive interface (= stored + dissipated)
+  double cohesiveStored = 0.0, cohesiveDissipated = 0.0;  // its split (cohesive.hpp)
   double kinetic0 = 0.0;
   // ETOTAL in ABAQUS terms: kinetic + internal - external - contact - damping, minus its start value.
-  double balance() const { return kinetic - kinetic0 + internal - externalWork - contactWork - dampingWork; }
+  double balance() const {
+    return kinetic - kinetic0 + internal + cohesiveWork - externalWork - contactWork - dampingWork;
+  }
 };
 
 struct RigidPlane {
@@ -104,6 +109,12 @@ class ExplicitSolver {
   void addTie(int a, int b);
   void setReleaseDistance(double d) { releaseDistance_ = d; }
   int activeTies() const;
+
+  // Cohesive zone on seam pairs (cohesive.hpp): forces join the internal forces,
+  // the stable step accounts for the pair springs. 2D only.
+  void setCohesive(CohesiveInterface c);
+  CohesiveInterface* cohesive() { return coh_.empty() ? nullptr : &coh_.front(); }
+  const CohesiveInterface* cohesive() const { return coh_.empty() ? nullptr : &coh_.front(); }
 
   int addPlane(const RigidPlane& plane);
   RigidPlane& plane(int i) { return planes_[i]; }
@@ -186,6 +197,11 @@ class ExplicitSolver {
   std::vector<char> tieOn_;
   std::vector<double> ftie_;
   double releaseDistance_ = 0.0;
+  // cohesive zone (0 or 1 interface)
+  std::vector<CohesiveInterface> coh_;
+  std::vector<double> fcoh_;
+  double cohOmega2_ = 0.0;
+  void cohesiveForces();
   // state
   double time_ = 0.0, dt_ = 0.0, dtPrev_ = 0.0, dtStable_ = 0.0, dtInitial_ = 0.0;
   double physicalMass_ = 0.0, minSize_ = 0.0;

@@ -1,0 +1,113 @@
+#pragma once
+// Cohesive zone for the explicit engine (docs/models/cohesive.md).
+//
+// Law: bilinear traction-separation (seed 001 eqs 5-6, seed 004 eq 14 and
+// Fig 9b) with one initial stiffness K = K_n = K_s (seed 004), normal and
+// shear strengths t_c, s_c and fracture energies G_Ic, G_IIc. Mixed mode as
+// Camanho, Davila & de Moura (2003, J. Compos. Mater. 37:1415): effective
+// separation delta_m = sqrt(<delta_n>^2 + delta_s^2), quadratic initiation
+// (<t_n>/t_c)^2 + (t_s/s_c)^2 = 1 and the linear energy criterion
+// G_I/G_Ic + G_II/G_IIc = 1 for full separation. Scalar damage
+// d = delta_f (delta_max - delta_0) / (delta_max (delta_f - delta_0)),
+// irreversible (d never decreases, no healing); unloading follows the damaged
+// secant (1 - d) K; compression is the undamaged penalty K (no
+// interpenetration of the crack faces, also after full damage); d = 1 is an
+// open crack (traction-free in tension and shear).
+//
+// Interface: 2D zero-thickness line elements on the node pairs of the
+// engine's seam (mesh.hpp splitSeam), integrated at the nodes (Newton-Cotes /
+// lumped: each pair carries its tributary reference length), which avoids the
+// spurious traction oscillations of Gauss integration in stiff interfaces.
+// Separation in the current mid-surface frame; the forces enter the explicit
+// force balance next to the internal forces; the work, stored energy and
+// dissipated energy are tracked for the energy balance.
+#include <Eigen/Core>
+#include <limits>
+#include <utility>
+#include <vector>
+
+namespace needlesim::explicit_fe {
+
+struct CohesiveLaw {
+  double stiffness = 0.0;       // K = K_n = K_s, Pa/m (traction per separation)
+  double strength = 0.0;        // t_c, normal strength, Pa
+  double shearStrength = 0.0;   // s_c, Pa (0 = t_c)
+  double energy = 0.0;          // G_Ic, J/m^2
+  double shearEnergy = 0.0;     // G_IIc, J/m^2 (0 = G_Ic)
+
+  double sc() const { return shearStrength > 0 ? shearStrength : strength; }
+  double G2() const { return shearEnergy > 0 ? shearEnergy : energy; }
+  double delta0() const { return strength / stiffness; }      // normal onset separation
+  double deltaF() const { return 2.0 * energy / strength; }   // normal final separation (seed 001 eq 6)
+  // Seed 004 section IV-A: K_n = K_s = E / T0 (T0 = constitutive thickness, the
+  // paper's "unit original constitutive thickness"), t_c = 2 G_c / delta_c.
+  static CohesiveLaw fromCriticalSeparation(double E, double T0, double Gc, double deltaC);
+  // Throws Error unless every parameter is positive and delta_0 < delta_f in both modes.
+  void validate() const;
+};
+
+struct CohesiveState {
+  double damage = 0.0;
+  double dissipated = 0.0;  // J/m^2
+  double Yprev = 0.0;       // 1/2 K delta_m^2 at the previous update (trapezoidal dissipation)
+};
+
+struct CohesiveTraction {
+  double tn = 0.0, ts = 0.0;  // Pa, on the upper face's separation (resisting)
+  double stored = 0.0;        // J/m^2, recoverable energy density
+};
+
+// Traction at separation (dn, ds); updates damage and dissipation irreversibly.
+// Dissipation increment Y dd with Y = 1/2 K delta_m^2 (trapezoidal in Y).
+CohesiveTraction cohesiveUpdate(const CohesiveLaw& law, double dn, double ds, CohesiveState& st);
+// Mixed-mode onset and final effective separations for mode ratio beta = ds / dn (dn > 0).
+void cohesiveMixedMode(const CohesiveLaw& law, double dn, double ds, double& d0, double& df);
+
+// Zero-thickness 2D line interface on seam node pairs (a on the lower face,
+// b on the upper face; reference normal from a's side to b's side).
+class CohesiveInterface {
+ public:
+  // pairs in any order; they are sorted along `direction` (the seam's reference
+  // tangent); the normal is `direction` turned +90 deg. `laws` has one entry per
+  // pair (same order as `pairs`) or a single entry for all. `thickness`: the
+  // out-of-plane extent (2D per metre: 1).
+  CohesiveInterface(const std::vector<double>& X, const std::vector<std::pair<int, int>>& pairs,
+                    std::vector<CohesiveLaw> laws, Eigen::Vector2d direction = Eigen::Vector2d::UnitX(),
+                    double thickness = 1.0);
+
+  // Extra tributary length at the first / last pair (half the segment to a
+  // shared, unsplit node beyond the seam's end: a closed crack tip).
+  void addEndLength(double first, double last);
+  // Adds the cohesive forces (on the nodes) for displacement u (2 per node) to f.
+  // Returns nothing; energies are updated (stored, dissipated).
+  void addForces(const std::vector<double>& X, const std::vector<double>& u, std::vector<double>& f);
+  // Largest natural frequency squared of a pair spring, K L w (1/m_a + 1/m_b).
+  double maxOmega2(const std::vector<double>& nodalMass) const;
+
+  int pairs() const { return static_cast<int>(a_.size()); }
+  int node(int p, int side) const { return side == 0 ? a_[p] : b_[p]; }
+  double tributaryLength(int p) const { return len_[p]; }
+  double position(int p) const { return s_[p]; }  // reference coordinate along the seam
+  const CohesiveState& state(int p) const { return st_[p]; }
+  double separationNormal(int p) const { return dn_[p]; }
+  double stored() const { return stored_; }          // J (2D: per `thickness`)
+  double dissipated() const { return dissipated_; }  // J
+  int fullyDamaged() const;
+  // Reference length with d = 1 and its farthest position along the seam (crack tip).
+  double crackedLength() const;
+  double crackTip(double threshold = 1.0 - 1e-12) const;
+  // Marks pairs as fully damaged (e.g. passed by the tip with release enabled); their
+  // remaining stored energy counts as dissipated.
+  void forceOpen(int p);
+
+ private:
+  std::vector<int> a_, b_;
+  std::vector<double> len_, s_, dn_;
+  std::vector<CohesiveLaw> law_;
+  std::vector<CohesiveState> st_;
+  std::vector<double> psi_;  // stored J/m^2 per pair
+  Eigen::Vector2d dir_;
+  double w_ = 1.0, stored_ = 0.0, dissipated_ = 0.0;
+};
+
+}  // namespace needlesim::explicit_fe
