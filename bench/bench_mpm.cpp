@@ -4,6 +4,9 @@
 #include <benchmark/benchmark.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <string>
 #include <numbers>
 
 #include "needlesim/engines/mpm/mpm_solver.hpp"
@@ -77,4 +80,31 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-BENCHMARK_MAIN();
+// `bench_mpm --steps N [--linear] [--usl]`: N steps of the 1-thread problem
+// without the benchmark harness, for instruction counts under
+// `valgrind --tool=callgrind` (docs/performance.md).
+int main(int argc, char** argv) {
+  int steps = -1;
+  Shape shape = Shape::BSpline2;
+  Update update = Update::MUSL;
+  for (int i = 1; i < argc; ++i) {
+    const std::string a = argv[i];
+    if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
+    if (a == "--linear") shape = Shape::Linear;
+    if (a == "--usl") update = Update::USL;
+  }
+  if (steps >= 0) {
+    MpmSolver s = makeNeedleProblem(shape, update, 1);
+    for (int i = 0; i < steps; ++i) {
+      s.step();
+      s.rigid(0).point += s.rigid(0).velocity * s.lastReport().dt;
+    }
+    std::printf("%zu particles, %d steps, contact nodes %d, force %.6e N\n", s.size(), steps,
+                s.rigidForce(0).contactNodes, s.rigidForce(0).total.x());
+    return 0;
+  }
+  benchmark::Initialize(&argc, argv);
+  benchmark::RunSpecifiedBenchmarks();
+  benchmark::Shutdown();
+  return 0;
+}

@@ -19,6 +19,11 @@ namespace needlesim::mpm {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+using A4 = Eigen::Array4d;  // four lanes of a grid record (two SSE2 packets)
+using M4 = Eigen::Map<A4, Eigen::Aligned16>;
+using C4 = Eigen::Map<const A4, Eigen::Aligned16>;
+// Offsets in a grid record (MpmSolver::Buf).
+constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
 
 inline int threadId() {
 #ifdef _OPENMP
@@ -29,10 +34,12 @@ inline int threadId() {
 }
 
 // Shape functions along one axis: base node index, weights and derivatives.
+// xi >= 0 inside the grid (finalize and g2pFinal check it), so truncation is
+// the floor (std::floor is a library call without SSE4.1).
 template <int S>
 inline int weights(double xi, double invh, double* w, double* dw) {
   if constexpr (S == 2) {  // linear hat
-    const double b = std::floor(xi);
+    const double b = static_cast<double>(static_cast<int>(xi));
     const double f = xi - b;
     w[0] = 1.0 - f;
     w[1] = f;
@@ -40,7 +47,7 @@ inline int weights(double xi, double invh, double* w, double* dw) {
     dw[1] = invh;
     return static_cast<int>(b);
   } else {  // quadratic B-spline, support 3 nodes
-    const double b = std::floor(xi - 0.5);
+    const double b = static_cast<double>(static_cast<int>(xi - 0.5));
     const double f = xi - b;  // in [0.5, 1.5)
     const double a0 = 1.5 - f, a1 = f - 1.0, a2 = f - 0.5;
     w[0] = 0.5 * a0 * a0;
@@ -180,17 +187,16 @@ std::size_t MpmSolver::addBlock(const Vec3& lo, const Vec3& hi, double dp, int m
 void MpmSolver::finalize() {
   const int B = cfg_.bodies;
   const std::size_t R = rigids_.size();
+  nr_ = B > 1 ? 16 : 8;
   buf_.resize(static_cast<std::size_t>(nthreads_));
   for (auto& b : buf_) {
-    b.mass.assign(B * nodes_, 0.0);
-    b.mom.assign(3 * B * nodes_, 0.0);
-    b.force.assign(3 * B * nodes_, 0.0);
-    if (B > 1) b.gradm.assign(3 * B * nodes_, 0.0);
-    if (B > 1) b.xm.assign(3 * B * nodes_, 0.0);
+    b.rec.assign(static_cast<std::size_t>(nr_) * B * nodes_, 0.0);
     b.gmin.assign(R * nodes_, kInf);
   }
-  vold_.assign(3 * B * nodes_, 0.0);
-  vnew_.assign(3 * B * nodes_, 0.0);
+  vel_.assign(8 * B * nodes_, 0.0);
+  vgx_.assign(size(), 0.0);
+  vgy_.assign(size(), 0.0);
+  vgz_.assign(size(), 0.0);
   active_.assign(R * nodes_, 0);
   rnormal_.assign(3 * R * nodes_, 0.0);
   rforce_.assign(R, RigidForce{});
@@ -366,15 +372,17 @@ void MpmSolver::fail(std::size_t p, int cause) const {
 // ---------------------------------------------------------------- grid buffers
 
 void MpmSolver::zeroBuffers(bool momentumOnly) {
+  const std::size_t nrec = static_cast<std::size_t>(cfg_.bodies) * nodes_;
+  const std::size_t NR = static_cast<std::size_t>(nr_);
 #pragma omp parallel num_threads(nthreads_)
   {
     Buf& b = buf_[static_cast<std::size_t>(threadId())];
-    std::fill(b.mom.begin(), b.mom.end(), 0.0);
-    if (!momentumOnly) {
-      std::fill(b.mass.begin(), b.mass.end(), 0.0);
-      std::fill(b.force.begin(), b.force.end(), 0.0);
-      std::fill(b.gradm.begin(), b.gradm.end(), 0.0);
-      std::fill(b.xm.begin(), b.xm.end(), 0.0);
+    if (momentumOnly) {
+      double* r = b.rec.data();
+      for (std::size_t J = 0; J < nrec; ++J)
+        for (std::size_t c = kP; c < kP + 3; ++c) r[NR * J + c] = 0.0;
+    } else {
+      std::fill(b.rec.begin(), b.rec.end(), 0.0);
       std::fill(b.gmin.begin(), b.gmin.end(), kInf);
     }
   }
@@ -382,28 +390,21 @@ void MpmSolver::zeroBuffers(bool momentumOnly) {
 
 void MpmSolver::reduceBuffers(bool momentumOnly) {
   if (nthreads_ == 1) return;
-  const std::size_t B = static_cast<std::size_t>(cfg_.bodies);
-  const std::size_t nm = B * nodes_, nv = 3 * B * nodes_, ng = rigids_.size() * nodes_;
-  const bool grad = B > 1;
+  const std::size_t nrec = static_cast<std::size_t>(cfg_.bodies) * nodes_;
+  const std::size_t NR = static_cast<std::size_t>(nr_);
+  const std::size_t ng = rigids_.size() * nodes_;
   Buf& out = buf_[0];
 #pragma omp parallel num_threads(nthreads_)
   {
     for (std::size_t t = 1; t < buf_.size(); ++t) {
       const Buf& in = buf_[t];
+      if (momentumOnly) {
 #pragma omp for schedule(static) nowait
-      for (std::size_t i = 0; i < nv; ++i) {
-        out.mom[i] += in.mom[i];
-        if (!momentumOnly) {
-          out.force[i] += in.force[i];
-          if (grad) {
-            out.gradm[i] += in.gradm[i];
-            out.xm[i] += in.xm[i];
-          }
-        }
-      }
-      if (!momentumOnly) {
+        for (std::size_t J = 0; J < nrec; ++J)
+          for (std::size_t c = kP; c < kP + 3; ++c) out.rec[NR * J + c] += in.rec[NR * J + c];
+      } else {
 #pragma omp for schedule(static) nowait
-        for (std::size_t i = 0; i < nm; ++i) out.mass[i] += in.mass[i];
+        for (std::size_t i = 0; i < NR * nrec; ++i) out.rec[i] += in.rec[i];
 #pragma omp for schedule(static) nowait
         for (std::size_t i = 0; i < ng; ++i) out.gmin[i] = std::min(out.gmin[i], in.gmin[i]);
       }
@@ -414,23 +415,35 @@ void MpmSolver::reduceBuffers(bool momentumOnly) {
 
 // ---------------------------------------------------------------- particle to grid (eqs 1-3)
 
-template <int S>
+// Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
+// grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
+// entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
+// is a fixed-length vector update of one cache line.
+template <int S, bool Grad>
 void MpmSolver::p2g() {
+  constexpr std::size_t NR = Grad ? 16 : 8;
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const int R = static_cast<int>(rigids_.size());
-  const bool grad = cfg_.bodies > 1;
-  const Vec3 g = cfg_.gravity;
+  // Cheap bound for the gap search: the signed distance to a needle is at
+  // least its distance to the shaft cylinder, r - R (the solid is an intersection).
+  struct Axis { Vec3 c, e; double rmax2; bool needle; };
+  std::array<Axis, 8> ax{};
+  const double gapReach = 2.0 * cfg_.h + cfg_.contactGap;
+  for (int r = 0; r < R && r < 8; ++r) {
+    const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
+    Axis& A = ax[static_cast<std::size_t>(r)];
+    A.needle = rb.kind == RigidBody::Kind::Needle && !rb.surfaceContact;
+    A.c = rb.tip == RigidBody::Tip::Bevel ? Vec3(rb.point - rb.radius * rb.bevelDir) : rb.point;
+    A.e = rb.axis;
+    A.rmax2 = (rb.radius + gapReach) * (rb.radius + gapReach);
+  }
 #pragma omp parallel num_threads(nthreads_)
   {
     Buf& B = buf_[static_cast<std::size_t>(threadId())];
-    double* __restrict gm = B.mass.data();
-    double* __restrict gp = B.mom.data();
-    double* __restrict gf = B.force.data();
-    double* __restrict gg = grad ? B.gradm.data() : nullptr;
-    double* __restrict gx_ = grad ? B.xm.data() : nullptr;
+    double* __restrict rec = B.rec.data();
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < np; ++p) {
       double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
@@ -438,46 +451,54 @@ void MpmSolver::p2g() {
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
       const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
       const double m = mass_[p];
-      const double mvx = m * vx_[p], mvy = m * vy_[p], mvz = m * vz_[p];
-      const double fgx = m * g.x(), fgy = m * g.y(), fgz = m * g.z();
+      const A4 q(m, m * vx_[p], m * vy_[p], m * vz_[p]);  // eqs 1-2
       const double J = F_[0][p] * (F_[4][p] * F_[8][p] - F_[5][p] * F_[7][p]) -
                        F_[1][p] * (F_[3][p] * F_[8][p] - F_[5][p] * F_[6][p]) +
                        F_[2][p] * (F_[3][p] * F_[7][p] - F_[4][p] * F_[6][p]);
       const double V = -vol0_[p] * J;  // -V sigma : grad N is the internal force
       const double s00 = V * sig_[0][p], s11 = V * sig_[1][p], s22 = V * sig_[2][p];
       const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
+      const double xp[3] = {px_[p], py_[p], pz_[p]};
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
-          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                  static_cast<std::size_t>(bz);
           const double wij = wx[i] * wy[j];
           const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
-          for (int k = 0; k < S; ++k) {
-            const std::size_t I = row + static_cast<std::size_t>(k);
-            const double w = wij * wz[k];
-            const double gx = gxij * wz[k], gy = gyij * wz[k], gz = wij * dz[k];
-            gm[I] += w * m;
-            gp[3 * I + 0] += w * mvx;
-            gp[3 * I + 1] += w * mvy;
-            gp[3 * I + 2] += w * mvz;
-            gf[3 * I + 0] += s00 * gx + s01 * gy + s02 * gz + w * fgx;
-            gf[3 * I + 1] += s01 * gx + s11 * gy + s12 * gz + w * fgy;
-            gf[3 * I + 2] += s02 * gx + s12 * gy + s22 * gz + w * fgz;
-            if (grad) {
-              gg[3 * I + 0] += m * gx;
-              gg[3 * I + 1] += m * gy;
-              gg[3 * I + 2] += m * gz;
-              gx_[3 * I + 0] += w * m * px_[p];
-              gx_[3 * I + 1] += w * m * py_[p];
-              gx_[3 * I + 2] += w * m * pz_[p];
+          double* __restrict r = rec + NR * (off + (static_cast<std::size_t>(bx + i) * n1 +
+                                                    static_cast<std::size_t>(by + j)) * n2 +
+                                             static_cast<std::size_t>(bz));
+          const A4 a0 = wij * q;
+          const A4 a1(s00 * gxij + s01 * gyij, s01 * gxij + s11 * gyij, s02 * gxij + s12 * gyij, 0.0);
+          const A4 b1(s02 * wij, s12 * wij, s22 * wij, 0.0);
+          if constexpr (Grad) {
+            const A4 a2(m * gxij, m * gyij, 0.0, wij * m * xp[0]);
+            const A4 b2(0.0, 0.0, m * wij, 0.0);
+            const A4 a3(wij * m * xp[1], wij * m * xp[2], 0.0, 0.0);
+            for (int k = 0; k < S; ++k, r += NR) {
+              M4(r) += wz[k] * a0;
+              M4(r + 4) += wz[k] * a1 + dz[k] * b1;
+              M4(r + 8) += wz[k] * a2 + dz[k] * b2;
+              M4(r + 12) += wz[k] * a3;
+            }
+          } else {
+            for (int k = 0; k < S; ++k, r += NR) {
+              M4(r) += wz[k] * a0;
+              M4(r + 4) += wz[k] * a1 + dz[k] * b1;
             }
           }
         }
       // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
       for (int r = 0; r < R; ++r) {
-        const double gap = rigids_[static_cast<std::size_t>(r)].distance(Vec3(px_[p], py_[p], pz_[p]), nullptr, nullptr);
-        if (gap > 2.0 * cfg_.h + cfg_.contactGap) continue;
+        const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
+        if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
+        if (r < 8 && ax[static_cast<std::size_t>(r)].needle) {
+          const Axis& A = ax[static_cast<std::size_t>(r)];
+          const Vec3 rel(xp[0] - A.c.x(), xp[1] - A.c.y(), xp[2] - A.c.z());
+          const double s = rel.dot(A.e);
+          if (rel.squaredNorm() - s * s > A.rmax2) continue;
+        }
+        const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
+        if (gap > gapReach) continue;
         double* gmin = B.gmin.data() + static_cast<std::size_t>(r) * nodes_;
         for (int i = 0; i < S; ++i)
           for (int j = 0; j < S; ++j)
@@ -548,6 +569,8 @@ void MpmSolver::gridUpdate() {
   const double gap = cfg_.contactGap;
   const double mu = cfg_.friction;
   const double pairGap = pairGap_;
+  const std::size_t NR = static_cast<std::size_t>(nr_);
+  const Vec3 g = cfg_.gravity;
   for (auto& a : rforceThread_) a.fill(0.0);
 #pragma omp parallel num_threads(nthreads_)
   {
@@ -558,25 +581,27 @@ void MpmSolver::gridUpdate() {
       bool any = false;
       for (int b = 0; b < B; ++b) {
         const std::size_t J = static_cast<std::size_t>(b) * nodes_ + I;
-        const double m = G.mass[J];
+        const double* r = &G.rec[NR * J];
+        double* v = &vel_[8 * J];
+        const double m = r[kM];
         mb[b] = m;
         if (!(m > 0)) {
-          for (int c = 0; c < 3; ++c) vold_[3 * J + c] = vnew_[3 * J + c] = 0.0;
+          for (int c = 0; c < 8; ++c) v[c] = 0.0;
           continue;
         }
         any = true;
         for (int c = 0; c < 3; ++c) {
-          const double p = G.mom[3 * J + c];
-          vold_[3 * J + c] = p / m;
+          const double p = r[kP + c];
+          v[4 + c] = p / m;
           const double d = dashpot_[3 * I + c];
-          vnew_[3 * J + c] = (p + G.force[3 * J + c] * dt) / (m + d * dt);  // eq 3 (+ dashpot)
+          v[c] = (p + (r[kF + c] + m * g[c]) * dt) / (m + d * dt);  // eq 3 (+ gravity, dashpot)
         }
       }
       for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
       if (!any) continue;
       if (B == 2 && mb[0] > 0 && mb[1] > 0)
-        pairContact(mb[0], mb[1], &vnew_[3 * I], &vnew_[3 * (nodes_ + I)], &G.gradm[3 * I],
-                    &G.gradm[3 * (nodes_ + I)], mu, &G.xm[3 * I], &G.xm[3 * (nodes_ + I)], pairGap);
+        pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.rec[NR * I + kG],
+                    &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap);
       if (R > 0) {
         const int i = static_cast<int>(I / (static_cast<std::size_t>(nn_[1]) * nn_[2]));
         const int j = static_cast<int>((I / static_cast<std::size_t>(nn_[2])) % static_cast<std::size_t>(nn_[1]));
@@ -592,7 +617,7 @@ void MpmSolver::gridUpdate() {
           std::uint8_t flag = 0;
           for (int b = 0; b < B; ++b) {
             if (!(mb[b] > 0)) continue;
-            const Vec3 imp = rigidContact(mb[b], &vnew_[3 * (static_cast<std::size_t>(b) * nodes_ + I)], n,
+            const Vec3 imp = rigidContact(mb[b], &vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I)], n,
                                           rb.velocity, rb.friction);
             if (imp.squaredNorm() == 0.0) continue;
             flag = 1;
@@ -609,7 +634,7 @@ void MpmSolver::gridUpdate() {
       if (mask)
         for (int b = 0; b < B; ++b)
           for (int c = 0; c < 3; ++c)
-            if (mask & (1 << c)) vnew_[3 * (static_cast<std::size_t>(b) * nodes_ + I) + c] = 0.0;
+            if (mask & (1 << c)) vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I) + c] = 0.0;
     }
   }
   for (std::size_t r = 0; r < R; ++r) {
@@ -635,51 +660,55 @@ void MpmSolver::remapUpdate() {
   const Buf& G = buf_[0];
   const double mu = cfg_.friction;
   const double pairGap = pairGap_;
+  const std::size_t NR = static_cast<std::size_t>(nr_);
 #pragma omp parallel for schedule(static) num_threads(nthreads_)
   for (std::size_t I = 0; I < nodes_; ++I) {
     double mb[2] = {0, 0};
     for (int b = 0; b < B; ++b) {
       const std::size_t J = static_cast<std::size_t>(b) * nodes_ + I;
-      const double m = G.mass[J];
+      const double* r = &G.rec[NR * J];
+      const double m = r[kM];
       mb[b] = m;
-      for (int c = 0; c < 3; ++c) vold_[3 * J + c] = m > 0 ? G.mom[3 * J + c] / m : 0.0;
+      for (int c = 0; c < 3; ++c) vel_[8 * J + 4 + c] = m > 0 ? r[kP + c] / m : 0.0;
     }
     if (B == 2 && mb[0] > 0 && mb[1] > 0)
-      pairContact(mb[0], mb[1], &vold_[3 * I], &vold_[3 * (nodes_ + I)], &G.gradm[3 * I],
-                  &G.gradm[3 * (nodes_ + I)], mu, &G.xm[3 * I], &G.xm[3 * (nodes_ + I)], pairGap);
+      pairContact(mb[0], mb[1], &vel_[8 * I + 4], &vel_[8 * (nodes_ + I) + 4], &G.rec[NR * I + kG],
+                  &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap);
     for (std::size_t r = 0; r < R; ++r) {
       if (!(active_[r * nodes_ + I] & 2)) continue;
       const double* nn = &rnormal_[3 * (r * nodes_ + I)];
       const Vec3 n(nn[0], nn[1], nn[2]);
       for (int b = 0; b < B; ++b)
         if (mb[b] > 0)
-          rigidContact(mb[b], &vold_[3 * (static_cast<std::size_t>(b) * nodes_ + I)], n, rigids_[r].velocity,
+          rigidContact(mb[b], &vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I) + 4], n, rigids_[r].velocity,
                        rigids_[r].friction);
     }
     const std::uint8_t mask = fixMask_[I];
     if (mask)
       for (int b = 0; b < B; ++b)
         for (int c = 0; c < 3; ++c)
-          if (mask & (1 << c)) vold_[3 * (static_cast<std::size_t>(b) * nodes_ + I) + c] = 0.0;
+          if (mask & (1 << c)) vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I) + 4 + c] = 0.0;
   }
 }
 
 // ---------------------------------------------------------------- grid to particle (eq 4)
 
 // MUSL: new particle velocity (FLIP/PIC blend) and scatter of its momentum.
+// Per (i, j) the k sums of the grid velocities are formed first (tensor
+// product, as in p2g).
 template <int S>
 void MpmSolver::g2pRemap() {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t NR = static_cast<std::size_t>(nr_);
   const double flip = cfg_.flip;
-  const double* __restrict vo = vold_.data();
-  const double* __restrict vn = vnew_.data();
+  const double* __restrict vel = vel_.data();
 #pragma omp parallel num_threads(nthreads_)
   {
     Buf& B = buf_[static_cast<std::size_t>(threadId())];
-    double* __restrict gp = B.mom.data();
+    double* __restrict rec = B.rec.data();
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < np; ++p) {
       double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
@@ -687,40 +716,43 @@ void MpmSolver::g2pRemap() {
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
       const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-      double a[3] = {0, 0, 0}, u[3] = {0, 0, 0};  // sum N vnew, sum N (vnew - vold)
+      A4 an = A4::Zero(), ao = A4::Zero();  // sum N v_new, sum N v_old
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
-          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                  static_cast<std::size_t>(bz);
-          const double wij = wx[i] * wy[j];
-          for (int k = 0; k < S; ++k) {
-            const std::size_t I = 3 * (row + static_cast<std::size_t>(k));
-            const double w = wij * wz[k];
-            for (int c = 0; c < 3; ++c) {
-              a[c] += w * vn[I + c];
-              u[c] += w * (vn[I + c] - vo[I + c]);
-            }
+          const std::size_t row =
+              off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+              static_cast<std::size_t>(bz);
+          const double* __restrict v = vel + 8 * row;
+          A4 sn = wz[0] * C4(v), so = wz[0] * C4(v + 4);
+          for (int k = 1; k < S; ++k) {
+            sn += wz[k] * C4(v + 8 * k);
+            so += wz[k] * C4(v + 8 * k + 4);
           }
+          const double wij = wx[i] * wy[j];
+          an += wij * sn;
+          ao += wij * so;
         }
-      const double v0 = flip * (vx_[p] + u[0]) + (1 - flip) * a[0];
-      const double v1 = flip * (vy_[p] + u[1]) + (1 - flip) * a[1];
-      const double v2 = flip * (vz_[p] + u[2]) + (1 - flip) * a[2];
+      // eq 4: FLIP v + sum N (v_new - v_old), blended with PIC sum N v_new
+      const double v0 = flip * (vx_[p] + (an[0] - ao[0])) + (1 - flip) * an[0];
+      const double v1 = flip * (vy_[p] + (an[1] - ao[1])) + (1 - flip) * an[1];
+      const double v2 = flip * (vz_[p] + (an[2] - ao[2])) + (1 - flip) * an[2];
       vx_[p] = v0;
       vy_[p] = v1;
       vz_[p] = v2;
+      // The position update of g2pFinal uses the same sum (positions do not move in between).
+      vgx_[p] = an[0];
+      vgy_[p] = an[1];
+      vgz_[p] = an[2];
       const double m = mass_[p];
+      const A4 q(0.0, m * v0, m * v1, m * v2);  // lane 0 (mass) gets + 0
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
-          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                  static_cast<std::size_t>(bz);
-          const double wij = wx[i] * wy[j] * m;
-          for (int k = 0; k < S; ++k) {
-            const std::size_t I = 3 * (row + static_cast<std::size_t>(k));
-            const double w = wij * wz[k];
-            gp[I + 0] += w * v0;
-            gp[I + 1] += w * v1;
-            gp[I + 2] += w * v2;
-          }
+          const A4 a = (wx[i] * wy[j]) * q;
+          double* __restrict r = rec + NR * (off + (static_cast<std::size_t>(bx + i) * n1 +
+                                                    static_cast<std::size_t>(by + j)) * n2 +
+                                             static_cast<std::size_t>(bz));
+          for (int k = 0; k < S; ++k, r += NR)
+            M4(r) += wz[k] * a;
         }
     }
   }
@@ -728,19 +760,21 @@ void MpmSolver::g2pRemap() {
 
 // Final pass: position from the updated grid velocity (eq 4), velocity
 // gradient, deformation gradient and stress (update stress last). For USL the
-// particle velocity is also updated here.
-template <int S>
+// particle velocity is also updated here. Tensor-product sums per (i, j):
+// L_c0 += dx_i wy_j sum_k wz_k v_c, L_c1 += wx_i dy_j sum_k wz_k v_c,
+// L_c2 += wx_i wy_j sum_k dz_k v_c.
+template <int S, bool Usl>
 void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const double flip = cfg_.flip;
-  const bool usl = cfg_.update == Update::USL;
+  constexpr bool usl = Usl;
   const double dt = dt_;
-  const double* __restrict vo = vold_.data();  // MUSL: remapped v*; USL: velocity before the update
-  const double* __restrict vn = vnew_.data();
-  const double* __restrict vg = usl ? vn : vo;  // field of the velocity gradient
+  // vel_: v_new at 0-2, at 4-6 the remapped v* (MUSL) or the velocity before the update (USL).
+  const double* __restrict vel = vel_.data();
+  constexpr int go = usl ? 0 : 4;  // field of the velocity gradient
   std::atomic<int> bad{0};
   std::atomic<std::size_t> badP{0};
   double ek = 0, ei = 0, vmax = 0;
@@ -752,36 +786,47 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
     const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
     const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
     const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-    double a[3] = {0, 0, 0}, u[3] = {0, 0, 0};
+    A4 an = A4::Zero(), ao = A4::Zero();  // sum N v_new, sum N v_old (USL only)
     double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (int i = 0; i < S; ++i)
       for (int j = 0; j < S; ++j) {
         const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
                                 static_cast<std::size_t>(bz);
+        const double* __restrict v = vel + 8 * row;
+        // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
+        A4 sw = A4::Zero(), sd = A4::Zero(), so = A4::Zero();
+        for (int k = 0; k < S; ++k) {
+          const C4 vg(v + 8 * k + go);
+          sw += wz[k] * vg;
+          sd += dz[k] * vg;
+          if constexpr (usl) so += wz[k] * C4(v + 8 * k + 4);
+        }
         const double wij = wx[i] * wy[j];
         const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
-        for (int k = 0; k < S; ++k) {
-          const std::size_t I = 3 * (row + static_cast<std::size_t>(k));
-          const double w = wij * wz[k];
-          const double gr[3] = {gxij * wz[k], gyij * wz[k], wij * dz[k]};
-          for (int c = 0; c < 3; ++c) {
-            a[c] += w * vn[I + c];
-            if (usl) u[c] += w * (vn[I + c] - vo[I + c]);
-            const double vc = vg[I + c];
-            L[3 * c + 0] += vc * gr[0];
-            L[3 * c + 1] += vc * gr[1];
-            L[3 * c + 2] += vc * gr[2];
-          }
+        if constexpr (usl) {
+          an += wij * sw;
+          ao += wij * so;
+        }
+        for (int c = 0; c < 3; ++c) {
+          L[3 * c + 0] += gxij * sw[c];
+          L[3 * c + 1] += gyij * sw[c];
+          L[3 * c + 2] += wij * sd[c];
         }
       }
-    if (usl) {
-      vx_[p] = flip * (vx_[p] + u[0]) + (1 - flip) * a[0];
-      vy_[p] = flip * (vy_[p] + u[1]) + (1 - flip) * a[1];
-      vz_[p] = flip * (vz_[p] + u[2]) + (1 - flip) * a[2];
+    double acc[3];
+    if constexpr (usl) {
+      vx_[p] = flip * (vx_[p] + (an[0] - ao[0])) + (1 - flip) * an[0];
+      vy_[p] = flip * (vy_[p] + (an[1] - ao[1])) + (1 - flip) * an[1];
+      vz_[p] = flip * (vz_[p] + (an[2] - ao[2])) + (1 - flip) * an[2];
+      for (int c = 0; c < 3; ++c) acc[c] = an[c];
+    } else {
+      acc[0] = vgx_[p];
+      acc[1] = vgy_[p];
+      acc[2] = vgz_[p];
     }
-    px_[p] += dt * a[0];
-    py_[p] += dt * a[1];
-    pz_[p] += dt * a[2];
+    px_[p] += dt * acc[0];
+    py_[p] += dt * acc[1];
+    pz_[p] += dt * acc[2];
     // F <- (I + dt L) F
     double Fn[9];
     for (int r = 0; r < 3; ++r)
@@ -799,10 +844,13 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
     if (!std::isfinite(speed2) || !std::isfinite(px_[p] + py_[p] + pz_[p])) cause = 2;
     else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
     else {
-      const int nb[3] = {weights<S>((px_[p] - ox) * invh, invh, wx, dx), weights<S>((py_[p] - oy) * invh, invh, wy, dy),
-                         weights<S>((pz_[p] - oz) * invh, invh, wz, dz)};
-      for (int d = 0; d < 3; ++d)
-        if (nb[d] < 0 || nb[d] > lim[d]) cause = 3;
+      // Base node of the support at the new position (as weights<S>).
+      const double sh = S == 2 ? 0.0 : 0.5;
+      const double xs[3] = {(px_[p] - ox) * invh - sh, (py_[p] - oy) * invh - sh, (pz_[p] - oz) * invh - sh};
+      for (int d = 0; d < 3; ++d) {
+        const double b = std::floor(xs[d]);
+        if (b < 0.0 || b > lim[d]) cause = 3;
+      }
     }
     if (cause) {
       int expected = 0;
@@ -839,7 +887,11 @@ StepReport MpmSolver::step() {
     throw SolverError("mpm: no valid time step (wave speed not finite); check the material parameters");
   const bool lin = cfg_.shape == Shape::Linear;
   zeroBuffers(false);
-  if (lin) p2g<2>(); else p2g<3>();
+  if (cfg_.bodies > 1) {
+    if (lin) p2g<2, true>(); else p2g<3, true>();
+  } else {
+    if (lin) p2g<2, false>(); else p2g<3, false>();
+  }
   reduceBuffers(false);
   gridUpdate();
   if (cfg_.update == Update::MUSL) {
@@ -849,7 +901,11 @@ StepReport MpmSolver::step() {
     remapUpdate();
   }
   double ek = 0, ei = 0, vmax = 0;
-  if (lin) g2pFinal<2>(ek, ei, vmax); else g2pFinal<3>(ek, ei, vmax);
+  if (cfg_.update == Update::USL) {
+    if (lin) g2pFinal<2, true>(ek, ei, vmax); else g2pFinal<3, true>(ek, ei, vmax);
+  } else {
+    if (lin) g2pFinal<2, false>(ek, ei, vmax); else g2pFinal<3, false>(ek, ei, vmax);
+  }
   maxSpeed_ = vmax;
   time_ += dt_;
   ++steps_;

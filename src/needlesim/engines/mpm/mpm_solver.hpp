@@ -48,6 +48,7 @@ struct RigidBody {
   double tipAngle = 0.35;       // rad: cone half-angle / bevel angle to the axis
   Vec3 velocity = Vec3::Zero(); // m/s
   double friction = 0.0;        // Coulomb coefficient against the tissue (eq 20)
+  bool surfaceContact = false;  // needle: CFEMP particle-to-surface contact (eqs 22-24) instead of grid contact
   // Signed distance (negative inside), the outward unit normal at the nearest
   // face, and which part is nearest (0 shaft or plane, 1 tip).
   double distance(const Vec3& x, Vec3* n, int* part) const;
@@ -125,9 +126,9 @@ class MpmSolver {
   int threads() const { return nthreads_; }
 
  private:
-  template <int S> void p2g();
+  template <int S, bool Grad> void p2g();
   template <int S> void g2pRemap();
-  template <int S> void g2pFinal(double& ek, double& ei, double& vmax);
+  template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
   void gridUpdate();
   void remapUpdate();
   void zeroBuffers(bool momentumOnly);
@@ -141,18 +142,23 @@ class MpmSolver {
   // particles
   std::vector<double> px_, py_, pz_, vx_, vy_, vz_, mass_, vol0_;
   std::array<std::vector<double>, 9> F_;
-  std::array<std::vector<double>, 6> sig_;  // Cauchy, Voigt 11 22 33 12 23 13
+  std::array<std::vector<double>, 6> sig_;
+  std::vector<double> vgx_, vgy_, vgz_;      // MUSL: sum_I N_Ip v_I (new grid velocity) from g2pRemap  // Cauchy, Voigt 11 22 33 12 23 13
   std::vector<std::uint8_t> body_, mat_;
   double dp_ = 0.0;
   // grid
   int nn_[3] = {0, 0, 0};
   std::size_t nodes_ = 0;
   int nthreads_ = 1;
+  // Grid record of one node of one body, nr_ doubles (one cache line for one
+  // body): mass, momentum (3), force (3), pad; two bodies add the mass
+  // gradient (3) and the mass-weighted position (3), pad (2).
   struct Buf {
-    std::vector<double> mass, mom, force, gradm, xm, gmin;  // per body (gmin per rigid)
+    std::vector<double> rec, gmin;  // rec: nr_ per node per body; gmin: per node per rigid
   };
   std::vector<Buf> buf_;                // one per thread; buf_[0] holds the reduced grid
-  std::vector<double> vold_, vnew_;     // per body, 3 per node
+  int nr_ = 8;
+  std::vector<double> vel_;             // per node per body: v_new (3), pad, v_old (3), pad
   std::vector<std::uint8_t> fixMask_;   // per node: bits 0-2 fixed velocity components
   std::vector<double> dashpot_;         // per node: 3 viscous coefficients (non-reflecting), kg/s
   std::vector<std::uint8_t> active_;    // per node: rigid contact flags of the first update
