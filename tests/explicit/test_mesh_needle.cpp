@@ -143,6 +143,44 @@ TEST(NeedleSurface, QueryClassifiesWallLumenAndBevel) {
   EXPECT_FALSE(needle::queryNeedle(sh, pose, {-2 * R / std::tan(sh.tipAngle) + 1e-4, R - 1e-5, 0}, false).inside);
 }
 
+// Crack-lip hint at the sharp point (needle::queryNeedle side): a node of the
+// wall-side lip a little above the cut line just behind the sharp point would be
+// scooped onto the bevel by the nearest-exit rule; with side = -1 it leaves through
+// the wall, ahead of the tip it meets the 30 deg ramp, and the bevel-side lip never
+// leaves through the lower wall.
+TEST(NeedleSurface, CrackLipSideChoosesTheLipsOwnFace) {
+  NeedleSpec ns;
+  ns.outer_diameter = 2e-3;
+  ns.length = 0.04;
+  ns.bevel_angle = M_PI / 4;
+  auto sh = needle::NeedleShape::fromSpec(ns);
+  needle::NeedlePose pose;  // sharp point at (0, -R)
+  const double R = sh.radius;
+  const Eigen::Vector3d p(-0.15e-3, -R + 0.1e-3, 0);  // bevel margin 0.035 mm, wall 0.1 mm
+  auto h0 = needle::queryNeedle(sh, pose, p, true);
+  ASSERT_TRUE(h0.inside);
+  EXPECT_EQ(h0.face, needle::NeedleFace::Tip);  // nearest exit: the bevel (scooping)
+  auto hl = needle::queryNeedle(sh, pose, p, true, -1);
+  ASSERT_TRUE(hl.inside);
+  EXPECT_EQ(hl.face, needle::NeedleFace::OuterWall);
+  EXPECT_NEAR(hl.depth, 0.1e-3, 1e-12);
+  EXPECT_NEAR(hl.normal.y(), -1.0, 1e-12);
+  auto hu = needle::queryNeedle(sh, pose, p, true, +1);
+  EXPECT_EQ(hu.face, needle::NeedleFace::Tip);
+  // bevel-side lip just inside the lower wall far behind the tip: not pushed under the needle
+  auto hu2 = needle::queryNeedle(sh, pose, {-1.5e-3, -R + 0.02e-3, 0}, true, +1);
+  ASSERT_TRUE(hu2.inside);
+  EXPECT_NE(hu2.face, needle::NeedleFace::OuterWall);
+  // ahead of the sharp point: the wall-side lip meets the ramp a = -R + s tan 30 deg
+  const double s = 0.2e-3, lift = 0.2e-3;
+  auto hr = needle::queryNeedle(sh, pose, {s, -R + lift, 0}, true, -1);
+  ASSERT_TRUE(hr.inside);
+  EXPECT_NEAR(hr.depth, (lift - s * std::tan(needle::kLipRampAngle)) * std::cos(needle::kLipRampAngle), 1e-12);
+  EXPECT_LT(hr.normal.y(), 0.0);
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {s, -R + lift, 0}, true, 0).inside);
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {0.5e-3, -R + lift, 0}, true, -1).inside);  // below the ramp
+}
+
 TEST(NeedleSurface, ClosedSurfaceEnclosesTheNeedleVolume) {
   // Divergence theorem: V = 1/3 sum_f (x_c . n) A over the closed, outward surface.
   for (double angleDeg : {12.0, 45.0, 80.0, 90.0}) {

@@ -7,6 +7,8 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
+#include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/scenario/reader.hpp"
 #include "needlesim/materials/homogeneous.hpp"
 
 #ifdef _OPENMP
@@ -399,6 +401,48 @@ TEST(ExplicitContact, NeedleInsertionForceAndFriction) {
     EXPECT_NE(msg.find("penetration"), std::string::npos) << msg;
     EXPECT_NE(msg.find("Remedy"), std::string::npos) << msg;
   }
+}
+
+// 2D quad4 insertion at nu = 0.495 through the engine (pre-cut seam with
+// crack-lip contact sides): used to stop ~4-7 mm in on hourglassing at the entry
+// corner (wall-side lip nodes scooped onto the bevel and dragged along). It must
+// now pass 10 mm with bounded hourglass energy and a finite, resisting force.
+TEST(ExplicitInsertion, QuadInsertionAtNu0495RunsPast10mm) {
+  const char* yaml = R"(
+name: quad_insertion
+tissue:
+  block: {length: 14 mm, width: 12 mm, height: 12 mm}
+  material: {law: neo-hookean, C10: 3.6 kPa, nu: 0.495, density: 1000 kg/m^3}
+  friction: {coefficient: 0.3}
+needle: {outer_diameter: 2 mm, length: 40 mm, bevel_angle: 45 deg, tip: bevel, youngs_modulus: 200 GPa}
+insertion:
+  entry_angle: 90 deg
+  start_depth: -0.5 mm
+  profile:
+    - insert: {to: 10.5 mm, speed: 10 mm/s}
+model:
+  engine: explicit
+  explicit: {dimension: 2d, element: quad4, element_size: 0.5 mm, max_element_size: 2 mm, core_width: 4 mm,
+             mass_scaling: 15, tip_friction: 0}
+output: {interval: 10 ms}
+)";
+  Scenario sc = scenario::readText(yaml, "<quad_insertion>");
+  MemorySink out = runInMemory(sc);  // throws SolverError (the old hourglass stop) on failure
+  const auto& t = out.tables.at("explicit");
+  auto disp = t.column("needle displacement"), f = t.column("force"), hg = t.column("hourglass energy"),
+       se = t.column("strain energy");
+  ASSERT_GT(disp.back(), 10e-3);
+  double fmean = 0;
+  int n = 0;
+  for (std::size_t i = 0; i < disp.size(); ++i) {
+    ASSERT_TRUE(std::isfinite(f[i]));
+    if (disp[i] > 5e-3) fmean += f[i], ++n;
+  }
+  EXPECT_GT(fmean / n, 0.0);  // the tissue resists insertion on average (friction on the wall)
+  // hourglass energy a modest fraction of the strain energy (it was ~8 % and rising at the old stop)
+  EXPECT_LT(hg.back(), 0.15 * se.back());
+  std::printf("quad4 insertion: %.2f mm, mean force past 5 mm %.4g N, hourglass/strain %.3f\n", disp.back() * 1e3,
+              fmean / n, hg.back() / se.back());
 }
 
 TEST(ExplicitStability, InvertedElementStopsWithCauseAndPlace) {

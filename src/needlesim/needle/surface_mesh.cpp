@@ -42,16 +42,33 @@ Local toLocal(const NeedlePose& pose, const Vector3d& p, bool planar) {
 }
 }  // namespace
 
-NeedleHit queryNeedle(const NeedleShape& sh, const NeedlePose& pose, const Vector3d& p, bool planar) {
+NeedleHit queryNeedle(const NeedleShape& sh, const NeedlePose& pose, const Vector3d& p, bool planar, int side) {
   NeedleHit h;
   const Local l = toLocal(pose, p, planar);
   const double R = sh.radius;
+  // Wall-side lip ahead of the sharp point: a virtual chisel, the ramp a = -R + s tan(beta)
+  // rising from the sharp point (beta = kLipRampAngle), pushes a lip node lifted above the
+  // cut line down gradually as the tip approaches instead of by a jump when the tip passes.
+  if (side < 0 && sh.tip == TipType::Bevel && l.s > 0.0) {
+    const double tb = std::tan(kLipRampAngle), g = l.a + R - l.s * tb;
+    if (l.r >= R || g <= 0.0) return h;
+    h.inside = true;
+    h.depth = g * std::cos(kLipRampAngle);
+    h.normal = std::sin(kLipRampAngle) * pose.axis - std::cos(kLipRampAngle) * pose.bevelSide;
+    h.face = NeedleFace::Tip;
+    return h;
+  }
   // Quick rejection: outside the bounding cylinder.
   if (l.s > 0.0 || l.s < -sh.length || l.r > R) return h;
-  double best = R - l.r;
+  // Crack-lip hint (see the header): a lip never leaves through the other lip's side of the sharp point.
+  const bool lowerWall = l.rhat.dot(pose.bevelSide) < 0.0;
+  const bool wallAllowed = !(side > 0 && lowerWall);
+  const bool tipAllowed = !(side < 0 && sh.tip == TipType::Bevel);
+  double best = wallAllowed ? R - l.r : std::numeric_limits<double>::infinity();
   Vector3d n = l.rhat;
   NeedleFace face = NeedleFace::OuterWall;
   auto consider = [&](double margin, const Vector3d& normal, NeedleFace f) {
+    if (f == NeedleFace::Tip && !tipAllowed) return;
     if (margin < best) {
       best = margin;
       n = normal;
@@ -75,6 +92,7 @@ NeedleHit queryNeedle(const NeedleShape& sh, const NeedlePose& pose, const Vecto
     consider(m, Vector3d(sa * pose.axis + ca * pose.bevelSide), NeedleFace::Tip);
   }
   consider(l.s + sh.length, -pose.axis, NeedleFace::Base);
+  if (!std::isfinite(best)) return queryNeedle(sh, pose, p, planar, 0);  // no allowed exit: nearest one
   if (!(best > 0.0)) return h;
   h.inside = true;
   h.depth = best;

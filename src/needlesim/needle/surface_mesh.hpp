@@ -53,8 +53,19 @@ struct NeedleHit {
 // r < R, r > R_i, the tip half-space (or cone) and s > -L; the exit is through
 // the constraint with the smallest margin. O(1) per point, no allocation.
 // planar = true: a 2D plane-strain slice through the axis (r = |offset along bevelSide|).
+// side: crack-lip hint for the two faces of a cut through the bevel's sharp point
+// (a seam or cohesive zone). At the sharp point the nearest exit is ambiguous: a
+// lip node a hair on the wrong side would be scooped onto the other lip's face and
+// dragged along (it stopped 2D quad insertions on hourglassing near the entry).
+// side < 0 (the lip on the wall side, -bevelSide): never leaves through the bevel;
+// side > 0 (the bevel-side lip): never through the wall half facing -bevelSide;
+// 0: nearest exit. If no allowed exit exists the nearest one is used. A side < 0 node
+// ahead of the sharp point meets a virtual chisel: the ramp a = -R + s tan(kLipRampAngle)
+// from the sharp point (face Tip), so a lip lifted above the cut line is pushed under
+// the wall gradually; the node-release seam's stand-in for the crack tip's wedge.
+constexpr double kLipRampAngle = 0.5235987755982988;  // 30 deg
 NeedleHit queryNeedle(const NeedleShape& shape, const NeedlePose& pose, const Eigen::Vector3d& p,
-                      bool planar);
+                      bool planar, int side = 0);
 
 struct SurfaceMesh {
   std::vector<double> points;     // 3 per point (2D outlines: z = 0)

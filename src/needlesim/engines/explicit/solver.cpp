@@ -284,6 +284,10 @@ void ExplicitSolver::addTie(int a, int b) {
   tieOn_.push_back(1);
   ftie_.assign(u_.size(), 0.0);
 }
+void ExplicitSolver::setContactSide(int node, int side) {
+  if (contactSide_.empty()) contactSide_.assign(nnode_, 0);
+  contactSide_[node] = static_cast<signed char>(side > 0 ? 1 : side < 0 ? -1 : 0);
+}
 void ExplicitSolver::setCohesive(CohesiveInterface c) {
   if (dim_ != 2) throw Error("explicit FE: cohesive interfaces are 2D only");
   coh_.assign(1, std::move(c));
@@ -514,7 +518,8 @@ void ExplicitSolver::contactForces(double dtStep) {
       v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
     }
     double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
-    const needle::NeedleHit hit = needle::queryNeedle(nd.shape, nd.pose, x, planar);
+    const needle::NeedleHit hit =
+        needle::queryNeedle(nd.shape, nd.pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
     if (!hit.inside) {
       ft[0] = ft[1] = ft[2] = 0;
       continue;

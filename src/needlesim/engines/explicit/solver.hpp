@@ -107,6 +107,9 @@ class ExplicitSolver {
   // Tie two coincident nodes (a pre-cut seam) until the needle's leading point
   // comes within `releaseDistance` of them along the axis (node release).
   void addTie(int a, int b);
+  // Which lip of a cut through the bevel's sharp point a node lies on (+1 the bevel
+  // side, -1 the wall side; needle::queryNeedle's `side`): set on seam nodes.
+  void setContactSide(int node, int side);
   void setReleaseDistance(double d) { releaseDistance_ = d; }
   int activeTies() const;
 
@@ -191,6 +194,7 @@ class ExplicitSolver {
   RigidNeedle needle_;
   bool hasNeedle_ = false;
   std::vector<double> needleFt_;
+  std::vector<signed char> contactSide_;  // per node, empty = none
   double penetrationTol_ = 0.0;
   // seam ties
   std::vector<int> tieA_, tieB_;
