@@ -49,6 +49,8 @@ struct RigidBody {
   Vec3 velocity = Vec3::Zero(); // m/s
   double friction = 0.0;        // Coulomb coefficient against the tissue (eq 20)
   bool surfaceContact = false;  // needle: CFEMP particle-to-surface contact (eqs 22-24) instead of grid contact
+  double length = 0.04;         // needle: length tip to base, m (CFEMP surface)
+  double elementSize = 0.0;     // CFEMP: d_e of the gap rule g < (d_e + d_p)/2 (eq 22), m
   // Signed distance (negative inside), the outward unit normal at the nearest
   // face, and which part is nearest (0 shaft or plane, 1 tip).
   double distance(const Vec3& x, Vec3* n, int* part) const;
@@ -128,6 +130,8 @@ class MpmSolver {
  private:
   template <int S, bool Grad> void p2g();
   template <int S> void g2pRemap();
+  template <int S> void surfaceContact(bool first);
+  void buildSurface(std::size_t r);
   template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
   void gridUpdate();
   void remapUpdate();
@@ -166,6 +170,19 @@ class MpmSolver {
   std::vector<RigidForce> rforce_;
   std::vector<std::array<double, 9>> rforceThread_;  // per thread per rigid: total(3) tip(3) shaft(3)
   double pairGap_ = 0.0;
+  // CFEMP (eqs 22-24): the needle surface triangulated in its own frame (tip at
+  // the origin, axis x, sharp point at -R y) with a uniform bucket grid.
+  struct Surface {
+    std::vector<Vec3> a, b, c, n;       // triangle corners and outward normals
+    std::vector<std::uint8_t> tip;      // 1: tip face (force split)
+    Vec3 lo = Vec3::Zero();
+    double cell = 0.0, reach = 0.0;
+    int dim[3] = {0, 0, 0};
+    std::vector<int> start, items;      // triangles per bucket (CSR)
+  };
+  std::vector<Surface> surf_;           // per rigid (empty for grid contact)
+  struct SurfacePair { std::size_t p; Vec3 n; bool tip; };
+  std::vector<SurfacePair> pairs_;      // CFEMP contacts of the current step
   double dt_ = 0.0, time_ = 0.0, maxSpeed_ = 0.0;
   long long steps_ = 0;
   StepReport last_;
