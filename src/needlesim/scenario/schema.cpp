@@ -233,6 +233,13 @@ std::vector<FieldDoc> build() {
             false, {}, {"linear", "bspline"}));
   add(other("mpm", "update", Kind::Choice, "musl", "update-stress-last or modified USL (momentum remap)", false, {},
             {"usl", "musl"}));
+  add(other("mpm", "contact", Kind::Choice, "grid",
+            "needle-tissue contact: grid (multi-field grid contact, seed 000 eqs 14-21) or cfemp (particle-to-surface "
+            "contact with the triangulated needle surface, eqs 22-24)",
+            false, {}, {"grid", "cfemp"}));
+  add(nonneg("mpm", "cfemp_element_size", D::Length, "0 mm",
+             "d_e of the CFEMP gap rule g < (d_e + d_p)/2 (seed 000 eq 22); 0 = contact when the particle's own half "
+             "spacing reaches the exact needle surface"));
   add(q("mpm", "flip", D::None, "1", 0.0, 1.0, false, false, "FLIP fraction of the particle velocity update (1 = seed 000 eq 4, 0 = PIC)"));
   add(q("mpm", "time_step_factor", D::None, "0.4", 0.0, 1.0, true, false, "k_t of seed 000 eq 26 (time step = k_t times the eq 25 limit)"));
   add(q("mpm", "mass_scaling", D::None, "1", 1.0, 1e12, false, false,

@@ -143,6 +143,9 @@ MpmSetup mpmSetup(const Scenario& sc) {
   n.tipAngle = sc.needle.bevel_angle;  // bevel: face to the axis; cone: half-angle
   n.axis = s.axis;
   n.friction = sc.tissue.layers.front().friction.coefficient;  // eq 20
+  n.length = sc.needle.length;
+  n.surfaceContact = m.cfemp;                 // eqs 22-24
+  n.elementSize = m.cfemp_element_size;       // d_e of eq 22
   placeNeedle(n, s, 0.0, sc.insertion.bevel_orientation, 0.0);
   return s;
 }
@@ -388,14 +391,17 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   sink.note(fmt::format(
       "3D MPM of seed 000: {} material points ({:g} mm spacing), grid {} x {} x {} cells of {:g} mm, {} shape "
       "functions, {}, FLIP {:g}, k_t = {:g} (eq 26), mass scaling {:g} (eq 28); rigid {} needle R = {:g} mm, "
-      "Coulomb friction {:g} (eqs 14-21). {} steps (dt {:.3g} to {:.3g} ms) in {:.3g} s on {} thread(s), "
+      "Coulomb friction {:g} ({}). {} steps (dt {:.3g} to {:.3g} ms) in {:.3g} s on {} thread(s), "
       "{:.3g} M particle-steps/s (setup {:.2g} s). Force rows are impulse averages over the output interval. "
       "docs/models/mpm.md.",
       np, spec.particle_spacing * 1e3, c.cells[0], c.cells[1], c.cells[2], c.h * 1e3,
       spec.bspline ? "quadratic B-spline" : "linear", spec.musl ? "MUSL" : "USL", spec.flip, spec.time_step_factor,
       spec.mass_scaling,
       sc.needle.tip == TipType::Bevel ? "bevel" : sc.needle.tip == TipType::Conical ? "conical" : "blunt",
-      setup.needle.radius * 1e3, setup.needle.friction, steps, dtMin * 1e3, dtMax * 1e3, run_s, solver.threads(),
+      setup.needle.radius * 1e3, setup.needle.friction,
+      spec.cfemp ? "CFEMP particle-to-surface contact with the triangulated needle, eqs 22-24"
+                 : "grid contact, eqs 14-21",
+      steps, dtMin * 1e3, dtMax * 1e3, run_s, solver.threads(),
       run_s > 0 ? static_cast<double>(steps) * static_cast<double>(np) / run_s * 1e-6 : 0.0, setup_s));
   if (!markers.empty()) {
     double worst = 0.0;
