@@ -13,20 +13,8 @@ using namespace needlesim::realtime2d;
 
 namespace {
 SessionConfig config(int nx, int ny, Backend b) {
-  SessionConfig c;
-  c.tissue.mesh.nodes_depth = nx;
-  c.tissue.mesh.nodes_lateral = ny;
+  SessionConfig c = thesisGelatinConfig(nx, ny, b);
   c.tissue.mesh.grading = nx > 40 ? 3.0 : 1.0;
-  c.tissue.backend = b;
-  const double D = 1.27e-3, d = 0.838e-3;
-  c.needle.EI = 200e9 * std::numbers::pi / 64 * (std::pow(D, 4) - std::pow(d, 4));
-  c.needle.length = 0.1;
-  c.needle.bevel_angle = std::numbers::pi / 6;
-  c.friction.C_p = c.friction.C_n = 3.791;
-  c.friction.b_p = c.friction.b_n = 285.053;
-  c.friction.static_band = 1e-4;
-  c.cutting_force = 0.04335;
-  c.dt = 1e-3;
   return c;
 }
 

@@ -25,20 +25,8 @@ extern "C" void* calloc(std::size_t a, std::size_t b) { g_mallocs.fetch_add(1, s
 namespace {
 // Thesis parameters (seed 003 section 5.1) on a coarse mesh.
 SessionConfig thesisLike(int nx = 11, int ny = 13, Backend b = Backend::Auto) {
-  SessionConfig c;
-  c.tissue.mesh.nodes_depth = nx;
-  c.tissue.mesh.nodes_lateral = ny;
-  c.tissue.backend = b;
-  const double D = 1.27e-3, d = 0.838e-3;  // 18 G regular wall
-  c.needle.EI = 200e9 * std::numbers::pi / 64 * (std::pow(D, 4) - std::pow(d, 4));
-  c.needle.length = 0.1;
-  c.needle.bevel_angle = std::numbers::pi / 6;
-  c.friction.C_p = c.friction.C_n = 3.791;
-  c.friction.b_p = c.friction.b_n = 285.053;
-  c.friction.static_band = 1e-4;
-  c.cutting_force = 0.04335;
+  SessionConfig c = thesisGelatinConfig(nx, ny, b);
   c.puncture_force = 0.05;
-  c.dt = 1e-3;
   return c;
 }
 }  // namespace

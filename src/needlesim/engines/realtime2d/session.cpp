@@ -370,4 +370,21 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   return o;
 }
 
+SessionConfig thesisGelatinConfig(int nodesDepth, int nodesLateral, Backend backend) {
+  SessionConfig c;
+  c.tissue.mesh.nodes_depth = nodesDepth;
+  c.tissue.mesh.nodes_lateral = nodesLateral;
+  c.tissue.backend = backend;
+  const double D = 1.27e-3, d = 0.838e-3;  // 18 G regular wall
+  c.needle.EI = 200e9 * std::numbers::pi / 64 * (std::pow(D, 4) - std::pow(d, 4));
+  c.needle.length = 0.1;
+  c.needle.bevel_angle = std::numbers::pi / 6;
+  c.friction.C_p = c.friction.C_n = 3.791;      // seed 003 section 5.1
+  c.friction.b_p = c.friction.b_n = 285.053;
+  c.friction.static_band = 1e-4;
+  c.cutting_force = 0.04335;
+  c.dt = 1e-3;
+  return c;
+}
+
 }  // namespace needlesim::realtime2d

@@ -50,6 +50,11 @@ struct SessionConfig {
   int max_active_set_iterations = 12;
 };
 
+// The thesis experiment (seed 003 section 5.1: 10 wt% gelatin friction and cutting,
+// 18 G regular-wall steel needle, 100 mm free length, 30 deg bevel) on a mesh of
+// nodesDepth x nodesLateral nodes; shared by tests and benchmarks.
+SessionConfig thesisGelatinConfig(int nodesDepth, int nodesLateral, Backend backend = Backend::Auto);
+
 struct BasePose {
   double x = 0.0, y = 0.0;  // m, needle base (hub) in tissue coordinates
   double angle = 0.0;       // rad, needle axis from +x (depth direction)
