@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -143,4 +144,120 @@ TEST(MpmEngine, QuickExampleRuns) {
   const MemorySink out = runInMemory(sc, RunOptions{false});
   EXPECT_GT(out.results.at("peak_force").value, 0.0);
   EXPECT_GT(out.results.at("final_shaft_force").value, 0.0);  // friction along the shaft (mu = 0.255)
+}
+
+// Seed 000 section 3.4: a 1 mm conical needle (30 deg half-angle) 7 mm into a
+// 10 x 5 x 5 mm block (1 mm grid, 0.5 mm points) separates the tissue: the
+// points on the path first ride ahead of the tip, then part. Separated pairs
+// appear only after contact, never far ahead of the tip and only within about
+// a cell of the path.
+TEST(MpmEngine, NumericalFractureNearThePathAfterContact) {
+  std::string s = replaced(smallScenario("", "conical"), "outer_diameter: 1 mm", "outer_diameter: 1 mm\n  bevel_angle: 30 deg");
+  s = replaced(s, "length: 6 mm, width: 4 mm, height: 4 mm", "length: 10 mm, width: 5 mm, height: 5 mm");
+  s = replaced(s, "to: 3 mm", "to: 7 mm");
+  const MemorySink out = runText(s);
+  const io::Table& fr = out.tables.at("fracture");
+  const double pairs = out.results.at("fracture_pairs").value;
+  ASSERT_GT(pairs, 0.0);
+  ASSERT_GT(fr.rows(), 0u);
+  const double h = 1e-3, R = 0.5e-3;
+  const auto tip = fr.column("tip_depth"), path = fr.column("path_depth"), count = fr.column("new_pairs");
+  double sum = 0.0;
+  for (std::size_t i = 0; i < fr.rows(); ++i) {
+    EXPECT_GT(tip[i], 0.0) << "separation before the needle touched the block";
+      EXPECT_LT(path[i], tip[i] + 2 * h) << "separation far ahead of the tip";
+    EXPECT_GT(path[i], -h) << "separation outside the block";
+    sum += count[i];
+  }
+  EXPECT_EQ(sum, pairs);
+  EXPECT_EQ(fr.column("total_pairs").back(), pairs);
+  EXPECT_LT(out.results.at("fracture_max_offset").value, R + h);
+  EXPECT_GT(out.results.at("fracture_onset_depth").value, 0.0);
+  EXPECT_LT(out.results.at("fracture_onset_depth").value, 7e-3);
+  EXPECT_GT(out.results.at("fracture_deepest").value, 0.0);
+  EXPECT_LE(out.results.at("fracture_deepest").value, 7e-3 + 2 * h);
+  std::printf("fracture: %g pairs, onset at tip depth %.3f mm, deepest %.3f mm, max offset %.3f mm\n", pairs,
+              out.results.at("fracture_onset_depth").value * 1e3, out.results.at("fracture_deepest").value * 1e3,
+              out.results.at("fracture_max_offset").value * 1e3);
+  // The shallower (3 mm), sharper (20 deg) insertion of the other tests parts fewer pairs.
+  const MemorySink thin = runText(smallScenario("", "conical"));
+  EXPECT_LT(thin.results.at("fracture_pairs").value, pairs);
+}
+
+// CFEMP contact (eqs 22-24) through the engine: no force before the needle
+// reaches the block, then a force that rises with depth.
+TEST(MpmEngine, CfempZeroForceBeforeContactThenRising) {
+  const MemorySink out = runText(smallScenario("    contact: cfemp\n", "conical"));
+  const io::Table& f = out.tables.at("forces");
+  const auto depth = f.column("depth"), force = f.column("force_total");
+  double firstContact = NAN, atOne = NAN, atTwo = NAN;
+  for (std::size_t i = 0; i < f.rows(); ++i) {
+    ASSERT_TRUE(std::isfinite(force[i]));
+    if (depth[i] < 0.0) EXPECT_EQ(force[i], 0.0) << "force before contact at depth " << depth[i];
+    if (std::isnan(firstContact) && force[i] > 0) firstContact = depth[i];
+    if (std::isnan(atOne) && depth[i] >= 1e-3) atOne = force[i];
+    if (std::isnan(atTwo) && depth[i] >= 2e-3) atTwo = force[i];
+  }
+  std::printf("cfemp: first contact at %.3f mm, F(1 mm) %.4g N, F(2 mm) %.4g N, F(3 mm) %.4g N\n",
+              firstContact * 1e3, atOne, atTwo, out.results.at("final_force").value);
+  // The sharp cone (half-angle 20 deg) enters between the four points nearest
+  // the axis (0.35 mm off it, 0.25 mm deep): its wall comes within d_p/2 of them
+  // (eq 22, d_e = 0) about 0.5 mm deep.
+  EXPECT_GE(firstContact, 0.0);
+  EXPECT_LT(firstContact, 0.8e-3);
+  EXPECT_GT(atOne, 0.0);
+  EXPECT_GT(atTwo, atOne);
+  EXPECT_GT(out.results.at("final_force").value, atTwo);
+}
+
+namespace {
+// High-frequency content of a force curve: RMS of the force minus its centred
+// moving average (window rows), over the rows with depth in [d0, d1], relative
+// to the mean force there.
+double forceNoise(const MemorySink& out, int window, double d0, double d1, double* mean = nullptr) {
+  const io::Table& f = out.tables.at("forces");
+  const auto depth = f.column("depth"), force = f.column("force_total");
+  const int n = static_cast<int>(f.rows()), w = window / 2;
+  double s2 = 0.0, s1 = 0.0;
+  int k = 0;
+  for (int i = w; i + w < n; ++i) {
+    if (depth[static_cast<std::size_t>(i)] < d0 || depth[static_cast<std::size_t>(i)] > d1) continue;
+    double avg = 0.0;
+    for (int j = i - w; j <= i + w; ++j) avg += force[static_cast<std::size_t>(j)];
+    avg /= 2 * w + 1;
+    const double r = force[static_cast<std::size_t>(i)] - avg;
+    s2 += r * r;
+    s1 += force[static_cast<std::size_t>(i)];
+    ++k;
+  }
+  if (mean) *mean = s1 / k;
+  return std::sqrt(s2 / k);
+}
+}  // namespace
+
+// Seed 000 section 5.2: the paper attributes its main error to the cross-grid
+// noise of linear shape functions. The same 3 mm insertion with linear and
+// quadratic B-spline shapes, the force of every step, high-frequency content
+// = RMS of the force minus its centred moving average. Measured here (numbers
+// in docs/validation/mpm.md) the B-spline force is NOT quieter with grid
+// contact (4.9 % vs 7.3 % of the mean force, 5-step window) and about equal
+// with CFEMP, so the paper's claim is not asserted; the test bounds both (a
+// regression guard) and prints them.
+TEST(MpmEngine, ForceNoiseLinearVsBSpline) {
+  for (const char* contact : {"grid", "cfemp"}) {
+    std::string base = replaced(smallScenario("", "conical"), "interval: 10 ms", "interval: 0 s");
+    base = replaced(base, "threads: 1\n", std::string("threads: 1\n    contact: ") + contact + "\n");
+    const MemorySink lin = runText(replaced(base, "threads: 1\n", "threads: 1\n    shape: linear\n"));
+    const MemorySink spl = runText(replaced(base, "threads: 1\n", "threads: 1\n    shape: bspline\n"));
+    for (int w : {5, 21}) {
+      double ml = 0, ms = 0;
+      const double nl = forceNoise(lin, w, 0.5e-3, 2.9e-3, &ml), ns = forceNoise(spl, w, 0.5e-3, 2.9e-3, &ms);
+      std::printf("%s, window %d steps: linear RMS %.3g N (%.2f %% of mean %.3g N), B-spline RMS %.3g N (%.2f %% of %.3g N)\n",
+                  contact, w, nl, 100 * nl / ml, ml, ns, 100 * ns / ms, ms);
+      EXPECT_GT(nl, 0.0);
+      EXPECT_GT(ns, 0.0);
+      EXPECT_LT(nl / ml, 0.12);
+      EXPECT_LT(ns / ms, 0.12);
+    }
+  }
 }

@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "needlesim/core/error.hpp"
@@ -413,17 +414,20 @@ Indent indentPunch(bool cfemp, double R = 1.5e-3) {
 
 // The grid contact acts on every node whose support holds a touching
 // particle, so its punch is effectively about h/2 wider than the surface
-// (measured: grid at R = 1.5 mm 0.139 N; CFEMP at R 0.107 N, at R + h/2
-// 0.136 N; the flat-punch force grows with the radius, Sneddon F = 2 a E* d).
-// Hence: CFEMP at R is below the grid force, and CFEMP at R + h/2 matches it
-// within 10 %.
+// (measured: grid at R = 1.5 mm 0.139 N; CFEMP at R 0.091 N, at R + h/2
+// 0.121 N with the Euclidean gap at the rim edge, 0.107 / 0.136 N with the
+// earlier normal-component gap; the flat-punch force grows with the radius,
+// Sneddon F = 2 a E* d). Hence: CFEMP at R is below the grid force, and CFEMP
+// at R + h/2 matches it within 15 % (the rounded rim of the Euclidean gap
+// rule touches fewer corner particles).
 TEST(MpmContact, CfempMatchesGridContactOnPunchIndentation) {
   const Indent g = indentPunch(false), c = indentPunch(true), cw = indentPunch(true, 2.0e-3);
   EXPECT_NEAR(g.first, 0.0, 0.05e-3) << g.first;
   EXPECT_NEAR(c.first, 0.0, 0.05e-3) << c.first;
   EXPECT_GT(c.force, 0.5 * g.force) << "grid " << g.force << " N, CFEMP " << c.force << " N";
   EXPECT_LT(c.force, g.force) << "grid " << g.force << " N, CFEMP " << c.force << " N";
-  EXPECT_NEAR(cw.force, g.force, 0.10 * g.force) << "grid " << g.force << " N, CFEMP (R + h/2) " << cw.force << " N";
+  std::printf("punch: grid %.4g N, CFEMP at R %.4g N, at R + h/2 %.4g N\n", g.force, c.force, cw.force);
+  EXPECT_NEAR(cw.force, g.force, 0.15 * g.force) << "grid " << g.force << " N, CFEMP (R + h/2) " << cw.force << " N";
 }
 
 TEST(MpmErrors, ParticleLeavingTheGridStopsWithCauseAndRemedy) {

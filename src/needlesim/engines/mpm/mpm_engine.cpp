@@ -9,8 +9,11 @@
 
 #include <algorithm>
 #include <chrono>
+#include <cstdint>
+#include <map>
 #include <cmath>
 #include <numbers>
+#include <unordered_map>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
@@ -102,6 +105,78 @@ struct Marker {
   std::size_t particle = 0;
   Vec3 x0 = Vec3::Zero();
   double maxUxy = 0.0;
+};
+
+// Numerical fracture (seed 000 section 3.4): pairs of initially neighbouring
+// material points (lattice neighbours, distance <= 1.05 spacing) that end up in
+// non-adjacent grid cells or more than kSeparation grid cells apart no longer
+// interact through the grid: the tissue has separated between them. Each pair
+// is reported once, when it first separates, at the position along the needle
+// path of its initial midpoint (docs/models/mpm.md).
+constexpr double kSeparation = 1.5;  // grid cells
+
+struct FractureTracker {
+  std::vector<std::uint32_t> a, b;      // neighbouring pairs
+  std::vector<std::uint8_t> separated;
+  std::vector<double> pathDepth, radial; // initial midpoint: along the path from the entry point, distance from it
+  std::size_t total = 0;
+  double onsetDepth = NAN, onsetTime = NAN, deepest = NAN, widest = 0.0;
+
+  void init(const MpmSolver& s, const Vec3& entry, const Vec3& axis) {
+    const std::size_t np = s.size();
+    const double dp = s.particleSpacing(), reach = 1.05 * dp;
+    auto key = [&](const Vec3& x) {
+      const auto c = [&](int d) { return static_cast<std::int64_t>(std::floor(x[d] / dp)) & 0x1fffff; };
+      return (c(0) << 42) | (c(1) << 21) | c(2);
+    };
+    std::unordered_map<std::int64_t, std::vector<std::uint32_t>> cells;
+    cells.reserve(np);
+    for (std::size_t p = 0; p < np; ++p) cells[key(s.position(p))].push_back(static_cast<std::uint32_t>(p));
+    for (std::size_t p = 0; p < np; ++p) {
+      const Vec3 x = s.position(p);
+      for (int i = -1; i <= 1; ++i)
+        for (int j = -1; j <= 1; ++j)
+          for (int k = -1; k <= 1; ++k) {
+            const auto it = cells.find(key(x + dp * Vec3(i, j, k)));
+            if (it == cells.end()) continue;
+            for (const std::uint32_t q : it->second) {
+              if (q <= p || (s.position(q) - x).norm() > reach) continue;
+              a.push_back(static_cast<std::uint32_t>(p));
+              b.push_back(q);
+              const Vec3 m = 0.5 * (x + s.position(q)) - entry;
+              const double along = m.dot(axis);
+              pathDepth.push_back(along);
+              radial.push_back((m - along * axis).norm());
+            }
+          }
+    }
+    separated.assign(a.size(), 0);
+  }
+
+  // Marks newly separated pairs; adds one row per grid-cell bin of the path.
+  void check(const MpmSolver& s, double t, double tipDepth, io::Table& table) {
+    const MpmConfig& c = s.config();
+    const double h = c.h, lim2 = kSeparation * kSeparation * h * h;
+    std::map<long, std::pair<double, int>> bins;  // bin -> (sum of path depths, count)
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      if (separated[i]) continue;
+      const Vec3 xa = s.position(a[i]), xb = s.position(b[i]);
+      bool sep = (xa - xb).squaredNorm() > lim2;
+      for (int d = 0; d < 3 && !sep; ++d)
+        sep = std::abs(std::floor((xa[d] - c.origin[d]) / h) - std::floor((xb[d] - c.origin[d]) / h)) > 1.5;
+      if (!sep) continue;
+      separated[i] = 1;
+      ++total;
+      if (std::isnan(onsetDepth)) { onsetDepth = tipDepth; onsetTime = t; }
+      if (std::isnan(deepest) || pathDepth[i] > deepest) deepest = pathDepth[i];
+      widest = std::max(widest, radial[i]);
+      auto& bin = bins[static_cast<long>(std::floor(pathDepth[i] / h))];
+      bin.first += pathDepth[i];
+      ++bin.second;
+    }
+    for (const auto& [k, v] : bins)
+      table.addRow({t, tipDepth, v.first / v.second, static_cast<double>(v.second), static_cast<double>(total)});
+  }
 };
 
 }  // namespace
@@ -213,6 +288,13 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   for (const auto& m : markers)
     for (const char* k : {"_ux", "_uy", "_uz", "_uxy"}) mcols.push_back({m.name + k, "m"});
   io::Table markerTable(mcols);
+  FractureTracker fracture;
+  fracture.init(solver, setup.entry, axis);
+  io::Table fractureTable({{"time", "s"},
+                           {"tip_depth", "m"},
+                           {"path_depth", "m"},
+                           {"new_pairs", "1"},
+                           {"total_pairs", "1"}});
 
   // ParaView particle series: displacement and von Mises stress.
   io::FieldSeries* fs = spec.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr;
@@ -283,6 +365,17 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
     sink.result("max_ke_ie", maxRatio, "1",
                 "largest kinetic / internal energy while the internal energy is >= 1 % of its maximum (mass "
                 "scaling check, eq 28)");
+    sink.result("fracture_pairs", static_cast<double>(fracture.total), "1",
+                "neighbouring material-point pairs separated into non-adjacent cells or > 1.5 cells apart "
+                "(numerical fracture, section 3.4)");
+    if (fracture.total > 0) {
+      sink.result("fracture_onset_depth", fracture.onsetDepth, "m", "tip depth when the first pair separated");
+      sink.result("fracture_onset_time", fracture.onsetTime, "s", "time when the first pair separated");
+      sink.result("fracture_deepest", fracture.deepest, "m",
+                  "deepest separation along the needle path (initial midpoint of the pair, from the entry point)");
+      sink.result("fracture_max_offset", fracture.widest, "m",
+                  "largest distance of a separated pair (initial midpoint) from the needle path");
+    }
     sink.result("particles", static_cast<double>(np), "1", "material points");
     sink.result("steps", static_cast<double>(steps), "1", "explicit time steps");
     if (steps > 0) {
@@ -329,6 +422,7 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
     sink.table("forces", std::move(forces));
     sink.table("energy", std::move(energy));
     if (!markers.empty()) sink.table("markers", std::move(markerTable));
+    sink.table("fracture", std::move(fractureTable));
   };
 
   Progress progress("mpm", options.progress);
@@ -365,6 +459,7 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
         impShaft.setZero();
         impT = 0.0;
         contactNodes = 0;
+        fracture.check(solver, t, ms.depth, fractureTable);
         if (spec.marker_depth_step <= 0.0) recordMarkers(t, ms.depth);
       }
       if (spec.marker_depth_step > 0.0 && ms.depth >= nextMarkerDepth - 1e-12) {

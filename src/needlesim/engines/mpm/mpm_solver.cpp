@@ -782,16 +782,24 @@ void MpmSolver::surfaceContact(bool first) {
         }
         if (!in) continue;
         const std::size_t bkt = (static_cast<std::size_t>(c[0]) * Sf.dim[1] + c[1]) * Sf.dim[2] + c[2];
-        double best = kInf, gap = kInf;
+        double best = kInf, gap = kInf, bestDot = -kInf;
         int bt = -1;
         for (int it = Sf.start[bkt]; it < Sf.start[bkt + 1]; ++it) {
           const int t = Sf.items[static_cast<std::size_t>(it)];
           const Vec3 xc = closestOnTriangle(xl, Sf.a[t], Sf.b[t], Sf.c[t]);  // foot of the perpendicular
           const double d2 = (xl - xc).squaredNorm();
-          if (d2 < best) {
-            best = d2;
+          const double dot = (xl - xc).dot(Sf.n[t]);
+          // Nearest facet; at a shared vertex or edge (a tie) the facet that
+          // sees the particle most from outside decides the sign (the needle
+          // is convex). The gap is the distance with that sign: the normal
+          // component alone would put particles ahead of a sharp tip's apex
+          // in contact far too early.
+          const double tol = 1e-9 * best + 1e-24;
+          if (d2 < best - tol || (d2 <= best + tol && dot > bestDot)) {
+            best = std::min(best, d2);
             bt = t;
-            gap = (xl - xc).dot(Sf.n[t]);  // signed, along the facet normal
+            bestDot = dot;
+            gap = std::copysign(std::sqrt(d2), dot);
           }
         }
         if (bt < 0 || !(gap < limit)) continue;
