@@ -10,6 +10,8 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/explicit/cohesive.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
+#include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
 using namespace needlesim::explicit_fe;
@@ -316,4 +318,66 @@ TEST(CohesiveDcb, LongMeshObjectivity) {
   EXPECT_NEAR(f.dissipated / (f.Gc * f.dAcompliance), 1.0, 0.03);
   EXPECT_NEAR(f.pEnd / f.pLefmEnd, 1.0, 0.04);
   EXPECT_NEAR(f.slope / f.slopeBeam, 1.0, 0.04);
+}
+
+// Engine level (model.explicit.cohesive): a 2 mm bevel needle into soft
+// plastisol with the cohesive law on the seam instead of node release. Opening
+// the seam now costs G_c, so the insertion force is larger; the dissipation is
+// positive and bounded by G_c x (seam length the tip passed) x slab thickness.
+// Known limitation (docs/models/cohesive.md): the point still pushes the closed
+// seam ahead (indentation) rather than wedging it open; no pair reaches d = 1.
+TEST(CohesiveInsertion, ForceAboveNodeReleaseAndDissipationBoundedByGc) {
+  auto yaml = [](bool coh) {
+    return std::string(R"(
+name: cohesive_insertion
+tissue:
+  block: {length: 10 mm, width: 10 mm, height: 10 mm}
+  material: {law: neo-hookean, C10: 3.6 kPa, nu: 0.45, density: 1000 kg/m^3}
+  friction: {coefficient: 0.3}
+  interaction: {toughness: 10 J/m^2}
+needle: {outer_diameter: 2 mm, length: 30 mm, bevel_angle: 45 deg, tip: bevel, youngs_modulus: 200 GPa}
+insertion:
+  entry_angle: 90 deg
+  start_depth: -0.5 mm
+  profile:
+    - insert: {to: 4 mm, speed: 10 mm/s}
+model:
+  engine: explicit
+  explicit:
+    dimension: 2d
+    element: quad4
+    element_size: 0.5 mm
+    max_element_size: 2 mm
+    core_width: 4 mm
+    mass_scaling: 15
+    tip_friction: 0
+    cohesive: {enable: )") +
+           (coh ? "true" : "false") + R"(, strength: 20 kPa}
+output: {interval: 10 ms}
+)";
+  };
+  MemorySink rel = runInMemory(scenario::readText(yaml(false), "<release>"));
+  MemorySink coh = runInMemory(scenario::readText(yaml(true), "<cohesive>"));
+  auto mean = [](const MemorySink& m) {
+    const auto& t = m.tables.at("explicit");
+    auto d = t.column("needle displacement"), f = t.column("force");
+    double s = 0;
+    int n = 0;
+    for (std::size_t i = 0; i < d.size(); ++i)
+      if (d[i] > 2e-3) s += f[i], ++n;
+    return s / std::max(n, 1);
+  };
+  const double fRel = mean(rel), fCoh = mean(coh);
+  const double D = coh.results.at("cohesive_dissipation").value;
+  const double thick = 2e-3;  // 2D slab as thick as the needle
+  const double depth = 4e-3 + 2 * 0.5e-3;  // the seam reaches at most 2 elements past the deepest tip position
+  const double bound = 10.0 * depth * thick;
+  std::printf("cohesive insertion: mean force past 2 mm %.4g N (node release %.4g N), D = %.4g J, "
+              "G_c x cracked length x thickness = %.4g J, bound %.4g J, cracked %.2f mm\n",
+              fCoh, fRel, D, coh.results.at("fracture_energy_of_crack").value, bound,
+              coh.results.at("cracked_length").value * 1e3);
+  EXPECT_GT(fCoh, fRel);
+  EXPECT_GT(D, 0.0);
+  EXPECT_LE(D, bound);
+  EXPECT_LT(coh.results.at("energy_balance_error").value, 0.02);
 }

@@ -442,6 +442,27 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
     x.contact_penalty = exs.number("contact_penalty");
     x.tip_friction = exs.number("tip_friction");
     x.pre_cut = exs.boolean("pre_cut");
+    {
+      Section cs = exs.sub("cohesive");
+      auto& c = x.cohesive;
+      c.enable = cs.boolean("enable");
+      c.stiffness = cs.number("stiffness");
+      c.constitutive_thickness = cs.number("constitutive_thickness");
+      c.strength = cs.number("strength");
+      c.critical_separation = cs.number("critical_separation");
+      c.fracture_energy = cs.optNumber("fracture_energy").value_or(0.0);
+      c.mode_ii_ratio = cs.number("mode_ii_ratio");
+      if (c.enable) {
+        if (c.strength <= 0 && c.critical_separation <= 0)
+          throw cs.error("strength", "0", "is not given and neither is critical_separation",
+                         "strength (t_c) or critical_separation (delta_c, t_c = 2 G_c / delta_c)");
+        if (c.fracture_energy <= 0)
+          for (const auto& l : sc.tissue.layers)
+            if (l.toughness <= 0)
+              throw cs.error("fracture_energy", "0", "is not given and a layer has no interaction.toughness",
+                             "fracture_energy, or interaction.toughness in every layer");
+      }
+    }
     x.field_interval = exs.optNumber("field_interval").value_or(0.0);
     x.threads = static_cast<int>(exs.number("threads"));
     const bool is2d = x.dimension == 2;

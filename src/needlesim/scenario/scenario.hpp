@@ -153,6 +153,21 @@ struct MpmModelSpec {
 };
 
 // Explicit large-deformation FE (engines/explicit, docs/models/explicit.md).
+// model.explicit.cohesive (docs/models/cohesive.md): bilinear cohesive law on the
+// 2D pre-cut seam instead of node release. K: `stiffness`, or E / T0 from
+// `constitutive_thickness`, or 10 E'/h (h = element_size); t_c: `strength`, or
+// 2 G_c / delta_c from `critical_separation`; G_c: `fracture_energy`, or each
+// layer's interaction.toughness.
+struct ExplicitCohesiveSpec {
+  bool enable = false;
+  double stiffness = 0.0;               // Pa/m (0 = from constitutive_thickness or 10 E'/h)
+  double constitutive_thickness = 0.0;  // m, K = E / T0 (seed 004's T0)
+  double strength = 0.0;                // Pa, t_c (0 = 2 G_c / critical_separation)
+  double critical_separation = 0.0;     // m, delta_c (seed 004)
+  double fracture_energy = 0.0;         // J/m^2 (0 = layer's interaction.toughness)
+  double mode_ii_ratio = 1.0;           // G_IIc / G_Ic (shear strength = t_c)
+};
+
 struct ExplicitModelSpec {
   int dimension = 2;                 // 2 (plane strain) or 3
   std::string element;               // quad4, tri3, hex8, tet4; "" = quad4 (2D) / hex8 (3D)
@@ -171,6 +186,7 @@ struct ExplicitModelSpec {
   double contact_penalty = 0.2;      // k = penalty m / dt^2
   double tip_friction = 0.0;         // Coulomb coefficient on the tip surface (seed 001: 0)
   bool pre_cut = true;               // node-release seam along the needle path
+  ExplicitCohesiveSpec cohesive;     // cohesive law on the seam instead of node release (2D)
   double field_interval = 0.0;       // s, ParaView fields (0 = 20 frames over the run)
   int threads = 0;                   // OpenMP threads (0 = all)
 };

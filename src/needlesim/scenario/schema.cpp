@@ -289,6 +289,20 @@ std::vector<FieldDoc> build() {
   add(q("explicit", "contact_penalty", D::None, "0.2", 0.0, 1.0, true, true, "contact stiffness as a fraction of m/dt^2"));
   add(nonneg("explicit", "tip_friction", D::None, "0", "Coulomb coefficient on the tip surface (seed 001: frictionless); the wall uses the layer's friction.coefficient"));
   add(other("explicit", "pre_cut", Kind::Bool, "true", "pre-cut (node-release) seam along the needle path through the tip's leading point"));
+  add(other("explicit", "cohesive", Kind::Section, "enable: false",
+            "bilinear cohesive zone on the pre-cut seam instead of node release (2d; docs/models/cohesive.md)", false,
+            "explicit_cohesive"));
+  add(other("explicit_cohesive", "enable", Kind::Bool, "false", "put the cohesive law on the seam pairs (needs pre_cut and 2d)"));
+  add(nonneg("explicit_cohesive", "stiffness", units::Dim{-2, 1, -2, 0}, "0 N/m^3",
+             "initial stiffness K = K_n = K_s (traction per separation); 0 = E / constitutive_thickness, or 10 E'/element_size without it"));
+  add(nonneg("explicit_cohesive", "constitutive_thickness", D::Length, "0 mm",
+             "seed 004's T0: K = E / T0 (E of the layer) when stiffness is 0"));
+  add(nonneg("explicit_cohesive", "strength", D::Pressure, "0 Pa", "normal (and shear) strength t_c; 0 = from critical_separation"));
+  add(nonneg("explicit_cohesive", "critical_separation", D::Length, "0 mm",
+             "seed 004's delta_c: t_c = 2 G_c / delta_c when strength is 0"));
+  add(nonneg("explicit_cohesive", "fracture_energy", D::ForcePerLength, "",
+             "mode-I fracture energy G_Ic; absent = each layer's toughness"));
+  add(positive("explicit_cohesive", "mode_ii_ratio", D::None, "1", "G_IIc / G_Ic (mixed mode: linear energy criterion)"));
   add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
   add(q("explicit", "threads", D::None, "0", 0.0, 1024.0, false, false, "OpenMP threads (0 = all cores)"));
 

@@ -8,6 +8,7 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
+#include "needlesim/materials/material_spec.hpp"
 #include "needlesim/io/field_series.hpp"
 
 #ifdef _OPENMP
@@ -127,10 +128,57 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   ExplicitSolver solver(std::move(st.mesh), mats, o);
   // splitSeam gives the copies to the +y lip; the bevel faces +y when bevelSide.y > 0
   const int copySide = bevelSide.y() >= 0 ? 1 : -1;
+  const auto& cs = ex.cohesive;
+  const bool cohOn = cs.enable;
+  if (cohOn && (!seamOn || dim != 2))
+    throw Error("model.explicit.cohesive needs the 2d pre-cut seam (pre_cut: true, no imported mesh, entry_angle 90 deg, "
+                "bevel_orientation 0 or 180 deg)");
   for (auto [a, b] : st.seam) {
-    solver.addTie(a, b);
+    if (!cohOn) solver.addTie(a, b);
     solver.setContactSide(a, -copySide);
     solver.setContactSide(b, copySide);
+  }
+  // Cohesive zone on the seam pairs instead of node release (docs/models/cohesive.md).
+  double cohGcArea = 0.0;  // sum G_c x tributary length over the pairs the tip passed (J/m), set in record
+  std::vector<CohesiveLaw> cohLaws;
+  std::vector<double> cohGc;  // per node: G_c of its pair (the interface sorts the pairs)
+  if (cohOn) {
+    double edgeX = 0;
+    std::vector<double> ends;
+    for (const auto& l : sc.tissue.layers) ends.push_back(edgeX += l.thickness);
+    for (auto [a, b] : st.seam) {
+      (void)b;
+      const double x = meshCopy.coord(a, 0);
+      int r = 0;
+      while (r + 1 < static_cast<int>(ends.size()) && x > ends[r]) ++r;
+      const auto& layer = sc.tissue.layers[r];
+      const auto mod = materials::smallStrainModuli(layer.material);
+      const double E = mod.youngs(), nu = mod.poisson(), Ep = E / (1 - nu * nu);
+      CohesiveLaw law;
+      law.energy = cs.fracture_energy > 0 ? cs.fracture_energy : layer.toughness;
+      law.shearEnergy = cs.mode_ii_ratio * law.energy;
+      law.strength = cs.strength > 0 ? cs.strength : 2.0 * law.energy / cs.critical_separation;
+      law.stiffness = cs.stiffness > 0                ? cs.stiffness
+                      : cs.constitutive_thickness > 0 ? E / cs.constitutive_thickness
+                                                      : 10.0 * Ep / ex.element_size;
+      try {
+        law.validate();
+      } catch (const Error& e) {
+        throw Error(std::string("model.explicit.cohesive (layer ") + layer.name + "): " + e.what());
+      }
+      cohLaws.push_back(law);
+      if (cohGc.empty()) cohGc.assign(meshCopy.nodes(), 0.0);
+      cohGc[a] = law.energy;
+    }
+    CohesiveInterface ci(meshCopy.X, st.seam, cohLaws, Eigen::Vector2d::UnitX(), 1.0);
+    // closed crack tip: the shared node beyond the seam's last pair
+    double xLast = -1e300, xNext = 1e300;
+    for (auto [a, b] : st.seam) xLast = std::max(xLast, meshCopy.coord(a, 0));
+    for (int n = 0; n < meshCopy.nodes(); ++n)
+      if (std::abs(meshCopy.coord(n, 1) - seamY) < 1e-9 && meshCopy.coord(n, 0) > xLast + 1e-12)
+        xNext = std::min(xNext, meshCopy.coord(n, 0));
+    if (xNext < 1e299) ci.addEndLength(0.0, 0.5 * (xNext - xLast));
+    solver.setCohesive(std::move(ci));
   }
   // Distal face fixed (seed 001 section 3.2).
   const int fixed = solver.addGroup();
@@ -158,7 +206,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"lateral force", "N"}, {"tip force", "N"}, {"moment", "N m"}, {"contact nodes", "1"},
                     {"kinetic energy", "J"}, {"internal energy", "J"}, {"strain energy", "J"},
                     {"hourglass energy", "J"}, {"external work", "J"}, {"contact work", "J"},
-                    {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"}});
+                    {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"},
+                    {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"}});
   io::FieldSeries* fields = sink.fields("tissue", dim);
   io::FieldSeries* needleFields = sink.fields("needle", dim);
   if (fields) {
@@ -222,7 +271,17 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     series.addRow({solver.time(), depth, depth - depth0, fAx, fLat, tip, n->moment.z() * thick,
                    static_cast<double>(n->nodesInContact), E.kinetic * thick, ie * thick, E.strain * thick,
                    E.hourglass * thick, E.externalWork * thick, E.contactWork * thick, E.balance() * thick, ratio,
-                   solver.timeStep(), static_cast<double>(st.seam.size() - solver.activeTies())});
+                   solver.timeStep(),
+                   static_cast<double>(cohOn ? solver.cohesive()->fullyDamaged()
+                                             : static_cast<int>(st.seam.size()) - solver.activeTies()),
+                   E.cohesiveStored * thick, E.cohesiveDissipated * thick,
+                   cohOn ? solver.cohesive()->crackedLength() : 0.0});
+    if (cohOn) {
+      const auto* c = solver.cohesive();
+      cohGcArea = 0.0;
+      for (int p = 0; p < c->pairs(); ++p)
+        if (c->state(p).damage >= 1.0 - 1e-12) cohGcArea += cohGc[c->node(p, 0)] * c->tributaryLength(p) * thick;
+    }
   };
   auto flush = [&](const std::string& status) {
     sink.table("explicit", series);
@@ -237,6 +296,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     io::Plot ep{"Energies", "time [s]", "energy [J]", {}};
     for (const char* c : {"kinetic energy", "internal energy", "external work", "contact work", "energy balance"})
       ep.series.push_back({c, time, series.column(c)});
+    if (cohOn) ep.series.push_back({"cohesive dissipation", time, series.column("cohesive dissipation")});
     sink.plot(ep);
     sink.result("peak_force", peak, "N", "largest axial needle force (reaction at the base)");
     sink.result("final_force", force.empty() ? 0.0 : force.back(), "N", "axial needle force at the end");
@@ -251,7 +311,27 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     if (dim == 2)
       sink.note("2D plane strain: forces and energies are per metre of thickness times the needle diameter (" +
                 std::to_string(thick * 1e3) + " mm), i.e. a slab as thick as the needle.");
-    if (seamOn)
+    if (cohOn) {
+      const auto* c = solver.cohesive();
+      const auto& E = solver.energies();
+      sink.result("cohesive_dissipation", E.cohesiveDissipated * thick, "J",
+                  "energy dissipated by the cohesive zone (slab as thick as the needle in 2D)");
+      sink.result("cohesive_stored", E.cohesiveStored * thick, "J", "elastic energy stored in the cohesive zone");
+      sink.result("cracked_length", c->crackedLength(), "m", "seam length with damage 1");
+      sink.result("crack_tip", c->crackTip(), "m", "farthest fully damaged position along the seam");
+      double dmax = 0, snMax = 0;
+      for (int p = 0; p < c->pairs(); ++p) {
+        dmax = std::max(dmax, c->state(p).damage);
+        snMax = std::max(snMax, c->separationNormal(p));
+      }
+      sink.result("cohesive_max_damage", dmax, "1", "largest damage on the seam");
+      sink.result("cohesive_max_opening", snMax, "m", "largest normal separation of a seam pair (at the end)");
+      sink.result("fracture_energy_of_crack", cohGcArea, "J",
+                  "G_c x fully damaged length x slab thickness (the dissipation when the process zone is small)");
+      sink.note("Cohesive zone on the seam (model.explicit.cohesive, docs/models/cohesive.md): K = " +
+                std::to_string(cohLaws.front().stiffness) + " Pa/m, t_c = " + std::to_string(cohLaws.front().strength) +
+                " Pa, G_c = " + std::to_string(cohLaws.front().energy) + " J/m^2 (first pair); no node release.");
+    } else if (seamOn)
       sink.note("The tissue is pre-cut along the needle path through the tip's leading point (node release when the "
                 "tip arrives): the fracture-energy-free limit of the cohesive zone of seeds 001/004.");
     else
