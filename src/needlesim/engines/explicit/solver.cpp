@@ -292,6 +292,8 @@ void ExplicitSolver::setCohesive(CohesiveInterface c) {
   if (dim_ != 2) throw Error("explicit FE: cohesive interfaces are 2D only");
   coh_.assign(1, std::move(c));
   fcoh_.assign(u_.size(), 0.0);
+  cohPairOf_.assign(nnode_, -1);
+  for (int p = 0; p < coh_.front().pairs(); ++p) cohPairOf_[coh_.front().node(p, 0)] = cohPairOf_[coh_.front().node(p, 1)] = p;
   cohOmega2_ = coh_.front().maxOmega2(mass_);
   cohesiveForces();
   computeStableStep();
@@ -518,8 +520,24 @@ void ExplicitSolver::contactForces(double dtStep) {
       v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
     }
     double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
-    const needle::NeedleHit hit =
+    double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
+    needle::NeedleHit hit =
         needle::queryNeedle(nd.shape, nd.pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
+    // Wedge on a still-cohesive seam pair (docs/models/cohesive.md): the lip nodes of a pair
+    // that is not fully damaged meet the sharp point's faces (bevel, or the wall-side chisel
+    // ramp) with the lateral part of the face normal only, at the lateral distance to the
+    // face. Each lip is pushed away from the cut line on its own side, so the pair's normal
+    // separation grows as the point advances and the cohesive law governs the opening; the
+    // axial push of the inclined faces would instead shove the closed pair ahead of the point.
+    if (hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel && !cohPairOf_.empty() &&
+        cohPairOf_[n] >= 0 && coh_.front().state(cohPairOf_[n]).damage < 1.0) {
+      const double c = hit.normal.dot(nd.pose.bevelSide);
+      if (std::abs(c) > 1e-3) {
+        wedgeAxial = hit.normal.dot(nd.pose.axis) / std::abs(c);
+        hit.depth /= std::abs(c);
+        hit.normal = (c > 0 ? 1.0 : -1.0) * nd.pose.bevelSide;
+      }
+    }
     if (!hit.inside) {
       ft[0] = ft[1] = ft[2] = 0;
       continue;
@@ -542,7 +560,10 @@ void ExplicitSolver::contactForces(double dtStep) {
       ft[0] = ft[1] = ft[2] = 0;
     }
     for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
-    // reaction on the needle: -f at x; moment about the base centre
+    // reaction on the needle: -f at x; moment about the base centre. A wedged lip (above) feels
+    // only the lateral part fn of the face force; the needle takes the whole face force, whose
+    // axial part fn tan(face) makes the needle's work match the opening work at the face.
+    if (wedgeAxial != 0.0) f += fn * wedgeAxial * nd.pose.axis;
     Vector3d r = x - base, m = r.cross(-f);
     fx -= f[0], fy -= f[1], fz -= f[2];
     mx += m[0], my += m[1], mz += m[2];

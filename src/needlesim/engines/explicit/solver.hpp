@@ -204,6 +204,7 @@ class ExplicitSolver {
   // cohesive zone (0 or 1 interface)
   std::vector<CohesiveInterface> coh_;
   std::vector<double> fcoh_;
+  std::vector<int> cohPairOf_;  // per node: its cohesive pair, -1 none
   double cohOmega2_ = 0.0;
   void cohesiveForces();
   // state
