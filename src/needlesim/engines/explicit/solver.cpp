@@ -262,12 +262,7 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   penetrationTol_ = opt_.penetrationTolerance > 0 ? opt_.penetrationTolerance : 0.5 * minSize_;
   releaseDistance_ = minSize_;
   // stable step of the initial mesh, so that timeStep() is meaningful before the first step
-  switch (mesh_.type) {
-    case ElementType::Quad4: internalForces<4, 2>(0.0); break;
-    case ElementType::Tri3: internalForces<3, 2>(0.0); break;
-    case ElementType::Hex8: internalForces<8, 3>(0.0); break;
-    case ElementType::Tet4: internalForces<4, 3>(0.0); break;
-  }
+  elementForces(0.0);
   elementUpdates_ = 0;
   computeStableStep();
 }
@@ -607,12 +602,7 @@ void ExplicitSolver::step() {
   if (steps_ == 0) {
     // forces and stable step at the initial state (initial displacement or velocity may have been set)
     const double dtKeep = dt_;
-    switch (mesh_.type) {
-      case ElementType::Quad4: internalForces<4, 2>(0.0); break;
-      case ElementType::Tri3: internalForces<3, 2>(0.0); break;
-      case ElementType::Hex8: internalForces<8, 3>(0.0); break;
-      case ElementType::Tet4: internalForces<4, 3>(0.0); break;
-    }
+    elementForces(0.0);
     gatherForces();
     computeStableStep();
     if (dtKeep > 0.0 && dtKeep < dt_) dt_ = dtKeep;  // a first step shortened by advanceTo
@@ -708,12 +698,7 @@ void ExplicitSolver::step() {
   if (hasNeedle_) needle_.pose.tip += dt * needle_.velocity * needle_.pose.axis;
   for (auto& pl : planes_) pl.point += dt * pl.velocity;
   // Forces at the new configuration.
-  switch (mesh_.type) {
-    case ElementType::Quad4: internalForces<4, 2>(dt); break;
-    case ElementType::Tri3: internalForces<3, 2>(dt); break;
-    case ElementType::Hex8: internalForces<8, 3>(dt); break;
-    case ElementType::Tet4: internalForces<4, 3>(dt); break;
-  }
+  elementForces(dt);
   gatherForces();
   contactForces(dt);
   cohesiveForces();
@@ -728,15 +713,19 @@ void ExplicitSolver::step() {
   computeStableStep();
 }
 
+void ExplicitSolver::elementForces(double dtStep) {
+  switch (mesh_.type) {
+    case ElementType::Quad4: internalForces<4, 2>(dtStep); break;
+    case ElementType::Tri3: internalForces<3, 2>(dtStep); break;
+    case ElementType::Hex8: internalForces<8, 3>(dtStep); break;
+    case ElementType::Tet4: internalForces<4, 3>(dtStep); break;
+  }
+}
+
 void ExplicitSolver::setDisplacement(const std::vector<double>& u) {
   if (u.size() != u_.size()) throw Error("setDisplacement: size mismatch");
   u_ = u;
-  switch (mesh_.type) {
-    case ElementType::Quad4: internalForces<4, 2>(0.0); break;
-    case ElementType::Tri3: internalForces<3, 2>(0.0); break;
-    case ElementType::Hex8: internalForces<8, 3>(0.0); break;
-    case ElementType::Tet4: internalForces<4, 3>(0.0); break;
-  }
+  elementForces(0.0);
   gatherForces();
 }
 

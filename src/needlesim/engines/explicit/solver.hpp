@@ -158,6 +158,8 @@ class ExplicitSolver {
  private:
   template <int NPE, int DIM>
   void internalForces(double dtStep);
+  // internalForces for this mesh's element type.
+  void elementForces(double dtStep);
   void contactForces(double dtStep);
   void gatherForces();
   void computeStableStep();
