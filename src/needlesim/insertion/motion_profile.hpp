@@ -17,6 +17,13 @@ struct MotionState {
   int segment = -1;            // index of the active segment (-1 before the first, n after the last)
 };
 
+// Steps of `dt` between recorded samples for a sampling `interval` (0 = every step).
+inline long long outputStride(double interval, double dt) {
+  if (!(interval > 0.0)) return 1;
+  const long long n = static_cast<long long>(interval / dt + 0.5);
+  return n < 1 ? 1 : n;
+}
+
 class MotionProfile {
  public:
   explicit MotionProfile(const InsertionSpec& spec);

@@ -16,7 +16,7 @@ void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   const double dt = sc.model.time_step;
   const auto steps = static_cast<long long>(std::ceil(motion.duration() / dt - 1e-9));
   const long long every =
-      sc.output.interval > 0.0 ? std::max(1LL, std::llround(sc.output.interval / dt)) : 1LL;
+      outputStride(sc.output.interval, dt);
 
   io::Table table({{"time", "s"},
                    {"depth", "m"},

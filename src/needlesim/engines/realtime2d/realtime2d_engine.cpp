@@ -142,7 +142,7 @@ void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& optio
   const double dt = sc.model.time_step;
   const auto steps = static_cast<long long>(std::ceil(motion.duration() / dt - 1e-9));
   const long long every =
-      sc.output.interval > 0.0 ? std::max(1LL, std::llround(sc.output.interval / dt)) : 1LL;
+      outputStride(sc.output.interval, dt);
   const long long fieldEvery =
       r.field_interval > 0.0 ? std::max(1LL, std::llround(r.field_interval / dt)) : 0LL;
 

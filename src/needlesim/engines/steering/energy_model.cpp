@@ -11,6 +11,21 @@
 #include "needlesim/needle/section.hpp"
 
 namespace needlesim::steering {
+
+// Sub-step 1 push u that makes d Lambda_1 / d u = 0, capped at max_step; a roller
+// along the axis (tau = 0) bends nothing, so the push is the cap [choice 4].
+static double pushDistance(double P_eff, double k_eff, double tau, double max_step, bool& capped) {
+  if (std::abs(tau) < 1e-12) {
+    capped = true;
+    return max_step;
+  }
+  const double u = P_eff / (k_eff * tau * tau);
+  if (u > max_step) {
+    capped = true;
+    return max_step;
+  }
+  return u;
+}
 namespace {
 
 using Vec4 = Eigen::Vector4d;
@@ -115,17 +130,7 @@ EnergyResult runWindow(const EnergyParams& p, double EI, double EA, double A, st
       ++next_flip;
     }
     const double tau = std::tan(sign * beta0);  // eq 47 in the path frame
-    double u2;
-    if (std::abs(tau) < 1e-12) {
-      u2 = p.max_step;  // [choice 4]
-      r.capped = true;
-    } else {
-      u2 = P_eff / (k_eff * tau * tau);  // d Lambda_1 / d u = 0
-      if (u2 > p.max_step) {
-        u2 = p.max_step;
-        r.capped = true;
-      }
-    }
+    const double u2 = pushDistance(P_eff, k_eff, tau, p.max_step, r.capped);
     const double V = k_eff * tau * u2;  // eq 28 [choice 3]
     const double H = -V * tau;          // eq 27
     const double u0 = u2 - H * l / EA;  // base advance u(0)
@@ -228,17 +233,7 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     const Eigen::LDLT<Mat4> ldlt(K);
     const Vec4 g = ldlt.solve(Vec4(0, 0, 1, 0));
     const double k_eff = 1.0 / g(2);
-    double u2;
-    if (std::abs(tau) < 1e-12) {
-      u2 = p.max_step;  // roller along the axis: nothing bends [choice 4]
-      r.capped = true;
-    } else {
-      u2 = P_eff / (k_eff * tau * tau);  // d Lambda_1 / d u = 0
-      if (u2 > p.max_step) {
-        u2 = p.max_step;
-        r.capped = true;
-      }
-    }
+    const double u2 = pushDistance(P_eff, k_eff, tau, p.max_step, r.capped);
     const double dv_tip = tau * u2;
     const double V = k_eff * dv_tip;      // eq 28, variationally consistent nodal reaction [choice 3]
     const double H = -V * tau;            // eq 27: EA/l (u(l) - u(0)); = -P_eff when not capped
