@@ -25,6 +25,17 @@ EnergyParams fig22(double d, double beta_ratio) {
   p.P_input = 0.5e-3;
   return p;
 }
+// the literal eq 45 frame (two Hermite pieces over the whole inserted length) [choice 9]
+EnergyParams entry(EnergyParams p) {
+  p.frame = EnergyFrame::Entry;
+  return p;
+}
+double curvatureOf(const EnergyParams& p) {
+  std::vector<Eigen::Vector3d> path;
+  runEnergyModel(p, &path);
+  const double rho = fitCircle(path).radius;
+  return std::isfinite(rho) ? 1.0 / rho : 0.0;
+}
 }  // namespace
 
 TEST(EnergyModel, SymmetricTipGoesStraight) {
@@ -37,18 +48,18 @@ TEST(EnergyModel, SymmetricTipGoesStraight) {
   EXPECT_GE(r.final_length, 0.15 - 1e-3);
 }
 
-TEST(EnergyModel, DeflectionRisesWithCutAngle) {
+TEST(EnergyModelEntry, DeflectionRisesWithCutAngle) {
   // Fig 22: a smaller beta/alpha gives a smaller final tip deflection
   double prev = 0;
   for (double br : {0.25, 0.5, 0.75, 1.0}) {
-    const double d = std::abs(runEnergyModel(fig22(0.4e-3, br)).final_deflection);
+    const double d = std::abs(runEnergyModel(entry(fig22(0.4e-3, br))).final_deflection);
     EXPECT_GT(d, prev * 1.2) << br;
     prev = d;
   }
 }
 
-TEST(EnergyModel, BevelFlipReversesTheDeflection) {
-  EnergyParams p = fig22(0.4e-3, 0.5);
+TEST(EnergyModelEntry, BevelFlipReversesTheDeflection) {
+  EnergyParams p = entry(fig22(0.4e-3, 0.5));
   const double d0 = runEnergyModel(p).final_deflection;
   p.flip_depths = {0.075};
   const double d1 = runEnergyModel(p).final_deflection;
@@ -80,16 +91,78 @@ TEST(EnergyModel, SubStepOneReactionBalancesTheInputForce) {
   EXPECT_GT(checked, 10);
 }
 
-// Known open issue (docs/models/bevel-tip-energy.md): with the two-piece trial
-// functions of eq 45 the final deflection barely depends on the diameter. The
-// path-window frame (choice 9) has the trend in curvature
-// (EnergyModelWindow.CurvatureRisesWithSmallerDiameter) but at these Fig 22 inputs
-// (beta/alpha 0.5, 45 deg) both of its paths curl past a quarter turn within 150 mm,
-// so this final-deflection comparison still fails there (thin 87 mm, thick 107 mm).
-TEST(EnergyModel, DISABLED_DeflectionRisesWithSmallerDiameter) {
-  const double thin = std::abs(runEnergyModel(fig22(0.3e-3, 0.5)).final_deflection);
-  const double thick = std::abs(runEnergyModel(fig22(0.6e-3, 0.5)).final_deflection);
+TEST(EnergyModel, DeflectionRisesWithSmallerDiameter) {
+  // Fig 22: a thicker needle (EI ~ d^4) bends less. The default (path-window) frame gives
+  // kappa ~ chi tan(beta) (K_T / 4EI)^(1/4) ~ 1/d, with the cut share chi also falling with d
+  // (the tear a is the needle radius, choice 10). At beta/alpha 0.25 both 150 mm paths stay
+  // below a half turn, where the final deflection rho (1 - cos(L/rho)) still rises with kappa;
+  // at beta/alpha 0.5 the 0.3 mm path turns about 170 degrees, so there the test compares curvatures.
+  const double thin = std::abs(runEnergyModel(fig22(0.3e-3, 0.25)).final_deflection);
+  const double thick = std::abs(runEnergyModel(fig22(0.6e-3, 0.25)).final_deflection);
   EXPECT_GT(thin, 1.2 * thick);
+  const double k_thin = curvatureOf(fig22(0.3e-3, 0.5)), k_thick = curvatureOf(fig22(0.6e-3, 0.5));
+  // 1/d alone gives 2; the cut share chi (0.87 against 0.74) adds about 18 %
+  EXPECT_GT(k_thin, 2.0 * k_thick);
+  EXPECT_LT(k_thin, 2.8 * k_thick);
+}
+
+TEST(EnergyModel, RadiusFallsWithInputForce) {
+  // Fig 21(a): a larger input force steers more, and the radius levels off for large forces;
+  // below the rupture threshold a G_f the push cannot cut sideways at all (choice 10).
+  EnergyParams p = fig22(0.46e-3, 0.5);  // section 5.3: 0.46 mm, 31.89 deg, beta/alpha 0.5
+  p.alpha = 31.89 * deg;
+  const double a = 0.23e-3, threshold = a * p.fracture_energy;
+  std::vector<double> rho;
+  for (double P : {0.2e-3, 0.5e-3, 1e-3, 5e-3}) {
+    p.P_input = P;
+    const double k = curvatureOf(p);
+    rho.push_back(1.0 / k);
+    // closed form of choice 10: the curvature is chi = 1 - a G_f / P_input times that of a
+    // rupture-free push (whose curvature does not depend on P_input)
+    EnergyParams free = p;
+    free.fracture_energy = 0;
+    EXPECT_NEAR(k / curvatureOf(free), 1 - threshold / P, 0.01) << P;
+  }
+  for (size_t i = 1; i < rho.size(); ++i) EXPECT_LT(rho[i], rho[i - 1]);
+  // "for a larger total force the value and the variation of the radius are smaller"
+  EXPECT_LT((rho[2] - rho[3]) / rho[3], 0.5 * (rho[0] - rho[1]) / rho[1]);
+  p.P_input = 0.9 * threshold;
+  EXPECT_EQ(runEnergyModel(p).final_deflection, 0.0);
+}
+
+TEST(EnergyModel, FrictionRaisesTheRadiusMostForTheThickestNeedle) {
+  // Fig 23: 0-50 % of the input work dissipated by friction, 45 deg, 0.5 mN, d 0.3/0.4/0.5 mm.
+  // The friction takes (1 - f) of the push to the tip; the rupture share a G_f / P_eff grows,
+  // and grows most for the thick needle (a = radius). The paper: +39.5 % for 0.5 mm at 50 %;
+  // G_f = 0.44 J/m^2 is inferred from that one number (docs), so only the ordering and the
+  // monotonic rise are independent checks; the 0.5 mm value checks the inference.
+  std::vector<double> rise;
+  for (double d : {0.3e-3, 0.4e-3, 0.5e-3}) {
+    EnergyParams p = fig22(d, 0.5);
+    double prev = 0;
+    double rho0 = 0;
+    for (double f : {0.0, 0.25, 0.5}) {
+      p.friction_fraction = f;
+      const double rho = 1.0 / curvatureOf(p);
+      EXPECT_GT(rho, prev) << d << " " << f;
+      if (f == 0.0) rho0 = rho;
+      prev = rho;
+    }
+    rise.push_back(prev / rho0 - 1);
+  }
+  EXPECT_LT(rise[0], rise[1]);
+  EXPECT_LT(rise[1], rise[2]);
+  EXPECT_NEAR(rise[2], 0.395, 0.03);
+}
+
+TEST(EnergyModel, SymmetricTipLimitIsContinuous) {
+  // the straight path of a symmetric tip is the beta -> 0 limit, not a special case:
+  // the curvature goes to zero linearly in tan(beta)
+  const double k1 = curvatureOf(fig22(0.46e-3, 0.02)), k2 = curvatureOf(fig22(0.46e-3, 0.04));
+  EXPECT_GT(k1, 0.0);
+  EXPECT_NEAR(k2 / k1, std::tan(0.04 * 45 * deg) / std::tan(0.02 * 45 * deg), 0.03);
+  EXPECT_EQ(curvatureOf(fig22(0.46e-3, 0.0)), 0.0);
+  EXPECT_EQ(curvatureOf(entry(fig22(0.46e-3, 0.0))), 0.0);
 }
 
 // [choice 9] path-attached Ritz window: the tip turns by the same angle per unit
@@ -188,5 +261,35 @@ TEST(Table2, AllTwelveCasesRunForBothMechanicsModels) {
     // the measured deflection is derived from the measured radius over a 150 mm arc
     const Table2Row r = runTable2Case(c, "beam-foundation");
     EXPECT_NEAR(r.deflection_exp, c.rho_exp * (1 - std::cos(0.15 / c.rho_exp)), 1e-15);
+  }
+}
+
+TEST(Table2, CalibratedCutAngleReproducesTheMeasuredRadius) {
+  // one beta/alpha fitted to one needle: the bisection must land on rho_exp (both models are
+  // monotone in beta/alpha, in opposite directions)
+  const auto& c = table2Cases()[8];  // gel C, 0.54 mm
+  for (const char* m : {"energy", "beam-foundation"}) {
+    const double br = calibrateBetaRatio(c, m);
+    EXPECT_GT(br, 0.01) << m;
+    EXPECT_LT(br, 1.0) << m;
+    EXPECT_NEAR(runTable2Case(c, m, br).rho_pred, c.rho_exp, 1e-3 * c.rho_exp) << m;
+  }
+}
+
+TEST(Table2, EnergyModelPredictsTheOtherDiametersOfAGel) {
+  // Leave-two-out: beta/alpha fitted per gel on one needle predicts the two other needles.
+  // A model whose diameter dependence is right must beat the constant-curvature (kinematic)
+  // baseline, which predicts the calibration radius for every needle of the gel. The paper's
+  // own fitted model deviated 4.1-32.9 % (seed 002 section 5.2).
+  for (int cal = 0; cal < 3; ++cal) {
+    double e_energy = 0, e_kin = 0, worst = 0;
+    for (const auto& pr : table2CrossValidation("energy", cal)) {
+      e_energy += std::abs(pr.error) / 8;
+      worst = std::max(worst, std::abs(pr.error));
+    }
+    for (const auto& pr : table2CrossValidation("kinematic", cal)) e_kin += std::abs(pr.error) / 8;
+    EXPECT_LT(e_energy, 0.15) << cal;
+    EXPECT_LT(worst, 0.329) << cal;
+    EXPECT_LT(e_energy, 0.8 * e_kin) << cal;
   }
 }

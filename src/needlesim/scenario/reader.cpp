@@ -291,6 +291,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
     st.increment = steer.number("increment");
     st.friction_dissipation = steer.number("friction_dissipation");
     st.tear_length = steer.optNumber("tear_length").value_or(0.0);  // 0: the needle radius
+    st.fracture_energy = steer.number("fracture_energy");
     st.max_step = steer.number("max_step");
     const double snaps = steer.number("snapshots");
     if (snaps != std::floor(snaps))

@@ -114,10 +114,11 @@ struct SteeringModelSpec {
   double beta_over_alpha = 0.5;   // cut angle / bevel angle (seed 002 sections 3.1, 5.2)
   double input_force = 5e-3;      // N, P_input (seed 002 section 5.2)
   std::string tip_load = "roller";  // roller (section 4 sub-step 1 reaction) | bevel-edges (eqs 24-26)
-  std::string energy_frame = "entry";  // entry | path-window (energy model trial-function frame)
+  std::string energy_frame = "path-window";  // entry | path-window (energy model trial-function frame)
   double increment = 1e-3;        // m, insertion increment / element length / path sampling
   double friction_dissipation = 0.0;  // energy: share of the input work lost to friction (Fig 23)
   double tear_length = 0.0;       // m, energy: a of eq 44; 0 = the needle radius
+  double fracture_energy = 0.44;  // J/m^2, energy: G_f of eq 44 (choice 10)
   double max_step = 1e-3;         // m, energy: largest advance of one increment
   int snapshots = 5;              // needle shapes recorded along the insertion
 };

@@ -178,7 +178,7 @@ std::vector<FieldDoc> build() {
             "sub-step-1 roller reaction P_input/tan(beta) that drives seed 002's section 5 model; "
             "bevel-edges = eqs 24-26 from K_T and the bevel geometry",
             false, {}, {"roller", "bevel-edges"}));
-  add(other("steering", "energy_frame", Kind::Choice, "entry",
+  add(other("steering", "energy_frame", Kind::Choice, "path-window",
             "energy model trial functions: entry = clamped at the entry and spanning the inserted length "
             "(the paper's eq 45 reading); path-window = Hermite pieces over 4 (4EI/K_T)^(1/4) behind the tip "
             "in a frame attached to the cut path (circular paths; docs/models/bevel-tip-energy.md choice 9)",
@@ -188,6 +188,9 @@ std::vector<FieldDoc> build() {
   add(q("steering", "friction_dissipation", D::None, "0", 0.0, 1.0, false, true,
         "energy: share of the input work dissipated by friction (seed 002 Fig 23)"));
   add(nonneg("steering", "tear_length", D::Length, "needle radius", "energy: tear length a of seed 002 eq 44"));
+  add(nonneg("steering", "fracture_energy", D::ForcePerLength, "0.44 N/m",
+             "energy: fracture energy G_f per torn area in W_R = a G_f l (eq 44); with the tear length it sets the "
+             "share 1 - a G_f / P_input of the push that cuts sideways (docs/models/bevel-tip-energy.md choice 10)"));
   add(positive("steering", "max_step", D::Length, "1 mm", "energy: largest advance of one increment"));
   add(q("steering", "snapshots", D::None, "5", 1.0, 100.0, false, false, "needle shapes recorded along the insertion"));
   add(other("model", "realtime2d", Kind::Section, "", "parameters of the real-time 2D FE engine", false, "realtime2d"));

@@ -83,8 +83,8 @@ inline void evalPrev(const Vec4& c, double l_old, double x, double& v, double& d
 // in every increment: it is assembled and factored once, and each increment is linear in
 // its advance. The tissue keeps the sub-step-2 tip position and tip rotation (the new
 // channel node, as in the beam-on-foundation engine); the tip then advances straight.
-EnergyResult runWindow(const EnergyParams& p, double EI, double EA, double A, std::vector<Eigen::Vector3d>* path,
-                       double record_every, std::vector<EnergyIncrement>* incs) {
+EnergyResult runWindow(const EnergyParams& p, double EI, double EA, double A, double chi,
+                       std::vector<Eigen::Vector3d>* path, double record_every, std::vector<EnergyIncrement>* incs) {
   const int ne = p.window_elements, nd = 2 * ne;
   const double lambda = std::sqrt(std::sqrt(p.K_T / (4 * EI)));
   const double Lw = p.window / lambda, h = Lw / ne;
@@ -134,13 +134,18 @@ EnergyResult runWindow(const EnergyParams& p, double EI, double EA, double A, st
     const double V = k_eff * tau * u2;  // eq 28 [choice 3]
     const double H = -V * tau;          // eq 27
     const double u0 = u2 - H * l / EA;  // base advance u(0)
-    const double wt = V * s2(nd - 2), rt = V * s2(nd - 1);  // sub-step 2 tip deflection, rotation
-    r.W_Q += -V * wt;                                        // eq 42
-    r.W_P += H * H * l / EA;                                 // eq 43, u(l) - u(0) = -H l / EA
-    r.U_B += V * V * s2_UB;                                  // eq 35, increment part
-    r.U_T += V * V * s2_UT;                                  // eq 40
-    r.W_input += P_eff * u0;                                 // eq 41 [choice 1]
-    r.W_R += tear * p.Gc * u0;                               // eq 44 [choice 5]
+    // [choice 10] only the share chi of the advance cuts sideways along the roller; the
+    // rest is straight rupture advance, so the sideways cut (and everything sub-step 2
+    // builds on it) is chi times the roller's
+    const double Vc = chi * V;
+    const double wt = Vc * s2(nd - 2), rt = Vc * s2(nd - 1);  // sub-step 2 tip deflection, rotation
+    r.W_Q += -Vc * wt;                                         // eq 42
+    r.W_P += H * H * l / EA;                                   // eq 43, u(l) - u(0) = -H l / EA
+    r.U_B += Vc * Vc * s2_UB;                                  // eq 35, increment part
+    r.U_T += Vc * Vc * s2_UT;                                  // eq 40
+    r.W_input += p.P_input * u0;                               // eq 41 [choice 1]
+    r.W_friction += p.friction_fraction * p.P_input * u0;      // Fig 23 [choice 7]
+    r.W_R += tear * p.fracture_energy * u0;                    // eq 44 [choices 5, 10]
     // the tissue keeps the tip where sub-step 2 leaves it: new channel node
     X += -std::sin(th) * wt;
     Y += std::cos(th) * wt;
@@ -188,6 +193,8 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     throw std::invalid_argument("energy model needs diameter, E, K_T and P_input > 0");
   if (!(p.alpha > 0 && p.alpha < std::numbers::pi / 2) || p.beta_ratio < 0 || p.beta_ratio > 1)
     throw std::invalid_argument("energy model needs 0 < alpha < 90 deg and 0 <= beta/alpha <= 1");
+  if (!(p.fracture_energy >= 0))
+    throw std::invalid_argument("energy model needs fracture_energy >= 0");
   if (!(p.friction_fraction >= 0 && p.friction_fraction < 1))
     throw std::invalid_argument("friction fraction must lie in [0, 1)");
   if (!(p.initial_length > 0 && p.max_step > 0 && p.insertion > p.initial_length))
@@ -198,10 +205,17 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
 
   const needle::Section sec{p.E, p.diameter, p.inner_diameter};
   const double EI = sec.EI(), EA = sec.EA(), A = sec.area();
-  if (p.frame == EnergyFrame::PathWindow) return runWindow(p, EI, EA, A, path, record_every, incs);
-  const double beta0 = p.beta_ratio * p.alpha;
   const double P_eff = (1.0 - p.friction_fraction) * p.P_input;  // Fig 23 [choice 7]
   const double tear = p.tear_length >= 0 ? p.tear_length : p.diameter / 2;
+  // [choice 10] share of the tip's input work P_eff u left for the sideways cut once the
+  // rupture work a G_f u (eq 44 per advance) is paid
+  const double chi = std::max(0.0, 1.0 - tear * p.fracture_energy / P_eff);
+  if (p.frame == EnergyFrame::PathWindow) {
+    EnergyResult r = runWindow(p, EI, EA, A, chi, path, record_every, incs);
+    r.cut_share = chi;
+    return r;
+  }
+  const double beta0 = p.beta_ratio * p.alpha;
 
   EnergyResult r;
   Vec4 c = Vec4::Zero();  // previous deflection coefficients
@@ -249,14 +263,15 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     // K D = Kf D1 - Qg e_v(l). The needle springs back towards straight; what the
     // tissue retains is the increment's deflection.
     const Vec4 D1 = g * (V * g(2) > 0 ? dv_tip / g(2) : 0.0);
-    const Vec4 D2 = ldlt.solve(Kf * D1 - Vec4(0, 0, Qg, 0));
+    const Vec4 D2 = chi * ldlt.solve(Kf * D1 - Vec4(0, 0, Qg, 0));  // [choice 10]
     const double u2b = -Pg * l / EA;
     r.W_Q += -Qg * D2(2);                              // eq 42
     r.W_P += -Pg * u2b;                                // eq 43
     r.U_B += 0.5 * D2.dot(Kb * D2);                   // eq 35, increment part
     r.U_T += 0.5 * D2.dot(Kf * D2);                   // eq 40
-    r.W_input += P_eff * u0;                          // eq 41 [choice 1]
-    r.W_R += tear * p.Gc * u0;                        // eq 44 per increment [choice 5]
+    r.W_input += p.P_input * u0;                      // eq 41 [choice 1]
+    r.W_friction += p.friction_fraction * p.P_input * u0;  // Fig 23 [choice 7]
+    r.W_R += tear * p.fracture_energy * u0;           // eq 44 per increment [choices 5, 10]
     c = vp + D2;
     l_old = l;
     ++r.increments;
@@ -271,6 +286,7 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     r.U_C = p.E_T * (A * l_old) * (A * l_old) / (3 * p.medium_volume * (1 - 2 * p.nu_T));
   r.final_deflection = c(2);
   r.final_length = l_old;
+  r.cut_share = chi;
   return r;
 }
 

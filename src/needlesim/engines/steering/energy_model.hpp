@@ -28,7 +28,10 @@ struct EnergyParams {
   double K_T = 0.0;         // N/m^2, interaction stiffness (eq 13)
   double P_input = 0.0;     // N, insertion force
   double friction_fraction = 0.0;  // share of input work dissipated by friction (Fig 23)
-  double Gc = 0.0;          // J/m^2, rupture toughness (only enters W_R, eq 44)
+  double Gc = 0.0;          // J/m^2, effective rupture toughness of eq 19 (dimensional groups only)
+  // J/m^2, fracture energy per unit torn area that W_R = a G_f l (eq 44) charges per unit
+  // advance [choice 5]; default inferred from seed 002 Fig 23 (docs/models/bevel-tip-energy.md)
+  double fracture_energy = 0.44;
   double tear_length = -1;  // m, a in eq 44; < 0 = the needle radius [choice 5]
   double E_T = 0.0, nu_T = 0.45, medium_volume = 0.0;  // for U_C (eq 39), reporting only
   double insertion = 0.150;  // m, insertion distance to simulate
@@ -36,7 +39,7 @@ struct EnergyParams {
   double max_step = 1e-3;   // m, cap on the advance of one increment [choice 4]
   int max_increments = 2000000;
   std::vector<double> flip_depths;  // m, inserted lengths at which the bevel turns 180 deg
-  EnergyFrame frame = EnergyFrame::Entry;  // [choice 9]
+  EnergyFrame frame = EnergyFrame::PathWindow;  // [choice 9]
   double window = 4.0;      // PathWindow: window length in foundation lengths (4 EI/K_T)^(1/4)
   int window_elements = 8;  // PathWindow: Hermite pieces over the window
 };
@@ -63,6 +66,10 @@ struct EnergyResult {
   double final_length = 0.0;      // m
   // energy bookkeeping summed over the increments (J)
   double W_input = 0.0, W_Q = 0.0, W_P = 0.0, W_R = 0.0, U_B = 0.0, U_T = 0.0, U_C = 0.0;
+  double W_friction = 0.0;  // J, input work dissipated along the shaft (Fig 23) [choice 7]
+  // share of the tip's input work left for the sideways cut after rupture,
+  // chi = max(0, 1 - a G_f / ((1 - f) P_input)) [choice 10]
+  double cut_share = 1.0;
   bool capped = false;  // some increment hit max_step
 };
 

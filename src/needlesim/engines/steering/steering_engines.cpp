@@ -368,6 +368,7 @@ void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   p.friction_fraction = st.friction_dissipation;
   p.Gc = in.Gc;
   p.tear_length = st.tear_length > 0 ? st.tear_length : -1.0;
+  p.fracture_energy = st.fracture_energy;
   p.E_T = in.E_T;
   p.nu_T = std::min(in.nu_T, 0.499);
   p.medium_volume = sc.tissue.length * sc.tissue.width * sc.tissue.height;
@@ -432,7 +433,9 @@ void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   sink.result("W_input", r.W_input, "J", "work of the input force (eq 41, choice 1)");
   sink.result("W_Q", r.W_Q, "J", "work of the released transverse tip loads (eq 42)");
   sink.result("W_P", r.W_P, "J", "work of the released axial tip loads (eq 43)");
-  sink.result("W_R", r.W_R, "J", "rupture work a Gc u (eq 44, choice 5)");
+  sink.result("W_R", r.W_R, "J", "rupture work a G_f u (eq 44, choices 5, 10)");
+  sink.result("W_friction", r.W_friction, "J", "input work dissipated by friction (Fig 23, choice 7)");
+  sink.result("cut_share", r.cut_share, "1", "share of the push that cuts sideways, 1 - a G_f / P_eff (choice 10)");
   sink.result("U_B", r.U_B, "J", "bending energy of the increments (eq 35)");
   sink.result("U_T", r.U_T, "J", "needle-tissue interaction energy (eq 40)");
   if (r.U_C > 0) sink.result("U_C", r.U_C, "J", "tissue compression energy at the end (eq 39)");

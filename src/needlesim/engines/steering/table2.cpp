@@ -42,17 +42,18 @@ const std::array<Table2Case, 12>& table2Cases() {
 // Besides the models of table2.hpp: "energy-window" (path-attached Ritz window, choice 9 of
 // docs/models/bevel-tip-energy.md) and "energy-window-tip-beta" (the same with the section 3.1
 // beta/alpha fitted to the tip forces).
-Table2Row runTable2Case(const Table2Case& c, const std::string& model) {
+Table2Row runTable2Case(const Table2Case& c, const std::string& model, double beta_ratio) {
   constexpr double L = 0.150;
   Table2Row row;
   row.deflection_exp = c.rho_exp * (1 - std::cos(L / c.rho_exp));
-  if (model == "energy" || model == "energy-window" || model == "energy-window-tip-beta") {
+  if (model == "energy" || model == "energy-window" || model == "energy-entry" || model == "energy-window-tip-beta") {
     EnergyParams p;
     p.diameter = c.diameter;
     p.alpha = c.alpha;
     // section 5.2 beta/alpha; "-tip-beta": the section 3.1 values fitted to the tip forces
     p.beta_ratio = model == "energy-window-tip-beta" ? c.beta_tip : c.beta_energy;
-    if (model != "energy") p.frame = EnergyFrame::PathWindow;  // [choice 9]
+    if (beta_ratio >= 0) p.beta_ratio = beta_ratio;
+    p.frame = model == "energy-entry" ? EnergyFrame::Entry : EnergyFrame::PathWindow;  // [choice 9]
     p.K_T = c.K_T;
     p.P_input = c.P_input;
     p.insertion = L;
@@ -68,7 +69,7 @@ Table2Row runTable2Case(const Table2Case& c, const std::string& model) {
     if (model == "beam-foundation") {
       // the force seed 002 section 5 drives its model with: the sub-step-1 roller reaction
       // V = P_input / tan(beta) (eqs 27-28, 47) with the section 5.2 P_input and beta/alpha
-      p.Q = -c.P_input / std::tan(c.beta_energy * c.alpha);
+      p.Q = -c.P_input / std::tan((beta_ratio >= 0 ? beta_ratio : c.beta_energy) * c.alpha);
       p.axial_force = -c.P_input;
     } else {
       // eqs 24-26 with the section 3.1 cut angles (fitted to the 15 mm scaled tips of Fig 10)
@@ -85,10 +86,55 @@ Table2Row runTable2Case(const Table2Case& c, const std::string& model) {
     row.rho_pred = fitCircle(m.path()).radius;
     row.deflection_pred = std::hypot(m.tip().x(), m.tip().y());
     row.increments = n;
+  } else if (model == "kinematic") {
+    // the constant-curvature model with kappa = 1 / beta_ratio (used by the cross validation)
+    const double kappa = beta_ratio > 0 ? beta_ratio : 1.0 / c.rho_exp;
+    row.rho_pred = 1.0 / kappa;
+    row.deflection_pred = (1 - std::cos(kappa * L)) / kappa;
+    row.increments = 1;
   } else {
     throw std::invalid_argument("table 2 runs the energy or beam-foundation model, not " + model);
   }
   return row;
+}
+
+double calibrateBetaRatio(const Table2Case& c, const std::string& model) {
+  // the radius is monotone in beta/alpha: it falls for the energy model (kappa ~ tan(beta)) and
+  // rises for the roller-loaded beam (Q = P_input / tan(beta)); bisection in log(beta/alpha)
+  // on [1e-3, 1], clamped to the ends when rho_exp lies outside the model's reach
+  auto rho = [&](double br) { return runTable2Case(c, model, br).rho_pred; };
+  double lo = 1e-3, hi = 1.0;
+  const double r_lo = rho(lo), r_hi = rho(hi);
+  const bool falling = r_hi < r_lo;
+  if ((r_hi - c.rho_exp) * (r_lo - c.rho_exp) > 0)
+    return std::abs(r_hi - c.rho_exp) < std::abs(r_lo - c.rho_exp) ? hi : lo;
+  for (int it = 0; it < 60 && hi / lo > 1 + 1e-7; ++it) {
+    const double mid = std::sqrt(lo * hi);
+    ((rho(mid) > c.rho_exp) == falling ? lo : hi) = mid;
+  }
+  return std::sqrt(lo * hi);
+}
+
+std::vector<Table2Prediction> table2CrossValidation(const std::string& model, int calibration) {
+  if (calibration < 0 || calibration > 2) throw std::invalid_argument("calibration needle index must be 0, 1 or 2");
+  const auto& cases = table2Cases();
+  std::vector<Table2Prediction> out;
+  for (int g = 0; g < 4; ++g) {
+    const int ic = 3 * g + calibration;
+    const double par = model == "kinematic" ? 1.0 / cases[ic].rho_exp : calibrateBetaRatio(cases[ic], model);
+    for (int k = 0; k < 3; ++k) {
+      if (k == calibration) continue;
+      const Table2Case& c = cases[3 * g + k];
+      Table2Prediction pr;
+      pr.case_index = 3 * g + k;
+      pr.calibration_case = ic;
+      pr.beta_ratio = par;
+      pr.rho_pred = runTable2Case(c, model, par).rho_pred;
+      pr.error = (pr.rho_pred - c.rho_exp) / c.rho_exp;
+      out.push_back(pr);
+    }
+  }
+  return out;
 }
 
 }  // namespace needlesim::steering

@@ -5,6 +5,7 @@
 // docs/validation/steering.md.
 #include <array>
 #include <string>
+#include <vector>
 
 namespace needlesim::steering {
 
@@ -30,9 +31,29 @@ struct Table2Row {
   int increments = 0;
 };
 
-// model: "energy", "beam-foundation" (tip load = the section-4 roller reaction P_input/tan(beta)
-// with the section 5.2 inputs) or "beam-foundation-edges" (tip loads of eqs 24-26 with the
-// section 3.1 cut angles); 150 mm insertion, 1 mm increments for the beam.
-Table2Row runTable2Case(const Table2Case& c, const std::string& model);
+// model: "energy" (default path-window frame, docs/models/bevel-tip-energy.md), "energy-entry"
+// (the literal eq 45 frame), "energy-window-tip-beta" (section 3.1 beta/alpha),
+// "beam-foundation" (tip load = the section-4 roller reaction P_input/tan(beta) with the
+// section 5.2 inputs) or "beam-foundation-edges" (tip loads of eqs 24-26 with the section 3.1
+// cut angles); 150 mm insertion, 1 mm increments for the beam. beta_ratio >= 0 replaces the
+// case's beta/alpha (energy, energy-entry, beam-foundation).
+Table2Row runTable2Case(const Table2Case& c, const std::string& model, double beta_ratio = -1.0);
+
+// The beta/alpha in (0, 1] for which `model` ("energy" or "beam-foundation") reproduces the
+// measured 0-150 mm radius rho_exp of case c (bisection on the monotone radius; returns 1
+// or ~0 when the measurement lies outside the model's reach).
+double calibrateBetaRatio(const Table2Case& c, const std::string& model);
+
+// Leave-two-out prediction per gel: beta/alpha calibrated on the needle `calibration`
+// (0, 1, 2 = 0.36, 0.46, 0.54 mm) of each gel predicts the other two needles of that gel.
+// model "kinematic" = the same curvature 1/rho_exp(calibration needle) for every needle of the gel.
+struct Table2Prediction {
+  int case_index = 0;       // into table2Cases()
+  int calibration_case = 0; // the case the parameter was fitted on
+  double beta_ratio = 0.0;  // fitted beta/alpha (kinematic: fitted curvature, 1/m)
+  double rho_pred = 0.0;    // m
+  double error = 0.0;       // (rho_pred - rho_exp) / rho_exp
+};
+std::vector<Table2Prediction> table2CrossValidation(const std::string& model, int calibration);
 
 }  // namespace needlesim::steering
