@@ -158,7 +158,8 @@ EnergyResult runWindow(const EnergyParams& p, double EI, double EA, double A, do
       const auto it = std::lower_bound(nodes.begin(), nodes.end(), sh, [](const Node& n, double v) { return n.s < v; });
       const Node& nh = it == nodes.end() ? nodes.back() : *it;
       const Vec4 c(nh.y, std::tan(nh.th), Y, std::tan(th));
-      incs->push_back({l, X, Y, th, H * std::cos(th) - V * std::sin(th), H * std::sin(th) + V * std::cos(th), H, V, c});
+      // released loads (sub-step 2): the transverse share chi of the roller's [choice 10]
+      incs->push_back({l, X, Y, th, H * std::cos(th) - Vc * std::sin(th), H * std::sin(th) + Vc * std::cos(th), H, V, c});
     }
     const double l_old = l;
     if (path && (l + u0 >= next_record || l + u0 >= p.insertion)) {
@@ -265,7 +266,7 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     const Vec4 D1 = g * (V * g(2) > 0 ? dv_tip / g(2) : 0.0);
     const Vec4 D2 = chi * ldlt.solve(Kf * D1 - Vec4(0, 0, Qg, 0));  // [choice 10]
     const double u2b = -Pg * l / EA;
-    r.W_Q += -Qg * D2(2);                              // eq 42
+    r.W_Q += -chi * Qg * D2(2);                        // eq 42, released share [choice 10]
     r.W_P += -Pg * u2b;                                // eq 43
     r.U_B += 0.5 * D2.dot(Kb * D2);                   // eq 35, increment part
     r.U_T += 0.5 * D2.dot(Kf * D2);                   // eq 40
@@ -275,7 +276,7 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     c = vp + D2;
     l_old = l;
     ++r.increments;
-    if (incs) incs->push_back({l, l, c(2), phi, Pg, Qg, H, V, c});
+    if (incs) incs->push_back({l, l, c(2), phi, Pg, chi * Qg, H, V, c});
     l += u0;
     if (path && (l >= next_record || l >= p.insertion)) {
       path->push_back(Eigen::Vector3d(l_old, c(2), 0));

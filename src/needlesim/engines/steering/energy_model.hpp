@@ -49,7 +49,7 @@ struct EnergyIncrement {
   double tip_x = 0.0;    // m, tip position along the insertion axis
   double tip_v = 0.0;    // m, tip deflection v_i(l_i)
   double phi = 0.0;      // rad, tip slope angle (eq 29)
-  double P = 0.0, Q = 0.0;  // N, released tip loads (global, sub-step 2)
+  double P = 0.0, Q = 0.0;  // N, released tip loads (global, sub-step 2; transverse share chi, choice 10)
   double H = 0.0, V = 0.0;  // N, roller reactions (local, eqs 27-28)
   // (v, v') at l/2 and l: the needle shape (PathWindow: the cut path sampled there,
   // a display approximation in the entry frame)
