@@ -293,3 +293,21 @@ TEST(Table2, EnergyModelPredictsTheOtherDiametersOfAGel) {
     EXPECT_LT(e_energy, 0.8 * e_kin) << cal;
   }
 }
+
+TEST(EnergyModel, WorkBalanceSetsTheCutShare) {
+  // choice 10 bookkeeping: per unit advance the input work P_input is split into friction
+  // f P_input, rupture a G_f and the sideways cut; the reported works must reproduce chi
+  EnergyParams p = fig22(0.46e-3, 0.5);
+  p.friction_fraction = 0.3;
+  p.fracture_energy = 1.0;
+  const EnergyResult r = runEnergyModel(p);
+  const double a = 0.23e-3, P_eff = 0.7 * p.P_input;
+  EXPECT_NEAR(r.W_friction / r.W_input, 0.3, 1e-12);
+  EXPECT_NEAR(r.W_R / r.W_input, a * p.fracture_energy / p.P_input, 1e-12);
+  EXPECT_NEAR(r.cut_share, 1 - a * p.fracture_energy / P_eff, 1e-12);
+  EXPECT_NEAR(r.cut_share, 1 - r.W_R / (r.W_input - r.W_friction), 1e-12);
+  // the works are those of the whole advance from l_0 to the end
+  EXPECT_NEAR(r.W_input, p.P_input * (r.final_length - p.initial_length), 0.01 * r.W_input);
+  p.fracture_energy = -1;
+  EXPECT_THROW(runEnergyModel(p), std::invalid_argument);
+}

@@ -156,6 +156,19 @@ TEST(SteeringEngines, EnergyRunsTheSection4ModelAndSteersTowardsTheBevel) {
   EXPECT_NEAR(s.at("final_deflection"), row.deflection_pred, 1e-12);
 }
 
+TEST(SteeringEngines, EnergyReadsTheFractureEnergy) {
+  // model.steering.fracture_energy (choice 10): a rupture cost above the push leaves no share for
+  // the sideways cut, the path is straight; the default G_f leaves most of it
+  const MemorySink tough =
+      run(scenarioText("energy", straight150, "beta_over_alpha: 0.25, input_force: 15 mN, fracture_energy: 100 J/m^2"));
+  EXPECT_EQ(tough.at("cut_share"), 0.0);
+  EXPECT_EQ(tough.at("final_deflection"), 0.0);
+  const MemorySink soft = run(scenarioText("energy", straight150, "beta_over_alpha: 0.25, input_force: 15 mN"));
+  EXPECT_NEAR(soft.at("cut_share"), 1 - 0.27e-3 * 0.44 / 15e-3, 1e-12);
+  EXPECT_GT(soft.at("final_deflection"), 0.01);
+  EXPECT_THROW(scenario::readText(scenarioText("energy", straight150, "fracture_energy: -1 N/m"), "t.yaml"), InputError);
+}
+
 TEST(SteeringEngines, EnergyRefusesRotationsOtherThanFlips) {
   const std::string prof = "    - insert: {to: 75 mm, speed: 2.5 mm/s}\n"
                            "    - rotate: {by: 90 deg, rate: 360 deg/s}\n"
