@@ -87,7 +87,8 @@ Table2Row runTable2Case(const Table2Case& c, const std::string& model, double be
     row.deflection_pred = std::hypot(m.tip().x(), m.tip().y());
     row.increments = n;
   } else if (model == "kinematic") {
-    // the constant-curvature model with kappa = 1 / beta_ratio (used by the cross validation)
+    // the constant-curvature model (Webster et al. 2006); its one parameter, passed in
+    // beta_ratio, is the curvature kappa (1/m); default 1/rho_exp (fitted to the case itself)
     const double kappa = beta_ratio > 0 ? beta_ratio : 1.0 / c.rho_exp;
     row.rho_pred = 1.0 / kappa;
     row.deflection_pred = (1 - std::cos(kappa * L)) / kappa;

@@ -35,8 +35,9 @@ struct Table2Row {
 // (the literal eq 45 frame), "energy-window-tip-beta" (section 3.1 beta/alpha),
 // "beam-foundation" (tip load = the section-4 roller reaction P_input/tan(beta) with the
 // section 5.2 inputs) or "beam-foundation-edges" (tip loads of eqs 24-26 with the section 3.1
-// cut angles); 150 mm insertion, 1 mm increments for the beam. beta_ratio >= 0 replaces the
-// case's beta/alpha (energy, energy-entry, beam-foundation).
+// cut angles) or "kinematic" (constant curvature); 150 mm insertion, 1 mm increments for the
+// beam. beta_ratio >= 0 replaces the case's beta/alpha (energy, energy-entry, beam-foundation);
+// for "kinematic" a beta_ratio > 0 is the curvature in 1/m (default 1/rho_exp).
 Table2Row runTable2Case(const Table2Case& c, const std::string& model, double beta_ratio = -1.0);
 
 // The beta/alpha in (0, 1] for which `model` ("energy" or "beam-foundation") reproduces the
