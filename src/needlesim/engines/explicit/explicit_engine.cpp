@@ -1,11 +1,13 @@
 #include "needlesim/engines/explicit/explicit_engine.hpp"
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/explicit/pain_index.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/materials/material_spec.hpp"
@@ -207,7 +209,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"kinetic energy", "J"}, {"internal energy", "J"}, {"strain energy", "J"},
                     {"hourglass energy", "J"}, {"external work", "J"}, {"contact work", "J"},
                     {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"},
-                    {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"}});
+                    {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"},
+                    {"tip lateral force", "N"}});
   io::FieldSeries* fields = sink.fields("tissue", dim);
   io::FieldSeries* needleFields = sink.fields("needle", dim);
   if (fields) {
@@ -275,7 +278,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                    static_cast<double>(cohOn ? solver.cohesive()->fullyDamaged()
                                              : static_cast<int>(st.seam.size()) - solver.activeTies()),
                    E.cohesiveStored * thick, E.cohesiveDissipated * thick,
-                   cohOn ? solver.cohesive()->crackedLength() : 0.0});
+                   cohOn ? solver.cohesive()->crackedLength() : 0.0, n->tipForce.dot(bevelSide) * thick});
     if (cohOn) {
       const auto* c = solver.cohesive();
       cohGcArea = 0.0;
@@ -308,6 +311,27 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
     sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");
     sink.result("added_mass", solver.totalMass() / solver.physicalMass() - 1.0, "1", "mass added by mass scaling / physical mass");
+    // Needle forces split as seed 004 Fig 8: P, Q on the tip (bevel) faces, q_x, q_y on the wall,
+    // F_x = P + q_x, F_y = Q + q_y (axial, lateral towards the bevel side); seed 001's pain index.
+    const auto tipAx = series.column("tip force"), tipLat = series.column("tip lateral force");
+    if (!tipAx.empty()) {
+      sink.result("tip_force_axial", tipAx.back(), "N", "P: axial force on the tip (bevel) faces at the end; F_x = P + q_x (seed 004)");
+      sink.result("tip_force_lateral", tipLat.back(), "N",
+                  "Q: lateral force on the tip (bevel) faces at the end, + towards the bevel side; F_y = Q + q_y (seed 004)");
+      sink.result("peak_tip_force_axial", *std::max_element(tipAx.begin(), tipAx.end()), "N",
+                  "largest axial force on the tip faces");
+      // seed 004 Fig 13: P, Q on the bevel (tip faces), q_x, q_y on the rest of the needle (wall)
+      sink.result("wall_force_axial", force.back() - tipAx.back(), "N", "q_x: axial force on the needle wall at the end");
+      sink.result("wall_force_lateral", series.column("lateral force").back() - tipLat.back(), "N",
+                  "q_y: lateral force on the needle wall at the end, + towards the bevel side");
+    }
+    if (dim == 3) {
+      const auto pdi = painIndex(time, force, needleAnnulusArea(sc.needle.outer_diameter, sc.needle.inner_diameter),
+                                 painBasicStress(sc.tissue.layers.front().material));
+      sink.result("pain_index_peak", pdi.peak, "1", "PDI = F / (pi (R^2 - r^2)) / sigma*(0.3 strain), peak (seed 001 eqs 7-8)");
+      sink.result("pain_index_mean", pdi.mean, "1", "PDI averaged over the insertion time (seed 001 eqs 7-8)");
+      sink.result("pain_basic_stress", pdi.basicStress, "Pa", "sigma*: tissue stress at 0.3 compressive strain");
+    }
     if (dim == 2)
       sink.note("2D plane strain: forces and energies are per metre of thickness times the needle diameter (" +
                 std::to_string(thick * 1e3) + " mm), i.e. a slab as thick as the needle.");
