@@ -108,6 +108,7 @@ void CohesiveInterface::addEndLength(double first, double last) {
 }
 
 void CohesiveInterface::addForces(const std::vector<double>& X, const std::vector<double>& u, std::vector<double>& f) {
+  if (dim_ == 3) return addForces3D(X, u, f);
   const int n = pairs();
   auto mid = [&](int i) {
     return Eigen::Vector2d(0.5 * (X[2 * a_[i]] + u[2 * a_[i]] + X[2 * b_[i]] + u[2 * b_[i]]),

@@ -284,7 +284,7 @@ void ExplicitSolver::setContactSide(int node, int side) {
   contactSide_[node] = static_cast<signed char>(side > 0 ? 1 : side < 0 ? -1 : 0);
 }
 void ExplicitSolver::setCohesive(CohesiveInterface c) {
-  if (dim_ != 2) throw Error("explicit FE: cohesive interfaces are 2D only");
+  if (c.dim() != dim_) throw Error("explicit FE: the cohesive interface's dimension differs from the mesh's");
   coh_.assign(1, std::move(c));
   fcoh_.assign(u_.size(), 0.0);
   cohPairOf_.assign(nnode_, -1);

@@ -114,7 +114,7 @@ class ExplicitSolver {
   int activeTies() const;
 
   // Cohesive zone on seam pairs (cohesive.hpp): forces join the internal forces,
-  // the stable step accounts for the pair springs. 2D only.
+  // the stable step accounts for the pair springs. 2D lines or 3D quadrilaterals.
   void setCohesive(CohesiveInterface c);
   CohesiveInterface* cohesive() { return coh_.empty() ? nullptr : &coh_.front(); }
   const CohesiveInterface* cohesive() const { return coh_.empty() ? nullptr : &coh_.front(); }
