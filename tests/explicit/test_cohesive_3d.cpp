@@ -118,3 +118,64 @@ TEST(Cohesive3d, TwoBlocksModeIIDissipateGIIcTimesArea) {
   EXPECT_NEAR(r.dissipated, l.shearEnergy * r.area, 0.01 * l.shearEnergy * r.area);
   EXPECT_NEAR(r.balance, 0.0, 1e-9 * l.shearEnergy * r.area);
 }
+
+// Engine level, 3D (model.explicit.cohesive on a hex8 mesh): a 2 mm conical needle (45 deg half
+// angle) into soft tissue with the cohesive quadrilaterals on the seam plane through the axis. The
+// cone wedges the pairs it meets apart along the seam normal (cohesive_wedge.hpp); behind it they
+// open fully. Each pair dissipates at most G_c (G_IIc = G_c), so D lies between G_c x fully damaged
+// area and G_c x (fully + partly damaged area).
+namespace {
+std::string insertion3dYaml() {
+  return R"(
+name: cohesive_insertion_3d
+tissue:
+  block: {length: 6 mm, width: 6 mm, height: 6 mm}
+  material: {law: neo-hookean, C10: 3.6 kPa, nu: 0.45, density: 1000 kg/m^3}
+  friction: {coefficient: 0.3}
+  interaction: {toughness: 2 J/m^2}
+needle: {outer_diameter: 2 mm, length: 30 mm, bevel_angle: 45 deg, tip: conical, youngs_modulus: 200 GPa}
+insertion:
+  entry_angle: 90 deg
+  start_depth: -0.5 mm
+  profile:
+    - insert: {to: 2.5 mm, speed: 10 mm/s}
+model:
+  engine: explicit
+  explicit:
+    dimension: 3d
+    element: hex8
+    element_size: 0.5 mm
+    max_element_size: 2 mm
+    core_width: 3 mm
+    mass_scaling: 15
+    hourglass: 3
+    contact_penalty: 0.45
+    tip_friction: 0
+    cohesive: {enable: true, strength: 20 kPa}
+output: {interval: 10 ms}
+)";
+}
+}  // namespace
+
+TEST(Cohesive3dInsertion, ConeWedgesSeamOpenAndDissipationMatchesGcTimesCrackedArea) {
+  MemorySink r = runInMemory(scenario::readText(insertion3dYaml(), "<cohesive3d>"));
+  const double Gc = 2.0, h = 0.5e-3;
+  const double A = r.results.at("cracked_area").value, D = r.results.at("cohesive_dissipation").value;
+  const double Ap = r.results.at("process_zone_area").value, GcA = r.results.at("fracture_energy_of_crack").value;
+  const double ext = r.results.at("cracked_length").value;
+  std::printf("3D cohesive insertion: cracked area %.4g mm^2 (extent %.3f mm), process zone %.4g mm^2, D = %.4g J, "
+              "G_c A = %.4g J (%+.2f %%), G_c (A + A_p) = %.4g J, balance %.2g, peak force %.4g N\n",
+              A * 1e6, ext * 1e3, Ap * 1e6, D, GcA, 100 * (D / GcA - 1), Gc * (A + Ap), 
+              r.results.at("energy_balance_error").value, r.results.at("peak_force").value);
+  EXPECT_NEAR(GcA, Gc * A, 1e-12);
+  // the crack follows the cone: open behind it (apex at 2.5 mm, cone 1 mm long, +- one element)
+  EXPECT_GT(ext, 2.5e-3 - 1e-3 - 2 * h);
+  // the pairs inside the needle's section (|z| < r: 3 columns of 0.5 mm = 2r - h) are open behind the
+  // front, bar the last row
+  EXPECT_GT(A, (2e-3 - h) * (ext - h));
+  // exact dissipation per pair (closed form, cohesive.cpp): G_c A <= D <= G_c (A + A_p)
+  EXPECT_GE(D, GcA * (1 - 1e-9));
+  EXPECT_LE(D, Gc * (A + Ap) * (1 + 1e-9));
+  EXPECT_LE(r.results.at("cohesive_pair_dissipation_max").value, 1.0 + 1e-9);
+  EXPECT_LT(r.results.at("energy_balance_error").value, 1e-6);
+}

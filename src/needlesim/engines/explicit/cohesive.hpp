@@ -50,7 +50,7 @@ struct CohesiveLaw {
 struct CohesiveState {
   double damage = 0.0;
   double dissipated = 0.0;  // J/m^2
-  double Yprev = 0.0;       // 1/2 K delta_m^2 at the previous update (trapezoidal dissipation)
+  double Yprev = 0.0;       // 1/2 K delta_m^2 at the previous update (diagnostic)
 };
 
 struct CohesiveTraction {
@@ -59,7 +59,8 @@ struct CohesiveTraction {
 };
 
 // Traction at separation (dn, ds); updates damage and dissipation irreversibly.
-// Dissipation increment Y dd with Y = 1/2 K delta_m^2 (trapezoidal in Y).
+// Dissipation increment int Y dd with Y = 1/2 K delta_m^2, integrated exactly along the
+// softening branch of the current mode ratio (closed form, step-size independent).
 CohesiveTraction cohesiveUpdate(const CohesiveLaw& law, double dn, double ds, CohesiveState& st);
 // Mixed-mode onset and final effective separations for mode ratio beta = ds / dn (dn > 0).
 void cohesiveMixedMode(const CohesiveLaw& law, double dn, double ds, double& d0, double& df);
@@ -108,6 +109,7 @@ class CohesiveInterface {
   double tributaryLength(int p) const { return len_[p]; }  // 3D: tributary area
   double position(int p) const { return s_[p]; }  // reference coordinate along the seam
   const CohesiveState& state(int p) const { return st_[p]; }
+  const CohesiveLaw& law(int p) const { return law_[p]; }
   double separationNormal(int p) const { return dn_[p]; }
   double stored() const { return stored_; }          // J (2D: per `thickness`)
   double dissipated() const { return dissipated_; }  // J

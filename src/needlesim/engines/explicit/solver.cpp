@@ -1,5 +1,7 @@
 #include "needlesim/engines/explicit/solver.hpp"
 
+#include "needlesim/engines/explicit/cohesive_wedge.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -7,6 +9,7 @@
 #include <sstream>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/explicit/cohesive_wedge.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -532,6 +535,9 @@ void ExplicitSolver::contactForces(double dtStep) {
         hit.depth /= std::abs(c);
         hit.normal = (c > 0 ? 1.0 : -1.0) * nd.pose.bevelSide;
       }
+    } else if (nd.shape.tip == TipType::Conical && !cohPairOf_.empty() && cohPairOf_[n] >= 0 && !contactSide_.empty() &&
+               coh_.front().state(cohPairOf_[n]).damage < 1.0) {
+      coneWedge(nd.shape, nd.pose, x, contactSide_[n], hit, wedgeAxial);  // 3D cone analogue (cohesive_wedge.hpp)
     }
     if (!hit.inside) {
       ft[0] = ft[1] = ft[2] = 0;

@@ -1,0 +1,31 @@
+#include "needlesim/engines/explicit/cohesive_wedge.hpp"
+
+#include <Eigen/Geometry>
+#include <algorithm>
+#include <cmath>
+
+namespace needlesim::explicit_fe {
+
+bool coneWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+               needle::NeedleHit& hit, double& axialPerLateral) {
+  if (sh.tip != TipType::Conical || side == 0) return false;
+  const Eigen::Vector3d q = x - pose.tip, third = pose.axis.cross(pose.bevelSide);
+  const double s = q.dot(pose.axis), a = q.dot(pose.bevelSide), b = q.dot(third);
+  if (s > 0.0 || s < -sh.length) return false;
+  // radius of the solid at s: the cone r = -s tan(alpha) up to the shaft radius R
+  const double t = std::tan(sh.tipAngle), rho = std::min(sh.radius, -s * t);
+  if (std::abs(b) >= rho) return false;
+  const double c = std::sqrt(rho * rho - b * b);  // lateral half-extent of the section at |b|
+  const double gap = c - side * a;                // lateral distance to the surface on the own side
+  if (!(gap > 0.0) || std::abs(a) >= c) return false;  // outside the section
+  hit.inside = true;
+  hit.depth = gap;
+  hit.normal = side * pose.bevelSide;
+  const bool onCone = -s * t < sh.radius;
+  hit.face = onCone ? needle::NeedleFace::Tip : needle::NeedleFace::OuterWall;
+  // d(gap)/d(advance) = rho tan(alpha) / c on the cone (0 on the shaft); capped at grazing (|b| -> rho)
+  axialPerLateral = onCone ? rho * t / std::max(c, 0.2 * rho) : 0.0;
+  return true;
+}
+
+}  // namespace needlesim::explicit_fe
