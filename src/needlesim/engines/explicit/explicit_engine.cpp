@@ -214,7 +214,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"hourglass energy", "J"}, {"external work", "J"}, {"contact work", "J"},
                     {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"},
                     {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"},
-                    {"cracked area", "m^2"}});
+                    {"cracked area", "m^2"}, {"needle work", "J"}, {"friction dissipation", "J"},
+                    {"penalty energy", "J"}, {"needle energy balance", "J"}});
   io::FieldSeries* fields = sink.fields("tissue", dim);
   io::FieldSeries* needleFields = sink.fields("needle", dim);
   if (fields) {
@@ -271,7 +272,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       if (c->state(p).damage >= 1.0) lo = std::min(lo, c->position(p)), hi = std::max(hi, c->position(p));
     return hi >= lo ? hi - lo : 0.0;
   };
-  double peak = 0, ratioMax = 0, balanceMax = 0, energyScale = 1e-300;
+  double peak = 0, ratioMax = 0, balanceMax = 0, energyScale = 1e-300, needleBalanceMax = 0, needleWorkMax = 1e-300;
   auto record = [&]() {
     const auto* n = solver.needle();
     const auto& E = solver.energies();
@@ -291,7 +292,11 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                    static_cast<double>(cohOn ? solver.cohesive()->fullyDamaged()
                                              : static_cast<int>(st.seam.size()) - solver.activeTies()),
                    E.cohesiveStored * thick, E.cohesiveDissipated * thick,
-                   cohOn ? crackedLength() : 0.0, cohOn ? solver.cohesive()->crackedLength() * (dim == 2 ? thick : 1.0) : 0.0});
+                   cohOn ? crackedLength() : 0.0, cohOn ? solver.cohesive()->crackedLength() * (dim == 2 ? thick : 1.0) : 0.0,
+                   E.needleWork * thick, E.frictionDissipation * thick, E.penaltyEnergy * thick,
+                   E.balanceWithNeedle() * thick});
+    needleBalanceMax = std::max(needleBalanceMax, std::abs(E.balanceWithNeedle()));
+    needleWorkMax = std::max(needleWorkMax, std::abs(E.needleWork));
     if (cohOn) {
       const auto* c = solver.cohesive();
       cohGcArea = 0.0;
@@ -320,6 +325,16 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "largest kinetic / internal energy after the first 10 % (quasi-static if < 0.05-0.1)");
     sink.result("energy_balance_error", balanceMax / energyScale, "1",
                 "largest |energy balance| / largest energy term");
+    {
+      const auto& E = solver.energies();
+      sink.result("needle_work", E.needleWork * thick, "J", "work done by the moving needle (its reaction x its travel)");
+      sink.result("friction_dissipation", E.frictionDissipation * thick, "J", "Coulomb friction force x slip on the needle");
+      sink.result("penalty_energy", E.penaltyEnergy * thick, "J", "energy stored in the needle contact penalty at the end");
+      sink.result("viscous_dissipation", (E.internal - E.strain - E.hourglass) * thick, "J",
+                  "internal work less strain and hourglass energy (bulk viscosity, viscoelasticity)");
+      sink.result("needle_energy_balance_error", needleBalanceMax / needleWorkMax, "1",
+                  "largest |needle work - kinetic - internal - cohesive - friction - penalty| / largest needle work");
+    }
     sink.result("elements", solver.mesh().elements(), "1", "elements");
     sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
     sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");

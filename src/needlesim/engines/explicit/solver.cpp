@@ -319,6 +319,8 @@ void ExplicitSolver::setNeedle(const RigidNeedle& n) {
   needle_ = n;
   hasNeedle_ = true;
   needleFt_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  fconNeedle_.assign(u_.size(), 0.0);
+  fconFriction_.assign(u_.size(), 0.0);
 }
 double ExplicitSolver::totalMass() const {
   double s = 0;
@@ -507,9 +509,11 @@ void ExplicitSolver::contactForces(double dtStep) {
   const bool planar = d == 2;
   const Vector3d vb = nd.velocity * nd.pose.axis;
   const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
-  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0;
+  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0, ePen = 0;
   int count = 0;
-#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count) \
+  std::fill(fconNeedle_.begin(), fconNeedle_.end(), 0.0);
+  std::fill(fconFriction_.begin(), fconFriction_.end(), 0.0);
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count, ePen) \
     reduction(max : maxPen)
   for (int n = 0; n < nnode_; ++n) {
     Vector3d x = Vector3d::Zero(), v = Vector3d::Zero();
@@ -557,10 +561,15 @@ void ExplicitSolver::contactForces(double dtStep) {
       if (tn > lim) t *= lim / tn;
       ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
       f += t;
+      for (int i = 0; i < d; ++i) fconFriction_[static_cast<std::size_t>(n) * d + i] = t[i];
     } else {
       ft[0] = ft[1] = ft[2] = 0;
     }
-    for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
+    ePen += 0.5 * k * hit.depth * hit.depth;
+    for (int i = 0; i < d; ++i) {
+      fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
+      fconNeedle_[static_cast<std::size_t>(n) * d + i] = f[i];
+    }
     // reaction on the needle: -f at x; moment about the base centre. A wedged lip (above) feels
     // only the lateral part fn of the face force; the needle takes the whole face force, whose
     // axial part fn tan(face) makes the needle's work match the opening work at the face.
@@ -579,6 +588,7 @@ void ExplicitSolver::contactForces(double dtStep) {
   nd.normalForce = fnSum;
   nd.nodesInContact = count;
   nd.maxPenetration = maxPen;
+  en_.penaltyEnergy = ePen;
   if (maxPen > penetrationTol_)
     fail("needle contact penetration " + fmtNum(maxPen * 1e3) + " mm exceeds the tolerance " +
              fmtNum(penetrationTol_ * 1e3) + " mm",
@@ -651,9 +661,16 @@ void ExplicitSolver::step() {
     }
   }
   const bool ties = !tieA_.empty(), coh = !coh_.empty();
-  double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0, wCoh = 0;
+  double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0, wCoh = 0, wConN = 0, dFric = 0;
   const int d = dim_;
-#pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp, wCoh)
+  double vbd[3] = {0, 0, 0};  // needle velocity
+  if (hasNeedle_) {
+    for (int i = 0; i < d; ++i) vbd[i] = needle_.velocity * needle_.pose.axis[i];
+    // work of the needle over the step: minus its reaction times its displacement
+    en_.needleWork -= needle_.force.dot(needle_.velocity * needle_.pose.axis) * dt;
+  }
+  const bool nee = hasNeedle_;
+#pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp, wCoh, wConN, dFric)
   for (std::size_t k = 0; k < ndof; ++k) {
     const double m = mass_[k / d];
     const double vOld = vHalf_[k];
@@ -676,6 +693,10 @@ void ExplicitSolver::step() {
     wCon += fcon_[k] * dw;
     wDamp += fd * dw;
     wCoh -= fc * dw;
+    if (nee) {
+      wConN += fconNeedle_[k] * dw;
+      dFric -= fconFriction_[k] * (dw - vbd[k % d] * dtAvg);  // friction force times slip
+    }
     ke += 0.5 * m * vNew * vNew;
     keMid += 0.125 * m * (vOld + vNew) * (vOld + vNew);
     vHalf_[k] = vNew;
@@ -697,6 +718,8 @@ void ExplicitSolver::step() {
   en_.contactWork += wCon;
   en_.dampingWork += wDamp;
   en_.cohesiveWork += wCoh;
+  en_.needleContactWork += wConN;
+  en_.frictionDissipation += dFric;
   time_ += dt;
   dtPrev_ = dt;
   ++steps_;

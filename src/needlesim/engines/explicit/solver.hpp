@@ -65,9 +65,21 @@ struct Energies {
   double cohesiveWork = 0.0;  // work done on the cohesive interface (= stored + dissipated)
   double cohesiveStored = 0.0, cohesiveDissipated = 0.0;  // its split (cohesive.hpp)
   double kinetic0 = 0.0;
+  // Needle contact split (docs/models/cohesive.md "Energy balance"): work the moving needle does
+  // (its reaction times its velocity), the part of the contact work on the body that came from the
+  // needle, Coulomb friction dissipation (friction force times slip, >= 0) and the penalty energy
+  // 1/2 k depth^2 stored in the needle contact now.
+  double needleWork = 0.0, needleContactWork = 0.0, frictionDissipation = 0.0, penaltyEnergy = 0.0;
   // ETOTAL in ABAQUS terms: kinetic + internal - external - contact - damping, minus its start value.
   double balance() const {
     return kinetic - kinetic0 + internal + cohesiveWork - externalWork - contactWork - dampingWork;
+  }
+  // The whole-insertion balance: needle work = kinetic + internal (strain, hourglass, viscous) +
+  // cohesive (stored + dissipated) + friction dissipation + penalty energy (+ loads, damping, planes).
+  // Not round-off exact: the penalty energy is a state function only up to the step's change of k.
+  double balanceWithNeedle() const {
+    return kinetic - kinetic0 + internal + cohesiveWork + frictionDissipation + penaltyEnergy - needleWork -
+           externalWork - dampingWork - (contactWork - needleContactWork);
   }
 };
 
@@ -196,6 +208,7 @@ class ExplicitSolver {
   RigidNeedle needle_;
   bool hasNeedle_ = false;
   std::vector<double> needleFt_;
+  std::vector<double> fconNeedle_, fconFriction_;  // per dof: needle contact force on the body, its friction part
   std::vector<signed char> contactSide_;  // per node, empty = none
   double penetrationTol_ = 0.0;
   // seam ties
