@@ -23,8 +23,9 @@ bool coneWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, co
   hit.normal = side * pose.bevelSide;
   const bool onCone = -s * t < sh.radius;
   hit.face = onCone ? needle::NeedleFace::Tip : needle::NeedleFace::OuterWall;
-  // d(gap)/d(advance) = rho tan(alpha) / c on the cone (0 on the shaft); capped at grazing (|b| -> rho)
-  axialPerLateral = onCone ? rho * t / std::max(c, 0.2 * rho) : 0.0;
+  // d(gap)/d(advance) = rho tan(alpha) / c on the cone (0 on the shaft): the reaction f rho tan(alpha) / c stays
+  // finite at grazing (|b| -> rho) since f = k gap and gap -> 0 with c
+  axialPerLateral = onCone ? rho * t / std::max(c, 1e-9 * rho) : 0.0;
   return true;
 }
 
