@@ -29,4 +29,38 @@ bool coneWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, co
   return true;
 }
 
+bool bevelWedge2D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                  needle::NeedleHit& hit, double& axialPerLateral) {
+  if (sh.tip != TipType::Bevel || side == 0) return false;
+  const Eigen::Vector3d q = x - pose.tip;
+  const double s = q.dot(pose.axis), a = q.dot(pose.bevelSide), R = sh.radius, ta = std::tan(sh.tipAngle);
+  if (s < -sh.length || a >= R) return false;
+  double gap = 0.0, slope = 0.0;
+  needle::NeedleFace face = needle::NeedleFace::Tip;
+  if (side > 0) {
+    if (s > 0.0) return false;
+    if (s >= -2.0 * R / ta) {
+      gap = -(s * ta + a + R);  // under the bevel face
+      slope = ta;
+    } else {
+      gap = R - a;  // behind the heel: the bevel-side wall (continuous with the face at the heel)
+      face = needle::NeedleFace::OuterWall;
+    }
+  } else if (s > 0.0) {
+    const double tb = std::tan(needle::kLipRampAngle);
+    gap = a + R - s * tb;
+    slope = tb;
+  } else {
+    gap = a + R;
+    face = needle::NeedleFace::OuterWall;
+  }
+  if (!(gap > 0.0)) return false;
+  hit.inside = true;
+  hit.depth = gap;
+  hit.normal = (side > 0 ? 1.0 : -1.0) * pose.bevelSide;
+  hit.face = face;
+  axialPerLateral = slope;
+  return true;
+}
+
 }  // namespace needlesim::explicit_fe

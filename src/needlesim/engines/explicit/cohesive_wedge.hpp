@@ -20,4 +20,15 @@ namespace needlesim::explicit_fe {
 bool coneWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                needle::NeedleHit& hit, double& axialPerLateral);
 
+// 2D bevel (planar, seam through the sharp point): the same lateral wedge as one potential per
+// lip, without the cylinder test (a lip dragged across the cut line by its still-cohesive partner
+// must still meet the face, instead of entering later with a large depth):
+//  side > 0 (bevel lip), under the bevel (-2R/tan(alpha) < s <= 0): gap = -(s tan(alpha) + a + R),
+//    pushed along +bevelSide, needle reaction tan(alpha) per unit lateral force;
+//  side < 0 (wall lip), ahead of the point (s > 0): the virtual chisel, gap = a + R - s tan(beta),
+//    pushed along -bevelSide, reaction tan(beta); behind it (s <= 0, inside the shaft): gap = a + R.
+// s, a: the node's axial and lateral coordinates from the tip (a from the axis along bevelSide).
+bool bevelWedge2D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                  needle::NeedleHit& hit, double& axialPerLateral);
+
 }  // namespace needlesim::explicit_fe

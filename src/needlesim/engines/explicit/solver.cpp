@@ -525,23 +525,30 @@ void ExplicitSolver::contactForces(double dtStep) {
     double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
     needle::NeedleHit hit =
         needle::queryNeedle(nd.shape, nd.pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
-    // Wedge on a still-cohesive seam pair (docs/models/cohesive.md): the lip nodes of a pair
-    // that is not fully damaged meet the sharp point's faces (bevel, or the wall-side chisel
-    // ramp) with the lateral part of the face normal only, at the lateral distance to the
-    // face. Each lip is pushed away from the cut line on its own side, so the pair's normal
-    // separation grows as the point advances and the cohesive law governs the opening; the
-    // axial push of the inclined faces would instead shove the closed pair ahead of the point.
-    if (hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel && !cohPairOf_.empty() &&
-        cohPairOf_[n] >= 0 && coh_.front().state(cohPairOf_[n]).damage < 1.0) {
+    // Wedge on a still-cohesive seam pair (docs/models/cohesive.md "The point wedges the seam
+    // open"): the lip nodes of a pair that is not fully damaged are pushed across the cut line
+    // only, each to its own side, by the lateral gap to the needle's face (the axial push of the
+    // inclined faces would shove the closed pair ahead of the point); the needle takes the axial
+    // reaction that makes its work match. 2D bevel and 3D cone: one gap function per lip
+    // (cohesive_wedge.hpp) at the node's reference axial station (conservative); 3D bevel: the
+    // lateral part of the face contact.
+    const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 && coh_.front().state(cohPairOf_[n]).damage < 1.0;
+    if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
+        ((planar && nd.shape.tip == TipType::Bevel) || nd.shape.tip == TipType::Conical)) {
+      double uAx = 0.0;
+      for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * nd.pose.axis[i];
+      const Vector3d xw = x - uAx * nd.pose.axis;
+      needle::NeedleHit wh;
+      const bool in = planar ? bevelWedge2D(nd.shape, nd.pose, xw, contactSide_[n], wh, wedgeAxial)
+                             : coneWedge(nd.shape, nd.pose, xw, contactSide_[n], wh, wedgeAxial);
+      hit = in ? wh : needle::NeedleHit{};
+    } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
       const double c = hit.normal.dot(nd.pose.bevelSide);
       if (std::abs(c) > 1e-3) {
         wedgeAxial = hit.normal.dot(nd.pose.axis) / std::abs(c);
         hit.depth /= std::abs(c);
         hit.normal = (c > 0 ? 1.0 : -1.0) * nd.pose.bevelSide;
       }
-    } else if (nd.shape.tip == TipType::Conical && !cohPairOf_.empty() && cohPairOf_[n] >= 0 && !contactSide_.empty() &&
-               coh_.front().state(cohPairOf_[n]).damage < 1.0) {
-      coneWedge(nd.shape, nd.pose, x, contactSide_[n], hit, wedgeAxial);  // 3D cone analogue (cohesive_wedge.hpp)
     }
     if (!hit.inside) {
       ft[0] = ft[1] = ft[2] = 0;
