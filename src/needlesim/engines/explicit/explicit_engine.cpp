@@ -121,6 +121,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   o.hourglass = ex.hourglass;
   o.damping = ex.damping;
   o.contactPenalty = ex.contact_penalty;
+  o.fixedContactStiffness = ex.fixed_contact_stiffness;
   // Seam lips meet the sharp point with the offset the intact tissue ahead had (up to ~0.4 of a
   // core element at 0.5 mm, seed 004 example): allow one core element before stopping.
   if (seamOn) o.penetrationTolerance = ex.element_size;

@@ -466,7 +466,8 @@ void ExplicitSolver::contactForces(double dtStep) {
   if (dtStep <= 0) return;
   const int d = dim_;
   // Penalty from the stable step, not the (possibly shortened) last step: k = penalty m / dt_stable^2.
-  const double dtPen = opt_.cfl * dtStable_;
+  if (dtPenFixed_ == 0.0) dtPenFixed_ = opt_.cfl * dtStable_;
+  const double dtPen = opt_.fixedContactStiffness ? dtPenFixed_ : opt_.cfl * dtStable_;
   const double pen = opt_.contactPenalty / (dtPen * dtPen);
   for (std::size_t p = 0; p < planes_.size(); ++p) {
     RigidPlane& pl = planes_[p];

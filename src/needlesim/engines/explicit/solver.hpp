@@ -48,6 +48,9 @@ struct SolverOptions {
   double hourglass = 1.0;        // hourglass stiffness; 1 = exact pure bending of a rectangular element
   double damping = 0.0;          // 1/s, mass-proportional (dynamic relaxation; 0 = none)
   double contactPenalty = 0.2;   // k = penalty m_a / dt^2 (dimensionless, < 1 for stability)
+  // true: k from the first contact evaluation's stable step, then kept: a conservative penalty (with k
+  // following dt the stored 1/2 k g^2 grows without work as elements distort; docs/models/cohesive.md)
+  bool fixedContactStiffness = false;
   double penetrationTolerance = 0.0;  // m; 0 = half the smallest element size
   double hourglassStrainLimit = 2.0;  // stop when an element's hourglass (zig-zag) strain exceeds this
   double minTimeStepRatio = 1e-3;     // stop when dt falls below this fraction of the initial dt
@@ -211,6 +214,7 @@ class ExplicitSolver {
   std::vector<double> fconNeedle_, fconFriction_;  // per dof: needle contact force on the body, its friction part
   std::vector<signed char> contactSide_;  // per node, empty = none
   double penetrationTol_ = 0.0;
+  double dtPenFixed_ = 0.0;  // stable step of the first contact evaluation (fixedContactStiffness)
   // seam ties
   std::vector<int> tieA_, tieB_;
   std::vector<char> tieOn_;
