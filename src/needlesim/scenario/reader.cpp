@@ -442,6 +442,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
     x.damping = exs.number("damping");
     x.contact_penalty = exs.number("contact_penalty");
     x.tip_friction = exs.number("tip_friction");
+    x.fixed_contact_stiffness = exs.boolean("fixed_contact_stiffness");
     x.pre_cut = exs.boolean("pre_cut");
     {
       Section cs = exs.sub("cohesive");

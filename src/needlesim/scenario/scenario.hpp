@@ -186,8 +186,9 @@ struct ExplicitModelSpec {
   double damping = 0.0;              // 1/s, mass-proportional
   double contact_penalty = 0.2;      // k = penalty m / dt^2
   double tip_friction = 0.0;         // Coulomb coefficient on the tip surface (seed 001: 0)
+  bool fixed_contact_stiffness = false;  // k from the first step's dt (conservative penalty, docs/models/cohesive.md)
   bool pre_cut = true;               // node-release seam along the needle path
-  ExplicitCohesiveSpec cohesive;     // cohesive law on the seam instead of node release (2D)
+  ExplicitCohesiveSpec cohesive;     // cohesive law on the seam instead of node release (2D, 3D hex8)
   double field_interval = 0.0;       // s, ParaView fields (0 = 20 frames over the run)
   int threads = 0;                   // OpenMP threads (0 = all)
 };

@@ -290,12 +290,14 @@ std::vector<FieldDoc> build() {
   add(nonneg("explicit", "hourglass", D::None, "1", "hourglass stiffness (1 = exact pure bending of a rectangular element)"));
   add(nonneg("explicit", "damping", D::Frequency, "0 1/s", "mass-proportional damping (dynamic relaxation)"));
   add(q("explicit", "contact_penalty", D::None, "0.2", 0.0, 1.0, true, true, "contact stiffness as a fraction of m/dt^2"));
+  add(other("explicit", "fixed_contact_stiffness", Kind::Bool, "false",
+            "keep the contact stiffness of the first step (a conservative penalty: closes the needle energy balance; raise contact_penalty to 0.3-0.4)"));
   add(nonneg("explicit", "tip_friction", D::None, "0", "Coulomb coefficient on the tip surface (seed 001: frictionless); the wall uses the layer's friction.coefficient"));
   add(other("explicit", "pre_cut", Kind::Bool, "true", "pre-cut (node-release) seam along the needle path through the tip's leading point"));
   add(other("explicit", "cohesive", Kind::Section, "enable: false",
-            "bilinear cohesive zone on the pre-cut seam instead of node release (2d; docs/models/cohesive.md)", false,
+            "bilinear cohesive zone on the pre-cut seam instead of node release (2d quad4 lines, 3d hex8 quadrilaterals; docs/models/cohesive.md)", false,
             "explicit_cohesive"));
-  add(other("explicit_cohesive", "enable", Kind::Bool, "false", "put the cohesive law on the seam pairs (needs pre_cut and 2d)"));
+  add(other("explicit_cohesive", "enable", Kind::Bool, "false", "put the cohesive law on the seam pairs (needs pre_cut; quad4 or hex8)"));
   add(nonneg("explicit_cohesive", "stiffness", units::Dim{-2, 1, -2, 0}, "0 N/m^3",
              "initial stiffness K = K_n = K_s (traction per separation); 0 = E / constitutive_thickness, or 10 E'/element_size without it"));
   add(nonneg("explicit_cohesive", "constitutive_thickness", D::Length, "0 mm",

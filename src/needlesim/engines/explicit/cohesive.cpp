@@ -58,7 +58,14 @@ CohesiveTraction cohesiveUpdate(const CohesiveLaw& law, double dn, double ds, Co
     if (dm > d0) {
       const double dTrial = std::min(1.0, df * (dm - d0) / (dm * (df - d0)));
       if (dTrial > st.damage) {  // irreversible: d only grows
-        st.dissipated += 0.5 * (st.Yprev + Y) * (dTrial - st.damage);
+        // Exact dissipation int Y dd, Y = K delta(d)^2 / 2 along the softening branch of the current
+        // mode: delta(d) = df d0 / (df - d (df - d0)) gives D(d) = K (df d0)^2 / (2 (df - d0))
+        // (1/(df - d (df - d0)) - 1/df), D(1) = K d0 df / 2 = G. Independent of the step size (a
+        // trapezoid in Y overshoots G when a pair opens by much of df in one step).
+        auto Dof = [&](double d) {
+          return 0.5 * K * (df * d0) * (df * d0) / (df - d0) * (1.0 / (df - d * (df - d0)) - 1.0 / df);
+        };
+        st.dissipated += Dof(dTrial) - Dof(st.damage);
         st.damage = dTrial;
       }
     }
@@ -108,6 +115,7 @@ void CohesiveInterface::addEndLength(double first, double last) {
 }
 
 void CohesiveInterface::addForces(const std::vector<double>& X, const std::vector<double>& u, std::vector<double>& f) {
+  if (dim_ == 3) return addForces3D(X, u, f);
   const int n = pairs();
   auto mid = [&](int i) {
     return Eigen::Vector2d(0.5 * (X[2 * a_[i]] + u[2 * a_[i]] + X[2 * b_[i]] + u[2 * b_[i]]),

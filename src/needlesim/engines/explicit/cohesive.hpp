@@ -22,6 +22,7 @@
 // force balance next to the internal forces; the work, stored energy and
 // dissipated energy are tracked for the energy balance.
 #include <Eigen/Core>
+#include <array>
 #include <limits>
 #include <utility>
 #include <vector>
@@ -49,7 +50,7 @@ struct CohesiveLaw {
 struct CohesiveState {
   double damage = 0.0;
   double dissipated = 0.0;  // J/m^2
-  double Yprev = 0.0;       // 1/2 K delta_m^2 at the previous update (trapezoidal dissipation)
+  double Yprev = 0.0;       // 1/2 K delta_m^2 at the previous update (diagnostic)
 };
 
 struct CohesiveTraction {
@@ -58,13 +59,17 @@ struct CohesiveTraction {
 };
 
 // Traction at separation (dn, ds); updates damage and dissipation irreversibly.
-// Dissipation increment Y dd with Y = 1/2 K delta_m^2 (trapezoidal in Y).
+// Dissipation increment int Y dd with Y = 1/2 K delta_m^2, integrated exactly along the
+// softening branch of the current mode ratio (closed form, step-size independent).
 CohesiveTraction cohesiveUpdate(const CohesiveLaw& law, double dn, double ds, CohesiveState& st);
 // Mixed-mode onset and final effective separations for mode ratio beta = ds / dn (dn > 0).
 void cohesiveMixedMode(const CohesiveLaw& law, double dn, double ds, double& d0, double& df);
 
-// Zero-thickness 2D line interface on seam node pairs (a on the lower face,
-// b on the upper face; reference normal from a's side to b's side).
+struct Mesh;
+
+// Zero-thickness interface on seam node pairs (a on the lower face, b on the
+// upper face; reference normal from a's side to b's side): 2D line elements
+// (constructor) or 3D quadrilaterals (surface3D, cohesive_surface.cpp).
 class CohesiveInterface {
  public:
   // pairs in any order; they are sorted along `direction` (the seam's reference
@@ -74,6 +79,19 @@ class CohesiveInterface {
   CohesiveInterface(const std::vector<double>& X, const std::vector<std::pair<int, int>>& pairs,
                     std::vector<CohesiveLaw> laws, Eigen::Vector2d direction = Eigen::Vector2d::UnitX(),
                     double thickness = 1.0);
+
+  // 3D zero-thickness quadrilaterals on the seam plane of a hex8 mesh (after
+  // splitSeam): every hex face on the +refNormal side whose 4 nodes lie on the
+  // seam plane and hold at least one copy node b is a cohesive quad; unsplit
+  // nodes on its border are closed (zero separation). Nodal (Newton-Cotes)
+  // integration: each pair carries int N_a dA of its quads (reference, 2x2
+  // Gauss), "tributary area" (tributaryLength() in 3D). Frame per pair: the
+  // normal of the current mid-surface (mean of its quads' diagonal cross
+  // products), shear = the in-plane rest of the separation (isotropic).
+  // position(p) = reference coordinate along `direction`.
+  static CohesiveInterface surface3D(const Mesh& mesh, const std::vector<std::pair<int, int>>& pairs,
+                                     std::vector<CohesiveLaw> laws, Eigen::Vector3d refNormal,
+                                     Eigen::Vector3d direction);
 
   // Extra tributary length at the first / last pair (half the segment to a
   // shared, unsplit node beyond the seam's end: a closed crack tip).
@@ -85,15 +103,18 @@ class CohesiveInterface {
   double maxOmega2(const std::vector<double>& nodalMass) const;
 
   int pairs() const { return static_cast<int>(a_.size()); }
+  int dim() const { return dim_; }
+  int quads() const { return static_cast<int>(quad_.size()); }
   int node(int p, int side) const { return side == 0 ? a_[p] : b_[p]; }
-  double tributaryLength(int p) const { return len_[p]; }
+  double tributaryLength(int p) const { return len_[p]; }  // 3D: tributary area
   double position(int p) const { return s_[p]; }  // reference coordinate along the seam
   const CohesiveState& state(int p) const { return st_[p]; }
+  const CohesiveLaw& law(int p) const { return law_[p]; }
   double separationNormal(int p) const { return dn_[p]; }
   double stored() const { return stored_; }          // J (2D: per `thickness`)
   double dissipated() const { return dissipated_; }  // J
   int fullyDamaged() const;
-  // Reference length with d = 1 and its farthest position along the seam (crack tip).
+  // Reference length (3D: area) with d = 1 and its farthest position along the seam (crack tip).
   double crackedLength() const;
   double crackTip(double threshold = 1.0 - 1e-12) const;
   // Marks pairs as fully damaged (e.g. passed by the tip with release enabled); their
@@ -101,6 +122,16 @@ class CohesiveInterface {
   void forceOpen(int p);
 
  private:
+  CohesiveInterface() = default;
+  void addForces3D(const std::vector<double>& X, const std::vector<double>& u, std::vector<double>& f);
+  int dim_ = 2;
+  // 3D: per quad its 4 corners (pair index >= 0, or -1 - node for an unsplit node), the sign
+  // that turns its diagonal cross product to the reference normal; per pair its quads (CSR).
+  std::vector<std::array<int, 4>> quad_;
+  std::vector<double> quadSign_;
+  std::vector<int> pairQuadStart_, pairQuads_;
+  Eigen::Vector3d refNormal3_ = Eigen::Vector3d::UnitY();
+  std::vector<double> quadNormal_;  // work array: 3 per quad
   std::vector<int> a_, b_;
   std::vector<double> len_, s_, dn_;
   std::vector<CohesiveLaw> law_;

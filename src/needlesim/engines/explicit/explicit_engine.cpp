@@ -123,6 +123,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   o.hourglass = ex.hourglass;
   o.damping = ex.damping;
   o.contactPenalty = ex.contact_penalty;
+  o.fixedContactStiffness = ex.fixed_contact_stiffness;
   // Seam lips meet the sharp point with the offset the intact tissue ahead had (up to ~0.4 of a
   // core element at 0.5 mm, seed 004 example): allow one core element before stopping.
   if (seamOn) o.penetrationTolerance = ex.element_size;
@@ -132,9 +133,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   const int copySide = bevelSide.y() >= 0 ? 1 : -1;
   const auto& cs = ex.cohesive;
   const bool cohOn = cs.enable;
-  if (cohOn && (!seamOn || dim != 2))
-    throw Error("model.explicit.cohesive needs the 2d pre-cut seam (pre_cut: true, no imported mesh, entry_angle 90 deg, "
-                "bevel_orientation 0 or 180 deg)");
+  if (cohOn && (!seamOn || meshCopy.type == ElementType::Tri3 || meshCopy.type == ElementType::Tet4))
+    throw Error("model.explicit.cohesive needs the pre-cut seam of a quad4 (2d) or hex8 (3d) mesh (pre_cut: true, no "
+                "imported mesh, entry_angle 90 deg, bevel_orientation 0 or 180 deg)");
   for (auto [a, b] : st.seam) {
     if (!cohOn) solver.addTie(a, b);
     solver.setContactSide(a, -copySide);
@@ -172,15 +173,21 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       if (cohGc.empty()) cohGc.assign(meshCopy.nodes(), 0.0);
       cohGc[a] = law.energy;
     }
-    CohesiveInterface ci(meshCopy.X, st.seam, cohLaws, Eigen::Vector2d::UnitX(), 1.0);
-    // closed crack tip: the shared node beyond the seam's last pair
-    double xLast = -1e300, xNext = 1e300;
-    for (auto [a, b] : st.seam) xLast = std::max(xLast, meshCopy.coord(a, 0));
-    for (int n = 0; n < meshCopy.nodes(); ++n)
-      if (std::abs(meshCopy.coord(n, 1) - seamY) < 1e-9 && meshCopy.coord(n, 0) > xLast + 1e-12)
-        xNext = std::min(xNext, meshCopy.coord(n, 0));
-    if (xNext < 1e299) ci.addEndLength(0.0, 0.5 * (xNext - xLast));
-    solver.setCohesive(std::move(ci));
+    if (dim == 3) {
+      // quadrilaterals on the seam plane y = seamY (cohesive_surface.cpp); the faces reaching the
+      // unsplit nodes beyond the strip carry the closed crack front
+      solver.setCohesive(CohesiveInterface::surface3D(meshCopy, st.seam, cohLaws, Vector3d::UnitY(), axis));
+    } else {
+      CohesiveInterface ci(meshCopy.X, st.seam, cohLaws, Eigen::Vector2d::UnitX(), 1.0);
+      // closed crack tip: the shared node beyond the seam's last pair
+      double xLast = -1e300, xNext = 1e300;
+      for (auto [a, b] : st.seam) xLast = std::max(xLast, meshCopy.coord(a, 0));
+      for (int n = 0; n < meshCopy.nodes(); ++n)
+        if (std::abs(meshCopy.coord(n, 1) - seamY) < 1e-9 && meshCopy.coord(n, 0) > xLast + 1e-12)
+          xNext = std::min(xNext, meshCopy.coord(n, 0));
+      if (xNext < 1e299) ci.addEndLength(0.0, 0.5 * (xNext - xLast));
+      solver.setCohesive(std::move(ci));
+    }
   }
   // Distal face fixed (seed 001 section 3.2).
   const int fixed = solver.addGroup();
@@ -210,7 +217,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"hourglass energy", "J"}, {"external work", "J"}, {"contact work", "J"},
                     {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"},
                     {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"},
-                    {"tip lateral force", "N"}});
+                    {"cracked area", "m^2"}, {"needle work", "J"}, {"friction dissipation", "J"},
+                    {"penalty energy", "J"}, {"needle energy balance", "J"}, {"tip lateral force", "N"}});
   io::FieldSeries* fields = sink.fields("tissue", dim);
   io::FieldSeries* needleFields = sink.fields("needle", dim);
   if (fields) {
@@ -258,7 +266,16 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     }
   };
 
-  double peak = 0, ratioMax = 0, balanceMax = 0, energyScale = 1e-300;
+  // Cracked length: 2D the fully damaged seam length; 3D its extent along the path (the area is reported apart).
+  auto crackedLength = [&]() {
+    const auto* c = solver.cohesive();
+    if (dim == 2) return c->crackedLength();
+    double lo = 1e300, hi = -1e300;
+    for (int p = 0; p < c->pairs(); ++p)
+      if (c->state(p).damage >= 1.0) lo = std::min(lo, c->position(p)), hi = std::max(hi, c->position(p));
+    return hi >= lo ? hi - lo : 0.0;
+  };
+  double peak = 0, ratioMax = 0, balanceMax = 0, energyScale = 1e-300, needleBalanceMax = 0, needleWorkMax = 1e-300;
   auto record = [&]() {
     const auto* n = solver.needle();
     const auto& E = solver.energies();
@@ -278,7 +295,11 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                    static_cast<double>(cohOn ? solver.cohesive()->fullyDamaged()
                                              : static_cast<int>(st.seam.size()) - solver.activeTies()),
                    E.cohesiveStored * thick, E.cohesiveDissipated * thick,
-                   cohOn ? solver.cohesive()->crackedLength() : 0.0, n->tipForce.dot(bevelSide) * thick});
+                   cohOn ? crackedLength() : 0.0, cohOn ? solver.cohesive()->crackedLength() * (dim == 2 ? thick : 1.0) : 0.0,
+                   E.needleWork * thick, E.frictionDissipation * thick, E.penaltyEnergy * thick,
+                   E.balanceWithNeedle() * thick, n->tipForce.dot(bevelSide) * thick});
+    needleBalanceMax = std::max(needleBalanceMax, std::abs(E.balanceWithNeedle()));
+    needleWorkMax = std::max(needleWorkMax, std::abs(E.needleWork));
     if (cohOn) {
       const auto* c = solver.cohesive();
       cohGcArea = 0.0;
@@ -307,6 +328,16 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "largest kinetic / internal energy after the first 10 % (quasi-static if < 0.05-0.1)");
     sink.result("energy_balance_error", balanceMax / energyScale, "1",
                 "largest |energy balance| / largest energy term");
+    {
+      const auto& E = solver.energies();
+      sink.result("needle_work", E.needleWork * thick, "J", "work done by the moving needle (its reaction x its travel)");
+      sink.result("friction_dissipation", E.frictionDissipation * thick, "J", "Coulomb friction force x slip on the needle");
+      sink.result("penalty_energy", E.penaltyEnergy * thick, "J", "energy stored in the needle contact penalty at the end");
+      sink.result("viscous_dissipation", (E.internal - E.strain - E.hourglass) * thick, "J",
+                  "internal work less strain and hourglass energy (bulk viscosity, viscoelasticity)");
+      sink.result("needle_energy_balance_error", needleBalanceMax / needleWorkMax, "1",
+                  "largest |needle work - kinetic - internal - cohesive - friction - penalty| / largest needle work");
+    }
     sink.result("elements", solver.mesh().elements(), "1", "elements");
     sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
     sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");
@@ -341,20 +372,32 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       sink.result("cohesive_dissipation", E.cohesiveDissipated * thick, "J",
                   "energy dissipated by the cohesive zone (slab as thick as the needle in 2D)");
       sink.result("cohesive_stored", E.cohesiveStored * thick, "J", "elastic energy stored in the cohesive zone");
-      sink.result("cracked_length", c->crackedLength(), "m", "seam length with damage 1");
+      sink.result("cracked_length", crackedLength(), "m",
+                  dim == 2 ? "seam length with damage 1" : "extent along the path of the seam with damage 1");
+      sink.result("cracked_area", c->crackedLength() * (dim == 2 ? thick : 1.0), "m^2",
+                  "seam area with damage 1 (2D: length x slab thickness)");
       sink.result("crack_tip", c->crackTip(), "m", "farthest fully damaged position along the seam");
-      double dmax = 0, snMax = 0;
+      double dmax = 0, snMax = 0, process = 0, pairMax = 0;
       for (int p = 0; p < c->pairs(); ++p) {
         dmax = std::max(dmax, c->state(p).damage);
+        pairMax = std::max(pairMax, c->state(p).dissipated / std::max(c->law(p).energy, c->law(p).G2()));
+        if (c->state(p).damage > 0 && c->state(p).damage < 1) process += c->tributaryLength(p) * (dim == 2 ? thick : 1.0);
         snMax = std::max(snMax, c->separationNormal(p));
       }
       sink.result("cohesive_max_damage", dmax, "1", "largest damage on the seam");
+      sink.result("cohesive_pair_dissipation_max", pairMax, "1",
+                  "largest energy dissipated by one pair / its max(G_Ic, G_IIc) (1 = the law's full area)");
+      sink.result("process_zone_area", process, "m^2", "seam area with 0 < damage < 1 (2D: length x slab thickness)");
       sink.result("cohesive_max_opening", snMax, "m", "largest normal separation of a seam pair (at the end)");
       sink.result("fracture_energy_of_crack", cohGcArea, "J",
-                  "G_c x fully damaged length x slab thickness (the dissipation when the process zone is small)");
+                  "G_c x fully damaged area (2D: length x slab thickness; the dissipation when the process zone is small)");
       sink.note("Cohesive zone on the seam (model.explicit.cohesive, docs/models/cohesive.md): K = " +
                 std::to_string(cohLaws.front().stiffness) + " Pa/m, t_c = " + std::to_string(cohLaws.front().strength) +
                 " Pa, G_c = " + std::to_string(cohLaws.front().energy) + " J/m^2 (first pair); no node release.");
+      if (dim == 3 && sc.needle.tip == TipType::Bevel)
+        sink.note("3D bevel tip: the seam plane touches the needle only along its sharp point's line, so the needle passes "
+                  "without opening it much; the 3D wedge is built for conical tips (seam through the axis), "
+                  "docs/models/cohesive.md.");
     } else if (seamOn)
       sink.note("The tissue is pre-cut along the needle path through the tip's leading point (node release when the "
                 "tip arrives): the fracture-energy-free limit of the cohesive zone of seeds 001/004.");

@@ -1,5 +1,7 @@
 #include "needlesim/engines/explicit/solver.hpp"
 
+#include "needlesim/engines/explicit/cohesive_wedge.hpp"
+
 #include <Eigen/Dense>
 #include <algorithm>
 #include <cmath>
@@ -7,6 +9,7 @@
 #include <sstream>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/explicit/cohesive_wedge.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -284,7 +287,7 @@ void ExplicitSolver::setContactSide(int node, int side) {
   contactSide_[node] = static_cast<signed char>(side > 0 ? 1 : side < 0 ? -1 : 0);
 }
 void ExplicitSolver::setCohesive(CohesiveInterface c) {
-  if (dim_ != 2) throw Error("explicit FE: cohesive interfaces are 2D only");
+  if (c.dim() != dim_) throw Error("explicit FE: the cohesive interface's dimension differs from the mesh's");
   coh_.assign(1, std::move(c));
   fcoh_.assign(u_.size(), 0.0);
   cohPairOf_.assign(nnode_, -1);
@@ -316,6 +319,8 @@ void ExplicitSolver::setNeedle(const RigidNeedle& n) {
   needle_ = n;
   hasNeedle_ = true;
   needleFt_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  fconNeedle_.assign(u_.size(), 0.0);
+  fconFriction_.assign(u_.size(), 0.0);
 }
 double ExplicitSolver::totalMass() const {
   double s = 0;
@@ -461,7 +466,8 @@ void ExplicitSolver::contactForces(double dtStep) {
   if (dtStep <= 0) return;
   const int d = dim_;
   // Penalty from the stable step, not the (possibly shortened) last step: k = penalty m / dt_stable^2.
-  const double dtPen = opt_.cfl * dtStable_;
+  if (dtPenFixed_ == 0.0) dtPenFixed_ = opt_.cfl * dtStable_;
+  const double dtPen = opt_.fixedContactStiffness ? dtPenFixed_ : opt_.cfl * dtStable_;
   const double pen = opt_.contactPenalty / (dtPen * dtPen);
   for (std::size_t p = 0; p < planes_.size(); ++p) {
     RigidPlane& pl = planes_[p];
@@ -504,9 +510,11 @@ void ExplicitSolver::contactForces(double dtStep) {
   const bool planar = d == 2;
   const Vector3d vb = nd.velocity * nd.pose.axis;
   const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
-  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0;
+  double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0, ePen = 0;
   int count = 0;
-#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count) \
+  std::fill(fconNeedle_.begin(), fconNeedle_.end(), 0.0);
+  std::fill(fconFriction_.begin(), fconFriction_.end(), 0.0);
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count, ePen) \
     reduction(max : maxPen)
   for (int n = 0; n < nnode_; ++n) {
     Vector3d x = Vector3d::Zero(), v = Vector3d::Zero();
@@ -518,14 +526,24 @@ void ExplicitSolver::contactForces(double dtStep) {
     double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
     needle::NeedleHit hit =
         needle::queryNeedle(nd.shape, nd.pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
-    // Wedge on a still-cohesive seam pair (docs/models/cohesive.md): the lip nodes of a pair
-    // that is not fully damaged meet the sharp point's faces (bevel, or the wall-side chisel
-    // ramp) with the lateral part of the face normal only, at the lateral distance to the
-    // face. Each lip is pushed away from the cut line on its own side, so the pair's normal
-    // separation grows as the point advances and the cohesive law governs the opening; the
-    // axial push of the inclined faces would instead shove the closed pair ahead of the point.
-    if (hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel && !cohPairOf_.empty() &&
-        cohPairOf_[n] >= 0 && coh_.front().state(cohPairOf_[n]).damage < 1.0) {
+    // Wedge on a still-cohesive seam pair (docs/models/cohesive.md "The point wedges the seam
+    // open"): the lip nodes of a pair that is not fully damaged are pushed across the cut line
+    // only, each to its own side, by the lateral gap to the needle's face (the axial push of the
+    // inclined faces would shove the closed pair ahead of the point); the needle takes the axial
+    // reaction that makes its work match. 2D bevel and 3D cone: one gap function per lip
+    // (cohesive_wedge.hpp) at the node's reference axial station (conservative); 3D bevel: the
+    // lateral part of the face contact.
+    const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 && coh_.front().state(cohPairOf_[n]).damage < 1.0;
+    if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
+        ((planar && nd.shape.tip == TipType::Bevel) || nd.shape.tip == TipType::Conical)) {
+      double uAx = 0.0;
+      for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * nd.pose.axis[i];
+      const Vector3d xw = x - uAx * nd.pose.axis;
+      needle::NeedleHit wh;
+      const bool in = planar ? bevelWedge2D(nd.shape, nd.pose, xw, contactSide_[n], wh, wedgeAxial)
+                             : coneWedge(nd.shape, nd.pose, xw, contactSide_[n], wh, wedgeAxial);
+      hit = in ? wh : needle::NeedleHit{};
+    } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
       const double c = hit.normal.dot(nd.pose.bevelSide);
       if (std::abs(c) > 1e-3) {
         wedgeAxial = hit.normal.dot(nd.pose.axis) / std::abs(c);
@@ -551,10 +569,15 @@ void ExplicitSolver::contactForces(double dtStep) {
       if (tn > lim) t *= lim / tn;
       ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
       f += t;
+      for (int i = 0; i < d; ++i) fconFriction_[static_cast<std::size_t>(n) * d + i] = t[i];
     } else {
       ft[0] = ft[1] = ft[2] = 0;
     }
-    for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
+    ePen += 0.5 * k * hit.depth * hit.depth;
+    for (int i = 0; i < d; ++i) {
+      fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
+      fconNeedle_[static_cast<std::size_t>(n) * d + i] = f[i];
+    }
     // reaction on the needle: -f at x; moment about the base centre. A wedged lip (above) feels
     // only the lateral part fn of the face force; the needle takes the whole face force, whose
     // axial part fn tan(face) makes the needle's work match the opening work at the face.
@@ -573,6 +596,7 @@ void ExplicitSolver::contactForces(double dtStep) {
   nd.normalForce = fnSum;
   nd.nodesInContact = count;
   nd.maxPenetration = maxPen;
+  en_.penaltyEnergy = ePen;
   if (maxPen > penetrationTol_)
     fail("needle contact penetration " + fmtNum(maxPen * 1e3) + " mm exceeds the tolerance " +
              fmtNum(penetrationTol_ * 1e3) + " mm",
@@ -645,9 +669,16 @@ void ExplicitSolver::step() {
     }
   }
   const bool ties = !tieA_.empty(), coh = !coh_.empty();
-  double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0, wCoh = 0;
+  double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0, wCoh = 0, wConN = 0, dFric = 0;
   const int d = dim_;
-#pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp, wCoh)
+  double vbd[3] = {0, 0, 0};  // needle velocity
+  if (hasNeedle_) {
+    for (int i = 0; i < d; ++i) vbd[i] = needle_.velocity * needle_.pose.axis[i];
+    // work of the needle over the step: minus its reaction times its displacement
+    en_.needleWork -= needle_.force.dot(needle_.velocity * needle_.pose.axis) * dt;
+  }
+  const bool nee = hasNeedle_;
+#pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp, wCoh, wConN, dFric)
   for (std::size_t k = 0; k < ndof; ++k) {
     const double m = mass_[k / d];
     const double vOld = vHalf_[k];
@@ -670,6 +701,10 @@ void ExplicitSolver::step() {
     wCon += fcon_[k] * dw;
     wDamp += fd * dw;
     wCoh -= fc * dw;
+    if (nee) {
+      wConN += fconNeedle_[k] * dw;
+      dFric -= fconFriction_[k] * (dw - vbd[k % d] * dtAvg);  // friction force times slip
+    }
     ke += 0.5 * m * vNew * vNew;
     keMid += 0.125 * m * (vOld + vNew) * (vOld + vNew);
     vHalf_[k] = vNew;
@@ -691,6 +726,8 @@ void ExplicitSolver::step() {
   en_.contactWork += wCon;
   en_.dampingWork += wDamp;
   en_.cohesiveWork += wCoh;
+  en_.needleContactWork += wConN;
+  en_.frictionDissipation += dFric;
   time_ += dt;
   dtPrev_ = dt;
   ++steps_;

@@ -48,6 +48,9 @@ struct SolverOptions {
   double hourglass = 1.0;        // hourglass stiffness; 1 = exact pure bending of a rectangular element
   double damping = 0.0;          // 1/s, mass-proportional (dynamic relaxation; 0 = none)
   double contactPenalty = 0.2;   // k = penalty m_a / dt^2 (dimensionless, < 1 for stability)
+  // true: k from the first contact evaluation's stable step, then kept: a conservative penalty (with k
+  // following dt the stored 1/2 k g^2 grows without work as elements distort; docs/models/cohesive.md)
+  bool fixedContactStiffness = false;
   double penetrationTolerance = 0.0;  // m; 0 = half the smallest element size
   double hourglassStrainLimit = 2.0;  // stop when an element's hourglass (zig-zag) strain exceeds this
   double minTimeStepRatio = 1e-3;     // stop when dt falls below this fraction of the initial dt
@@ -65,9 +68,21 @@ struct Energies {
   double cohesiveWork = 0.0;  // work done on the cohesive interface (= stored + dissipated)
   double cohesiveStored = 0.0, cohesiveDissipated = 0.0;  // its split (cohesive.hpp)
   double kinetic0 = 0.0;
+  // Needle contact split (docs/models/cohesive.md "Energy balance"): work the moving needle does
+  // (its reaction times its velocity), the part of the contact work on the body that came from the
+  // needle, Coulomb friction dissipation (friction force times slip, >= 0) and the penalty energy
+  // 1/2 k depth^2 stored in the needle contact now.
+  double needleWork = 0.0, needleContactWork = 0.0, frictionDissipation = 0.0, penaltyEnergy = 0.0;
   // ETOTAL in ABAQUS terms: kinetic + internal - external - contact - damping, minus its start value.
   double balance() const {
     return kinetic - kinetic0 + internal + cohesiveWork - externalWork - contactWork - dampingWork;
+  }
+  // The whole-insertion balance: needle work = kinetic + internal (strain, hourglass, viscous) +
+  // cohesive (stored + dissipated) + friction dissipation + penalty energy (+ loads, damping, planes).
+  // Not round-off exact: the penalty energy is a state function only up to the step's change of k.
+  double balanceWithNeedle() const {
+    return kinetic - kinetic0 + internal + cohesiveWork + frictionDissipation + penaltyEnergy - needleWork -
+           externalWork - dampingWork - (contactWork - needleContactWork);
   }
 };
 
@@ -114,7 +129,7 @@ class ExplicitSolver {
   int activeTies() const;
 
   // Cohesive zone on seam pairs (cohesive.hpp): forces join the internal forces,
-  // the stable step accounts for the pair springs. 2D only.
+  // the stable step accounts for the pair springs. 2D lines or 3D quadrilaterals.
   void setCohesive(CohesiveInterface c);
   CohesiveInterface* cohesive() { return coh_.empty() ? nullptr : &coh_.front(); }
   const CohesiveInterface* cohesive() const { return coh_.empty() ? nullptr : &coh_.front(); }
@@ -196,8 +211,10 @@ class ExplicitSolver {
   RigidNeedle needle_;
   bool hasNeedle_ = false;
   std::vector<double> needleFt_;
+  std::vector<double> fconNeedle_, fconFriction_;  // per dof: needle contact force on the body, its friction part
   std::vector<signed char> contactSide_;  // per node, empty = none
   double penetrationTol_ = 0.0;
+  double dtPenFixed_ = 0.0;  // stable step of the first contact evaluation (fixedContactStiffness)
   // seam ties
   std::vector<int> tieA_, tieB_;
   std::vector<char> tieOn_;

@@ -1,0 +1,34 @@
+#pragma once
+// The needle wedging a still-cohesive seam open in 3D (docs/models/cohesive.md
+// "The point wedges the seam open"): for a conical tip and a seam plane through
+// the needle axis, a lip node inside the needle is pushed along its own side of
+// the seam normal (side x bevelSide) to the needle surface, instead of along the
+// surface normal (whose axial part would shove the closed pair ahead of the
+// apex). The 2D bevel rule lives in solver.cpp; this is its 3D cone analogue.
+#include <Eigen/Core>
+
+#include "needlesim/needle/surface_mesh.hpp"
+
+namespace needlesim::explicit_fe {
+
+// x: current position of the lip node, side: +1 the lip on +bevelSide, -1 the other.
+// On return, if the node is inside the cone or shaft: hit.inside, hit.depth (lateral
+// distance to the surface along side x bevelSide), hit.normal = side x bevelSide,
+// hit.face, and axialPerLateral = the axial force the needle feels per unit lateral
+// force (d(lateral gap)/d(tip advance), so the needle's work equals the opening work).
+// Returns false (hit untouched) for other tips or a node outside the needle.
+bool coneWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+               needle::NeedleHit& hit, double& axialPerLateral);
+
+// 2D bevel (planar, seam through the sharp point): the same lateral wedge as one potential per
+// lip, without the cylinder test (a lip dragged across the cut line by its still-cohesive partner
+// must still meet the face, instead of entering later with a large depth):
+//  side > 0 (bevel lip), under the bevel (-2R/tan(alpha) < s <= 0): gap = -(s tan(alpha) + a + R),
+//    pushed along +bevelSide, needle reaction tan(alpha) per unit lateral force;
+//  side < 0 (wall lip), ahead of the point (s > 0): the virtual chisel, gap = a + R - s tan(beta),
+//    pushed along -bevelSide, reaction tan(beta); behind it (s <= 0, inside the shaft): gap = a + R.
+// s, a: the node's axial and lateral coordinates from the tip (a from the axis along bevelSide).
+bool bevelWedge2D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                  needle::NeedleHit& hit, double& axialPerLateral);
+
+}  // namespace needlesim::explicit_fe
