@@ -23,7 +23,7 @@ Both solvers use the same energy W = C10 (I1bar - 3) + K/2 (J - 1)^2; CalculiX
 Usage:
   python3 scripts/calculix_compare.py --relax build/release/tests/explicit_relax
       [--case cantilever|punch|all] [--element C3D8I|C3D8|C3D8R] [--workdir DIR]
-      [--tolerance 0.03]
+      [--amplitude 1] [--tolerance T]
 Exit status: 0 all within tolerance, 1 a difference above it, 77 ccx not found
 (CTest SKIP_RETURN_CODE), 2 a run failed.
 """
@@ -55,6 +55,7 @@ class Case:
         self.printed = []     # (label, tag)
         self.ramp = self.hold = self.damping = 0.0
         self.reference = ""   # a closed-form orientation value, printed only
+        self.tol_u = self.tol_F = 0.0  # accepted |u_ns - u_ccx| / |d| and |F_ns / F_ccx - 1|
 
 
 def block(nx, ny, nz, lx, ly, lz, grade=None):
@@ -91,12 +92,20 @@ def cantilever(refine):
     c.printed = [("tip centre", tag(nx, ny // 2, nz // 2)), ("tip top", tag(nx, ny, nz // 2)),
                  ("3/4 span", tag(3 * nx // 4, ny // 2, nz // 2)), ("mid span", tag(nx // 2, ny // 2, nz // 2)),
                  ("1/4 span", tag(nx // 4, ny // 2, nz // 2))]
-    # lowest bending mode of a clamped-guided beam: beta L = 2.365 (EI / (rho A L^4))^(1/2)
-    omega1 = 2.365 ** 2 * math.sqrt(E * h * h / 12.0 / (RHO * L ** 4))
+    # lowest bending mode of the cantilever: beta L = 1.875, omega = beta^2 (EI / (rho A))^(1/2);
+    # ramp and hold over ~2 periods each with near-critical damping (a 6x slower run changes
+    # nothing in the printed digits)
+    omega1 = 1.875 ** 2 * math.sqrt(E * h * h / 12.0 / (RHO * L ** 4))
     c.ramp, c.hold, c.damping = 12.0 / omega1, 12.0 / omega1, 2.0 * omega1
     I = b * h ** 3 / 12.0
-    c.reference = "linear beam (clamped-guided) reaction 12 E I d / L^3 = %.4g N" % (
-        12.0 * E * I * abs(c.displacement) / L ** 3)
+    c.reference = "small-strain tip-loaded cantilever 3 E I d / L^3 = %.4g N" % (
+        3.0 * E * I * abs(c.displacement) / L ** 3)
+    # Tolerances: both element formulations (one-point + Flanagan-Belytschko hourglass
+    # stiffness; incompatible modes) bend a rectangular element exactly, their difference is
+    # O(h^2): 2.4 % in the reaction on this 20x2x2 mesh, 0.65 % on 40x4x4 (the small-strain
+    # stiffness differs by 3.1 % on 20x2x2); displacements (mostly set by the prescribed tip
+    # motion) differ by < 0.15 % of d.
+    c.tol_u, c.tol_F = 0.005, 0.035
     return c
 
 
@@ -128,11 +137,17 @@ def punch(refine):
     ia = max(i for i, x in enumerate(xs) if x <= a + 1e-12)
     c.printed = [("top, 2a from axis", tag(min(n, 2 * ia), 0, n)), ("top corner", tag(n, n, n)),
                  ("axis, mid depth", tag(0, 0, n // 2)), ("top, 1.5a", tag(min(n, (3 * ia) // 2), 0, n))]
-    # lowest mode: axial block ~ quarter wave over H, omega ~ (pi / 2H) c_s sqrt(3) (E = 3 mu)
+    # lowest mode: quarter-wave axial mode of the layer, omega ~ (pi / 2H) (E / rho)^(1/2)
     omega1 = math.pi / (2 * H) * math.sqrt(E / RHO)
     c.ramp, c.hold, c.damping = 12.0 / omega1, 12.0 / omega1, 2.0 * omega1
-    c.reference = "Boussinesq rigid square punch (small strain, half-space) F ~ %.4g N (quarter)" % (
-        0.25 * 2.0 * 1.128 * a * E / (1 - NU ** 2) * abs(c.displacement))
+    c.reference = ("small-strain punch of equal area on a half-space 2 r E d / (1 - nu^2) / 4 = %.4g N "
+                   "(the 10 mm layer on a clamped base is stiffer)" % (
+                       0.25 * 2.0 * 1.128 * a * E / (1 - NU ** 2) * abs(c.displacement)))
+    # Tolerances: at small strain the two solvers agree to 0.5 % in the reaction on this mesh;
+    # at 20 % indentation the elements at the punch edge (a stress singularity) are sheared
+    # hard and the one-point element and C3D8I part: +1.9 % on 10^3, +5.4 % on 20^3
+    # hexahedra (docs/validation/fe.md). The test runs the 10^3 mesh.
+    c.tol_u, c.tol_F = 0.015, 0.03
     return c
 
 
@@ -251,21 +266,22 @@ def compare(c, args):
     print("   prescribed displacement %.4g m (needlesim reached %.6g); %s"
           % (c.displacement, info["prescribed"], c.reference))
     print("   %-20s %-4s %13s %13s %9s %9s" % ("node", "comp", "CalculiX", "needlesim", "diff", "diff / d"))
-    worst = 0.0
+    worst_u = 0.0
     for label, t in c.printed:
         for k, name in enumerate("xyz"):
             a, b = disp[t][k], ns[t][k]
-            if abs(a) < 0.05 * size:  # components below 5 % of the prescribed one: too small to compare
+            worst_u = max(worst_u, abs(b - a) / size)
+            if abs(a) < 0.05 * size:  # components below 5 % of the prescribed one: not listed
                 continue
-            worst = max(worst, abs(b / a - 1.0))
             print("   %-20s u%-3s %13.6e %13.6e %+8.2f%% %+8.2f%%"
                   % (label, name, a, b, 100 * (b / a - 1.0), 100 * (b - a) / size))
     dF = F_ns / F_ccx - 1.0
     print("   %-20s F%-3s %13.6e %13.6e %+8.2f%%" % ("reaction", "xyz"[comp], F_ccx, F_ns, 100 * dF))
-    worst = max(worst, abs(dF))
-    tol = args.tolerance if args.tolerance > 0 else c.tolerance(args.refine)
-    ok = worst <= tol
-    print("   largest difference %.2f %% (tolerance %.2f %%): %s" % (100 * worst, 100 * tol, "ok" if ok else "FAIL"))
+    tol_u = args.tolerance or c.tol_u
+    tol_F = args.tolerance or c.tol_F
+    ok = worst_u <= tol_u and abs(dF) <= tol_F
+    print("   largest |u difference| / |d| %.2f %% (tolerance %.2f %%), reaction %.2f %% (tolerance %.2f %%): %s"
+          % (100 * worst_u, 100 * tol_u, 100 * abs(dF), 100 * tol_F, "ok" if ok else "FAIL"))
     return ok
 
 
@@ -276,10 +292,12 @@ def main():
     ap.add_argument("--case", default="all", choices=["cantilever", "punch", "all"])
     ap.add_argument("--element", default="C3D8I", choices=["C3D8I", "C3D8", "C3D8R"])
     ap.add_argument("--refine", type=int, default=1, help="mesh refinement factor")
+    ap.add_argument("--amplitude", type=float, default=1.0,
+                    help="factor on the prescribed displacement (0.01: the small-strain limit)")
     ap.add_argument("--workdir", default="calculix_compare")
-    ap.add_argument("--tolerance", type=float, default=0.03,
-                    help="largest relative difference accepted (displacements relative to the "
-                         "prescribed one, reaction relative to CalculiX's)")
+    ap.add_argument("--tolerance", type=float, default=0.0,
+                    help="override the cases' tolerances (displacement differences relative to the "
+                         "prescribed displacement, reaction relative to CalculiX's)")
     args = ap.parse_args()
     if shutil.which(args.ccx) is None:
         print("calculix_compare: ccx not found (Debian package calculix-ccx); skipped")
@@ -290,7 +308,11 @@ def main():
     print("neo-Hooke C10 %.4g Pa, K %.5g Pa (nu %.3g, D1 = 2/K = %.6g 1/Pa), density %.4g kg/m^3"
           % (C10, K, NU, 2.0 / K, RHO))
     cases = [cantilever, punch] if args.case == "all" else [{"cantilever": cantilever, "punch": punch}[args.case]]
-    results = [compare(make(args.refine), args) for make in cases]
+    results = []
+    for make in cases:
+        c = make(args.refine)
+        c.displacement *= args.amplitude
+        results.append(compare(c, args))
     if any(r is None for r in results):
         return 2
     return 0 if all(results) else 1

@@ -13,6 +13,7 @@
 //   displacement d                   final displacement of the group
 //   ramp T  hold H  damping c        ramp time, hold time (s), damping (1/s)
 //   print node                       report this node's displacement
+//   hourglass h                      optional: SolverOptions::hourglass (default 1)
 // Output: "node <tag> <ux> <uy> <uz>", "reaction <F>" (force the support
 // applies, summed over the group), "kinetic_ratio <KE / strain energy>",
 // "steps <n>".
@@ -39,7 +40,7 @@ int main(int argc, char** argv) {
     Mesh mesh = readGmsh(argv[1]);
     std::ifstream in(argv[2]);
     if (!in) throw std::runtime_error(std::string("cannot open ") + argv[2]);
-    double C10 = 0, K = 0, rho = 0, d = 0, T = 0, H = 0, c = 0;
+    double C10 = 0, K = 0, rho = 0, d = 0, T = 0, H = 0, c = 0, hourglass = 1.0;
     std::vector<std::pair<int, int>> fixed, moved;
     std::vector<int> printed;
     std::string line;
@@ -56,6 +57,7 @@ int main(int argc, char** argv) {
         ok = bool(ls >> n >> k) && n >= 1 && n <= mesh.nodes() && k >= 0 && k < mesh.dim;
         (key == "fix" ? fixed : moved).emplace_back(n - 1, k);
       } else if (key == "displacement") ok = bool(ls >> d);
+      else if (key == "hourglass") ok = bool(ls >> hourglass) && hourglass >= 0;
       else if (key == "ramp") {
         std::string h, dm;
         ok = bool(ls >> T >> h >> H >> dm >> c) && h == "hold" && dm == "damping";
@@ -74,6 +76,7 @@ int main(int argc, char** argv) {
     sp.density = rho;
     SolverOptions o;
     o.damping = c;
+    o.hourglass = hourglass;
     ExplicitSolver s(mesh, {Material::fromSpec(sp)}, o);
     const int gFix = s.addGroup(), gMove = s.addGroup();
     for (auto [n, k] : fixed) s.addDof(gFix, n, k);
