@@ -12,7 +12,7 @@ nodes and the reaction force of the prescribed-displacement nodes.
 
 Cases (SI units; neo-Hooke C10 = 3.6 kPa, nu = 0.45, the plastisol of seed 004):
   cantilever  beam 100 x 10 x 10 mm, clamped at x = 0; the end face x = L is
-              moved by u_y = -0.4 L (x, z free): rotations of ~35 deg, so the
+              moved by u_y = -0.4 L (x, z free): the end face tilts by ~22 deg, the
               end shortening u_x is a purely geometric-nonlinear quantity.
   punch       quarter of a 20 x 20 x 10 mm block, base clamped, symmetry on
               x = 0 and y = 0; a bonded rigid square punch (half-width 3 mm)
@@ -30,7 +30,6 @@ Exit status: 0 all within tolerance, 1 a difference above it, 77 ccx not found
 import argparse
 import math
 import os
-import re
 import shutil
 import subprocess
 import sys
@@ -294,7 +293,8 @@ def main():
     ap.add_argument("--refine", type=int, default=1, help="mesh refinement factor")
     ap.add_argument("--amplitude", type=float, default=1.0,
                     help="factor on the prescribed displacement (0.01: the small-strain limit)")
-    ap.add_argument("--workdir", default="calculix_compare")
+    ap.add_argument("--workdir", default="build/calculix_compare",
+                    help="where the decks, meshes and logs go")
     ap.add_argument("--tolerance", type=float, default=0.0,
                     help="override the cases' tolerances (displacement differences relative to the "
                          "prescribed displacement, reaction relative to CalculiX's)")
