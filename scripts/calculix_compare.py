@@ -23,7 +23,7 @@ Both solvers use the same energy W = C10 (I1bar - 3) + K/2 (J - 1)^2; CalculiX
 Usage:
   python3 scripts/calculix_compare.py --relax build/release/tests/explicit_relax
       [--case cantilever|punch|all] [--element C3D8I|C3D8|C3D8R] [--workdir DIR]
-      [--amplitude 1] [--tolerance T]
+      [--amplitude 1] [--hourglass 1] [--tolerance T]
 Exit status: 0 all within tolerance, 1 a difference above it, 77 ccx not found
 (CTest SKIP_RETURN_CODE), 2 a run failed.
 """
@@ -54,6 +54,7 @@ class Case:
         self.printed = []     # (label, tag)
         self.ramp = self.hold = self.damping = 0.0
         self.reference = ""   # a closed-form orientation value, printed only
+        self.hourglass = 1.0  # needlesim's hourglass stiffness factor (SolverOptions::hourglass)
         self.tol_u = self.tol_F = 0.0  # accepted |u_ns - u_ccx| / |d| and |F_ns / F_ccx - 1|
 
 
@@ -196,6 +197,7 @@ def write_case(c, path):
     L += ["displacement %.12e" % c.displacement,
           "ramp %.9e hold %.9e damping %.9e" % (c.ramp, c.hold, c.damping)]
     L += ["print %d" % t for _, t in c.printed]
+    L += ["hourglass %.6g" % c.hourglass]
     with open(path, "w") as f:
         f.write("\n".join(L) + "\n")
 
@@ -291,6 +293,8 @@ def main():
     ap.add_argument("--case", default="all", choices=["cantilever", "punch", "all"])
     ap.add_argument("--element", default="C3D8I", choices=["C3D8I", "C3D8", "C3D8R"])
     ap.add_argument("--refine", type=int, default=1, help="mesh refinement factor")
+    ap.add_argument("--hourglass", type=float, default=1.0,
+                    help="needlesim's hourglass stiffness factor (sensitivity study)")
     ap.add_argument("--amplitude", type=float, default=1.0,
                     help="factor on the prescribed displacement (0.01: the small-strain limit)")
     ap.add_argument("--workdir", default="build/calculix_compare",
@@ -312,6 +316,7 @@ def main():
     for make in cases:
         c = make(args.refine)
         c.displacement *= args.amplitude
+        c.hourglass = args.hourglass
         results.append(compare(c, args))
     if any(r is None for r in results):
         return 2
