@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
@@ -21,11 +22,24 @@ namespace needlesim::mpm {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-using A4 = Eigen::Array4d;  // four lanes of a grid record (two SSE2 packets)
-using M4 = Eigen::Map<A4, Eigen::Aligned16>;
-using C4 = Eigen::Map<const A4, Eigen::Aligned16>;
+// Four lanes of a grid record as a GCC vector: two SSE2 operations in the
+// baseline x86-64 build, one AVX2/FMA operation in the x86-64-v3 clones of the
+// hot kernels (NEEDLESIM_MPM_CLONES). Unaligned, may alias double.
+#pragma GCC diagnostic ignored "-Wpsabi"  // A4 helpers are inlined into each clone
+typedef double A4 __attribute__((vector_size(32), aligned(8), may_alias));
+inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
+inline void add(double* p, A4 v) { *reinterpret_cast<A4*>(p) += v; }
 // Offsets in a grid record (MpmSolver::Buf).
 constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
+
+// Function multiversioning of the particle-grid kernels: a baseline x86-64
+// clone and an x86-64-v3 (AVX2, FMA) clone chosen at load time, so the default
+// build runs on any x86-64 (no -march=native). Off with NEEDLESIM_MPM_NO_CLONES.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(NEEDLESIM_MPM_NO_CLONES)
+#define MPM_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define MPM_CLONES
+#endif
 
 inline int threadId() {
 #ifdef _OPENMP
@@ -60,6 +74,19 @@ inline int weights(double xi, double invh, double* w, double* dw) {
     dw[2] = a2 * invh;
     return static_cast<int>(b);
   }
+}
+
+// J^(-1/3) for J > 0 without pow or a division: exponent-bit estimate (within
+// 3.5 %), then four Newton steps z <- z (4 - J z^3) / 3 (quadratic: to
+// rounding).
+inline double invCbrt(double J) {
+  std::uint64_t i;
+  std::memcpy(&i, &J, sizeof i);
+  i = 0x553ef0ff289dd796ull - i / 3;  // (4/3) x bias bits - bits/3, tuned constant
+  double z;
+  std::memcpy(&z, &i, sizeof z);
+  for (int it = 0; it < 4; ++it) z *= (4.0 - J * z * z * z) * (1.0 / 3.0);
+  return z;
 }
 
 }  // namespace
@@ -299,15 +326,18 @@ Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, dou
     // sigma = 2/J W1 dev(bbar) + K (J-1) I (seed 000 eqs 8-13 with the library's
     // volumetric term in place of the Lagrange multiplier of eq 11).
     const Mat3 b = F * F.transpose();
-    const double Jm23 = std::pow(J, -2.0 / 3.0);
+    const double Jm13 = invCbrt(J);
+    const double Jm23 = Jm13 * Jm13;
     const double trb = b.trace();
     const double I1b = Jm23 * trb;
     double W1;
     if (L.kind == LawKind::Fung) {
       const double x = L.gamma * (I1b - 3.0);
-      const double ex = std::exp(x);
+      const double ex = std::exp(x);  // one exponential: W reuses it
       W1 = 0.5 * L.mu * ex;
-      W = L.mu / (2.0 * L.gamma) * std::expm1(x);
+      // expm1 from ex: a short series where ex - 1 would cancel.
+      const double em1 = std::abs(x) < 1e-3 ? x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x / 24.0))) : ex - 1.0;
+      W = L.mu / (2.0 * L.gamma) * em1;
       muc = L.mu * ex * (1.0 + 2.0 * L.gamma * I1b);
     } else {
       W1 = L.C10;
@@ -425,7 +455,7 @@ void MpmSolver::reduceBuffers(bool momentumOnly) {
 // entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
 // is a fixed-length vector update of one cache line.
 template <int S, bool Grad>
-void MpmSolver::p2g() {
+MPM_CLONES void MpmSolver::p2g() {
   constexpr std::size_t NR = Grad ? 16 : 8;
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
@@ -456,7 +486,7 @@ void MpmSolver::p2g() {
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
       const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
       const double m = mass_[p];
-      const A4 q(m, m * vx_[p], m * vy_[p], m * vz_[p]);  // eqs 1-2
+      const A4 q = {m, m * vx_[p], m * vy_[p], m * vz_[p]};  // eqs 1-2
       const double J = F_[0][p] * (F_[4][p] * F_[8][p] - F_[5][p] * F_[7][p]) -
                        F_[1][p] * (F_[3][p] * F_[8][p] - F_[5][p] * F_[6][p]) +
                        F_[2][p] * (F_[3][p] * F_[7][p] - F_[4][p] * F_[6][p]);
@@ -473,22 +503,22 @@ void MpmSolver::p2g() {
                                                     static_cast<std::size_t>(by + j)) * n2 +
                                              static_cast<std::size_t>(bz));
           const A4 a0 = wij * q;
-          const A4 a1(s00 * gxij + s01 * gyij, s01 * gxij + s11 * gyij, s02 * gxij + s12 * gyij, 0.0);
-          const A4 b1(s02 * wij, s12 * wij, s22 * wij, 0.0);
+          const A4 a1 = {s00 * gxij + s01 * gyij, s01 * gxij + s11 * gyij, s02 * gxij + s12 * gyij, 0.0};
+          const A4 b1 = {s02 * wij, s12 * wij, s22 * wij, 0.0};
           if constexpr (Grad) {
-            const A4 a2(m * gxij, m * gyij, 0.0, wij * m * xp[0]);
-            const A4 b2(0.0, 0.0, m * wij, 0.0);
-            const A4 a3(wij * m * xp[1], wij * m * xp[2], 0.0, 0.0);
+            const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
+            const A4 b2 = {0.0, 0.0, m * wij, 0.0};
+            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], 0.0, 0.0};
             for (int k = 0; k < S; ++k, r += NR) {
-              M4(r) += wz[k] * a0;
-              M4(r + 4) += wz[k] * a1 + dz[k] * b1;
-              M4(r + 8) += wz[k] * a2 + dz[k] * b2;
-              M4(r + 12) += wz[k] * a3;
+              add(r, wz[k] * a0);
+              add(r + 4, wz[k] * a1 + dz[k] * b1);
+              add(r + 8, wz[k] * a2 + dz[k] * b2);
+              add(r + 12, wz[k] * a3);
             }
           } else {
             for (int k = 0; k < S; ++k, r += NR) {
-              M4(r) += wz[k] * a0;
-              M4(r + 4) += wz[k] * a1 + dz[k] * b1;
+              add(r, wz[k] * a0);
+              add(r + 4, wz[k] * a1 + dz[k] * b1);
             }
           }
         }
@@ -913,7 +943,7 @@ void MpmSolver::remapUpdate() {
 // Per (i, j) the k sums of the grid velocities are formed first (tensor
 // product, as in p2g).
 template <int S>
-void MpmSolver::g2pRemap() {
+MPM_CLONES void MpmSolver::g2pRemap() {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
@@ -932,17 +962,17 @@ void MpmSolver::g2pRemap() {
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
       const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-      A4 an = A4::Zero(), ao = A4::Zero();  // sum N v_new, sum N v_old
+      A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
           const std::size_t row =
               off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
               static_cast<std::size_t>(bz);
           const double* __restrict v = vel + 8 * row;
-          A4 sn = wz[0] * C4(v), so = wz[0] * C4(v + 4);
+          A4 sn = wz[0] * ld(v), so = wz[0] * ld(v + 4);
           for (int k = 1; k < S; ++k) {
-            sn += wz[k] * C4(v + 8 * k);
-            so += wz[k] * C4(v + 8 * k + 4);
+            sn += wz[k] * ld(v + 8 * k);
+            so += wz[k] * ld(v + 8 * k + 4);
           }
           const double wij = wx[i] * wy[j];
           an += wij * sn;
@@ -960,7 +990,7 @@ void MpmSolver::g2pRemap() {
       vgy_[p] = an[1];
       vgz_[p] = an[2];
       const double m = mass_[p];
-      const A4 q(0.0, m * v0, m * v1, m * v2);  // lane 0 (mass) gets + 0
+      const A4 q = {0.0, m * v0, m * v1, m * v2};  // lane 0 (mass) gets + 0
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
           const A4 a = (wx[i] * wy[j]) * q;
@@ -968,7 +998,7 @@ void MpmSolver::g2pRemap() {
                                                     static_cast<std::size_t>(by + j)) * n2 +
                                              static_cast<std::size_t>(bz));
           for (int k = 0; k < S; ++k, r += NR)
-            M4(r) += wz[k] * a;
+            add(r, wz[k] * a);
         }
     }
   }
@@ -980,7 +1010,7 @@ void MpmSolver::g2pRemap() {
 // L_c0 += dx_i wy_j sum_k wz_k v_c, L_c1 += wx_i dy_j sum_k wz_k v_c,
 // L_c2 += wx_i wy_j sum_k dz_k v_c.
 template <int S, bool Usl>
-void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
+MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
@@ -1002,7 +1032,7 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
     const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
     const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
     const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-    A4 an = A4::Zero(), ao = A4::Zero();  // sum N v_new, sum N v_old (USL only)
+    A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
     double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
     for (int i = 0; i < S; ++i)
       for (int j = 0; j < S; ++j) {
@@ -1010,12 +1040,12 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
                                 static_cast<std::size_t>(bz);
         const double* __restrict v = vel + 8 * row;
         // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
-        A4 sw = A4::Zero(), sd = A4::Zero(), so = A4::Zero();
+        A4 sw = {0, 0, 0, 0}, sd = {0, 0, 0, 0}, so = {0, 0, 0, 0};
         for (int k = 0; k < S; ++k) {
-          const C4 vg(v + 8 * k + go);
+          const A4 vg = ld(v + 8 * k + go);
           sw += wz[k] * vg;
           sd += dz[k] * vg;
-          if constexpr (usl) so += wz[k] * C4(v + 8 * k + 4);
+          if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
         }
         const double wij = wx[i] * wy[j];
         const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
