@@ -150,6 +150,7 @@ struct MpmModelSpec {
   double marker_depth_step = 0.0;    // m, marker rows each time the tip advances this far (0 = output interval)
   std::vector<MpmMarkerSpec> markers;
   std::string measured_force;        // CSV path (resolved against the scenario file), "" = none
+  std::string measured_markers;      // CSV path: depth and <name>_ux, <name>_uy per marker (eq 37), "" = none
 };
 
 // Explicit large-deformation FE (engines/explicit, docs/models/explicit.md).

@@ -268,6 +268,10 @@ std::vector<FieldDoc> build() {
   add(other("mpm", "measured_force", Kind::String, "",
             "CSV of a measured force curve (columns 'depth [mm]' and 'force [N]', any units); RMSE and MAE of seed 000 eq 35 "
             "are reported. Relative to the scenario file"));
+  add(other("mpm", "measured_markers", Kind::String, "",
+            "CSV of measured marker displacements (column 'depth [mm]' and per marker '<name>_ux [mm]', "
+            "'<name>_uy [mm]'); the errors r_max and r_mean of seed 000 eq 37 are reported per depth. Relative to "
+            "the scenario file"));
 
   add(other("model", "explicit", Kind::Section, "", "parameters of the explicit large-deformation FE engine (docs/models/explicit.md)", false, "explicit"));
   add(other("explicit", "dimension", Kind::Choice, "2d", "2d (plane strain) or 3d", false, {}, {"2d", "3d"}));
