@@ -192,6 +192,21 @@ TEST(MpmEngine, MarkerErrorsInterpolateInDepth) {
                InputError);
 }
 
+// model.mpm.anti_locking: fbar reaches the solver (named in the run note) and,
+// for this compressible block (nu 0.45), changes the force little.
+TEST(MpmEngine, FbarOptionReachesTheSolver) {
+  const MemorySink plain = runText(smallScenario());
+  const MemorySink fbar = runText(smallScenario("    anti_locking: fbar\n"));
+  bool named = false;
+  for (const auto& n : fbar.notes) named = named || n.find("with F-bar") != std::string::npos;
+  EXPECT_TRUE(named);
+  const double f0 = plain.tables.at("forces").column("force_total").back();
+  const double f1 = fbar.tables.at("forces").column("force_total").back();
+  EXPECT_GT(f1, 0.0);
+  EXPECT_NEAR(f1 / f0, 1.0, 0.25);
+  EXPECT_NE(f1, f0);
+}
+
 TEST(MpmEngine, ScenarioErrors) {
   // Points coarser than the grid leave empty cells.
   EXPECT_THROW(scenario::readText(replaced(smallScenario(), "particle_spacing: 0.5 mm", "particle_spacing: 1.5 mm"), "t.yaml"), InputError);

@@ -377,6 +377,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
                          "at most 5e7 nodes and 2e7 points (coarser spacings)");
     m.bspline = mpmSec.choice("shape") == "bspline";
     m.musl = mpmSec.choice("update") == "musl";
+    m.fbar = mpmSec.choice("anti_locking") == "fbar";
     m.cfemp = mpmSec.choice("contact") == "cfemp";
     m.cfemp_element_size = mpmSec.number("cfemp_element_size");
     m.flip = mpmSec.number("flip");

@@ -136,6 +136,7 @@ struct MpmModelSpec {
   double particle_spacing = 0.4e-3;  // m
   bool bspline = true;               // quadratic B-spline (false: linear hat, the paper's)
   bool musl = true;                  // modified update-stress-last (false: USL)
+  bool fbar = false;                 // anti-locking: F-bar with the cell-averaged det F
   bool cfemp = false;                // needle contact: CFEMP particle-to-surface (eqs 22-24); false: grid (eqs 14-21)
   double cfemp_element_size = 0.0;   // m, d_e of the eq 22 gap rule (0: the exact surface, gap d_p/2)
   double flip = 1.0;                 // FLIP fraction (1 = eq 4)

@@ -231,6 +231,10 @@ std::vector<FieldDoc> build() {
   add(other("mpm", "shape", Kind::Choice, "bspline",
             "shape functions: linear (the paper's) or quadratic B-spline (removes the cross-cell noise of seed 000 section 5.2)",
             false, {}, {"linear", "bspline"}));
+  add(other("mpm", "anti_locking", Kind::Choice, "none",
+            "volumetric anti-locking for nearly incompressible tissue: none, or fbar (stress at F-bar with the "
+            "cell-averaged det F; docs/models/mpm.md)",
+            false, {}, {"none", "fbar"}));
   add(other("mpm", "update", Kind::Choice, "musl", "update-stress-last or modified USL (momentum remap)", false, {},
             {"usl", "musl"}));
   add(other("mpm", "contact", Kind::Choice, "grid",

@@ -193,6 +193,7 @@ MpmSetup mpmSetup(const Scenario& sc) {
   for (int d = 0; d < 3; ++d) c.cells[static_cast<std::size_t>(d)] = static_cast<int>(std::ceil(ext[d] / h - 1e-9)) + 2 * m.margin;
   c.shape = m.bspline ? Shape::BSpline2 : Shape::Linear;
   c.update = m.musl ? Update::MUSL : Update::USL;
+  c.fbar = m.fbar;
   c.flip = m.flip;
   c.timeStepFactor = m.time_step_factor;  // eq 26
   c.massScaling = m.mass_scaling;         // eq 28 discussion
@@ -519,12 +520,12 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   const auto& c = setup.config;
   sink.note(fmt::format(
       "3D MPM of seed 000: {} material points ({:g} mm spacing), grid {} x {} x {} cells of {:g} mm, {} shape "
-      "functions, {}, FLIP {:g}, k_t = {:g} (eq 26), mass scaling {:g} (eq 28); rigid {} needle R = {:g} mm, "
+      "functions{}, {}, FLIP {:g}, k_t = {:g} (eq 26), mass scaling {:g} (eq 28); rigid {} needle R = {:g} mm, "
       "Coulomb friction {:g} ({}). {} steps (dt {:.3g} to {:.3g} ms) in {:.3g} s on {} thread(s), "
       "{:.3g} M particle-steps/s (setup {:.2g} s). Force rows are impulse averages over the output interval. "
       "docs/models/mpm.md.",
       np, spec.particle_spacing * 1e3, c.cells[0], c.cells[1], c.cells[2], c.h * 1e3,
-      spec.bspline ? "quadratic B-spline" : "linear", spec.musl ? "MUSL" : "USL", spec.flip, spec.time_step_factor,
+      spec.bspline ? "quadratic B-spline" : "linear", spec.fbar ? " with F-bar" : "", spec.musl ? "MUSL" : "USL", spec.flip, spec.time_step_factor,
       spec.mass_scaling,
       sc.needle.tip == TipType::Bevel ? "bevel" : sc.needle.tip == TipType::Conical ? "conical" : "blunt",
       setup.needle.radius * 1e3, setup.needle.friction,

@@ -1025,6 +1025,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   std::atomic<std::size_t> badP{0};
   double ek = 0, ei = 0, vmax = 0;
   const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
+  const bool fbar = cfg_.fbar;
 #pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax)
   for (std::size_t p = 0; p < np; ++p) {
     double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
@@ -1103,16 +1104,56 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
       if (bad.compare_exchange_strong(expected, cause)) badP = p;
       continue;
     }
+    ek += 0.5 * mass_[p] * speed2;
+    if (fbar) continue;  // stress after the cell averages of det F (fbarStress)
     double W, c;
     stress(p, F, W, c);
-    ek += 0.5 * mass_[p] * speed2;
     ei += vol0_[p] * W;
     vmax = std::max(vmax, c + std::sqrt(speed2));
   }
   if (bad.load()) fail(badP.load(), bad.load());
+  if (fbar) fbarStress(ei, vmax);
   ekOut = ek;
   eiOut = ei;
   vmaxOut = vmax;
+}
+
+// Anti-locking (F-bar, de Souza Neto et al. 1996, in the MPM form of cell
+// averages): the volume change of every particle is replaced by the average
+// over the particles in its grid cell, Jbar = sum V0 J / sum V0 (current over
+// reference volume), and the stress is evaluated at Fbar = (Jbar / J)^(1/3) F.
+// One volumetric constraint per cell instead of one per particle, so a nearly
+// incompressible law (nu -> 0.5) no longer locks the 8 points of a cell; the
+// deviatoric part of F is the particle's own. The stored F stays the true one.
+void MpmSolver::fbarStress(double& eiOut, double& vmaxOut) {
+  const std::size_t np = size();
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  cellOf_.resize(np);
+  cellJ_.assign(2 * nodes_, 0.0);
+  for (std::size_t p = 0; p < np; ++p) {  // serial: one multiply-add per particle
+    const auto i = static_cast<std::size_t>((px_[p] - ox) * invh), j = static_cast<std::size_t>((py_[p] - oy) * invh),
+               k = static_cast<std::size_t>((pz_[p] - oz) * invh);
+    const std::size_t c = (i * n1 + j) * n2 + k;  // cell by its lower node (inside: checked in g2pFinal)
+    cellOf_[p] = static_cast<std::uint32_t>(c);
+    cellJ_[2 * c] += vol0_[p] * defGrad(p).determinant();
+    cellJ_[2 * c + 1] += vol0_[p];
+  }
+  double ei = 0.0, vmax = 0.0;
+#pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(+ : ei) reduction(max : vmax)
+  for (std::size_t p = 0; p < np; ++p) {
+    const std::size_t c = cellOf_[p];
+    const Mat3 F = defGrad(p);
+    const double Jbar = cellJ_[2 * c] / cellJ_[2 * c + 1];
+    const Mat3 Fbar = std::cbrt(Jbar / F.determinant()) * F;
+    double W, w;
+    stress(p, Fbar, W, w);
+    ei += vol0_[p] * W;
+    vmax = std::max(vmax, w + std::sqrt(vx_[p] * vx_[p] + vy_[p] * vy_[p] + vz_[p] * vz_[p]));
+  }
+  eiOut += ei;
+  vmaxOut = std::max(vmaxOut, vmax);
 }
 
 // ---------------------------------------------------------------- one step
