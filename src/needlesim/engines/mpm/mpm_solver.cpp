@@ -493,6 +493,7 @@ MPM_CLONES void MpmSolver::p2g() {
       const double V = -vol0_[p] * J;  // -V sigma : grad N is the internal force
       const double s00 = V * sig_[0][p], s11 = V * sig_[1][p], s22 = V * sig_[2][p];
       const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
+      const A4 S0 = {s00, s01, s02, 0.0}, S1 = {s01, s11, s12, 0.0}, S2 = {s02, s12, s22, 0.0};  // rows of -V sigma
       const double xp[3] = {px_[p], py_[p], pz_[p]};
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
@@ -503,8 +504,8 @@ MPM_CLONES void MpmSolver::p2g() {
                                                     static_cast<std::size_t>(by + j)) * n2 +
                                              static_cast<std::size_t>(bz));
           const A4 a0 = wij * q;
-          const A4 a1 = {s00 * gxij + s01 * gyij, s01 * gxij + s11 * gyij, s02 * gxij + s12 * gyij, 0.0};
-          const A4 b1 = {s02 * wij, s12 * wij, s22 * wij, 0.0};
+          const A4 a1 = gxij * S0 + gyij * S1;
+          const A4 b1 = wij * S2;
           if constexpr (Grad) {
             const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
             const A4 b2 = {0.0, 0.0, m * wij, 0.0};
@@ -1034,7 +1035,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
     const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
     A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
-    double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
     for (int i = 0; i < S; ++i)
       for (int j = 0; j < S; ++j) {
         const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
@@ -1054,12 +1055,11 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
           an += wij * sw;
           ao += wij * so;
         }
-        for (int c = 0; c < 3; ++c) {
-          L[3 * c + 0] += gxij * sw[c];
-          L[3 * c + 1] += gyij * sw[c];
-          L[3 * c + 2] += wij * sd[c];
-        }
+        Lx += gxij * sw;
+        Ly += gyij * sw;
+        Lz += wij * sd;
       }
+    const double L[9] = {Lx[0], Ly[0], Lz[0], Lx[1], Ly[1], Lz[1], Lx[2], Ly[2], Lz[2]};
     double acc[3];
     if constexpr (usl) {
       vx_[p] = flip * (vx_[p] + (an[0] - ao[0])) + (1 - flip) * an[0];
