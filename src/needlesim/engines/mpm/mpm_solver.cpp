@@ -315,7 +315,7 @@ double MpmSolver::stableTimeStep() const { return maxSpeed_ > 0 ? cfg_.h / maxSp
 // Stress update (Cauchy, stored on the particle), energy density per reference
 // volume and the current dilatational wave speed (eq 27 with the current
 // tangent shear modulus of the law).
-Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave) {
+MPM_CLONES Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave) {
   const auto& L = m.law;
   const double J = F.determinant();
   Mat3 sigma;
