@@ -114,7 +114,7 @@ double mpmStiffness(bool cfemp) {
 // 15 %: the MPM rim is resolved to the gap d_p/2 = 0.25 mm = R/10 and the flat
 // punch force grows in proportion to the radius (Sneddon), plus the FE mesh
 // error (4 % between R/10 and the extrapolation).
-TEST(MpmVerification, FlatPunchAgainstExplicitFe) {
+TEST(MpmVerification, LongFlatPunchAgainstExplicitFe) {
   const double fe = feStiffness(0.25e-3), feCoarse = feStiffness(0.5e-3);
   const double cf = mpmStiffness(true), grid = mpmStiffness(false);
   const double sneddon = 2 * kR * kE / (1 - kNu * kNu);
