@@ -8,6 +8,7 @@
 #include <atomic>
 #include <cmath>
 #include <cstring>
+#include <cstdlib>
 #include <limits>
 #include <numbers>
 
@@ -450,6 +451,40 @@ void MpmSolver::reduceBuffers(bool momentumOnly) {
 
 // ---------------------------------------------------------------- particle to grid (eqs 1-3)
 
+// Two bodies: near_[cell] bit b is set when body b has a point within 3 cells
+// (occupied cells dilated by 3 along each axis). A node both bodies reach lies
+// within 1.5 cells of a point of each, so the points that scatter to it are
+// within 3 cells of the other body. Serial, one pass over the points and three
+// over the cells.
+void MpmSolver::markNearBodies() {
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n[3] = {static_cast<std::size_t>(nn_[0]), static_cast<std::size_t>(nn_[1]),
+                            static_cast<std::size_t>(nn_[2])};
+  near_.assign(nodes_, 0);
+  for (std::size_t p = 0; p < size(); ++p) {
+    const std::size_t c = (static_cast<std::size_t>((px_[p] - ox) * invh) * n[1] +
+                           static_cast<std::size_t>((py_[p] - oy) * invh)) * n[2] +
+                          static_cast<std::size_t>((pz_[p] - oz) * invh);
+    near_[c] |= static_cast<std::uint8_t>(1u << body_[p]);
+  }
+  const std::size_t stride[3] = {n[1] * n[2], n[2], 1};
+  constexpr int reach = 3;
+  for (int d = 0; d < 3; ++d) {
+    nearTmp_ = near_;
+    for (std::size_t I = 0; I < nodes_; ++I) {
+      const std::size_t idx = (I / stride[d]) % n[d];
+      std::uint8_t v = 0;
+      for (int o = -reach; o <= reach; ++o) {
+        const long long j = static_cast<long long>(idx) + o;
+        if (j < 0 || j >= static_cast<long long>(n[d])) continue;
+        v |= nearTmp_[I + static_cast<std::size_t>(o * static_cast<long long>(stride[d]))];
+      }
+      near_[I] = v;
+    }
+  }
+}
+
 // Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
 // grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
 // entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
@@ -495,6 +530,15 @@ MPM_CLONES void MpmSolver::p2g() {
       const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
       const A4 S0 = {s00, s01, s02, 0.0}, S1 = {s01, s11, s12, 0.0}, S2 = {s02, s12, s22, 0.0};  // rows of -V sigma
       const double xp[3] = {px_[p], py_[p], pz_[p]};
+      // Two bodies: the normal and gap lanes matter only at nodes that both
+      // bodies reach, i.e. for points with the other body within 3 cells.
+      bool needG = false;
+      if constexpr (Grad) {
+        const std::size_t cell = (static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
+                                  static_cast<std::size_t>((xp[1] - oy) * invh)) * n2 +
+                                 static_cast<std::size_t>((xp[2] - oz) * invh);
+        needG = near_[cell] & (1u << (1 - body_[p]));
+      }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
@@ -506,7 +550,7 @@ MPM_CLONES void MpmSolver::p2g() {
           const A4 a0 = wij * q;
           const A4 a1 = gxij * S0 + gyij * S1;
           const A4 b1 = wij * S2;
-          if constexpr (Grad) {
+          if (Grad && needG) {
             const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
             const A4 b2 = {0.0, 0.0, m * wij, 0.0};
             const A4 a3 = {wij * m * xp[1], wij * m * xp[2], 0.0, 0.0};
@@ -1175,6 +1219,7 @@ StepReport MpmSolver::step() {
   const bool lin = cfg_.shape == Shape::Linear;
   zeroBuffers(false);
   if (cfg_.bodies > 1) {
+    markNearBodies();
     if (lin) p2g<2, true>(); else p2g<3, true>();
   } else {
     if (lin) p2g<2, false>(); else p2g<3, false>();
