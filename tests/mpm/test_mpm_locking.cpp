@@ -6,7 +6,6 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 
@@ -57,7 +56,6 @@ double cantileverDeflection(bool fbar, double nu, double E, double g, Shape shap
   while (s.time() < 0.65 / f1) {
     s.step();
     maxDefl = std::max(maxDefl, z0 - tipZ());
-    if (std::getenv("NS_TRACE") && s.steps() % 100 == 0) std::printf("t %g defl %g\n", s.time(), z0 - tipZ());
   }
   return 0.5 * maxDefl;
 }
