@@ -66,7 +66,54 @@ void BM_MpmNeedle(benchmark::State& st) {
   st.counters["contact_nodes"] = s.rigidForce(0).contactNodes;
 }
 
+// Two deformable blocks (two velocity fields, frictional grid contact of eqs
+// 14-21 between them, mu 0.3) pressed together while sliding: 2 x 25,600 = 51,200 points.
+MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads) {
+  const double h = 0.8e-3, dp = 0.4e-3, a = 16e-3, b = 6.4e-3;
+  MpmConfig cfg;
+  cfg.h = h;
+  cfg.shape = shape;
+  cfg.update = update;
+  cfg.threads = threads;
+  cfg.bodies = 2;
+  cfg.friction = 0.3;
+  cfg.origin = Vec3(-4 * h, -4 * h, -4 * h);
+  cfg.cells = {static_cast<int>(2 * b / h) + 12, static_cast<int>(a / h) + 8, static_cast<int>(a / h) + 8};
+  cfg.massScaling = 1e4;
+  MpmSolver s(cfg);
+  MpmMaterial m;
+  m.law.kind = needlesim::materials::LawKind::Fung;
+  m.law.mu = 5e3;
+  m.law.gamma = 2.0;
+  m.law.bulk = 2.5e5;
+  m.density = 1000;
+  s.addMaterial(m);
+  s.addBlock(Vec3(0, 0, 0), Vec3(b, a, a), dp, 0, 0, Vec3(0.002, 0.001, 0));
+  s.addBlock(Vec3(b + 0.1e-3, 0, 0), Vec3(2 * b + 0.1e-3, a, a), dp, 0, 1, Vec3(-0.002, -0.001, 0));
+  s.finalize();
+  for (int i = 0; i < 40; ++i) s.step();
+  return s;
+}
+
+void BM_MpmTwoBlocks(benchmark::State& st) {
+  const Shape shape = st.range(0) ? Shape::BSpline2 : Shape::Linear;
+  const Update update = st.range(1) ? Update::MUSL : Update::USL;
+  MpmSolver s = makeTwoBlockProblem(shape, update, static_cast<int>(st.range(2)));
+  for (auto _ : st) s.step();
+  st.counters["particles"] = static_cast<double>(s.size());
+  st.counters["particle_steps_per_s"] =
+      benchmark::Counter(static_cast<double>(s.size()), benchmark::Counter::kIsIterationInvariantRate);
+}
+
 }  // namespace
+
+BENCHMARK(BM_MpmTwoBlocks)
+    ->ArgNames({"bspline", "musl", "threads"})
+    ->Args({1, 1, 1})
+    ->Args({1, 1, 2})
+    ->Args({0, 1, 1})
+    ->Unit(benchmark::kMillisecond)
+    ->UseRealTime();
 
 // args: B-spline (1) / linear (0), MUSL (1) / USL (0), threads
 BENCHMARK(BM_MpmNeedle)
@@ -80,18 +127,26 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl]`: N steps of the 1-thread problem
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks]`: N steps of the 1-thread problem
 // without the benchmark harness, for instruction counts under
 // `valgrind --tool=callgrind` (docs/performance.md).
 int main(int argc, char** argv) {
   int steps = -1;
   Shape shape = Shape::BSpline2;
   Update update = Update::MUSL;
+  bool twoBlocks = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
     if (a == "--linear") shape = Shape::Linear;
     if (a == "--usl") update = Update::USL;
+    if (a == "--two-blocks") twoBlocks = true;
+  }
+  if (steps >= 0 && twoBlocks) {
+    MpmSolver s = makeTwoBlockProblem(shape, update, 1);
+    for (int i = 0; i < steps; ++i) s.step();
+    std::printf("%zu particles, %d steps\n", s.size(), steps);
+    return 0;
   }
   if (steps >= 0) {
     MpmSolver s = makeNeedleProblem(shape, update, 1);

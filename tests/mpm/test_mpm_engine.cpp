@@ -10,7 +10,9 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/engines/mpm/mpm_engine.hpp"
+#include "needlesim/io/csv_reader.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
@@ -129,12 +131,93 @@ TEST(MpmEngine, MarkersMoveWithTheTissue) {
   EXPECT_LT(out.results.at("marker_far_uxy_final").value, 0.25 * out.results.at("marker_near_uxy_final").value);
 }
 
+// Seed 000 eq 37 against measured markers: the engine's own marker history as
+// the "measurement" gives zero error; shifting every measured ux by 0.05 mm
+// gives r_max,x = r_mean,x = 0.05 mm at every depth, and r_max (on u_xy, eq 36)
+// at most the shift (triangle inequality).
+TEST(MpmEngine, MarkerErrorsAgainstMeasuredMarkers) {
+  const std::string mk =
+      "    marker_depth_step: 1 mm\n"
+      "    markers:\n"
+      "      - {name: near, x: 1.25 mm, y: 0.75 mm}\n"
+      "      - {name: Far, x: 4.25 mm, y: -1.25 mm}\n";
+  const MemorySink ref = runText(smallScenario(mk, "conical"));
+  const io::Table& m = ref.tables.at("markers");
+  ASSERT_GE(m.rows(), 4u);
+  EXPECT_GT(m.column("near_uy").back(), 0.02e-3);  // the comparison is not between zeros
+  const auto csv = std::filesystem::temp_directory_path() / "needlesim_mpm_measured_markers.csv";
+  auto write = [&](double shift) {
+    std::ofstream o(csv);
+    o.precision(17);
+    o << "depth [mm],near_ux [mm],near_uy [mm],far_ux [mm],far_uy [mm]\n";
+    for (std::size_t i = 1; i < m.rows(); ++i)
+      o << m.column("depth")[i] * 1e3 << "," << (m.column("near_ux")[i] + shift) * 1e3 << ","
+        << m.column("near_uy")[i] * 1e3 << "," << (m.column("Far_ux")[i] + shift) * 1e3 << ","
+        << m.column("Far_uy")[i] * 1e3 << "\n";
+    o << "99,0,0,0,0\n";  // outside the simulated depths: ignored
+  };
+  write(0.0);
+  const MemorySink exact = runText(smallScenario(mk + "    measured_markers: " + csv.string() + "\n", "conical"));
+  EXPECT_EQ(exact.results.at("marker_measured_depths").value, static_cast<double>(m.rows() - 1));
+  EXPECT_LT(exact.results.at("marker_r_max").value, 1e-12);
+  EXPECT_LT(exact.results.at("marker_r_mean").value, 1e-12);
+  const double s = 0.05e-3;
+  write(s);
+  const MemorySink shifted = runText(smallScenario(mk + "    measured_markers: " + csv.string() + "\n", "conical"));
+  std::filesystem::remove(csv);
+  const io::Table& e = shifted.tables.at("marker_errors");
+  ASSERT_EQ(e.rows(), m.rows() - 1);
+  for (std::size_t i = 0; i < e.rows(); ++i) {
+    EXPECT_NEAR(e.column("r_max_x")[i], s, 1e-12);
+    EXPECT_NEAR(e.column("r_mean_x")[i], s, 1e-12);
+    EXPECT_LT(e.column("r_max_y")[i], 1e-12);
+    EXPECT_LE(e.column("r_max")[i], s + 1e-12);
+    EXPECT_LE(e.column("r_mean")[i], e.column("r_max")[i] + 1e-15);
+  }
+  EXPECT_GT(shifted.results.at("marker_r_max").value, 0.5 * s);
+}
+
+// Interpolation in depth and eq 36 on a track with uy = 0: the u_xy error is the shift.
+TEST(MpmEngine, MarkerErrorsInterpolateInDepth) {
+  const std::vector<double> depth{0.0, 1e-3, 2e-3, 3e-3};
+  const std::vector<mpm::MarkerTrack> sim{{"a", {0.0, 0.1e-3, 0.2e-3, 0.3e-3}, {0, 0, 0, 0}}};
+  const io::CsvData csv = io::parseCsv("depth [mm],A_ux [um],a_uy [mm]\n1.5,170,0\n2.5,250,0\n", "m.csv");
+  const auto rows = mpm::compareMarkers(csv, depth, sim);
+  ASSERT_EQ(rows.size(), 2u);
+  EXPECT_NEAR(rows[0].rmax, 0.02e-3, 1e-15);  // simulated 0.15 mm at 1.5 mm
+  EXPECT_NEAR(rows[1].rmean, 0.0, 1e-15);
+  // A marker with only one of its columns, or none of the simulated markers.
+  EXPECT_THROW(mpm::compareMarkers(io::parseCsv("depth [mm],a_ux [mm]\n1,0\n", "m.csv"), depth, sim), InputError);
+  EXPECT_THROW(mpm::compareMarkers(io::parseCsv("depth [mm],b_ux [mm],b_uy [mm]\n1,0,0\n", "m.csv"), depth, sim),
+               InputError);
+}
+
+// model.mpm.anti_locking: fbar reaches the solver (named in the run note) and,
+// for this compressible block (nu 0.45), changes the force little.
+TEST(MpmEngine, FbarOptionReachesTheSolver) {
+  const MemorySink plain = runText(smallScenario());
+  const MemorySink fbar = runText(smallScenario("    anti_locking: fbar\n"));
+  bool named = false;
+  for (const auto& n : fbar.notes) named = named || n.find("with F-bar") != std::string::npos;
+  EXPECT_TRUE(named);
+  const double f0 = plain.tables.at("forces").column("force_total").back();
+  const double f1 = fbar.tables.at("forces").column("force_total").back();
+  EXPECT_GT(f1, 0.0);
+  EXPECT_NEAR(f1 / f0, 1.0, 0.25);
+  EXPECT_NE(f1, f0);
+}
+
 TEST(MpmEngine, ScenarioErrors) {
   // Points coarser than the grid leave empty cells.
   EXPECT_THROW(scenario::readText(replaced(smallScenario(), "particle_spacing: 0.5 mm", "particle_spacing: 1.5 mm"), "t.yaml"), InputError);
   // A measured curve that does not exist is refused by `needlesim check` already.
   EXPECT_THROW(scenario::readText(smallScenario("    measured_force: /nonexistent/f.csv\n"), "t.yaml"), InputError);
   EXPECT_THROW(scenario::readText(replaced(smallScenario(), "exit: fixed", "entry: sticky"), "t.yaml"), InputError);
+  // Measured markers without markers to compare.
+  const auto csv = std::filesystem::temp_directory_path() / "needlesim_mpm_markers_only.csv";
+  { std::ofstream(csv) << "depth [mm],a_ux [mm],a_uy [mm]\n1,0,0\n"; }
+  EXPECT_THROW(scenario::readText(smallScenario("    measured_markers: " + csv.string() + "\n"), "t.yaml"), InputError);
+  std::filesystem::remove(csv);
 }
 
 // The quick example of examples/mpm runs and gives a resisting force.

@@ -378,6 +378,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
                          "at most 5e7 nodes and 2e7 points (coarser spacings)");
     m.bspline = mpmSec.choice("shape") == "bspline";
     m.musl = mpmSec.choice("update") == "musl";
+    m.fbar = mpmSec.choice("anti_locking") == "fbar";
     m.cfemp = mpmSec.choice("contact") == "cfemp";
     m.cfemp_element_size = mpmSec.number("cfemp_element_size");
     m.flip = mpmSec.number("flip");
@@ -409,18 +410,25 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
         if (o.name == mk.name) throw e.error("name", mk.name, "is used by two markers", "unique names");
       m.markers.push_back(mk);
     }
-    m.measured_force = mpmSec.text("measured_force");
-    if (!m.measured_force.empty()) {
-      std::filesystem::path p(m.measured_force);
+    // Measured data files, resolved against the scenario file.
+    auto measuredFile = [&](const char* field, const char* allowed) {
+      std::string f = mpmSec.text(field);
+      if (f.empty()) return f;
+      std::filesystem::path p(f);
       if (p.is_relative()) {
         std::filesystem::path base = std::filesystem::path(source).parent_path();
         if (!base.empty()) p = base / p;
       }
       if (!std::filesystem::exists(p))
-        throw mpmSec.error("measured_force", m.measured_force, "does not exist (paths are relative to the scenario file)",
-                           "a CSV file with columns 'depth [mm]' and 'force [N]'");
-      m.measured_force = p.string();
-    }
+        throw mpmSec.error(field, f, "does not exist (paths are relative to the scenario file)", allowed);
+      return p.string();
+    };
+    m.measured_force = measuredFile("measured_force", "a CSV file with columns 'depth [mm]' and 'force [N]'");
+    m.measured_markers = measuredFile("measured_markers",
+                                      "a CSV file with 'depth [mm]' and per marker '<name>_ux [mm]', '<name>_uy [mm]'");
+    if (!m.measured_markers.empty() && m.markers.empty())
+      throw mpmSec.error("measured_markers", m.measured_markers, "has nothing to compare with",
+                         "model.mpm.markers naming the measured markers");
   }
 
   Section exs = model.sub("explicit");

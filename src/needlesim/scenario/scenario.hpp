@@ -137,6 +137,7 @@ struct MpmModelSpec {
   double particle_spacing = 0.4e-3;  // m
   bool bspline = true;               // quadratic B-spline (false: linear hat, the paper's)
   bool musl = true;                  // modified update-stress-last (false: USL)
+  bool fbar = false;                 // anti-locking: F-bar with the cell-averaged det F
   bool cfemp = false;                // needle contact: CFEMP particle-to-surface (eqs 22-24); false: grid (eqs 14-21)
   double cfemp_element_size = 0.0;   // m, d_e of the eq 22 gap rule (0: the exact surface, gap d_p/2)
   double flip = 1.0;                 // FLIP fraction (1 = eq 4)
@@ -151,6 +152,7 @@ struct MpmModelSpec {
   double marker_depth_step = 0.0;    // m, marker rows each time the tip advances this far (0 = output interval)
   std::vector<MpmMarkerSpec> markers;
   std::string measured_force;        // CSV path (resolved against the scenario file), "" = none
+  std::string measured_markers;      // CSV path: depth and <name>_ux, <name>_uy per marker (eq 37), "" = none
 };
 
 // Explicit large-deformation FE (engines/explicit, docs/models/explicit.md).

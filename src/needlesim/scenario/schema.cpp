@@ -234,6 +234,10 @@ std::vector<FieldDoc> build() {
   add(other("mpm", "shape", Kind::Choice, "bspline",
             "shape functions: linear (the paper's) or quadratic B-spline (removes the cross-cell noise of seed 000 section 5.2)",
             false, {}, {"linear", "bspline"}));
+  add(other("mpm", "anti_locking", Kind::Choice, "none",
+            "volumetric anti-locking for nearly incompressible tissue: none, or fbar (stress at F-bar with the "
+            "cell-averaged det F; docs/models/mpm.md)",
+            false, {}, {"none", "fbar"}));
   add(other("mpm", "update", Kind::Choice, "musl", "update-stress-last or modified USL (momentum remap)", false, {},
             {"usl", "musl"}));
   add(other("mpm", "contact", Kind::Choice, "grid",
@@ -271,6 +275,10 @@ std::vector<FieldDoc> build() {
   add(other("mpm", "measured_force", Kind::String, "",
             "CSV of a measured force curve (columns 'depth [mm]' and 'force [N]', any units); RMSE and MAE of seed 000 eq 35 "
             "are reported. Relative to the scenario file"));
+  add(other("mpm", "measured_markers", Kind::String, "",
+            "CSV of measured marker displacements (column 'depth [mm]' and per marker '<name>_ux [mm]', "
+            "'<name>_uy [mm]'); the errors r_max and r_mean of seed 000 eq 37 are reported per depth. Relative to "
+            "the scenario file"));
 
   add(other("model", "explicit", Kind::Section, "", "parameters of the explicit large-deformation FE engine (docs/models/explicit.md)", false, "explicit"));
   add(other("explicit", "dimension", Kind::Choice, "2d", "2d (plane strain) or 3d", false, {}, {"2d", "3d"}));

@@ -17,6 +17,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/io/field_series.hpp"
@@ -192,6 +193,7 @@ MpmSetup mpmSetup(const Scenario& sc) {
   for (int d = 0; d < 3; ++d) c.cells[static_cast<std::size_t>(d)] = static_cast<int>(std::ceil(ext[d] / h - 1e-9)) + 2 * m.margin;
   c.shape = m.bspline ? Shape::BSpline2 : Shape::Linear;
   c.update = m.musl ? Update::MUSL : Update::USL;
+  c.fbar = m.fbar;
   c.flip = m.flip;
   c.timeStepFactor = m.time_step_factor;  // eq 26
   c.massScaling = m.mass_scaling;         // eq 28 discussion
@@ -272,6 +274,15 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
     }
     m.x0 = solver.position(m.particle);
     markers.push_back(m);
+  }
+
+  // Measured markers (eq 37): read and checked before the run, compared at the end.
+  io::CsvData measuredMarkers;
+  if (!spec.measured_markers.empty()) {
+    measuredMarkers = io::readCsv(spec.measured_markers);
+    std::vector<MarkerTrack> names;
+    for (const auto& m : markers) names.push_back({m.name, {}, {}});
+    compareMarkers(measuredMarkers, {}, names);  // throws on a missing column
   }
 
   io::Table forces({{"time", "s"},
@@ -421,6 +432,30 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
     }
     sink.table("forces", std::move(forces));
     sink.table("energy", std::move(energy));
+    if (!spec.measured_markers.empty() && !stopped) {
+      // Seed 000 eq 37 against the measured markers.
+      std::vector<MarkerTrack> tracks;
+      for (const auto& m : markers)
+        tracks.push_back({m.name, markerTable.column(m.name + "_ux"), markerTable.column(m.name + "_uy")});
+      const auto rows = compareMarkers(measuredMarkers, markerTable.column("depth"), tracks);
+      io::Table et({{"depth", "m"}, {"r_max", "m"}, {"r_mean", "m"}, {"r_max_x", "m"}, {"r_max_y", "m"},
+                    {"r_mean_x", "m"}, {"r_mean_y", "m"}, {"markers", "1"}});
+      double worst = 0.0, worstMean = 0.0;
+      for (const auto& r : rows) {
+        et.addRow({r.depth, r.rmax, r.rmean, r.rmaxX, r.rmaxY, r.rmeanX, r.rmeanY, static_cast<double>(r.markers)});
+        worst = std::max(worst, r.rmax);
+        worstMean = std::max(worstMean, r.rmean);
+      }
+      if (!rows.empty()) {
+        sink.result("marker_r_max", worst, "m", "largest r_max of eq 37 over the measured depths");
+        sink.result("marker_r_mean", worstMean, "m", "largest r_mean of eq 37 over the measured depths");
+        sink.result("marker_measured_depths", static_cast<double>(rows.size()), "1",
+                    "measured marker depths inside the simulated depths");
+      } else {
+        sink.note("The measured markers have no depth inside the simulated depths: no eq 37 errors.");
+      }
+      sink.table("marker_errors", std::move(et));
+    }
     if (!markers.empty()) sink.table("markers", std::move(markerTable));
     sink.table("fracture", std::move(fractureTable));
   };
@@ -485,12 +520,12 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   const auto& c = setup.config;
   sink.note(fmt::format(
       "3D MPM of seed 000: {} material points ({:g} mm spacing), grid {} x {} x {} cells of {:g} mm, {} shape "
-      "functions, {}, FLIP {:g}, k_t = {:g} (eq 26), mass scaling {:g} (eq 28); rigid {} needle R = {:g} mm, "
+      "functions{}, {}, FLIP {:g}, k_t = {:g} (eq 26), mass scaling {:g} (eq 28); rigid {} needle R = {:g} mm, "
       "Coulomb friction {:g} ({}). {} steps (dt {:.3g} to {:.3g} ms) in {:.3g} s on {} thread(s), "
       "{:.3g} M particle-steps/s (setup {:.2g} s). Force rows are impulse averages over the output interval. "
       "docs/models/mpm.md.",
       np, spec.particle_spacing * 1e3, c.cells[0], c.cells[1], c.cells[2], c.h * 1e3,
-      spec.bspline ? "quadratic B-spline" : "linear", spec.musl ? "MUSL" : "USL", spec.flip, spec.time_step_factor,
+      spec.bspline ? "quadratic B-spline" : "linear", spec.fbar ? " with F-bar" : "", spec.musl ? "MUSL" : "USL", spec.flip, spec.time_step_factor,
       spec.mass_scaling,
       sc.needle.tip == TipType::Bevel ? "bevel" : sc.needle.tip == TipType::Conical ? "conical" : "blunt",
       setup.needle.radius * 1e3, setup.needle.friction,

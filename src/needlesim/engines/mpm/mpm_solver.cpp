@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cmath>
+#include <cstring>
 #include <limits>
 #include <numbers>
 
@@ -21,11 +22,24 @@ namespace needlesim::mpm {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
-using A4 = Eigen::Array4d;  // four lanes of a grid record (two SSE2 packets)
-using M4 = Eigen::Map<A4, Eigen::Aligned16>;
-using C4 = Eigen::Map<const A4, Eigen::Aligned16>;
+// Four lanes of a grid record as a GCC vector: two SSE2 operations in the
+// baseline x86-64 build, one AVX2/FMA operation in the x86-64-v3 clones of the
+// hot kernels (NEEDLESIM_MPM_CLONES). Unaligned, may alias double.
+#pragma GCC diagnostic ignored "-Wpsabi"  // A4 helpers are inlined into each clone
+typedef double A4 __attribute__((vector_size(32), aligned(8), may_alias));
+inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
+inline void add(double* p, A4 v) { *reinterpret_cast<A4*>(p) += v; }
 // Offsets in a grid record (MpmSolver::Buf).
 constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
+
+// Function multiversioning of the particle-grid kernels: a baseline x86-64
+// clone and an x86-64-v3 (AVX2, FMA) clone chosen at load time, so the default
+// build runs on any x86-64 (no -march=native). Off with NEEDLESIM_MPM_NO_CLONES.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(NEEDLESIM_MPM_NO_CLONES)
+#define MPM_CLONES __attribute__((target_clones("arch=x86-64-v3", "default")))
+#else
+#define MPM_CLONES
+#endif
 
 inline int threadId() {
 #ifdef _OPENMP
@@ -60,6 +74,19 @@ inline int weights(double xi, double invh, double* w, double* dw) {
     dw[2] = a2 * invh;
     return static_cast<int>(b);
   }
+}
+
+// J^(-1/3) for J > 0 without pow or a division: exponent-bit estimate (within
+// 3.5 %), then four Newton steps z <- z (4 - J z^3) / 3 (quadratic: to
+// rounding).
+inline double invCbrt(double J) {
+  std::uint64_t i;
+  std::memcpy(&i, &J, sizeof i);
+  i = 0x553ef0ff289dd796ull - i / 3;  // (4/3) x bias bits - bits/3, tuned constant
+  double z;
+  std::memcpy(&z, &i, sizeof z);
+  for (int it = 0; it < 4; ++it) z *= (4.0 - J * z * z * z) * (1.0 / 3.0);
+  return z;
 }
 
 }  // namespace
@@ -288,7 +315,7 @@ double MpmSolver::stableTimeStep() const { return maxSpeed_ > 0 ? cfg_.h / maxSp
 // Stress update (Cauchy, stored on the particle), energy density per reference
 // volume and the current dilatational wave speed (eq 27 with the current
 // tangent shear modulus of the law).
-Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave) {
+MPM_CLONES Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave) {
   const auto& L = m.law;
   const double J = F.determinant();
   Mat3 sigma;
@@ -299,15 +326,18 @@ Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, dou
     // sigma = 2/J W1 dev(bbar) + K (J-1) I (seed 000 eqs 8-13 with the library's
     // volumetric term in place of the Lagrange multiplier of eq 11).
     const Mat3 b = F * F.transpose();
-    const double Jm23 = std::pow(J, -2.0 / 3.0);
+    const double Jm13 = invCbrt(J);
+    const double Jm23 = Jm13 * Jm13;
     const double trb = b.trace();
     const double I1b = Jm23 * trb;
     double W1;
     if (L.kind == LawKind::Fung) {
       const double x = L.gamma * (I1b - 3.0);
-      const double ex = std::exp(x);
+      const double ex = std::exp(x);  // one exponential: W reuses it
       W1 = 0.5 * L.mu * ex;
-      W = L.mu / (2.0 * L.gamma) * std::expm1(x);
+      // expm1 from ex: a short series where ex - 1 would cancel.
+      const double em1 = std::abs(x) < 1e-3 ? x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x / 24.0))) : ex - 1.0;
+      W = L.mu / (2.0 * L.gamma) * em1;
       muc = L.mu * ex * (1.0 + 2.0 * L.gamma * I1b);
     } else {
       W1 = L.C10;
@@ -420,12 +450,46 @@ void MpmSolver::reduceBuffers(bool momentumOnly) {
 
 // ---------------------------------------------------------------- particle to grid (eqs 1-3)
 
+// Two bodies: near_[cell] bit b is set when body b has a point within 3 cells
+// (occupied cells dilated by 3 along each axis). A node both bodies reach lies
+// within 1.5 cells of a point of each, so the points that scatter to it are
+// within 3 cells of the other body. Serial, one pass over the points and three
+// over the cells.
+void MpmSolver::markNearBodies() {
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n[3] = {static_cast<std::size_t>(nn_[0]), static_cast<std::size_t>(nn_[1]),
+                            static_cast<std::size_t>(nn_[2])};
+  near_.assign(nodes_, 0);
+  for (std::size_t p = 0; p < size(); ++p) {
+    const std::size_t c = (static_cast<std::size_t>((px_[p] - ox) * invh) * n[1] +
+                           static_cast<std::size_t>((py_[p] - oy) * invh)) * n[2] +
+                          static_cast<std::size_t>((pz_[p] - oz) * invh);
+    near_[c] |= static_cast<std::uint8_t>(1u << body_[p]);
+  }
+  const std::size_t stride[3] = {n[1] * n[2], n[2], 1};
+  constexpr int reach = 3;
+  for (int d = 0; d < 3; ++d) {
+    nearTmp_ = near_;
+    for (std::size_t I = 0; I < nodes_; ++I) {
+      const std::size_t idx = (I / stride[d]) % n[d];
+      std::uint8_t v = 0;
+      for (int o = -reach; o <= reach; ++o) {
+        const long long j = static_cast<long long>(idx) + o;
+        if (j < 0 || j >= static_cast<long long>(n[d])) continue;
+        v |= nearTmp_[I + static_cast<std::size_t>(o * static_cast<long long>(stride[d]))];
+      }
+      near_[I] = v;
+    }
+  }
+}
+
 // Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
 // grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
 // entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
 // is a fixed-length vector update of one cache line.
 template <int S, bool Grad>
-void MpmSolver::p2g() {
+MPM_CLONES void MpmSolver::p2g() {
   constexpr std::size_t NR = Grad ? 16 : 8;
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
@@ -456,14 +520,24 @@ void MpmSolver::p2g() {
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
       const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
       const double m = mass_[p];
-      const A4 q(m, m * vx_[p], m * vy_[p], m * vz_[p]);  // eqs 1-2
+      const A4 q = {m, m * vx_[p], m * vy_[p], m * vz_[p]};  // eqs 1-2
       const double J = F_[0][p] * (F_[4][p] * F_[8][p] - F_[5][p] * F_[7][p]) -
                        F_[1][p] * (F_[3][p] * F_[8][p] - F_[5][p] * F_[6][p]) +
                        F_[2][p] * (F_[3][p] * F_[7][p] - F_[4][p] * F_[6][p]);
       const double V = -vol0_[p] * J;  // -V sigma : grad N is the internal force
       const double s00 = V * sig_[0][p], s11 = V * sig_[1][p], s22 = V * sig_[2][p];
       const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
+      const A4 S0 = {s00, s01, s02, 0.0}, S1 = {s01, s11, s12, 0.0}, S2 = {s02, s12, s22, 0.0};  // rows of -V sigma
       const double xp[3] = {px_[p], py_[p], pz_[p]};
+      // Two bodies: the normal and gap lanes matter only at nodes that both
+      // bodies reach, i.e. for points with the other body within 3 cells.
+      bool needG = false;
+      if constexpr (Grad) {
+        const std::size_t cell = (static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
+                                  static_cast<std::size_t>((xp[1] - oy) * invh)) * n2 +
+                                 static_cast<std::size_t>((xp[2] - oz) * invh);
+        needG = near_[cell] & (1u << (1 - body_[p]));
+      }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
@@ -473,22 +547,22 @@ void MpmSolver::p2g() {
                                                     static_cast<std::size_t>(by + j)) * n2 +
                                              static_cast<std::size_t>(bz));
           const A4 a0 = wij * q;
-          const A4 a1(s00 * gxij + s01 * gyij, s01 * gxij + s11 * gyij, s02 * gxij + s12 * gyij, 0.0);
-          const A4 b1(s02 * wij, s12 * wij, s22 * wij, 0.0);
-          if constexpr (Grad) {
-            const A4 a2(m * gxij, m * gyij, 0.0, wij * m * xp[0]);
-            const A4 b2(0.0, 0.0, m * wij, 0.0);
-            const A4 a3(wij * m * xp[1], wij * m * xp[2], 0.0, 0.0);
+          const A4 a1 = gxij * S0 + gyij * S1;
+          const A4 b1 = wij * S2;
+          if (Grad && needG) {
+            const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
+            const A4 b2 = {0.0, 0.0, m * wij, 0.0};
+            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], 0.0, 0.0};
             for (int k = 0; k < S; ++k, r += NR) {
-              M4(r) += wz[k] * a0;
-              M4(r + 4) += wz[k] * a1 + dz[k] * b1;
-              M4(r + 8) += wz[k] * a2 + dz[k] * b2;
-              M4(r + 12) += wz[k] * a3;
+              add(r, wz[k] * a0);
+              add(r + 4, wz[k] * a1 + dz[k] * b1);
+              add(r + 8, wz[k] * a2 + dz[k] * b2);
+              add(r + 12, wz[k] * a3);
             }
           } else {
             for (int k = 0; k < S; ++k, r += NR) {
-              M4(r) += wz[k] * a0;
-              M4(r + 4) += wz[k] * a1 + dz[k] * b1;
+              add(r, wz[k] * a0);
+              add(r + 4, wz[k] * a1 + dz[k] * b1);
             }
           }
         }
@@ -913,7 +987,7 @@ void MpmSolver::remapUpdate() {
 // Per (i, j) the k sums of the grid velocities are formed first (tensor
 // product, as in p2g).
 template <int S>
-void MpmSolver::g2pRemap() {
+MPM_CLONES void MpmSolver::g2pRemap() {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
@@ -932,17 +1006,17 @@ void MpmSolver::g2pRemap() {
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
       const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-      A4 an = A4::Zero(), ao = A4::Zero();  // sum N v_new, sum N v_old
+      A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
           const std::size_t row =
               off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
               static_cast<std::size_t>(bz);
           const double* __restrict v = vel + 8 * row;
-          A4 sn = wz[0] * C4(v), so = wz[0] * C4(v + 4);
+          A4 sn = wz[0] * ld(v), so = wz[0] * ld(v + 4);
           for (int k = 1; k < S; ++k) {
-            sn += wz[k] * C4(v + 8 * k);
-            so += wz[k] * C4(v + 8 * k + 4);
+            sn += wz[k] * ld(v + 8 * k);
+            so += wz[k] * ld(v + 8 * k + 4);
           }
           const double wij = wx[i] * wy[j];
           an += wij * sn;
@@ -960,7 +1034,7 @@ void MpmSolver::g2pRemap() {
       vgy_[p] = an[1];
       vgz_[p] = an[2];
       const double m = mass_[p];
-      const A4 q(0.0, m * v0, m * v1, m * v2);  // lane 0 (mass) gets + 0
+      const A4 q = {0.0, m * v0, m * v1, m * v2};  // lane 0 (mass) gets + 0
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
           const A4 a = (wx[i] * wy[j]) * q;
@@ -968,7 +1042,7 @@ void MpmSolver::g2pRemap() {
                                                     static_cast<std::size_t>(by + j)) * n2 +
                                              static_cast<std::size_t>(bz));
           for (int k = 0; k < S; ++k, r += NR)
-            M4(r) += wz[k] * a;
+            add(r, wz[k] * a);
         }
     }
   }
@@ -980,7 +1054,7 @@ void MpmSolver::g2pRemap() {
 // L_c0 += dx_i wy_j sum_k wz_k v_c, L_c1 += wx_i dy_j sum_k wz_k v_c,
 // L_c2 += wx_i wy_j sum_k dz_k v_c.
 template <int S, bool Usl>
-void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
+MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
@@ -995,6 +1069,7 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
   std::atomic<std::size_t> badP{0};
   double ek = 0, ei = 0, vmax = 0;
   const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
+  const bool fbar = cfg_.fbar;
 #pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax)
   for (std::size_t p = 0; p < np; ++p) {
     double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
@@ -1002,20 +1077,20 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
     const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
     const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
     const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-    A4 an = A4::Zero(), ao = A4::Zero();  // sum N v_new, sum N v_old (USL only)
-    double L[9] = {0, 0, 0, 0, 0, 0, 0, 0, 0};
+    A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
+    A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
     for (int i = 0; i < S; ++i)
       for (int j = 0; j < S; ++j) {
         const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
                                 static_cast<std::size_t>(bz);
         const double* __restrict v = vel + 8 * row;
         // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
-        A4 sw = A4::Zero(), sd = A4::Zero(), so = A4::Zero();
+        A4 sw = {0, 0, 0, 0}, sd = {0, 0, 0, 0}, so = {0, 0, 0, 0};
         for (int k = 0; k < S; ++k) {
-          const C4 vg(v + 8 * k + go);
+          const A4 vg = ld(v + 8 * k + go);
           sw += wz[k] * vg;
           sd += dz[k] * vg;
-          if constexpr (usl) so += wz[k] * C4(v + 8 * k + 4);
+          if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
         }
         const double wij = wx[i] * wy[j];
         const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
@@ -1023,12 +1098,11 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
           an += wij * sw;
           ao += wij * so;
         }
-        for (int c = 0; c < 3; ++c) {
-          L[3 * c + 0] += gxij * sw[c];
-          L[3 * c + 1] += gyij * sw[c];
-          L[3 * c + 2] += wij * sd[c];
-        }
+        Lx += gxij * sw;
+        Ly += gyij * sw;
+        Lz += wij * sd;
       }
+    const double L[9] = {Lx[0], Ly[0], Lz[0], Lx[1], Ly[1], Lz[1], Lx[2], Ly[2], Lz[2]};
     double acc[3];
     if constexpr (usl) {
       vx_[p] = flip * (vx_[p] + (an[0] - ao[0])) + (1 - flip) * an[0];
@@ -1073,16 +1147,56 @@ void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
       if (bad.compare_exchange_strong(expected, cause)) badP = p;
       continue;
     }
+    ek += 0.5 * mass_[p] * speed2;
+    if (fbar) continue;  // stress after the cell averages of det F (fbarStress)
     double W, c;
     stress(p, F, W, c);
-    ek += 0.5 * mass_[p] * speed2;
     ei += vol0_[p] * W;
     vmax = std::max(vmax, c + std::sqrt(speed2));
   }
   if (bad.load()) fail(badP.load(), bad.load());
+  if (fbar) fbarStress(ei, vmax);
   ekOut = ek;
   eiOut = ei;
   vmaxOut = vmax;
+}
+
+// Anti-locking (F-bar, de Souza Neto et al. 1996, in the MPM form of cell
+// averages): the volume change of every particle is replaced by the average
+// over the particles in its grid cell, Jbar = sum V0 J / sum V0 (current over
+// reference volume), and the stress is evaluated at Fbar = (Jbar / J)^(1/3) F.
+// One volumetric constraint per cell instead of one per particle, so a nearly
+// incompressible law (nu -> 0.5) no longer locks the 8 points of a cell; the
+// deviatoric part of F is the particle's own. The stored F stays the true one.
+void MpmSolver::fbarStress(double& eiOut, double& vmaxOut) {
+  const std::size_t np = size();
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  cellOf_.resize(np);
+  cellJ_.assign(2 * nodes_, 0.0);
+  for (std::size_t p = 0; p < np; ++p) {  // serial: one multiply-add per particle
+    const auto i = static_cast<std::size_t>((px_[p] - ox) * invh), j = static_cast<std::size_t>((py_[p] - oy) * invh),
+               k = static_cast<std::size_t>((pz_[p] - oz) * invh);
+    const std::size_t c = (i * n1 + j) * n2 + k;  // cell by its lower node (inside: checked in g2pFinal)
+    cellOf_[p] = static_cast<std::uint32_t>(c);
+    cellJ_[2 * c] += vol0_[p] * defGrad(p).determinant();
+    cellJ_[2 * c + 1] += vol0_[p];
+  }
+  double ei = 0.0, vmax = 0.0;
+#pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(+ : ei) reduction(max : vmax)
+  for (std::size_t p = 0; p < np; ++p) {
+    const std::size_t c = cellOf_[p];
+    const Mat3 F = defGrad(p);
+    const double Jbar = cellJ_[2 * c] / cellJ_[2 * c + 1];
+    const Mat3 Fbar = std::cbrt(Jbar / F.determinant()) * F;
+    double W, w;
+    stress(p, Fbar, W, w);
+    ei += vol0_[p] * W;
+    vmax = std::max(vmax, w + std::sqrt(vx_[p] * vx_[p] + vy_[p] * vy_[p] + vz_[p] * vz_[p]));
+  }
+  eiOut += ei;
+  vmaxOut = std::max(vmaxOut, vmax);
 }
 
 // ---------------------------------------------------------------- one step
@@ -1104,6 +1218,7 @@ StepReport MpmSolver::step() {
   const bool lin = cfg_.shape == Shape::Linear;
   zeroBuffers(false);
   if (cfg_.bodies > 1) {
+    markNearBodies();
     if (lin) p2g<2, true>(); else p2g<3, true>();
   } else {
     if (lin) p2g<2, false>(); else p2g<3, false>();

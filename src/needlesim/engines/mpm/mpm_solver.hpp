@@ -75,6 +75,7 @@ struct MpmConfig {
   double contactGap = -1.0;        // eq 22 gap for rigid contact, m (< 0: half the particle spacing)
   double pairGapFactor = 1.0;      // scales the centroid-separation gap rule of two deformable bodies
   int threads = 0;                 // 0 = OpenMP default
+  bool fbar = false;               // anti-locking: stress at F-bar with the cell-averaged det F
 };
 
 // Totals of one step, for reporting.
@@ -138,6 +139,8 @@ class MpmSolver {
   void zeroBuffers(bool momentumOnly);
   void reduceBuffers(bool momentumOnly);
   void stress(std::size_t p, const Mat3& F, double& energy, double& wave);
+  void fbarStress(double& ei, double& vmax);
+  void markNearBodies();
   [[noreturn]] void fail(std::size_t p, int cause) const;
 
   MpmConfig cfg_;
@@ -170,6 +173,9 @@ class MpmSolver {
   std::vector<RigidForce> rforce_;
   std::vector<std::array<double, 9>> rforceThread_;  // per thread per rigid: total(3) tip(3) shaft(3)
   double pairGap_ = 0.0;
+  std::vector<std::uint8_t> near_, nearTmp_;  // two bodies: per cell, bit b = body b within 3 cells
+  std::vector<std::uint32_t> cellOf_;   // F-bar: cell of each particle
+  std::vector<double> cellJ_;           // F-bar: per cell sum V0 J, sum V0
   // CFEMP (eqs 22-24): the needle surface triangulated in its own frame (tip at
   // the origin, axis x, sharp point at -R y) with a uniform bucket grid.
   struct Surface {
