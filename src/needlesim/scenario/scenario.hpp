@@ -183,7 +183,7 @@ struct ExplicitModelSpec {
   double bulk_viscosity_quadratic = 1.2;
   double hourglass = 1.0;
   double damping = 0.0;              // 1/s, mass-proportional
-  double contact_penalty = 0.2;      // k = penalty m / dt^2
+  double contact_penalty = 10.0;     // k = penalty m / dt^2 (explicit/contact_normal.cpp)
   double tip_friction = 0.0;         // Coulomb coefficient on the tip surface (seed 001: 0)
   bool pre_cut = true;               // node-release seam along the needle path
   ExplicitCohesiveSpec cohesive;     // cohesive law on the seam instead of node release (2D)

@@ -106,8 +106,10 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   if (mesh_.region.size() != static_cast<std::size_t>(nel_)) mesh_.region.assign(nel_, 0);
   if (!(opt_.massScaling >= 1.0)) throw Error("explicit FE: mass scaling factor must be >= 1");
   if (!(opt_.cfl > 0 && opt_.cfl <= 1.0)) throw Error("explicit FE: CFL factor must lie in (0, 1]");
-  if (!(opt_.contactPenalty > 0 && opt_.contactPenalty < 1.0))
-    throw Error("explicit FE: contact penalty must lie in (0, 1) (fraction of m/dt^2)");
+  if (!(opt_.contactPenalty > 0 && opt_.contactPenalty <= 1e4))
+    throw Error("explicit FE: contact penalty must lie in (0, 1e4] (multiple of m/dt^2)");
+  if (!(opt_.stickPenalty > 0 && opt_.stickPenalty < 1.0))
+    throw Error("explicit FE: friction stick penalty must lie in (0, 1) (fraction of m/dt^2)");
 
   grad0_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
   gamma_.assign(static_cast<std::size_t>(nel_) * std::max(nhg_, 1) * npe_, 0.0);
@@ -259,6 +261,14 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   fcon_.assign(ndof, 0.0);
   react_.assign(ndof, 0.0);
   dofGroup_.assign(ndof, -1);
+  contactBody_.assign(nnode_, -1);
+  contactK_.assign(nnode_, 0.0);
+  contactMu_.assign(nnode_, 0.0);
+  contactWedge_.assign(nnode_, 0.0);
+  contactTip_.assign(nnode_, 0);
+  contactDepth_.assign(nnode_, 0.0);
+  contactNrm_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  contactVb_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
   penetrationTol_ = opt_.penetrationTolerance > 0 ? opt_.penetrationTolerance : 0.5 * minSize_;
   releaseDistance_ = minSize_;
   // stable step of the initial mesh, so that timeStep() is meaningful before the first step
@@ -310,6 +320,7 @@ int ExplicitSolver::addPlane(const RigidPlane& p) {
   planes_.push_back(p);
   planes_.back().normal.normalize();
   planeFt_.emplace_back(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  planeStage_.emplace_back(Vector3d::Zero());
   return static_cast<int>(planes_.size()) - 1;
 }
 void ExplicitSolver::setNeedle(const RigidNeedle& n) {
@@ -458,11 +469,17 @@ void ExplicitSolver::gatherForces() {
 
 void ExplicitSolver::contactForces(double dtStep) {
   std::fill(fcon_.begin(), fcon_.end(), 0.0);
+  std::fill(contactBody_.begin(), contactBody_.end(), -1);
+  extContactForceLast_ = extContactForce_;
+  extContactForce_.setZero();
   if (dtStep <= 0) return;
   const int d = dim_;
   // Penalty from the stable step, not the (possibly shortened) last step: k = penalty m / dt_stable^2.
+  // The normal force is completed at the end of the next step (contact_normal.cpp); the friction
+  // stick spring stays explicit with the stable fraction stickPenalty.
   const double dtPen = opt_.cfl * dtStable_;
   const double pen = opt_.contactPenalty / (dtPen * dtPen);
+  const double penStick = std::min(opt_.contactPenalty, opt_.stickPenalty) / (dtPen * dtPen);
   for (std::size_t p = 0; p < planes_.size(); ++p) {
     RigidPlane& pl = planes_[p];
     std::vector<double>& ftH = planeFt_[p];
@@ -483,12 +500,13 @@ void ExplicitSolver::contactForces(double dtStep) {
       const double k = pen * mass_[n];
       const double fn = -k * gap;
       Vector3d f = fn * pl.normal;
+      recordNormalContact(n, 2 + static_cast<int>(p), pl.normal, k, -gap, pl.velocity, pl.friction);
       if (pl.friction > 0) {
         Vector3d vr = v - pl.velocity;
         Vector3d vt = vr - vr.dot(pl.normal) * pl.normal;
         Vector3d t(ft[0], ft[1], ft[2]);
         t -= t.dot(pl.normal) * pl.normal;
-        t -= k * dtStep * vt;  // elastic stick predictor (slip increment over the step)
+        t -= penStick * mass_[n] * dtStep * vt;  // elastic stick predictor (slip increment over the step)
         double lim = pl.friction * fn, tn = t.norm();
         if (tn > lim) t *= lim / tn;  // return map onto the Coulomb cone
         ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
@@ -497,7 +515,7 @@ void ExplicitSolver::contactForces(double dtStep) {
       for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
       fx -= f[0], fy -= f[1], fz -= f[2];
     }
-    pl.force = Vector3d(fx, fy, fz);
+    planeStage_[p] = Vector3d(fx, fy, fz);  // pl.force: completed by normalContactCorrection
   }
   if (!hasNeedle_) return;
   RigidNeedle& nd = needle_;
@@ -537,16 +555,21 @@ void ExplicitSolver::contactForces(double dtStep) {
       ft[0] = ft[1] = ft[2] = 0;
       continue;
     }
-    const double k = pen * mass_[n];
+    // cohesive seam lips keep the explicit penalty the wedge model was built with (docs/models/explicit.md)
+    const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0;
+    const double k = (lip ? std::min(opt_.contactPenalty, opt_.stickPenalty) / (dtPen * dtPen) : pen) * mass_[n];
     const double fn = k * hit.depth;
     Vector3d f = fn * hit.normal;
     const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
+    if (!lip) recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
+    contactWedge_[n] = wedgeAxial;
+    contactTip_[n] = hit.face == needle::NeedleFace::Tip;
     if (mu > 0) {
       Vector3d vr = v - vb;
       Vector3d vt = vr - vr.dot(hit.normal) * hit.normal;
       Vector3d t(ft[0], ft[1], ft[2]);
       t -= t.dot(hit.normal) * hit.normal;
-      t -= k * dtStep * vt;
+      t -= penStick * mass_[n] * dtStep * vt;
       double lim = mu * fn, tn = t.norm();
       if (tn > lim) t *= lim / tn;
       ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
@@ -567,10 +590,8 @@ void ExplicitSolver::contactForces(double dtStep) {
     ++count;
     maxPen = std::max(maxPen, hit.depth);
   }
-  nd.force = Vector3d(fx, fy, fz);
-  nd.moment = Vector3d(mx, my, mz);
-  nd.tipForce = Vector3d(tx, ty, tz);
-  nd.normalForce = fnSum;
+  // the forces the next step applies: completed by normalContactCorrection (contact_normal.cpp)
+  needleStage_ = {Vector3d(fx, fy, fz), Vector3d(mx, my, mz), Vector3d(tx, ty, tz), fnSum};
   nd.nodesInContact = count;
   nd.maxPenetration = maxPen;
   if (maxPen > penetrationTol_)
@@ -613,6 +634,7 @@ void ExplicitSolver::step() {
   const double dt = dt_;
   const double dtAvg = steps_ == 0 ? 0.5 * dt : 0.5 * (dtPrev_ + dt);
   const double alpha = opt_.damping;
+  normalContactCorrection(dt, dtAvg);
   // Tied seam pairs move together: equal and opposite tie forces give both the
   // pair's common acceleration (they do no work since the velocities agree).
   if (!tieA_.empty()) {

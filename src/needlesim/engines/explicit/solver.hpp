@@ -47,7 +47,11 @@ struct SolverOptions {
   double bulkViscosityQuadratic = 1.2;   // b2 (ABAQUS default)
   double hourglass = 1.0;        // hourglass stiffness; 1 = exact pure bending of a rectangular element
   double damping = 0.0;          // 1/s, mass-proportional (dynamic relaxation; 0 = none)
-  double contactPenalty = 0.2;   // k = penalty m_a / dt^2 (dimensionless, < 1 for stability)
+  // Normal contact stiffness k = penalty m_a / (cfl dt_stable)^2 (contact_normal.cpp): the normal
+  // force is evaluated at the end of the step (implicit, node-local), so any penalty is stable;
+  // default 10 keeps the penetration ~1/10 of what the element's own stiffness would give.
+  double contactPenalty = 10.0;
+  double stickPenalty = 0.2;     // tangential (friction stick) stiffness, fraction of m/dt^2 (< 1, explicit)
   double penetrationTolerance = 0.0;  // m; 0 = half the smallest element size
   double hourglassStrainLimit = 2.0;  // stop when an element's hourglass (zig-zag) strain exceeds this
   double minTimeStepRatio = 1e-3;     // stop when dt falls below this fraction of the initial dt
@@ -76,7 +80,7 @@ struct RigidPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();  // outward: the body lies on this side
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   double friction = 0.0;
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the plane (from the body), last step
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the plane (from the body), applied in the last step
 };
 
 struct RigidNeedle {
@@ -85,6 +89,7 @@ struct RigidNeedle {
   double velocity = 0.0;         // m/s along pose.axis
   double frictionWall = 0.0;     // Coulomb coefficient on the walls (seed 001: 0.3)
   double frictionTip = 0.0;      // on the tip surface (seed 001: frictionless)
+  // loads applied in the last step (the normal part evaluated at its end, contact_normal.cpp)
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // reaction on the needle (from the tissue)
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // about the base centre
   Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();  // part of `force` acting on the tip surface
@@ -118,6 +123,18 @@ class ExplicitSolver {
   void setCohesive(CohesiveInterface c);
   CohesiveInterface* cohesive() { return coh_.empty() ? nullptr : &coh_.front(); }
   const CohesiveInterface* cohesive() const { return coh_.empty() ? nullptr : &coh_.front(); }
+
+  // Normal contact of `node` with an analytic rigid body outside the solver (tests: rigid_sphere.hpp),
+  // for the next step: penetration `depth` along `normal` (out of the body), body velocity `vb`,
+  // stiffness contactStiffness(node). Call between steps; the force applied in the step is
+  // externalContactForce() after it.
+  void addNormalContact(int node, const Eigen::Vector3d& normal, double depth, const Eigen::Vector3d& vb);
+  double contactStiffness(int node) const;
+  Eigen::Vector3d externalContactForce() const { return extContactForceLast_; }  // on the body, last step
+  // Normal contact force k depth per node at the current configuration (0 = no contact), N (2D: N/m).
+  double nodeContactForce(int node) const {
+    return contactBody_.empty() || contactBody_[node] < 0 ? 0.0 : contactK_[node] * contactDepth_[node];
+  }
 
   int addPlane(const RigidPlane& plane);
   RigidPlane& plane(int i) { return planes_[i]; }
@@ -161,6 +178,10 @@ class ExplicitSolver {
   // internalForces for this mesh's element type.
   void elementForces(double dtStep);
   void contactForces(double dtStep);
+  // Normal contact forces evaluated at the end of the step (contact_normal.cpp).
+  void recordNormalContact(int node, int body, const Eigen::Vector3d& normal, double k, double depth,
+                           const Eigen::Vector3d& vb, double mu = 0.0);
+  void normalContactCorrection(double dt, double dtAvg);
   void gatherForces();
   void computeStableStep();
   [[noreturn]] void fail(const std::string& cause, const std::string& where, const std::string& remedy) const;
@@ -198,6 +219,17 @@ class ExplicitSolver {
   std::vector<double> needleFt_;
   std::vector<signed char> contactSide_;  // per node, empty = none
   double penetrationTol_ = 0.0;
+  // normal contact per node (contact_normal.cpp): body -1 none, 0 needle, 1 external, 2 + p plane p
+  std::vector<int> contactBody_;
+  std::vector<double> contactK_, contactDepth_, contactNrm_, contactVb_, contactMu_;
+  std::vector<double> contactWedge_;  // needle: axial reaction per unit normal force of a wedged seam lip
+  std::vector<char> contactTip_;      // needle: contact on the tip surface
+  struct NeedleLoads {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero(), tip = Eigen::Vector3d::Zero();
+    double normal = 0.0;
+  } needleStage_;
+  std::vector<Eigen::Vector3d> planeStage_;
+  Eigen::Vector3d extContactForce_ = Eigen::Vector3d::Zero(), extContactForceLast_ = Eigen::Vector3d::Zero();
   // seam ties
   std::vector<int> tieA_, tieB_;
   std::vector<char> tieOn_;
