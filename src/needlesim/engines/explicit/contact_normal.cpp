@@ -59,8 +59,14 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
   const double alpha = opt_.damping;
   const bool coh = !coh_.empty();
   for (int n = 0; n < nnode_; ++n) {
+    contactFnApplied_[n] = 0.0;
     if (contactBody_[n] < 0) continue;
     const double m = mass_[n], k = contactK_[n];
+    // cohesive seam lips keep the explicit penalty the wedge model was built with (solver.cpp)
+    if (!cohPairOf_.empty() && cohPairOf_[n] >= 0) {
+      contactFnApplied_[n] = k * contactDepth_[n];
+      continue;
+    }
     const double* nrm = &contactNrm_[static_cast<std::size_t>(n) * 3];
     const double* vb = &contactVb_[static_cast<std::size_t>(n) * 3];
     double vn0 = 0.0, nFree2 = 0.0;
@@ -79,6 +85,7 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
     const double f0 = k * contactDepth_[n];
     double df = -k * dt * vn0 / (1.0 + k * dt * dtAvg * nFree2 / m);
     df = std::max(df, -f0);  // the total normal force stays compressive
+    contactFnApplied_[n] = f0 + df;
     for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += df * nrm[i];
     Vector3d dF = df * Vector3d(nrm[0], nrm[1], nrm[2]);  // change of the force on the node
     // Coulomb cone with the normal force actually applied (the friction of contactForces used k g^n)

@@ -6,6 +6,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/explicit/contact_output.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/materials/material_spec.hpp"
@@ -207,7 +208,10 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"kinetic energy", "J"}, {"internal energy", "J"}, {"strain energy", "J"},
                     {"hourglass energy", "J"}, {"external work", "J"}, {"contact work", "J"},
                     {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"},
-                    {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"}});
+                    {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"},
+                    {"contact area", "m^2"}, {"mean contact pressure", "Pa"}, {"max contact pressure", "Pa"}});
+  ContactOutput contactOut(solver.mesh());  // contact pressure and area (contact_output.hpp)
+  double peakArea = 0, peakPressure = 0;
   io::FieldSeries* fields = sink.fields("tissue", dim);
   io::FieldSeries* needleFields = sink.fields("needle", dim);
   if (fields) {
@@ -238,6 +242,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       fields->stepPoints(xcur);
       fields->pointData("displacement", u, dim);
       fields->pointData("velocity", solver.velocity(), dim);
+      contactOut.update(solver);
+      fields->pointData("contact_pressure", contactOut.pressure(), 1);
       fields->cellData("cauchy_stress", sig, 6);
       fields->cellData("von_mises", vm, 1);
       fields->cellData("log_strain", ls, 6);
@@ -268,6 +274,10 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     if (solver.time() > 0.1 * T) ratioMax = std::max(ratioMax, ratio);
     balanceMax = std::max(balanceMax, std::abs(E.balance()));
     peak = std::max(peak, fAx);
+    contactOut.update(solver);
+    const double cArea = contactOut.contactArea() * thick;
+    peakArea = std::max(peakArea, cArea);
+    peakPressure = std::max(peakPressure, contactOut.maxPressure());
     series.addRow({solver.time(), depth, depth - depth0, fAx, fLat, tip, n->moment.z() * thick,
                    static_cast<double>(n->nodesInContact), E.kinetic * thick, ie * thick, E.strain * thick,
                    E.hourglass * thick, E.externalWork * thick, E.contactWork * thick, E.balance() * thick, ratio,
@@ -275,7 +285,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                    static_cast<double>(cohOn ? solver.cohesive()->fullyDamaged()
                                              : static_cast<int>(st.seam.size()) - solver.activeTies()),
                    E.cohesiveStored * thick, E.cohesiveDissipated * thick,
-                   cohOn ? solver.cohesive()->crackedLength() : 0.0});
+                   cohOn ? solver.cohesive()->crackedLength() : 0.0, cArea, contactOut.meanPressure(),
+                   contactOut.maxPressure()});
     if (cohOn) {
       const auto* c = solver.cohesive();
       cohGcArea = 0.0;
@@ -304,6 +315,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "largest kinetic / internal energy after the first 10 % (quasi-static if < 0.05-0.1)");
     sink.result("energy_balance_error", balanceMax / energyScale, "1",
                 "largest |energy balance| / largest energy term");
+    sink.result("peak_contact_area", peakArea, "m^2",
+                "largest needle-tissue contact area (nodal tributary areas; 2D: times the slab thickness)");
+    sink.result("max_contact_pressure", peakPressure, "Pa", "largest nodal needle-tissue contact pressure");
     sink.result("elements", solver.mesh().elements(), "1", "elements");
     sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
     sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");

@@ -265,6 +265,7 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   contactK_.assign(nnode_, 0.0);
   contactMu_.assign(nnode_, 0.0);
   contactWedge_.assign(nnode_, 0.0);
+  contactFnApplied_.assign(nnode_, 0.0);
   contactTip_.assign(nnode_, 0);
   contactDepth_.assign(nnode_, 0.0);
   contactNrm_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
@@ -561,7 +562,7 @@ void ExplicitSolver::contactForces(double dtStep) {
     const double fn = k * hit.depth;
     Vector3d f = fn * hit.normal;
     const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
-    if (!lip) recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
+    recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
     contactWedge_[n] = wedgeAxial;
     contactTip_[n] = hit.face == needle::NeedleFace::Tip;
     if (mu > 0) {

@@ -131,9 +131,13 @@ class ExplicitSolver {
   void addNormalContact(int node, const Eigen::Vector3d& normal, double depth, const Eigen::Vector3d& vb);
   double contactStiffness(int node) const;
   Eigen::Vector3d externalContactForce() const { return extContactForceLast_; }  // on the body, last step
-  // Normal contact force k depth per node at the current configuration (0 = no contact), N (2D: N/m).
-  double nodeContactForce(int node) const {
-    return contactBody_.empty() || contactBody_[node] < 0 ? 0.0 : contactK_[node] * contactDepth_[node];
+  // Normal contact force per node applied in the last step (0 = no contact), N (2D: N/m).
+  double nodeContactForce(int node) const { return contactFnApplied_.empty() ? 0.0 : contactFnApplied_[node]; }
+  // Its direction (out of the rigid body) at the current configuration; zero when not in contact.
+  Eigen::Vector3d nodeContactNormal(int node) const {
+    if (contactBody_.empty() || contactBody_[node] < 0) return Eigen::Vector3d::Zero();
+    const double* c = &contactNrm_[static_cast<std::size_t>(node) * 3];
+    return Eigen::Vector3d(c[0], c[1], c[2]);
   }
 
   int addPlane(const RigidPlane& plane);
@@ -222,6 +226,7 @@ class ExplicitSolver {
   // normal contact per node (contact_normal.cpp): body -1 none, 0 needle, 1 external, 2 + p plane p
   std::vector<int> contactBody_;
   std::vector<double> contactK_, contactDepth_, contactNrm_, contactVb_, contactMu_;
+  std::vector<double> contactFnApplied_;  // normal force applied in the last step
   std::vector<double> contactWedge_;  // needle: axial reaction per unit normal force of a wedged seam lip
   std::vector<char> contactTip_;      // needle: contact on the tip surface
   struct NeedleLoads {
