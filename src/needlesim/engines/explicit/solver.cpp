@@ -271,6 +271,11 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   contactNrm_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
   contactVb_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
   penetrationTol_ = opt_.penetrationTolerance > 0 ? opt_.penetrationTolerance : 0.5 * minSize_;
+  if (opt_.nodalPressure && nhg_ == 0) {
+    anpP_.assign(nel_, 0.0);
+    anpB_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
+    anpNode_.assign(nnode_, 0.0);
+  }
   releaseDistance_ = minSize_;
   // stable step of the initial mesh, so that timeStep() is meaningful before the first step
   elementForces(0.0);
@@ -391,6 +396,17 @@ void ExplicitSolver::internalForces(double dtStep) {
     Matrix3d P = F * S;
     // Current gradients -> characteristic length and stable step.
     const Matrix3d Finv = F.inverse();
+    if constexpr (NPE == DIM + 1) {
+      if (!anpP_.empty()) {  // element pressure and V0 J F^-T grad0 N for the nodal-pressure pass
+        anpP_[e] = (F * S * F.transpose()).trace() / (3.0 * J);
+        for (int a = 0; a < NPE; ++a)
+          for (int i = 0; i < DIM; ++i) {
+            double b = 0.0;
+            for (int j = 0; j < DIM; ++j) b += Finv(j, i) * g[a * DIM + j];
+            anpB_[(static_cast<std::size_t>(e) * NPE + a) * DIM + i] = vol0_[e] * J * b;
+          }
+      }
+    }
     double sumG = 0.0;
     for (int a = 0; a < NPE; ++a) {
       for (int i = 0; i < DIM; ++i) {
@@ -442,6 +458,7 @@ void ExplicitSolver::internalForces(double dtStep) {
     eHg += ehg;
   }
   elementUpdates_ += nel_;
+  if (bad == 0 && !anpP_.empty()) nodalPressureCorrection();
   if (bad > 0) {
     int e = static_cast<int>(std::find(failElem_.begin(), failElem_.end(), 1) - failElem_.begin());
     Matrix3d F = deformationGradient(e);

@@ -55,6 +55,8 @@ struct SolverOptions {
   double penetrationTolerance = 0.0;  // m; 0 = half the smallest element size
   double hourglassStrainLimit = 2.0;  // stop when an element's hourglass (zig-zag) strain exceeds this
   double minTimeStepRatio = 1e-3;     // stop when dt falls below this fraction of the initial dt
+  // tri3/tet4: average nodal pressure (Bonet & Burton 1998; nodal_pressure.cpp) against volumetric locking
+  bool nodalPressure = true;
 };
 
 struct Energies {
@@ -187,6 +189,9 @@ class ExplicitSolver {
                            const Eigen::Vector3d& vb, double mu = 0.0);
   void normalContactCorrection(double dt, double dtAvg);
   void gatherForces();
+  // tri3/tet4 average nodal pressure: replaces each element's pressure by the mean of its nodes'
+  // volume-averaged pressures (nodal_pressure.cpp)
+  void nodalPressureCorrection();
   void computeStableStep();
   [[noreturn]] void fail(const std::string& cause, const std::string& where, const std::string& remedy) const;
   std::string elementWhere(int e) const;
@@ -207,6 +212,7 @@ class ExplicitSolver {
   std::vector<double> wElem_, hgElem_, hgStrain_;
   std::vector<int> failElem_;   // per element failure code (0 ok)
   std::vector<double> spk2_;    // nel * 6: second Piola-Kirchhoff stress (Voigt) of the last step
+  std::vector<double> anpP_, anpB_, anpNode_;  // nodal pressure: element p, V0 J F^-T grad0 N, nodal p
   std::vector<materials::PronyState<Eigen::Matrix<double, 6, 1>>> prony_;
   std::vector<double> matWaveModulus_, matShear_;
   // node data

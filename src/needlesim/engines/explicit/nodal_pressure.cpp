@@ -1,0 +1,50 @@
+// Average nodal pressure for the constant-strain tri3 / tet4 (docs/models/explicit.md,
+// "Elements"): Bonet & Burton 1998 (Commun. Numer. Meth. Eng. 14, 437-449), Bonet, Marriott
+// & Hassan 2001 (IJNME 50, 119-133). The volumetric energy is taken at the nodes,
+// U = sum_a V_a U(J_a), J_a = sum_{e∋a} (V_e / n) J_e / V_a, V_a = sum_{e∋a} V_e / n; its
+// forces are f_b = sum_e pbar_e v_e grad_x N_b with pbar_e the mean of the nodal pressures
+// p_a = U'(J_a) of the element's nodes. With U = K/2 (J - 1)^2 (the library's volumetric
+// term), p_a = K (J_a - 1) is the V_e-weighted mean of the element pressures, which is what is
+// computed here from each element's Cauchy mean stress (any law): the element keeps its
+// deviatoric stress and replaces its pressure p_e by pbar_e,
+//   f_a += (pbar_e - p_e) V0 J F^-T grad0 N_a.
+// The incompressibility constraint is then one per node instead of one per element, so the
+// elements do not lock at nu -> 1/2 (test ExplicitNodalPressure.*); a homogeneous state has
+// pbar_e = p_e (patch test unchanged).
+#include "needlesim/engines/explicit/solver.hpp"
+
+namespace needlesim::explicit_fe {
+
+void ExplicitSolver::nodalPressureCorrection() {
+  const int npe = npe_, d = dim_;
+  constexpr int kParallel = 4000;
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallel)
+  for (int n = 0; n < nnode_; ++n) {
+    double pv = 0.0, v = 0.0;
+    for (int k = nodeStart_[n]; k < nodeStart_[n + 1]; ++k) {
+      const int e = nodeSlots_[k] / npe;
+      pv += vol0_[e] * anpP_[e];
+      v += vol0_[e];
+    }
+    anpNode_[n] = v > 0 ? pv / v : 0.0;
+  }
+#pragma omp parallel for schedule(static) if (nel_ >= kParallel)
+  for (int e = 0; e < nel_; ++e) {
+    const int* cn = &mesh_.conn[static_cast<std::size_t>(e) * npe];
+    double pbar = 0.0;
+    for (int a = 0; a < npe; ++a) pbar += anpNode_[cn[a]];
+    pbar /= npe;
+    const double dp = pbar - anpP_[e];
+    double* fe = &fe_[static_cast<std::size_t>(e) * npe * d];
+    const double* b = &anpB_[static_cast<std::size_t>(e) * npe * d];
+    for (int k = 0; k < npe * d; ++k) fe[k] += dp * b[k];
+    // output stress: S += dp J C^-1
+    const Eigen::Matrix3d F = deformationGradient(e);
+    const double J = F.determinant();
+    const Eigen::Matrix3d dS = dp * J * (F.transpose() * F).inverse();
+    double* s = &spk2_[static_cast<std::size_t>(e) * 6];
+    s[0] += dS(0, 0), s[1] += dS(1, 1), s[2] += dS(2, 2), s[3] += dS(0, 1), s[4] += dS(1, 2), s[5] += dS(0, 2);
+  }
+}
+
+}  // namespace needlesim::explicit_fe
