@@ -15,21 +15,25 @@
 
 namespace needlesim::explicit_fe {
 
-void ExplicitSolver::nodalPressureCorrection() {
+double ExplicitSolver::nodalPressureCorrection() {
   const int npe = npe_, d = dim_;
   constexpr int kParallel = 4000;
-#pragma omp parallel for schedule(static) if (nnode_ >= kParallel)
+  double dE = 0.0;  // stored energy: + sum_a V_a p_a^2 / 2K - sum_e V_e p_e^2 / 2K (exact for K/2 (J-1)^2)
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallel) reduction(+ : dE)
   for (int n = 0; n < nnode_; ++n) {
-    double pv = 0.0, v = 0.0;
+    double pv = 0.0, v = 0.0, vk = 0.0;
     for (int k = nodeStart_[n]; k < nodeStart_[n + 1]; ++k) {
       const int e = nodeSlots_[k] / npe;
       pv += vol0_[e] * anpP_[e];
       v += vol0_[e];
+      vk += vol0_[e] / (npe * matBulk_[mat_[e]]);
     }
     anpNode_[n] = v > 0 ? pv / v : 0.0;
+    dE += 0.5 * vk * anpNode_[n] * anpNode_[n];
   }
-#pragma omp parallel for schedule(static) if (nel_ >= kParallel)
+#pragma omp parallel for schedule(static) if (nel_ >= kParallel) reduction(+ : dE)
   for (int e = 0; e < nel_; ++e) {
+    dE -= 0.5 * vol0_[e] * anpP_[e] * anpP_[e] / matBulk_[mat_[e]];
     const int* cn = &mesh_.conn[static_cast<std::size_t>(e) * npe];
     double pbar = 0.0;
     for (int a = 0; a < npe; ++a) pbar += anpNode_[cn[a]];
@@ -45,6 +49,7 @@ void ExplicitSolver::nodalPressureCorrection() {
     double* s = &spk2_[static_cast<std::size_t>(e) * 6];
     s[0] += dS(0, 0), s[1] += dS(1, 1), s[2] += dS(2, 2), s[3] += dS(0, 1), s[4] += dS(1, 2), s[5] += dS(0, 2);
   }
+  return dE;
 }
 
 }  // namespace needlesim::explicit_fe

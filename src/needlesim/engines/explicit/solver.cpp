@@ -130,6 +130,7 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
     double lam = lameLambda(m);
     matWaveModulus_.push_back(lam + 2 * mu);
     double K = lam + 2.0 / 3.0 * mu;
+    matBulk_.push_back(K);
     // bending modulus of the hourglass stiffness: plane-strain E' (2D) or E (3D); -> 4 mu, 3 mu as nu -> 1/2
     matShear_.push_back(dim_ == 2 ? 4 * mu * (lam + mu) / (lam + 2 * mu) : 9 * K * mu / (3 * K + mu));
   }
@@ -458,7 +459,7 @@ void ExplicitSolver::internalForces(double dtStep) {
     eHg += ehg;
   }
   elementUpdates_ += nel_;
-  if (bad == 0 && !anpP_.empty()) nodalPressureCorrection();
+  if (bad == 0 && !anpP_.empty()) eW += nodalPressureCorrection();
   if (bad > 0) {
     int e = static_cast<int>(std::find(failElem_.begin(), failElem_.end(), 1) - failElem_.begin());
     Matrix3d F = deformationGradient(e);

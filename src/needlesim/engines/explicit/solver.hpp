@@ -191,7 +191,8 @@ class ExplicitSolver {
   void gatherForces();
   // tri3/tet4 average nodal pressure: replaces each element's pressure by the mean of its nodes'
   // volume-averaged pressures (nodal_pressure.cpp)
-  void nodalPressureCorrection();
+  // Returns the change of the stored energy: nodal minus element volumetric energy p^2 / 2K.
+  double nodalPressureCorrection();
   void computeStableStep();
   [[noreturn]] void fail(const std::string& cause, const std::string& where, const std::string& remedy) const;
   std::string elementWhere(int e) const;
@@ -214,7 +215,7 @@ class ExplicitSolver {
   std::vector<double> spk2_;    // nel * 6: second Piola-Kirchhoff stress (Voigt) of the last step
   std::vector<double> anpP_, anpB_, anpNode_;  // nodal pressure: element p, V0 J F^-T grad0 N, nodal p
   std::vector<materials::PronyState<Eigen::Matrix<double, 6, 1>>> prony_;
-  std::vector<double> matWaveModulus_, matShear_;
+  std::vector<double> matWaveModulus_, matShear_, matBulk_;
   // node data
   std::vector<int> nodeStart_, nodeSlots_;  // CSR node -> element slots (e*npe + a)
   std::vector<double> mass_, u_, vHalf_, fint_, fext_, fcon_, react_;
