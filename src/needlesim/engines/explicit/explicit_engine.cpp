@@ -209,7 +209,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"hourglass energy", "J"}, {"external work", "J"}, {"contact work", "J"},
                     {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"},
                     {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"},
-                    {"contact area", "m^2"}, {"mean contact pressure", "Pa"}, {"max contact pressure", "Pa"}});
+                    {"contact area", "m^2"}, {"mean contact pressure", "Pa"}, {"max contact pressure", "Pa"},
+                    {"entry-frame lateral force", "N"}, {"axial torque", "N m"}, {"bevel orientation", "rad"}});
+  double peakTorque = 0;
   ContactOutput contactOut(solver.mesh());  // contact pressure and area (contact_output.hpp)
   double peakArea = 0, peakPressure = 0;
   io::FieldSeries* fields = sink.fields("tissue", dim);
@@ -274,6 +276,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     if (solver.time() > 0.1 * T) ratioMax = std::max(ratioMax, ratio);
     balanceMax = std::max(balanceMax, std::abs(E.balance()));
     peak = std::max(peak, fAx);
+    // torque the tissue applies about the needle axis (the base must hold -torque)
+    const double torque = n->moment.dot(axis) * thick;
+    if (std::abs(torque) > std::abs(peakTorque)) peakTorque = torque;
     contactOut.update(solver);
     const double cArea = contactOut.contactArea() * thick;
     peakArea = std::max(peakArea, cArea);
@@ -286,7 +291,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                                              : static_cast<int>(st.seam.size()) - solver.activeTies()),
                    E.cohesiveStored * thick, E.cohesiveDissipated * thick,
                    cohOn ? solver.cohesive()->crackedLength() : 0.0, cArea, contactOut.meanPressure(),
-                   contactOut.maxPressure()});
+                   contactOut.maxPressure(), n->force.dot(e1) * thick, torque,
+                   std::atan2(n->pose.bevelSide.dot(e2), n->pose.bevelSide.dot(e1))});
     if (cohOn) {
       const auto* c = solver.cohesive();
       cohGcArea = 0.0;
@@ -318,6 +324,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     sink.result("peak_contact_area", peakArea, "m^2",
                 "largest needle-tissue contact area (nodal tributary areas; 2D: times the slab thickness)");
     sink.result("max_contact_pressure", peakPressure, "Pa", "largest nodal needle-tissue contact pressure");
+    sink.result("peak_axial_torque", peakTorque, "N m", "largest tissue torque about the needle axis (rotation)");
     sink.result("elements", solver.mesh().elements(), "1", "elements");
     sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
     sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");
@@ -370,6 +377,10 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       const auto ms = motion.at(t + 0.5 * dt);
       n->pose.tip = entry + motion.at(t).depth * axis;
       n->velocity = ms.velocity;
+      // rotation about the axis (profile `rotate`, needle_motion.hpp): 3D spins the surface; a 2D
+      // plane-strain model can only show the bevel on one side or the other
+      n->pose.bevelSide = bevelSideAt(motion.at(t).axial_angle, e1, e2, dim);
+      n->spinRate = dim == 3 ? ms.axial_rate : 0.0;
       solver.advanceTo(std::min(T, t + solver.timeStep()));
       if (solver.time() >= nextOut * (1 - 1e-9) || solver.time() >= T * (1 - 1e-12)) {
         record();

@@ -539,7 +539,6 @@ void ExplicitSolver::contactForces(double dtStep) {
   if (!hasNeedle_) return;
   RigidNeedle& nd = needle_;
   const bool planar = d == 2;
-  const Vector3d vb = nd.velocity * nd.pose.axis;
   const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
   double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0;
   int count = 0;
@@ -552,6 +551,7 @@ void ExplicitSolver::contactForces(double dtStep) {
       v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
     }
     double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
+    const Vector3d vb = needleSurfaceVelocity(nd, x);  // translation + spin (needle_motion.cpp)
     double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
     needle::NeedleHit hit =
         needle::queryNeedle(nd.shape, nd.pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
@@ -736,7 +736,7 @@ void ExplicitSolver::step() {
   dtPrev_ = dt;
   ++steps_;
   // Rigid bodies move with their velocities.
-  if (hasNeedle_) needle_.pose.tip += dt * needle_.velocity * needle_.pose.axis;
+  if (hasNeedle_) advanceNeedle(needle_, dt);
   for (auto& pl : planes_) pl.point += dt * pl.velocity;
   // Forces at the new configuration.
   elementForces(dt);

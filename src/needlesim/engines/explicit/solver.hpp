@@ -25,6 +25,7 @@
 
 #include "needlesim/engines/explicit/cohesive.hpp"
 #include "needlesim/engines/explicit/mesh.hpp"
+#include "needlesim/engines/explicit/needle_motion.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
 #include "needlesim/materials/viscoelastic.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
@@ -89,6 +90,7 @@ struct RigidNeedle {
   needle::NeedleShape shape;
   needle::NeedlePose pose;
   double velocity = 0.0;         // m/s along pose.axis
+  double spinRate = 0.0;         // rad/s about pose.axis (needle_motion.hpp; 3D)
   double frictionWall = 0.0;     // Coulomb coefficient on the walls (seed 001: 0.3)
   double frictionTip = 0.0;      // on the tip surface (seed 001: frictionless)
   // loads applied in the last step (the normal part evaluated at its end, contact_normal.cpp)
