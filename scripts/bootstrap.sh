@@ -9,6 +9,7 @@ PKGS=(
   libjs-chart.js
   libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev
+  calculix-ccx
 )
 missing=()
 for p in "${PKGS[@]}"; do
