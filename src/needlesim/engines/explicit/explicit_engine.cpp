@@ -136,6 +136,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "bevel_orientation 0 or 180 deg)");
   for (auto [a, b] : st.seam) {
     if (!cohOn) solver.addTie(a, b);
+    // 3D: the lip sides disambiguate the nearest exit only on the sharp point's line (z = 0); off
+    // it the tube's lower wall is the natural exit of the upper lip, which the side rule forbids
+    if (dim == 3 && std::abs(meshCopy.coord(a, 2)) > 0.5 * ex.element_size) continue;
     solver.setContactSide(a, -copySide);
     solver.setContactSide(b, copySide);
   }

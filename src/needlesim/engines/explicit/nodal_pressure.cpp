@@ -42,12 +42,7 @@ double ExplicitSolver::nodalPressureCorrection() {
     double* fe = &fe_[static_cast<std::size_t>(e) * npe * d];
     const double* b = &anpB_[static_cast<std::size_t>(e) * npe * d];
     for (int k = 0; k < npe * d; ++k) fe[k] += dp * b[k];
-    // output stress: S += dp J C^-1
-    const Eigen::Matrix3d F = deformationGradient(e);
-    const double J = F.determinant();
-    const Eigen::Matrix3d dS = dp * J * (F.transpose() * F).inverse();
-    double* s = &spk2_[static_cast<std::size_t>(e) * 6];
-    s[0] += dS(0, 0), s[1] += dS(1, 1), s[2] += dS(2, 2), s[3] += dS(0, 1), s[4] += dS(1, 2), s[5] += dS(0, 2);
+    anpDp_[e] = dp;  // the output stress adds dp I to the Cauchy stress (cellFields)
   }
   return dE;
 }

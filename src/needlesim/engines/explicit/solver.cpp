@@ -276,6 +276,7 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
     anpP_.assign(nel_, 0.0);
     anpB_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
     anpNode_.assign(nnode_, 0.0);
+    anpDp_.assign(nel_, 0.0);
   }
   releaseDistance_ = minSize_;
   // stable step of the initial mesh, so that timeStep() is meaningful before the first step
@@ -801,6 +802,7 @@ void ExplicitSolver::cellFields(std::vector<double>& cauchy, std::vector<double>
     Voigt sv;
     for (int k = 0; k < 6; ++k) sv[k] = spk2_[static_cast<std::size_t>(e) * 6 + k];
     Matrix3d sig = J > 0 ? Matrix3d(F * fromVoigt(sv) * F.transpose() / J) : Matrix3d::Zero();
+    if (!anpDp_.empty()) sig += anpDp_[e] * Matrix3d::Identity();  // nodal pressure (nodal_pressure.cpp)
     Eigen::SelfAdjointEigenSolver<Matrix3d> es(F * F.transpose());
     Eigen::Vector3d lg = es.eigenvalues().cwiseMax(1e-300).array().log() * 0.5;
     Matrix3d eps = es.eigenvectors() * lg.asDiagonal() * es.eigenvectors().transpose();

@@ -215,7 +215,7 @@ class ExplicitSolver {
   std::vector<double> wElem_, hgElem_, hgStrain_;
   std::vector<int> failElem_;   // per element failure code (0 ok)
   std::vector<double> spk2_;    // nel * 6: second Piola-Kirchhoff stress (Voigt) of the last step
-  std::vector<double> anpP_, anpB_, anpNode_;  // nodal pressure: element p, V0 J F^-T grad0 N, nodal p
+  std::vector<double> anpP_, anpB_, anpNode_, anpDp_;  // nodal pressure: element p, V0 J F^-T grad0 N, nodal p
   std::vector<materials::PronyState<Eigen::Matrix<double, 6, 1>>> prony_;
   std::vector<double> matWaveModulus_, matShear_, matBulk_;
   // node data
