@@ -186,7 +186,7 @@ struct ExplicitModelSpec {
   double bulk_viscosity_quadratic = 1.2;
   double hourglass = 1.0;
   double damping = 0.0;              // 1/s, mass-proportional
-  double contact_penalty = 0.2;      // k = penalty m / dt^2
+  double contact_penalty = 10.0;     // k = penalty m / dt^2 (explicit/contact_normal.cpp)
   double tip_friction = 0.0;         // Coulomb coefficient on the tip surface (seed 001: 0)
   bool fixed_contact_stiffness = false;  // k from the first step's dt (conservative penalty, docs/models/cohesive.md)
   bool pre_cut = true;               // node-release seam along the needle path

@@ -297,9 +297,9 @@ std::vector<FieldDoc> build() {
   add(nonneg("explicit", "bulk_viscosity_quadratic", D::None, "1.2", "quadratic bulk viscosity b2 (ABAQUS default)"));
   add(nonneg("explicit", "hourglass", D::None, "1", "hourglass stiffness (1 = exact pure bending of a rectangular element)"));
   add(nonneg("explicit", "damping", D::Frequency, "0 1/s", "mass-proportional damping (dynamic relaxation)"));
-  add(q("explicit", "contact_penalty", D::None, "0.2", 0.0, 1.0, true, true, "contact stiffness as a fraction of m/dt^2"));
+  add(q("explicit", "contact_penalty", D::None, "10", 0.0, 1e4, true, false, "normal contact stiffness k = penalty m/dt^2, force at the end of the step (stable for any value); a value <= 1 also applies to cohesive seam lips, which otherwise use 0.3"));
   add(other("explicit", "fixed_contact_stiffness", Kind::Bool, "false",
-            "keep the contact stiffness of the first step (a conservative penalty: closes the needle energy balance; raise contact_penalty to 0.3-0.4)"));
+            "keep the contact stiffness of the first step (a conservative penalty: closes the needle energy balance of cohesive cutting; use contact_penalty 0.3-0.4)"));
   add(nonneg("explicit", "tip_friction", D::None, "0", "Coulomb coefficient on the tip surface (seed 001: frictionless); the wall uses the layer's friction.coefficient"));
   add(other("explicit", "pre_cut", Kind::Bool, "true", "pre-cut (node-release) seam along the needle path through the tip's leading point"));
   add(other("explicit", "cohesive", Kind::Section, "enable: false",

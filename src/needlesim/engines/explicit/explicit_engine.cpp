@@ -7,6 +7,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/explicit/contact_output.hpp"
 #include "needlesim/engines/explicit/pain_index.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
@@ -138,6 +139,10 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "imported mesh, entry_angle 90 deg, bevel_orientation 0 or 180 deg)");
   for (auto [a, b] : st.seam) {
     if (!cohOn) solver.addTie(a, b);
+    // 3D: the lip sides disambiguate the nearest exit only on the sharp point's line (z = 0); off
+    // it the tube's lower wall is the natural exit of the upper lip, which the side rule forbids
+    // (node-release seam only: the cohesive wedge needs every lip's side, cohesive_wedge.hpp)
+    if (dim == 3 && !cohOn && std::abs(meshCopy.coord(a, 2)) > 0.5 * ex.element_size) continue;
     solver.setContactSide(a, -copySide);
     solver.setContactSide(b, copySide);
   }
@@ -218,7 +223,12 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"energy balance", "J"}, {"kinetic/internal", "1"}, {"time step", "s"}, {"open seam nodes", "1"},
                     {"cohesive stored energy", "J"}, {"cohesive dissipation", "J"}, {"cracked length", "m"},
                     {"cracked area", "m^2"}, {"needle work", "J"}, {"friction dissipation", "J"},
-                    {"penalty energy", "J"}, {"needle energy balance", "J"}, {"tip lateral force", "N"}});
+                    {"penalty energy", "J"}, {"needle energy balance", "J"}, {"tip lateral force", "N"},
+                    {"contact area", "m^2"}, {"mean contact pressure", "Pa"}, {"max contact pressure", "Pa"},
+                    {"entry-frame lateral force", "N"}, {"axial torque", "N m"}, {"bevel orientation", "rad"}});
+  double peakTorque = 0;
+  ContactOutput contactOut(solver.mesh());  // contact pressure and area (contact_output.hpp)
+  double peakArea = 0, peakPressure = 0;
   io::FieldSeries* fields = sink.fields("tissue", dim);
   io::FieldSeries* needleFields = sink.fields("needle", dim);
   if (fields) {
@@ -249,6 +259,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       fields->stepPoints(xcur);
       fields->pointData("displacement", u, dim);
       fields->pointData("velocity", solver.velocity(), dim);
+      contactOut.update(solver);
+      fields->pointData("contact_pressure", contactOut.pressure(), 1);
       fields->cellData("cauchy_stress", sig, 6);
       fields->cellData("von_mises", vm, 1);
       fields->cellData("log_strain", ls, 6);
@@ -280,7 +292,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     const auto* n = solver.needle();
     const auto& E = solver.energies();
     const double depth = (n->pose.tip - entry).dot(axis);
-    const double fAx = -n->force.dot(axis) * thick, fLat = n->force.dot(bevelSide) * thick;
+    const double fAx = -n->force.dot(axis) * thick, fLat = n->force.dot(n->pose.bevelSide) * thick;
     const double tip = -n->tipForce.dot(axis) * thick;
     const double ie = E.internal;
     const double ratio = ie > 0 ? E.kinetic / ie : 0.0;
@@ -288,6 +300,13 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     if (solver.time() > 0.1 * T) ratioMax = std::max(ratioMax, ratio);
     balanceMax = std::max(balanceMax, std::abs(E.balance()));
     peak = std::max(peak, fAx);
+    // torque the tissue applies about the needle axis (the base must hold -torque)
+    const double torque = n->moment.dot(axis) * thick;
+    if (std::abs(torque) > std::abs(peakTorque)) peakTorque = torque;
+    contactOut.update(solver);
+    const double cArea = contactOut.contactArea() * thick;
+    peakArea = std::max(peakArea, cArea);
+    peakPressure = std::max(peakPressure, contactOut.maxPressure());
     series.addRow({solver.time(), depth, depth - depth0, fAx, fLat, tip, n->moment.z() * thick,
                    static_cast<double>(n->nodesInContact), E.kinetic * thick, ie * thick, E.strain * thick,
                    E.hourglass * thick, E.externalWork * thick, E.contactWork * thick, E.balance() * thick, ratio,
@@ -297,7 +316,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                    E.cohesiveStored * thick, E.cohesiveDissipated * thick,
                    cohOn ? crackedLength() : 0.0, cohOn ? solver.cohesive()->crackedLength() * (dim == 2 ? thick : 1.0) : 0.0,
                    E.needleWork * thick, E.frictionDissipation * thick, E.penaltyEnergy * thick,
-                   E.balanceWithNeedle() * thick, n->tipForce.dot(bevelSide) * thick});
+                   E.balanceWithNeedle() * thick, n->tipForce.dot(n->pose.bevelSide) * thick, cArea,
+                   contactOut.meanPressure(), contactOut.maxPressure(), n->force.dot(e1) * thick, torque,
+                   std::atan2(n->pose.bevelSide.dot(e2), n->pose.bevelSide.dot(e1))});
     needleBalanceMax = std::max(needleBalanceMax, std::abs(E.balanceWithNeedle()));
     needleWorkMax = std::max(needleWorkMax, std::abs(E.needleWork));
     if (cohOn) {
@@ -338,6 +359,10 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       sink.result("needle_energy_balance_error", needleBalanceMax / needleWorkMax, "1",
                   "largest |needle work - kinetic - internal - cohesive - friction - penalty| / largest needle work");
     }
+    sink.result("peak_contact_area", peakArea, "m^2",
+                "largest needle-tissue contact area (nodal tributary areas; 2D: times the slab thickness)");
+    sink.result("max_contact_pressure", peakPressure, "Pa", "largest nodal needle-tissue contact pressure");
+    sink.result("peak_axial_torque", peakTorque, "N m", "largest tissue torque about the needle axis (rotation)");
     sink.result("elements", solver.mesh().elements(), "1", "elements");
     sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
     sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");
@@ -423,6 +448,10 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       const auto ms = motion.at(t + 0.5 * dt);
       n->pose.tip = entry + motion.at(t).depth * axis;
       n->velocity = ms.velocity;
+      // rotation about the axis (profile `rotate`, needle_motion.hpp): 3D spins the surface; a 2D
+      // plane-strain model can only show the bevel on one side or the other
+      n->pose.bevelSide = bevelSideAt(motion.at(t).axial_angle, e1, e2, dim);
+      n->spinRate = dim == 3 ? ms.axial_rate : 0.0;
       solver.advanceTo(std::min(T, t + solver.timeStep()));
       if (solver.time() >= nextOut * (1 - 1e-9) || solver.time() >= T * (1 - 1e-12)) {
         record();

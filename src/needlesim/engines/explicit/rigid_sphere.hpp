@@ -1,10 +1,10 @@
 #pragma once
 // Analytic rigid sphere obstacle for the explicit solver (tests; Hertz
-// indentation, docs/validation/fe.md). Frictionless node-to-sphere penalty with
-// the solver's stiffness k = penalty m_a / (cfl dt_stable)^2 (solver.cpp
-// contactForces). Hook: the forces go through ExplicitSolver::setExternalForce
-// before each step(), so they act at the same configuration as the internal
-// forces (central difference), and their work is booked as external work.
+// indentation, docs/validation/fe.md). Frictionless node-to-sphere contact with
+// the solver's own normal contact (ExplicitSolver::addNormalContact: stiffness
+// contact_penalty m_a / (cfl dt_stable)^2, force at the end of the step,
+// contact_normal.cpp), registered before each step(); the force the step
+// applied is ExplicitSolver::externalContactForce() after it.
 #include <Eigen/Core>
 #include <algorithm>
 #include <cmath>
@@ -18,23 +18,16 @@ struct RigidSphere {
   Eigen::Vector3d centre = Eigen::Vector3d::Zero();
   double radius = 1.0;
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
-  double penalty = 0.2;  // as SolverOptions::contactPenalty
-  double cfl = 0.9;      // as SolverOptions::cfl
   // results of the last apply()
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the sphere (from the body)
   int nodesInContact = 0;
   std::vector<int> contactNodes;
   double maxPenetration = 0.0;
 
-  // Sets the contact force of every node of `s` (overwrites its external forces on contacting nodes,
-  // zeroes them on the others: use for bodies without other external loads).
+  // Registers the contact of every penetrating node of `s` for the next step.
   void apply(ExplicitSolver& s) {
     const int d = s.dim();
     const auto& X = s.mesh().X;
     const auto& u = s.displacement();
-    const double dt = cfl * s.stableTimeStep();
-    const double pen = dt > 0 ? penalty / (dt * dt) : 0.0;
-    force.setZero();
     nodesInContact = 0;
     contactNodes.clear();
     maxPenetration = 0.0;
@@ -44,13 +37,8 @@ struct RigidSphere {
       Eigen::Vector3d r = x - centre;
       const double dist = r.norm();
       const double gap = dist - radius;
-      if (gap >= 0 || dist == 0) {
-        for (int i = 0; i < d; ++i) s.setExternalForce(n, i, 0.0);
-        continue;
-      }
-      const Eigen::Vector3d f = (-gap * pen * s.nodalMass()[n] / dist) * r;
-      for (int i = 0; i < d; ++i) s.setExternalForce(n, i, f[i]);
-      force -= f;
+      if (gap >= 0 || dist == 0) continue;
+      s.addNormalContact(n, r / dist, -gap, velocity);
       ++nodesInContact;
       contactNodes.push_back(n);
       maxPenetration = std::max(maxPenetration, -gap);

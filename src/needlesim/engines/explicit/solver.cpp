@@ -109,8 +109,10 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   if (mesh_.region.size() != static_cast<std::size_t>(nel_)) mesh_.region.assign(nel_, 0);
   if (!(opt_.massScaling >= 1.0)) throw Error("explicit FE: mass scaling factor must be >= 1");
   if (!(opt_.cfl > 0 && opt_.cfl <= 1.0)) throw Error("explicit FE: CFL factor must lie in (0, 1]");
-  if (!(opt_.contactPenalty > 0 && opt_.contactPenalty < 1.0))
-    throw Error("explicit FE: contact penalty must lie in (0, 1) (fraction of m/dt^2)");
+  if (!(opt_.contactPenalty > 0 && opt_.contactPenalty <= 1e4))
+    throw Error("explicit FE: contact penalty must lie in (0, 1e4] (multiple of m/dt^2)");
+  if (!(opt_.stickPenalty > 0 && opt_.stickPenalty < 1.0))
+    throw Error("explicit FE: friction stick penalty must lie in (0, 1) (fraction of m/dt^2)");
 
   grad0_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
   gamma_.assign(static_cast<std::size_t>(nel_) * std::max(nhg_, 1) * npe_, 0.0);
@@ -131,6 +133,7 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
     double lam = lameLambda(m);
     matWaveModulus_.push_back(lam + 2 * mu);
     double K = lam + 2.0 / 3.0 * mu;
+    matBulk_.push_back(K);
     // bending modulus of the hourglass stiffness: plane-strain E' (2D) or E (3D); -> 4 mu, 3 mu as nu -> 1/2
     matShear_.push_back(dim_ == 2 ? 4 * mu * (lam + mu) / (lam + 2 * mu) : 9 * K * mu / (3 * K + mu));
   }
@@ -262,7 +265,22 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   fcon_.assign(ndof, 0.0);
   react_.assign(ndof, 0.0);
   dofGroup_.assign(ndof, -1);
+  contactBody_.assign(nnode_, -1);
+  contactK_.assign(nnode_, 0.0);
+  contactMu_.assign(nnode_, 0.0);
+  contactWedge_.assign(nnode_, 0.0);
+  contactFnApplied_.assign(nnode_, 0.0);
+  contactTip_.assign(nnode_, 0);
+  contactDepth_.assign(nnode_, 0.0);
+  contactNrm_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  contactVb_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
   penetrationTol_ = opt_.penetrationTolerance > 0 ? opt_.penetrationTolerance : 0.5 * minSize_;
+  if (opt_.nodalPressure && nhg_ == 0) {
+    anpP_.assign(nel_, 0.0);
+    anpB_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
+    anpNode_.assign(nnode_, 0.0);
+    anpDp_.assign(nel_, 0.0);
+  }
   releaseDistance_ = minSize_;
   // stable step of the initial mesh, so that timeStep() is meaningful before the first step
   elementForces(0.0);
@@ -313,6 +331,7 @@ int ExplicitSolver::addPlane(const RigidPlane& p) {
   planes_.push_back(p);
   planes_.back().normal.normalize();
   planeFt_.emplace_back(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  planeStage_.emplace_back(Vector3d::Zero());
   return static_cast<int>(planes_.size()) - 1;
 }
 void ExplicitSolver::setNeedle(const RigidNeedle& n) {
@@ -384,6 +403,17 @@ void ExplicitSolver::internalForces(double dtStep) {
     Matrix3d P = F * S;
     // Current gradients -> characteristic length and stable step.
     const Matrix3d Finv = F.inverse();
+    if constexpr (NPE == DIM + 1) {
+      if (!anpP_.empty()) {  // element pressure and V0 J F^-T grad0 N for the nodal-pressure pass
+        anpP_[e] = (F * S * F.transpose()).trace() / (3.0 * J);
+        for (int a = 0; a < NPE; ++a)
+          for (int i = 0; i < DIM; ++i) {
+            double b = 0.0;
+            for (int j = 0; j < DIM; ++j) b += Finv(j, i) * g[a * DIM + j];
+            anpB_[(static_cast<std::size_t>(e) * NPE + a) * DIM + i] = vol0_[e] * J * b;
+          }
+      }
+    }
     double sumG = 0.0;
     for (int a = 0; a < NPE; ++a) {
       for (int i = 0; i < DIM; ++i) {
@@ -435,6 +465,7 @@ void ExplicitSolver::internalForces(double dtStep) {
     eHg += ehg;
   }
   elementUpdates_ += nel_;
+  if (bad == 0 && !anpP_.empty()) eW += nodalPressureCorrection();
   if (bad > 0) {
     int e = static_cast<int>(std::find(failElem_.begin(), failElem_.end(), 1) - failElem_.begin());
     Matrix3d F = deformationGradient(e);
@@ -463,12 +494,19 @@ void ExplicitSolver::gatherForces() {
 
 void ExplicitSolver::contactForces(double dtStep) {
   std::fill(fcon_.begin(), fcon_.end(), 0.0);
+  std::fill(contactBody_.begin(), contactBody_.end(), -1);
+  extContactForceLast_ = extContactForce_;
+  extContactForce_.setZero();
   if (dtStep <= 0) return;
   const int d = dim_;
   // Penalty from the stable step, not the (possibly shortened) last step: k = penalty m / dt_stable^2.
+  // The normal force is completed at the end of the next step (contact_normal.cpp); the friction
+  // stick spring stays explicit with the stable fraction stickPenalty. fixedContactStiffness keeps
+  // the step of the first evaluation (a conservative penalty, docs/models/cohesive.md).
   if (dtPenFixed_ == 0.0) dtPenFixed_ = opt_.cfl * dtStable_;
   const double dtPen = opt_.fixedContactStiffness ? dtPenFixed_ : opt_.cfl * dtStable_;
   const double pen = opt_.contactPenalty / (dtPen * dtPen);
+  const double penStick = std::min(opt_.contactPenalty, opt_.stickPenalty) / (dtPen * dtPen);
   for (std::size_t p = 0; p < planes_.size(); ++p) {
     RigidPlane& pl = planes_[p];
     std::vector<double>& ftH = planeFt_[p];
@@ -489,12 +527,13 @@ void ExplicitSolver::contactForces(double dtStep) {
       const double k = pen * mass_[n];
       const double fn = -k * gap;
       Vector3d f = fn * pl.normal;
+      recordNormalContact(n, 2 + static_cast<int>(p), pl.normal, k, -gap, pl.velocity, pl.friction);
       if (pl.friction > 0) {
         Vector3d vr = v - pl.velocity;
         Vector3d vt = vr - vr.dot(pl.normal) * pl.normal;
         Vector3d t(ft[0], ft[1], ft[2]);
         t -= t.dot(pl.normal) * pl.normal;
-        t -= k * dtStep * vt;  // elastic stick predictor (slip increment over the step)
+        t -= penStick * mass_[n] * dtStep * vt;  // elastic stick predictor (slip increment over the step)
         double lim = pl.friction * fn, tn = t.norm();
         if (tn > lim) t *= lim / tn;  // return map onto the Coulomb cone
         ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
@@ -503,12 +542,11 @@ void ExplicitSolver::contactForces(double dtStep) {
       for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
       fx -= f[0], fy -= f[1], fz -= f[2];
     }
-    pl.force = Vector3d(fx, fy, fz);
+    planeStage_[p] = Vector3d(fx, fy, fz);  // pl.force: completed by normalContactCorrection
   }
   if (!hasNeedle_) return;
   RigidNeedle& nd = needle_;
   const bool planar = d == 2;
-  const Vector3d vb = nd.velocity * nd.pose.axis;
   const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
   double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0, ePen = 0;
   int count = 0;
@@ -523,6 +561,7 @@ void ExplicitSolver::contactForces(double dtStep) {
       v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
     }
     double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
+    const Vector3d vb = needleSurfaceVelocity(nd, x);  // translation + spin (needle_motion.cpp)
     double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
     needle::NeedleHit hit =
         needle::queryNeedle(nd.shape, nd.pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
@@ -555,16 +594,23 @@ void ExplicitSolver::contactForces(double dtStep) {
       ft[0] = ft[1] = ft[2] = 0;
       continue;
     }
-    const double k = pen * mass_[n];
+    // cohesive seam lips keep an explicit-range penalty, the one the wedge model was built with: the
+    // contact_penalty itself when it is <= 1, else lipPenalty (docs/models/explicit.md)
+    const bool seamLip = !cohPairOf_.empty() && cohPairOf_[n] >= 0;
+    const double lipPen = opt_.contactPenalty <= 1.0 ? opt_.contactPenalty : opt_.lipPenalty;
+    const double k = (seamLip ? lipPen / (dtPen * dtPen) : pen) * mass_[n];
     const double fn = k * hit.depth;
     Vector3d f = fn * hit.normal;
     const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
+    recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
+    contactWedge_[n] = wedgeAxial;
+    contactTip_[n] = hit.face == needle::NeedleFace::Tip;
     if (mu > 0) {
       Vector3d vr = v - vb;
       Vector3d vt = vr - vr.dot(hit.normal) * hit.normal;
       Vector3d t(ft[0], ft[1], ft[2]);
       t -= t.dot(hit.normal) * hit.normal;
-      t -= k * dtStep * vt;
+      t -= penStick * mass_[n] * dtStep * vt;
       double lim = mu * fn, tn = t.norm();
       if (tn > lim) t *= lim / tn;
       ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
@@ -590,10 +636,8 @@ void ExplicitSolver::contactForces(double dtStep) {
     ++count;
     maxPen = std::max(maxPen, hit.depth);
   }
-  nd.force = Vector3d(fx, fy, fz);
-  nd.moment = Vector3d(mx, my, mz);
-  nd.tipForce = Vector3d(tx, ty, tz);
-  nd.normalForce = fnSum;
+  // the forces the next step applies: completed by normalContactCorrection (contact_normal.cpp)
+  needleStage_ = {Vector3d(fx, fy, fz), Vector3d(mx, my, mz), Vector3d(tx, ty, tz), fnSum};
   nd.nodesInContact = count;
   nd.maxPenetration = maxPen;
   en_.penaltyEnergy = ePen;
@@ -602,7 +646,7 @@ void ExplicitSolver::contactForces(double dtStep) {
              fmtNum(penetrationTol_ * 1e3) + " mm",
          "the needle contact zone (tip at " + fmtNum(nd.pose.tip.x() * 1e3) + ", " + fmtNum(nd.pose.tip.y() * 1e3) +
              ", " + fmtNum(nd.pose.tip.z() * 1e3) + " mm)",
-         "Remedy: raise model.explicit.contact_penalty (up to 0.5), lower the insertion speed or the mass "
+         "Remedy: raise model.explicit.contact_penalty, lower the insertion speed or the mass "
          "scaling, or refine the mesh so that tissue nodes resolve the needle tip");
 }
 
@@ -637,6 +681,7 @@ void ExplicitSolver::step() {
   const double dt = dt_;
   const double dtAvg = steps_ == 0 ? 0.5 * dt : 0.5 * (dtPrev_ + dt);
   const double alpha = opt_.damping;
+  normalContactCorrection(dt, dtAvg);
   // Tied seam pairs move together: equal and opposite tie forces give both the
   // pair's common acceleration (they do no work since the velocities agree).
   if (!tieA_.empty()) {
@@ -732,7 +777,7 @@ void ExplicitSolver::step() {
   dtPrev_ = dt;
   ++steps_;
   // Rigid bodies move with their velocities.
-  if (hasNeedle_) needle_.pose.tip += dt * needle_.velocity * needle_.pose.axis;
+  if (hasNeedle_) advanceNeedle(needle_, dt);
   for (auto& pl : planes_) pl.point += dt * pl.velocity;
   // Forces at the new configuration.
   elementForces(dt);
@@ -797,6 +842,7 @@ void ExplicitSolver::cellFields(std::vector<double>& cauchy, std::vector<double>
     Voigt sv;
     for (int k = 0; k < 6; ++k) sv[k] = spk2_[static_cast<std::size_t>(e) * 6 + k];
     Matrix3d sig = J > 0 ? Matrix3d(F * fromVoigt(sv) * F.transpose() / J) : Matrix3d::Zero();
+    if (!anpDp_.empty()) sig += anpDp_[e] * Matrix3d::Identity();  // nodal pressure (nodal_pressure.cpp)
     Eigen::SelfAdjointEigenSolver<Matrix3d> es(F * F.transpose());
     Eigen::Vector3d lg = es.eigenvalues().cwiseMax(1e-300).array().log() * 0.5;
     Matrix3d eps = es.eigenvectors() * lg.asDiagonal() * es.eigenvectors().transpose();

@@ -25,6 +25,7 @@
 
 #include "needlesim/engines/explicit/cohesive.hpp"
 #include "needlesim/engines/explicit/mesh.hpp"
+#include "needlesim/engines/explicit/needle_motion.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
 #include "needlesim/materials/viscoelastic.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
@@ -47,13 +48,20 @@ struct SolverOptions {
   double bulkViscosityQuadratic = 1.2;   // b2 (ABAQUS default)
   double hourglass = 1.0;        // hourglass stiffness; 1 = exact pure bending of a rectangular element
   double damping = 0.0;          // 1/s, mass-proportional (dynamic relaxation; 0 = none)
-  double contactPenalty = 0.2;   // k = penalty m_a / dt^2 (dimensionless, < 1 for stability)
+  // Normal contact stiffness k = penalty m_a / (cfl dt_stable)^2 (contact_normal.cpp): the normal
+  // force is evaluated at the end of the step (implicit, node-local), so any penalty is stable;
+  // default 10 keeps the penetration ~1/10 of what the element's own stiffness would give.
+  double contactPenalty = 10.0;
+  double stickPenalty = 0.2;     // tangential (friction stick) stiffness, fraction of m/dt^2 (< 1, explicit)
+  double lipPenalty = 0.3;       // explicit normal penalty on cohesive seam lips when contactPenalty > 1
   // true: k from the first contact evaluation's stable step, then kept: a conservative penalty (with k
   // following dt the stored 1/2 k g^2 grows without work as elements distort; docs/models/cohesive.md)
   bool fixedContactStiffness = false;
   double penetrationTolerance = 0.0;  // m; 0 = half the smallest element size
   double hourglassStrainLimit = 2.0;  // stop when an element's hourglass (zig-zag) strain exceeds this
   double minTimeStepRatio = 1e-3;     // stop when dt falls below this fraction of the initial dt
+  // tri3/tet4: average nodal pressure (Bonet & Burton 1998; nodal_pressure.cpp) against volumetric locking
+  bool nodalPressure = true;
 };
 
 struct Energies {
@@ -91,15 +99,17 @@ struct RigidPlane {
   Eigen::Vector3d normal = Eigen::Vector3d::UnitY();  // outward: the body lies on this side
   Eigen::Vector3d velocity = Eigen::Vector3d::Zero();
   double friction = 0.0;
-  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the plane (from the body), last step
+  Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the plane (from the body), applied in the last step
 };
 
 struct RigidNeedle {
   needle::NeedleShape shape;
   needle::NeedlePose pose;
   double velocity = 0.0;         // m/s along pose.axis
+  double spinRate = 0.0;         // rad/s about pose.axis (needle_motion.hpp; 3D)
   double frictionWall = 0.0;     // Coulomb coefficient on the walls (seed 001: 0.3)
   double frictionTip = 0.0;      // on the tip surface (seed 001: frictionless)
+  // loads applied in the last step (the normal part evaluated at its end, contact_normal.cpp)
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // reaction on the needle (from the tissue)
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // about the base centre
   Eigen::Vector3d tipForce = Eigen::Vector3d::Zero();  // part of `force` acting on the tip surface
@@ -133,6 +143,22 @@ class ExplicitSolver {
   void setCohesive(CohesiveInterface c);
   CohesiveInterface* cohesive() { return coh_.empty() ? nullptr : &coh_.front(); }
   const CohesiveInterface* cohesive() const { return coh_.empty() ? nullptr : &coh_.front(); }
+
+  // Normal contact of `node` with an analytic rigid body outside the solver (tests: rigid_sphere.hpp),
+  // for the next step: penetration `depth` along `normal` (out of the body), body velocity `vb`,
+  // stiffness contactStiffness(node). Call between steps; the force applied in the step is
+  // externalContactForce() after it.
+  void addNormalContact(int node, const Eigen::Vector3d& normal, double depth, const Eigen::Vector3d& vb);
+  double contactStiffness(int node) const;
+  Eigen::Vector3d externalContactForce() const { return extContactForceLast_; }  // on the body, last step
+  // Normal contact force per node applied in the last step (0 = no contact), N (2D: N/m).
+  double nodeContactForce(int node) const { return contactFnApplied_.empty() ? 0.0 : contactFnApplied_[node]; }
+  // Its direction (out of the rigid body) at the current configuration; zero when not in contact.
+  Eigen::Vector3d nodeContactNormal(int node) const {
+    if (contactBody_.empty() || contactBody_[node] < 0) return Eigen::Vector3d::Zero();
+    const double* c = &contactNrm_[static_cast<std::size_t>(node) * 3];
+    return Eigen::Vector3d(c[0], c[1], c[2]);
+  }
 
   int addPlane(const RigidPlane& plane);
   RigidPlane& plane(int i) { return planes_[i]; }
@@ -176,7 +202,15 @@ class ExplicitSolver {
   // internalForces for this mesh's element type.
   void elementForces(double dtStep);
   void contactForces(double dtStep);
+  // Normal contact forces evaluated at the end of the step (contact_normal.cpp).
+  void recordNormalContact(int node, int body, const Eigen::Vector3d& normal, double k, double depth,
+                           const Eigen::Vector3d& vb, double mu = 0.0);
+  void normalContactCorrection(double dt, double dtAvg);
   void gatherForces();
+  // tri3/tet4 average nodal pressure: replaces each element's pressure by the mean of its nodes'
+  // volume-averaged pressures (nodal_pressure.cpp)
+  // Returns the change of the stored energy: nodal minus element volumetric energy p^2 / 2K.
+  double nodalPressureCorrection();
   void computeStableStep();
   [[noreturn]] void fail(const std::string& cause, const std::string& where, const std::string& remedy) const;
   std::string elementWhere(int e) const;
@@ -197,8 +231,9 @@ class ExplicitSolver {
   std::vector<double> wElem_, hgElem_, hgStrain_;
   std::vector<int> failElem_;   // per element failure code (0 ok)
   std::vector<double> spk2_;    // nel * 6: second Piola-Kirchhoff stress (Voigt) of the last step
+  std::vector<double> anpP_, anpB_, anpNode_, anpDp_;  // nodal pressure: element p, V0 J F^-T grad0 N, nodal p
   std::vector<materials::PronyState<Eigen::Matrix<double, 6, 1>>> prony_;
-  std::vector<double> matWaveModulus_, matShear_;
+  std::vector<double> matWaveModulus_, matShear_, matBulk_;
   // node data
   std::vector<int> nodeStart_, nodeSlots_;  // CSR node -> element slots (e*npe + a)
   std::vector<double> mass_, u_, vHalf_, fint_, fext_, fcon_, react_;
@@ -215,6 +250,18 @@ class ExplicitSolver {
   std::vector<signed char> contactSide_;  // per node, empty = none
   double penetrationTol_ = 0.0;
   double dtPenFixed_ = 0.0;  // stable step of the first contact evaluation (fixedContactStiffness)
+  // normal contact per node (contact_normal.cpp): body -1 none, 0 needle, 1 external, 2 + p plane p
+  std::vector<int> contactBody_;
+  std::vector<double> contactK_, contactDepth_, contactNrm_, contactVb_, contactMu_;
+  std::vector<double> contactFnApplied_;  // normal force applied in the last step
+  std::vector<double> contactWedge_;  // needle: axial reaction per unit normal force of a wedged seam lip
+  std::vector<char> contactTip_;      // needle: contact on the tip surface
+  struct NeedleLoads {
+    Eigen::Vector3d force = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero(), tip = Eigen::Vector3d::Zero();
+    double normal = 0.0;
+  } needleStage_;
+  std::vector<Eigen::Vector3d> planeStage_;
+  Eigen::Vector3d extContactForce_ = Eigen::Vector3d::Zero(), extContactForceLast_ = Eigen::Vector3d::Zero();
   // seam ties
   std::vector<int> tieA_, tieB_;
   std::vector<char> tieOn_;
