@@ -1,0 +1,103 @@
+#include "needlesim/engines/explicit/deformable_needle.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include <fmt/format.h>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/engines/explicit/solver.hpp"
+#include "needlesim/needle/beam_element.hpp"
+
+namespace needlesim::explicit_fe {
+
+using Eigen::Vector3d;
+
+namespace {
+// Small-deflection limit of the Euler-Bernoulli beam (slope ~ 20 deg: sin x / x within 2 %).
+constexpr double kMaxSlope = 0.35;
+}  // namespace
+
+double ExplicitSolver::needleLateralStiffness(const Vector3d& e) const {
+  double k = 0.0;
+  for (int n = 0; n < nnode_; ++n) {
+    if (contactBody_[n] != 0) continue;
+    const double* c = &contactNrm_[static_cast<std::size_t>(n) * 3];
+    const double ce = c[0] * e[0] + c[1] * e[1] + c[2] * e[2];
+    k += contactK_[n] * ce * ce;
+  }
+  return k;
+}
+
+needle::BeamSolution cantileverFromResultant(double EI, double length, int elements, double force, double moment) {
+  needle::StraightBeam b;
+  b.EI = EI;
+  b.length = length;
+  b.elements = elements;
+  const double h = length / elements;
+  std::vector<needle::NodalLoad> loads;
+  double a = length;
+  if (force != 0.0) a = std::clamp(moment / force, 0.0, length);
+  if (force != 0.0) {
+    // point load at a: consistent Hermite loads P N(xi) (beam_element.hpp), exact nodal values
+    const int j = std::min(static_cast<int>(a / h), elements - 1);
+    const double xi = a / h - j;
+    const needle::Vec4 N = needle::hermiteN(xi, h);
+    loads.push_back({j, force * N[0], force * N[1]});
+    loads.push_back({j + 1, force * N[2], force * N[3]});
+  }
+  loads.push_back({elements, 0.0, moment - a * force});  // the rest of the moment as a tip couple
+  return needle::solveStraightBeam(b, loads);
+}
+
+DeformableNeedle::DeformableNeedle(const needle::Section& section, double length, int dim, int elements)
+    : EI_(section.EI()), L_(length), dim_(dim), ne_(elements) {
+  if (!(EI_ > 0) || !(L_ > 0) || ne_ < 1)
+    throw Error("model.explicit.needle_model beam needs needle.youngs_modulus > 0, needle.outer_diameter > 0 and "
+                "needle.length > 0");
+  for (int p = 0; p < 2; ++p) w_[p].assign(ne_ + 1, 0.0), th_[p].assign(ne_ + 1, 0.0);
+}
+
+void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, const Vector3d& base, const Vector3d& axis,
+                              const Vector3d& bevelSide, double scale) {
+  Vector3d e[2];
+  e[0] = (bevelSide - bevelSide.dot(axis) * axis).normalized();
+  e[1] = axis.cross(e[0]);
+  // The solver's moment is about the base of the pose it used (the last one set here): move it to the clamp.
+  const Vector3d baseUsed = started_ ? Vector3d(lastTip_ - L_ * lastAxis_) : base;
+  const Vector3d F = n.force * scale, M = (n.moment + (baseUsed - base).cross(n.force)) * scale;
+  const double C = L_ * L_ * L_ / (3.0 * EI_);
+  double omega = 1.0;
+  for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p)
+    omega = std::min(omega, 1.0 / (1.0 + 2.0 * C * solver.needleLateralStiffness(e[p]) * scale));
+  omega_ = omega;
+  double wTip[2] = {0, 0}, thTip[2] = {0, 0}, residual = 0.0;
+  for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) {
+    const auto s = cantileverFromResultant(EI_, L_, ne_, F.dot(e[p]), M.dot(axis.cross(e[p])));
+    residual = std::max(residual, std::abs(s.w.back() - w_[p].back()));
+    for (int i = 0; i <= ne_; ++i) {
+      w_[p][i] += omega * (s.w[i] - w_[p][i]);
+      th_[p][i] += omega * (s.theta[i] - th_[p][i]);
+    }
+    wTip[p] = w_[p].back();
+    thTip[p] = th_[p].back();
+  }
+  const double slope = std::hypot(thTip[0], thTip[1]);
+  if (!std::isfinite(slope) || !std::isfinite(residual) || slope > kMaxSlope || residual > 0.25 * L_)
+    throw SolverError(fmt::format(
+        "explicit FE stopped at t = {:.6g} s (step {}): the deformable needle (model.explicit.needle_model: beam) did "
+        "not converge: tip slope {:.3g} rad (small-deflection limit {:.2g} rad), tip deflection {:.3g} mm, change "
+        "{:.3g} mm in one step. Remedy: a stiffer or shorter needle (needle.youngs_modulus, needle.length), a "
+        "slower insertion, or needle_model: rigid",
+        solver.time(), solver.steps(), slope, kMaxSlope, wTip[0] * 1e3, residual * 1e3));
+  Vector3d ax = axis + thTip[0] * e[0] + thTip[1] * e[1];
+  ax.normalize();
+  n.pose.tip = base + L_ * axis + wTip[0] * e[0] + wTip[1] * e[1];
+  n.pose.axis = ax;
+  n.pose.bevelSide = (bevelSide - bevelSide.dot(ax) * ax).normalized();
+  lastTip_ = n.pose.tip;
+  lastAxis_ = ax;
+  started_ = true;
+}
+
+}  // namespace needlesim::explicit_fe

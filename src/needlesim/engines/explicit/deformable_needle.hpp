@@ -1,0 +1,60 @@
+#pragma once
+// Deformable needle of the explicit engine (model.explicit.needle_model: beam; docs/models/explicit.md,
+// "Deformable needle"): an Euler-Bernoulli cantilever clamped at the needle base, which follows the
+// insertion profile, loaded by the tissue's contact resultant on the needle (force and moment about
+// the base, collected by the solver each step) and solved quasi-statically once per explicit step with
+// the shared beam element and banded solver (needle/beam_solver.hpp). The contact surface is the
+// rigid needle's shape placed at the deflected tip, along the deflected tip axis (a straight shaft
+// along the tip tangent: the first approximation the docs describe).
+//
+// Load model: per bending plane (lateral unit e), the lateral force F_e and the moment M_e about the
+// clamped base fix the line of action a = M_e / F_e of the resultant; F_e acts as a point load at a
+// (clamped to [0, L], consistent Hermite loads, exact nodal values for a cubic beam) and what is left,
+// M_e - a F_e, as a couple at the tip. Statically exact; where the contact is one patch (the inserted
+// part near the tip) the deflection is that of the patch's resultant.
+// Coupling: the lagged pose is under-relaxed, u += omega (u_beam - u), omega = 1 / (1 + 2 C K), with
+// C = L^3 / (3 EI) the tip compliance and K the lateral penalty stiffness of the nodes in contact (the
+// tissue's instantaneous response to a pose jump): a linear fixed-point iteration with error factor
+// 1 - omega (1 + C K) <= 1/2 per step. Stops with SolverError when the slope leaves small deflections.
+#include <Eigen/Core>
+#include <vector>
+
+#include "needlesim/needle/beam_solver.hpp"
+#include "needlesim/needle/section.hpp"
+
+namespace needlesim::explicit_fe {
+
+struct RigidNeedle;
+class ExplicitSolver;
+
+// One bending plane of a clamped cantilever of length L: lateral force F and moment M about the
+// clamped end (both in the plane, M = a F for a force at distance a), as described above.
+needle::BeamSolution cantileverFromResultant(double EI, double length, int elements, double force, double moment);
+
+class DeformableNeedle {
+ public:
+  // dim 2: one bending plane (the insertion plane); 3: two.
+  DeformableNeedle(const needle::Section& section, double length, int dim, int elements = 20);
+
+  // Once per explicit step, before it: loads from n.force / n.moment (the last step's reaction, per
+  // unit thickness times `scale`), solves the beam with the base clamped at `base` along `axis`
+  // (undeflected), relaxes and sets n.pose (tip, axis, bevelSide from the rigid `bevelSide`).
+  void update(RigidNeedle& n, const ExplicitSolver& solver, const Eigen::Vector3d& base, const Eigen::Vector3d& axis,
+              const Eigen::Vector3d& bevelSide, double scale);
+
+  // Applied (relaxed) tip deflection along the rigid bevel side (+ = towards the bevel side), m.
+  double tipDeflection() const { return w_[0].empty() ? 0.0 : w_[0].back(); }
+  double tipSlope() const { return th_[0].empty() ? 0.0 : th_[0].back(); }
+  double EI() const { return EI_; }
+  double relaxation() const { return omega_; }
+
+ private:
+  double EI_, L_;
+  int dim_, ne_;
+  std::vector<double> w_[2], th_[2];  // applied nodal deflection and slope per plane
+  Eigen::Vector3d lastTip_ = Eigen::Vector3d::Zero(), lastAxis_ = Eigen::Vector3d::Zero();
+  bool started_ = false;
+  double omega_ = 1.0;
+};
+
+}  // namespace needlesim::explicit_fe
