@@ -16,6 +16,7 @@ using Eigen::Vector3d;
 namespace {
 // Small-deflection limit of the Euler-Bernoulli beam (slope ~ 20 deg: sin x / x within 2 %).
 constexpr double kMaxSlope = 0.35;
+constexpr double kMinLateralSpeed = 1e-3;  // m/s
 }  // namespace
 
 double ExplicitSolver::needleLateralStiffness(const Vector3d& e) const {
@@ -55,7 +56,8 @@ DeformableNeedle::DeformableNeedle(const needle::Section& section, double length
   if (!(EI_ > 0) || !(L_ > 0) || ne_ < 1)
     throw Error("model.explicit.needle_model beam needs needle.youngs_modulus > 0, needle.outer_diameter > 0 and "
                 "needle.length > 0");
-  for (int p = 0; p < 2; ++p) w_[p].assign(ne_ + 1, 0.0), th_[p].assign(ne_ + 1, 0.0);
+  for (int p = 0; p < 2; ++p)
+    w_[p].assign(ne_ + 1, 0.0), th_[p].assign(ne_ + 1, 0.0), vw_[p].assign(ne_ + 1, 0.0), vt_[p].assign(ne_ + 1, 0.0);
 }
 
 void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, const Vector3d& base, const Vector3d& axis,
@@ -67,21 +69,42 @@ void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, cons
   const Vector3d baseUsed = started_ ? Vector3d(lastTip_ - L_ * lastAxis_) : base;
   const Vector3d F = n.force * scale, M = (n.moment + (baseUsed - base).cross(n.force)) * scale;
   const double C = L_ * L_ * L_ / (3.0 * EI_);
-  double omega = 1.0;
-  for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p)
-    omega = std::min(omega, 1.0 / (1.0 + 2.0 * C * solver.needleLateralStiffness(e[p]) * scale));
-  omega_ = omega;
-  double wTip[2] = {0, 0}, thTip[2] = {0, 0}, residual = 0.0;
+  // Damped follower (dynamic relaxation of the needle, see the header): u'' = w0^2 (u_beam - u) - 2 w0 u'.
+  // A pose jump du changes u_beam by -C K du at once (penalty), so the loop's highest frequency is
+  // w0 sqrt(1 + C K); w0 = 1 / (dt sqrt(1 + 2 C K)) keeps it at w dt < 0.71 (central differences: < 2).
+  const double dt = solver.timeStep();
+  double ck = 0.0;
+  for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) ck = std::max(ck, C * solver.needleLateralStiffness(e[p]) * scale);
+  const double w0 = 1.0 / (dt * std::sqrt(1.0 + 2.0 * ck)), a = w0 * dt;
+  omega_ = w0;
+  double wTip[2] = {0, 0}, thTip[2] = {0, 0}, residual = 0.0, wTarget = 0.0;
   for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) {
     const auto s = cantileverFromResultant(EI_, L_, ne_, F.dot(e[p]), M.dot(axis.cross(e[p])));
     residual = std::max(residual, std::abs(s.w.back() - w_[p].back()));
+    if (p == 0) wTarget = s.w.back();
+    // kinetic damping (dynamic relaxation): moving away from the beam solution, restart at rest, so
+    // momentum gathered while the contact was soft cannot carry the pose past it when it stiffens
+    if (vw_[p].back() * (s.w.back() - w_[p].back()) < 0.0) std::fill(vw_[p].begin(), vw_[p].end(), 0.0), std::fill(vt_[p].begin(), vt_[p].end(), 0.0);
     for (int i = 0; i <= ne_; ++i) {
-      w_[p][i] += omega * (s.w[i] - w_[p][i]);
-      th_[p][i] += omega * (s.theta[i] - th_[p][i]);
+      // central differences, damping semi-implicit (v at the half steps)
+      vw_[p][i] = ((1.0 - a) * vw_[p][i] + dt * w0 * w0 * (s.w[i] - w_[p][i])) / (1.0 + a);
+      vt_[p][i] = ((1.0 - a) * vt_[p][i] + dt * w0 * w0 * (s.theta[i] - th_[p][i])) / (1.0 + a);
+    }
+    // the tip moves sideways no faster than the needle advances (1 mm/s at rest): a pose jump the
+    // penalty contact cannot follow would push the tissue nodes through the wall
+    const double vmax = std::max(std::abs(n.velocity), kMinLateralSpeed), vTip = std::abs(vw_[p].back());
+    const double cap = vTip > vmax ? vmax / vTip : 1.0;
+    for (int i = 0; i <= ne_; ++i) {
+      vw_[p][i] *= cap, vt_[p][i] *= cap;
+      w_[p][i] += dt * vw_[p][i];
+      th_[p][i] += dt * vt_[p][i];
     }
     wTip[p] = w_[p].back();
     thTip[p] = th_[p].back();
   }
+  residual_ = residual;
+  target_ = wTarget;
+  if (n.nodesInContact > 0) residualSum_ += residual, ++residualCount_;
   const double slope = std::hypot(thTip[0], thTip[1]);
   if (!std::isfinite(slope) || !std::isfinite(residual) || slope > kMaxSlope || residual > 0.25 * L_)
     throw SolverError(fmt::format(

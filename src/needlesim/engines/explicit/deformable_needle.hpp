@@ -46,15 +46,22 @@ class DeformableNeedle {
   double tipDeflection() const { return w_[0].empty() ? 0.0 : w_[0].back(); }
   double tipSlope() const { return th_[0].empty() ? 0.0 : th_[0].back(); }
   double EI() const { return EI_; }
-  double relaxation() const { return omega_; }
+  double followerFrequency() const { return omega_; }  // w0, 1/s
+  // Beam tip deflection under the last step's loads (the follower's target, bevel-side plane), m;
+  // |target - applied| at the tip in the last update and its mean over the updates in contact.
+  double targetDeflection() const { return target_; }
+  double residual() const { return residual_; }
+  double meanResidual() const { return residualCount_ ? residualSum_ / residualCount_ : 0.0; }
 
  private:
   double EI_, L_;
   int dim_, ne_;
-  std::vector<double> w_[2], th_[2];  // applied nodal deflection and slope per plane
+  std::vector<double> w_[2], th_[2];    // applied nodal deflection and slope per plane
+  std::vector<double> vw_[2], vt_[2];  // their rates (the damped follower)
   Eigen::Vector3d lastTip_ = Eigen::Vector3d::Zero(), lastAxis_ = Eigen::Vector3d::Zero();
   bool started_ = false;
-  double omega_ = 1.0;
+  double omega_ = 1.0, residual_ = 0.0, target_ = 0.0, residualSum_ = 0.0;
+  long residualCount_ = 0;
 };
 
 }  // namespace needlesim::explicit_fe

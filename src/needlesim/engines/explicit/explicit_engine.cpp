@@ -234,7 +234,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"penalty energy", "J"}, {"needle energy balance", "J"}, {"tip lateral force", "N"},
                     {"contact area", "m^2"}, {"mean contact pressure", "Pa"}, {"max contact pressure", "Pa"},
                     {"entry-frame lateral force", "N"}, {"axial torque", "N m"}, {"bevel orientation", "rad"},
-                    {"tip deflection", "m"}, {"tip slope", "rad"}});
+                    {"tip deflection", "m"}, {"tip slope", "rad"}, {"beam tip deflection", "m"}});
   double peakTorque = 0;
   ContactOutput contactOut(solver.mesh());  // contact pressure and area (contact_output.hpp)
   double peakArea = 0, peakPressure = 0;
@@ -328,7 +328,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                    E.balanceWithNeedle() * thick, n->tipForce.dot(n->pose.bevelSide) * thick, cArea,
                    contactOut.meanPressure(), contactOut.maxPressure(), n->force.dot(e1) * thick, torque,
                    std::atan2(n->pose.bevelSide.dot(e2), n->pose.bevelSide.dot(e1)),
-                   beam ? beam->tipDeflection() : 0.0, beam ? beam->tipSlope() : 0.0});
+                   beam ? beam->tipDeflection() : 0.0, beam ? beam->tipSlope() : 0.0,
+                   beam ? beam->targetDeflection() : 0.0});
     needleBalanceMax = std::max(needleBalanceMax, std::abs(E.balanceWithNeedle()));
     needleWorkMax = std::max(needleWorkMax, std::abs(E.needleWork));
     if (cohOn) {
@@ -377,6 +378,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       sink.result("final_tip_deflection", beam->tipDeflection(), "m",
                   "lateral tip deflection of the deformable needle at the end, + towards the bevel side");
       sink.result("final_tip_slope", beam->tipSlope(), "rad", "tip slope of the deformable needle at the end");
+      sink.result("needle_coupling_residual_mean", beam->meanResidual(), "m",
+                  "mean |beam tip deflection under the last step's loads - applied (followed) deflection| in contact");
       sink.note("Deformable needle (needle_model: beam): Euler-Bernoulli cantilever clamped at the base, EI = " +
                 std::to_string(beam->EI()) + " N m^2, loaded by the contact resultant each step; the contact "
                 "surface is a straight needle along the deflected tip axis (docs/models/explicit.md).");
