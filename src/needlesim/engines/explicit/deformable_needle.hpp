@@ -60,7 +60,7 @@ class DeformableNeedle {
   std::vector<double> vw_[2], vt_[2];  // their rates (the damped follower)
   Eigen::Vector3d lastTip_ = Eigen::Vector3d::Zero(), lastAxis_ = Eigen::Vector3d::Zero();
   bool started_ = false;
-  double omega_ = 1.0, residual_ = 0.0, target_ = 0.0, residualSum_ = 0.0;
+  double omega_ = 1.0, residual_ = 0.0, target_ = 0.0, residualSum_ = 0.0, residualAvg_ = 0.0;
   long residualCount_ = 0;
 };
 
