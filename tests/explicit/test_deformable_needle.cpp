@@ -128,3 +128,51 @@ TEST(DeformableNeedle, TooSoftNeedleStopsWithClearError) {
     EXPECT_NE(std::string(e.what()).find("needle_model"), std::string::npos) << e.what();
   }
 }
+
+// (3) The follower settles on the beam solution: a 3D bevel needle (1 GPa, 2 mm, 20 mm long, bevel at
+// 45 deg about the axis, no pre-cut) indents a hex block 1.5 mm and holds. At the end of the hold the
+// applied tip deflection equals the beam's static solution under the contact resultant (2 %), and,
+// the load acting within 1.5 mm of the tip, it lies between a force at the tip and one 1.5 mm behind:
+// P L^3/3EI x [a^2 (3L - a) / 2L^3 = 0.89, 1] (x 0.85-1.1 for the couple of the axial force's offset).
+TEST(DeformableNeedle, IndentationHoldSettlesOnCantileverDeflection) {
+  const std::string text = R"(
+name: deformable_indentation
+tissue:
+  block: {length: 6 mm, width: 8 mm, height: 8 mm}
+  material: {law: neo-hookean, C10: 3.6 kPa, nu: 0.45, density: 1000 kg/m^3}
+  friction: {coefficient: 0.3}
+needle: {outer_diameter: 2 mm, length: 20 mm, bevel_angle: 30 deg, tip: bevel, youngs_modulus: 1 GPa}
+insertion:
+  entry_angle: 90 deg
+  bevel_orientation: 45 deg
+  start_depth: -0.3 mm
+  profile:
+    - insert: {to: 1.5 mm, speed: 10 mm/s}
+    - pause: {duration: 50 ms}
+model:
+  engine: explicit
+  explicit:
+    dimension: 3d
+    element: hex8
+    element_size: 0.5 mm
+    max_element_size: 2 mm
+    core_width: 4 mm
+    mass_scaling: 100
+    damping: 200 1/s
+    pre_cut: false
+    needle_model: beam
+output: {interval: 5 ms}
+)";
+  MemorySink s = runInMemory(scenario::readText(text, "<deformable indentation>"));
+  const auto& t = s.tables.at("explicit");
+  const double w = t.column("tip deflection").back(), wBeam = t.column("beam tip deflection").back();
+  const double P = t.column("lateral force").back();  // along the bevel side, N
+  const double EI = 1e9 * M_PI * std::pow(2e-3, 4) / 64, L = 20e-3, wTip = P * L * L * L / (3 * EI);
+  std::printf("3D hold: applied %.5g um, beam solution %.5g um, P L^3/3EI %.5g um (P = %.4g N)\n", w * 1e6,
+              wBeam * 1e6, wTip * 1e6, P);
+  EXPECT_LT(P, 0.0);  // towards the sharp point
+  EXPECT_NEAR(w / wBeam, 1.0, 0.02);
+  EXPECT_GT(w / wTip, 0.89 * 0.85);
+  EXPECT_LT(w / wTip, 1.1);
+  EXPECT_DOUBLE_EQ(s.results.at("final_tip_deflection").value, w);
+}
