@@ -72,7 +72,7 @@ void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, cons
   // Damped follower (dynamic relaxation of the needle, see the header): u'' = w0^2 (u_beam - u) - 2 w0 u'.
   // A pose jump du changes u_beam by -C K du at once (penalty), so the loop's highest frequency is
   // w0 sqrt(1 + C K); w0 = 1 / (dt sqrt(1 + 2 C K)) keeps it at w dt < 0.71 (central differences: < 2).
-  const double dt = solver.timeStep();
+  const double dt = solver.timeStep() > 0 ? solver.timeStep() : solver.stableTimeStep();
   double ck = 0.0;
   for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) ck = std::max(ck, C * solver.needleLateralStiffness(e[p]) * scale);
   const double w0 = 1.0 / (dt * std::sqrt(1.0 + 2.0 * ck)), a = w0 * dt;
@@ -84,7 +84,10 @@ void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, cons
     if (p == 0) wTarget = s.w.back();
     // kinetic damping (dynamic relaxation): moving away from the beam solution, restart at rest, so
     // momentum gathered while the contact was soft cannot carry the pose past it when it stiffens
-    if (vw_[p].back() * (s.w.back() - w_[p].back()) < 0.0) std::fill(vw_[p].begin(), vw_[p].end(), 0.0), std::fill(vt_[p].begin(), vt_[p].end(), 0.0);
+    if (vw_[p].back() * (s.w.back() - w_[p].back()) < 0.0) {
+      std::fill(vw_[p].begin(), vw_[p].end(), 0.0);
+      std::fill(vt_[p].begin(), vt_[p].end(), 0.0);
+    }
     for (int i = 0; i <= ne_; ++i) {
       // central differences, damping semi-implicit (v at the half steps)
       vw_[p][i] = ((1.0 - a) * vw_[p][i] + dt * w0 * w0 * (s.w[i] - w_[p][i])) / (1.0 + a);

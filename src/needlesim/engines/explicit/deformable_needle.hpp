@@ -12,10 +12,15 @@
 // (clamped to [0, L], consistent Hermite loads, exact nodal values for a cubic beam) and what is left,
 // M_e - a F_e, as a couple at the tip. Statically exact; where the contact is one patch (the inserted
 // part near the tip) the deflection is that of the patch's resultant.
-// Coupling: the lagged pose is under-relaxed, u += omega (u_beam - u), omega = 1 / (1 + 2 C K), with
-// C = L^3 / (3 EI) the tip compliance and K the lateral penalty stiffness of the nodes in contact (the
-// tissue's instantaneous response to a pose jump): a linear fixed-point iteration with error factor
-// 1 - omega (1 + C K) <= 1/2 per step. Stops with SolverError when the slope leaves small deflections.
+// Coupling: the pose lags one step behind the loads, and a pose jump du changes the contact force
+// at once by the penalty stiffness K of the nodes in contact (C K ~ 1e3-1e4 for a soft needle,
+// C = L^3 / (3 EI) the tip compliance), so a plain fixed-point update diverges and under-relaxation
+// stable against K lags by ~C K steps. The applied nodal deflections u follow the beam solution as
+// a critically damped oscillator (dynamic relaxation of a mass-scaled needle),
+// u'' = w0^2 (u_beam - u) - 2 w0 u', w0 = 1 / (dt sqrt(1 + 2 C K)): lag ~sqrt(C K) steps, loop
+// frequency < 0.71 / dt; kinetic damping (restart at rest when moving away from u_beam) and a
+// lateral tip speed capped at the insertion speed. Stops with SolverError when the slope leaves
+// small deflections or the averaged residual grows (docs/models/explicit.md, "Deformable needle").
 #include <Eigen/Core>
 #include <vector>
 
