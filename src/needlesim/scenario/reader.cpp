@@ -452,6 +452,9 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
     x.tip_friction = exs.number("tip_friction");
     x.fixed_contact_stiffness = exs.boolean("fixed_contact_stiffness");
     x.pre_cut = exs.boolean("pre_cut");
+    x.needle_model = exs.choice("needle_model");
+    if (x.needle_model == "beam" && !(sc.needle.youngs_modulus > 0))
+      throw exs.error("needle_model", "beam", "needs the needle's Young's modulus", "needle.youngs_modulus > 0");
     {
       Section cs = exs.sub("cohesive");
       auto& c = x.cohesive;

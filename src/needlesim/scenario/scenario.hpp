@@ -189,6 +189,7 @@ struct ExplicitModelSpec {
   double contact_penalty = 10.0;     // k = penalty m / dt^2 (explicit/contact_normal.cpp)
   double tip_friction = 0.0;         // Coulomb coefficient on the tip surface (seed 001: 0)
   bool fixed_contact_stiffness = false;  // k from the first step's dt (conservative penalty, docs/models/cohesive.md)
+  std::string needle_model = "rigid";  // rigid or beam (explicit/deformable_needle.hpp)
   bool pre_cut = true;               // node-release seam along the needle path
   ExplicitCohesiveSpec cohesive;     // cohesive law on the seam instead of node release (2D, 3D hex8)
   double field_interval = 0.0;       // s, ParaView fields (0 = 20 frames over the run)

@@ -301,6 +301,10 @@ std::vector<FieldDoc> build() {
   add(other("explicit", "fixed_contact_stiffness", Kind::Bool, "false",
             "keep the contact stiffness of the first step (a conservative penalty: closes the needle energy balance of cohesive cutting; use contact_penalty 0.3-0.4)"));
   add(nonneg("explicit", "tip_friction", D::None, "0", "Coulomb coefficient on the tip surface (seed 001: frictionless); the wall uses the layer's friction.coefficient"));
+  add(other("explicit", "needle_model", Kind::Choice, "rigid",
+            "rigid: the needle moves as a rigid body; beam: an Euler-Bernoulli cantilever clamped at the base, bent by the "
+            "tissue's contact resultant each step (needle.youngs_modulus; docs/models/explicit.md, \"Deformable needle\")",
+            false, {}, {"rigid", "beam"}));
   add(other("explicit", "pre_cut", Kind::Bool, "true", "pre-cut (node-release) seam along the needle path through the tip's leading point"));
   add(other("explicit", "cohesive", Kind::Section, "enable: false",
             "bilinear cohesive zone on the pre-cut seam instead of node release (2d quad4 lines, 3d hex8 quadrilaterals; docs/models/cohesive.md)", false,

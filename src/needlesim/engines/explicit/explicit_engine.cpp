@@ -4,10 +4,12 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <memory>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
 #include "needlesim/engines/explicit/contact_output.hpp"
+#include "needlesim/engines/explicit/deformable_needle.hpp"
 #include "needlesim/engines/explicit/pain_index.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
@@ -209,6 +211,12 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   nd.frictionWall = sc.tissue.layers.front().friction.coefficient;
   nd.frictionTip = ex.tip_friction;
   solver.setNeedle(nd);
+  // Deformable needle (model.explicit.needle_model: beam, deformable_needle.hpp): a cantilever clamped at
+  // the base, which follows the profile; it sets the contact pose from its deflection each step.
+  std::unique_ptr<DeformableNeedle> beam;
+  if (ex.needle_model == "beam")
+    beam = std::make_unique<DeformableNeedle>(
+        needle::Section{sc.needle.youngs_modulus, sc.needle.outer_diameter, sc.needle.inner_diameter}, shape.length, dim);
 
   const double T = motion.duration();
   const double thick = dim == 2 ? st.thickness : 1.0;
@@ -225,7 +233,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                     {"cracked area", "m^2"}, {"needle work", "J"}, {"friction dissipation", "J"},
                     {"penalty energy", "J"}, {"needle energy balance", "J"}, {"tip lateral force", "N"},
                     {"contact area", "m^2"}, {"mean contact pressure", "Pa"}, {"max contact pressure", "Pa"},
-                    {"entry-frame lateral force", "N"}, {"axial torque", "N m"}, {"bevel orientation", "rad"}});
+                    {"entry-frame lateral force", "N"}, {"axial torque", "N m"}, {"bevel orientation", "rad"},
+                    {"tip deflection", "m"}, {"tip slope", "rad"}, {"beam tip deflection", "m"}});
   double peakTorque = 0;
   ContactOutput contactOut(solver.mesh());  // contact pressure and area (contact_output.hpp)
   double peakArea = 0, peakPressure = 0;
@@ -318,7 +327,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                    E.needleWork * thick, E.frictionDissipation * thick, E.penaltyEnergy * thick,
                    E.balanceWithNeedle() * thick, n->tipForce.dot(n->pose.bevelSide) * thick, cArea,
                    contactOut.meanPressure(), contactOut.maxPressure(), n->force.dot(e1) * thick, torque,
-                   std::atan2(n->pose.bevelSide.dot(e2), n->pose.bevelSide.dot(e1))});
+                   std::atan2(n->pose.bevelSide.dot(e2), n->pose.bevelSide.dot(e1)),
+                   beam ? beam->tipDeflection() : 0.0, beam ? beam->tipSlope() : 0.0,
+                   beam ? beam->targetDeflection() : 0.0});
     needleBalanceMax = std::max(needleBalanceMax, std::abs(E.balanceWithNeedle()));
     needleWorkMax = std::max(needleWorkMax, std::abs(E.needleWork));
     if (cohOn) {
@@ -363,6 +374,16 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "largest needle-tissue contact area (nodal tributary areas; 2D: times the slab thickness)");
     sink.result("max_contact_pressure", peakPressure, "Pa", "largest nodal needle-tissue contact pressure");
     sink.result("peak_axial_torque", peakTorque, "N m", "largest tissue torque about the needle axis (rotation)");
+    if (beam) {
+      sink.result("final_tip_deflection", beam->tipDeflection(), "m",
+                  "lateral tip deflection of the deformable needle at the end, + towards the bevel side");
+      sink.result("final_tip_slope", beam->tipSlope(), "rad", "tip slope of the deformable needle at the end");
+      sink.result("needle_coupling_residual_mean", beam->meanResidual(), "m",
+                  "mean |beam tip deflection under the last step's loads - applied (followed) deflection| in contact");
+      sink.note("Deformable needle (needle_model: beam): Euler-Bernoulli cantilever clamped at the base, EI = " +
+                std::to_string(beam->EI()) + " N m^2, loaded by the contact resultant each step; the contact "
+                "surface is a straight needle along the deflected tip axis (docs/models/explicit.md).");
+    }
     sink.result("elements", solver.mesh().elements(), "1", "elements");
     sink.result("steps", static_cast<double>(solver.steps()), "1", "time steps");
     sink.result("time_step", solver.timeStep(), "s", "last stable time step (after mass scaling)");
@@ -452,6 +473,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       // plane-strain model can only show the bevel on one side or the other
       n->pose.bevelSide = bevelSideAt(motion.at(t).axial_angle, e1, e2, dim);
       n->spinRate = dim == 3 ? ms.axial_rate : 0.0;
+      n->pose.axis = axis;
+      if (beam) beam->update(*n, solver, n->pose.tip - shape.length * axis, axis, n->pose.bevelSide, thick);
       solver.advanceTo(std::min(T, t + solver.timeStep()));
       if (solver.time() >= nextOut * (1 - 1e-9) || solver.time() >= T * (1 - 1e-12)) {
         record();

@@ -160,6 +160,10 @@ class ExplicitSolver {
     return Eigen::Vector3d(c[0], c[1], c[2]);
   }
 
+  // sum k (n.e)^2 over the nodes in needle contact in the last step: the lateral penalty stiffness
+  // along e the deformable needle's coupling relaxes against (deformable_needle.cpp)
+  double needleLateralStiffness(const Eigen::Vector3d& e) const;
+
   int addPlane(const RigidPlane& plane);
   RigidPlane& plane(int i) { return planes_[i]; }
   void setNeedle(const RigidNeedle& n);
