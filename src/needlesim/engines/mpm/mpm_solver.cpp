@@ -627,8 +627,9 @@ inline void pairContact(double m0, double m1, double* v0, double* v1, const doub
   const double nn = n.norm();
   if (!(nn > 0)) return;
   n /= nn;
-  // Gap rule: the mass centroids of the two fields seen from this node must be
-  // closer than when the two surfaces touch (no contact a cell early).
+  // Gap rule (no contact a cell early): the two surfaces estimated from the
+  // field centroids at this node meet (Surface), or the centroids are closer
+  // than those of two half-spaces touching at the node (Centroid).
   const Vec3 c0(x0[0] / m0, x0[1] / m0, x0[2] / m0), c1(x1[0] / m1, x1[1] / m1, x1[2] / m1);
   if (est) {
     // Surface rule: each field's surface from its centroid (surface_estimate.hpp).

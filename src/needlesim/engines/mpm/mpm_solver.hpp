@@ -8,8 +8,8 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>
-#include <optional>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 

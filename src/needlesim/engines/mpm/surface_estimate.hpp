@@ -10,7 +10,10 @@
 // transverse factors cancel for a face normal to an axis). c is increasing in
 // s, so the measured centroid gives the surface s = c^{-1}(c_measured) at
 // every node, not only at nodes on the interface: contact when the two
-// estimated surfaces meet, wherever the node lies.
+// estimated surfaces meet, wherever the node lies. Exact for a face normal to
+// a grid axis and a uniform density; for an oblique face the tensor-product
+// kernel is not the 1D one along n and the estimate is approximate (within a
+// fraction of a cell), as is the particle quadrature of the integrals.
 #include <algorithm>
 #include <array>
 #include <cmath>
