@@ -13,6 +13,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
+#include "needlesim/engines/mpm/surface_estimate.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -237,6 +238,11 @@ void MpmSolver::finalize() {
   // Centroid separation of two touching half-spaces seen from a node on the
   // interface: 2 x 0.406 h (quadratic B-spline), 2 h / 3 (linear).
   pairGap_ = (cfg_.shape == Shape::Linear ? 2.0 / 3.0 : 0.8125) * cfg_.h * cfg_.pairGapFactor;
+  surfaceEst_.reset();
+  if (cfg_.pairGapRule == PairGapRule::Surface) {
+    surfaceEst_.emplace(cfg_.shape != Shape::Linear);
+    pairGap_ = cfg_.pairGapTolerance * cfg_.h;
+  }
 
   // Boundary conditions on the nodes on or beyond each face of the box.
   fixMask_.assign(nodes_, 0);
@@ -296,6 +302,13 @@ void MpmSolver::finalize() {
     maxSpeed_ = std::max(maxSpeed_, c + velocity(p).norm());
   }
   finalized_ = true;
+}
+
+Vec3 MpmSolver::nodePosition(std::size_t I) const {
+  const std::size_t n12 = static_cast<std::size_t>(nn_[1]) * static_cast<std::size_t>(nn_[2]);
+  const std::size_t n2 = static_cast<std::size_t>(nn_[2]);
+  return cfg_.origin + cfg_.h * Vec3(static_cast<double>(I / n12), static_cast<double>((I / n2) % nn_[1]),
+                                     static_cast<double>(I % n2));
 }
 
 Mat3 MpmSolver::defGrad(std::size_t p) const {
@@ -599,16 +612,33 @@ namespace {
 // the normal velocities become equal, the tangential impulse is the sticking
 // one limited by mu times the normal impulse.
 inline void pairContact(double m0, double m1, double* v0, double* v1, const double* g0, const double* g1,
-                        double mu, const double* x0, const double* x1, double gapLimit) {
-  // sum_p m_p grad N_I(x_p) (gradient with respect to the particle position) is the outward normal of body b at I. n points from body 0 to body 1.
-  Vec3 n(g0[0] - g1[0], g0[1] - g1[1], g0[2] - g1[2]);
+                        double mu, const double* x0, const double* x1, double gapLimit, const Vec3& xI,
+                        const SurfaceFromCentroid* est, double h) {
+  // g_b = sum_p m_p grad N_I(x_p) (gradient with respect to the particle
+  // position) points out of body b at I. The normal averages the two unit
+  // normals, n = g0/|g0| - g1/|g1| (from body 0 to body 1): the raw difference
+  // g0 - g1 follows the heavier field, whose mass gradient at an edge or
+  // corner node tilts towards its side face, and the tilt turns normal
+  // approach into spurious tangential slip (friction work) and a wrong gap.
+  const double a0 = std::sqrt(g0[0] * g0[0] + g0[1] * g0[1] + g0[2] * g0[2]);
+  const double a1 = std::sqrt(g1[0] * g1[0] + g1[1] * g1[1] + g1[2] * g1[2]);
+  if (!(a0 > 0) || !(a1 > 0)) return;
+  Vec3 n(g0[0] / a0 - g1[0] / a1, g0[1] / a0 - g1[1] / a1, g0[2] / a0 - g1[2] / a1);
   const double nn = n.norm();
   if (!(nn > 0)) return;
   n /= nn;
-  // Gap rule: the mass centroids of the two fields seen from this node must be
-  // closer than when the two surfaces touch (no contact a cell early).
-  const Vec3 sep(x1[0] / m1 - x0[0] / m0, x1[1] / m1 - x0[1] / m0, x1[2] / m1 - x0[2] / m0);
-  if (sep.dot(n) > gapLimit) return;
+  // Gap rule (no contact a cell early): the two surfaces estimated from the
+  // field centroids at this node meet (Surface), or the centroids are closer
+  // than those of two half-spaces touching at the node (Centroid).
+  const Vec3 c0(x0[0] / m0, x0[1] / m0, x0[2] / m0), c1(x1[0] / m1, x1[1] / m1, x1[2] / m1);
+  if (est) {
+    // Surface rule: each field's surface from its centroid (surface_estimate.hpp).
+    const double s0 = est->surface((c0 - xI).dot(n) / h);
+    const double s1 = -est->surface(-(c1 - xI).dot(n) / h);
+    if ((s1 - s0) * h > gapLimit) return;
+  } else if ((c1 - c0).dot(n) > gapLimit) {
+    return;
+  }
   const Vec3 rel(v0[0] - v1[0], v0[1] - v1[1], v0[2] - v1[2]);
   const double vn = rel.dot(n);
   if (vn <= 0.0) return;  // separating (eq 14)
@@ -648,6 +678,7 @@ void MpmSolver::gridUpdate() {
   const double gap = cfg_.contactGap;
   const double mu = cfg_.friction;
   const double pairGap = pairGap_;
+  const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const Vec3 g = cfg_.gravity;
   for (auto& a : rforceThread_) a.fill(0.0);
@@ -680,7 +711,8 @@ void MpmSolver::gridUpdate() {
       if (!any) continue;
       if (B == 2 && mb[0] > 0 && mb[1] > 0)
         pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.rec[NR * I + kG],
-                    &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap);
+                    &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap,
+                    nodePosition(I), est, cfg_.h);
       if (R > 0) {
         const int i = static_cast<int>(I / (static_cast<std::size_t>(nn_[1]) * nn_[2]));
         const int j = static_cast<int>((I / static_cast<std::size_t>(nn_[2])) % static_cast<std::size_t>(nn_[1]));
@@ -950,6 +982,7 @@ void MpmSolver::remapUpdate() {
   const Buf& G = buf_[0];
   const double mu = cfg_.friction;
   const double pairGap = pairGap_;
+  const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
   const std::size_t NR = static_cast<std::size_t>(nr_);
 #pragma omp parallel for schedule(static) num_threads(nthreads_)
   for (std::size_t I = 0; I < nodes_; ++I) {
@@ -963,7 +996,8 @@ void MpmSolver::remapUpdate() {
     }
     if (B == 2 && mb[0] > 0 && mb[1] > 0)
       pairContact(mb[0], mb[1], &vel_[8 * I + 4], &vel_[8 * (nodes_ + I) + 4], &G.rec[NR * I + kG],
-                  &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap);
+                  &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap,
+                  nodePosition(I), est, cfg_.h);
     for (std::size_t r = 0; r < R; ++r) {
       if (!(active_[r * nodes_ + I] & 2)) continue;
       const double* nn = &rnormal_[3 * (r * nodes_ + I)];

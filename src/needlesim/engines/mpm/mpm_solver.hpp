@@ -9,9 +9,11 @@
 #include <Eigen/LU>
 #include <array>
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "needlesim/engines/mpm/surface_estimate.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
 
 namespace needlesim::mpm {
@@ -21,6 +23,11 @@ using Mat3 = Eigen::Matrix3d;
 
 enum class Shape { Linear, BSpline2 };           // linear hat (the paper's) or quadratic B-spline
 enum class Update { USL, MUSL };                 // update-stress-last, modified USL (momentum remap)
+// Two-body gap rule: Centroid compares the centroid separation with that of
+// two touching half-spaces seen from a node on the interface; Surface
+// estimates each body's surface from its centroid at every node
+// (surface_estimate.hpp).
+enum class PairGapRule { Centroid, Surface };
 enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 
 // A tissue material as the solver uses it: the law plus the data of a fast path.
@@ -73,7 +80,9 @@ struct MpmConfig {
   Vec3 boxLo = Vec3::Zero(), boxHi = Vec3::Zero();
   std::array<FaceBC, 6> faces{{FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free}};
   double contactGap = -1.0;        // eq 22 gap for rigid contact, m (< 0: half the particle spacing)
-  double pairGapFactor = 1.0;      // scales the centroid-separation gap rule of two deformable bodies
+  PairGapRule pairGapRule = PairGapRule::Surface;
+  double pairGapFactor = 1.0;      // Centroid rule: scales the centroid-separation gap of two deformable bodies
+  double pairGapTolerance = 0.0;   // Surface rule: contact when the estimated surfaces are closer than this, cells
   int threads = 0;                 // 0 = OpenMP default
   bool fbar = false;               // anti-locking: stress at F-bar with the cell-averaged det F
 };
@@ -173,6 +182,8 @@ class MpmSolver {
   std::vector<RigidForce> rforce_;
   std::vector<std::array<double, 9>> rforceThread_;  // per thread per rigid: total(3) tip(3) shaft(3)
   double pairGap_ = 0.0;
+  std::optional<SurfaceFromCentroid> surfaceEst_;  // Surface gap rule
+  Vec3 nodePosition(std::size_t I) const;
   std::vector<std::uint8_t> near_, nearTmp_;  // two bodies: per cell, bit b = body b within 3 cells
   std::vector<std::uint32_t> cellOf_;   // F-bar: cell of each particle
   std::vector<double> cellJ_;           // F-bar: per cell sum V0 J, sum V0
