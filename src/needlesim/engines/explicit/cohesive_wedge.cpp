@@ -63,4 +63,51 @@ bool bevelWedge2D(const needle::NeedleShape& sh, const needle::NeedlePose& pose,
   return true;
 }
 
+bool bevelWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                  needle::NeedleHit& hit, double& axialPerLateral) {
+  if (sh.tip != TipType::Bevel || side == 0) return false;
+  const Eigen::Vector3d q = x - pose.tip, third = pose.axis.cross(pose.bevelSide);
+  const double s = q.dot(pose.axis), a = q.dot(pose.bevelSide), b = q.dot(third), R = sh.radius;
+  const double ta = std::tan(sh.tipAngle);
+  if (s < -sh.length || std::abs(b) >= R) return false;
+  const double w = std::sqrt(R * R - b * b);
+  double gap = 0.0, slope = 0.0, dir = -1.0;
+  needle::NeedleFace face = needle::NeedleFace::Tip;
+  if (s > 0.0) {
+    if (side > 0) return false;
+    const double tb = std::tan(needle::kLipRampAngle);
+    gap = a + w - s * tb;  // the wall-side chisel ahead of the point, down to the lower outline at the point
+    slope = tb;
+  } else {
+    // behind the point: inside the outer section (-w < a < top), out by the nearer of the lower outline
+    // and the top (the bevel face where it lies below the upper outline, else the upper outline)
+    const double faceA = -R - s * ta, top = std::min(w, faceA);
+    if (!(a > -w && a < top)) return false;
+    const double up = top - a, down = a + w;
+    if (up < down) {
+      gap = up;
+      dir = 1.0;
+      slope = faceA < w ? ta : 0.0;
+      if (faceA >= w) face = needle::NeedleFace::OuterWall;
+    } else {
+      gap = down;
+      face = needle::NeedleFace::OuterWall;
+    }
+  }
+  if (!(gap > 0.0)) return false;
+  hit.inside = true;
+  hit.depth = gap;
+  hit.normal = dir * pose.bevelSide;
+  hit.face = face;
+  axialPerLateral = slope;
+  return true;
+}
+
+bool lipWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+              bool planar, needle::NeedleHit& hit, double& axialPerLateral) {
+  if (planar) return bevelWedge2D(sh, pose, x, side, hit, axialPerLateral);
+  if (sh.tip == TipType::Bevel) return bevelWedge3D(sh, pose, x, side, hit, axialPerLateral);
+  return coneWedge(sh, pose, x, side, hit, axialPerLateral);
+}
+
 }  // namespace needlesim::explicit_fe
