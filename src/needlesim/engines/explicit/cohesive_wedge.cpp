@@ -71,28 +71,24 @@ bool bevelWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose,
   const double ta = std::tan(sh.tipAngle);
   if (s < -sh.length || std::abs(b) >= R) return false;
   const double w = std::sqrt(R * R - b * b);
-  double gap = 0.0, slope = 0.0, dir = -1.0;
+  // the opened slit: from the lower outline (reached by the wall-side chisel ahead of the point) up to the
+  // axis plane, and above it the needle where it rises over the plane (the bevel face, then the upper outline)
+  double gap = 0.0, slope = 0.0;
+  const double dir = side > 0 ? 1.0 : -1.0;
   needle::NeedleFace face = needle::NeedleFace::Tip;
-  if (s > 0.0) {
-    if (side > 0) return false;
-    const double tb = std::tan(needle::kLipRampAngle);
-    gap = a + w - s * tb;  // the wall-side chisel ahead of the point, down to the lower outline at the point
-    slope = tb;
+  if (side > 0) {
+    if (s > w / std::tan(needle::kLipRampAngle)) return false;
+    const double faceA = -R - s * ta, top = std::max(0.0, std::min(w, faceA));
+    gap = top - a;
+    if (top > 0.0 && faceA < w) slope = ta;
+    if (faceA >= w) face = needle::NeedleFace::OuterWall;
   } else {
-    // behind the point: inside the outer section (-w < a < top), out by the nearer of the lower outline
-    // and the top (the bevel face where it lies below the upper outline, else the upper outline)
-    const double faceA = -R - s * ta, top = std::min(w, faceA);
-    if (!(a > -w && a < top)) return false;
-    const double up = top - a, down = a + w;
-    if (up < down) {
-      gap = up;
-      dir = 1.0;
-      slope = faceA < w ? ta : 0.0;
-      if (faceA >= w) face = needle::NeedleFace::OuterWall;
-    } else {
-      gap = down;
+    const double tb = std::tan(needle::kLipRampAngle);
+    gap = a + w - std::max(0.0, s) * tb;  // the chisel ahead of the point, then the lower outline
+    if (s > 0.0)
+      slope = tb;
+    else
       face = needle::NeedleFace::OuterWall;
-    }
   }
   if (!(gap > 0.0)) return false;
   hit.inside = true;
