@@ -36,10 +36,10 @@ bool bevelWedge2D(const needle::NeedleShape& shape, const needle::NeedlePose& po
 // the half chord of the outer section (|b| < R; a hollow needle is taken by its outer section):
 //  side < 0 (wall lip): ahead of the point the virtual chisel of 2D across the whole chord,
 //    gap = a + w - s tan(beta), reaction tan(beta); behind it gap = a + w (the lower outline);
-//  side > 0 (bevel lip): behind the point gap = min(w, -R - s tan(alpha)) - a (the bevel face where
-//    it lies below the upper outline, reaction tan(alpha); the upper outline behind it, reaction 0).
+//  side > 0 (bevel lip), where the chisel reaches (s <= w / tan(beta)): held on the axis plane, then
+//    lifted to top = max(0, min(w, -R - s tan(alpha))), gap = top - a (reaction tan(alpha) on the face).
 // Both gaps are continuous in s and b (they vanish at |b| = R), so the lips end at +-w around the
-// shaft, the eye-shaped opening of the cone wedge.
+// shaft, the eye-shaped opening of the cone wedge (docs/models/cohesive.md "3D bevel").
 bool bevelWedge3D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                   needle::NeedleHit& hit, double& axialPerLateral);
 
