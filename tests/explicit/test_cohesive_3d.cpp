@@ -195,3 +195,45 @@ TEST(Cohesive3dInsertion, NeedleEnergyBalanceWithFixedContactStiffness) {
   EXPECT_LT(r.results.at("needle_energy_balance_error").value, 0.08);
   EXPECT_LT(r.results.at("energy_balance_error").value, 1e-9);
 }
+
+// Engine level, 3D bevel (45 deg, 2 mm): the cohesive seam plane runs through the needle axis
+// (docs/models/cohesive.md "3D bevel"); the wall-side lip is pushed down ahead of the point by the
+// virtual chisel and the bevel-side lip up by the face, to +-sqrt(R^2 - b^2) around the shaft. The
+// cracked area grows with depth and D lies between G_c x fully damaged area and G_c x (fully + partly
+// damaged area) (exact per-pair dissipation, cohesive.cpp).
+namespace {
+std::string bevel3dYaml(const std::string& depth) {
+  std::string y = insertion3dYaml();
+  const auto tip = y.find("tip: conical");
+  y.replace(tip, 12, "tip: bevel");
+  const auto to = y.find("to: 2.5 mm");
+  y.replace(to, 10, "to: " + depth);
+  // the wall-side chisel reaches R / tan(30 deg) = 1.7 mm ahead of the point: start clear of it
+  const auto st = y.find("start_depth: -0.5 mm");
+  y.replace(st, 20, "start_depth: -1.8 mm");
+  return y;
+}
+}  // namespace
+
+TEST(Cohesive3dInsertion, BevelOpensSeamThroughAxisAndDissipationMatchesGcTimesCrackedArea) {
+  const double Gc = 2.0, R = 1e-3;
+  double prevA = 0.0;
+  for (const char* depth : {"2.5 mm", "4 mm"}) {
+    MemorySink r = runInMemory(scenario::readText(bevel3dYaml(depth), "<cohesive3d-bevel>"));
+    const double A = r.results.at("cracked_area").value, D = r.results.at("cohesive_dissipation").value;
+    const double Ap = r.results.at("process_zone_area").value, GcA = r.results.at("fracture_energy_of_crack").value;
+    const double ext = r.results.at("cracked_length").value;
+    std::printf("3D bevel cohesive insertion to %s: cracked area %.4g mm^2 (extent %.3f mm), process zone %.4g mm^2, "
+                "D = %.4g J, G_c A = %.4g J (%+.2f %%), peak force %.4g N, balance %.2g\n",
+                depth, A * 1e6, ext * 1e3, Ap * 1e6, D, GcA, 100 * (D / GcA - 1), r.results.at("peak_force").value,
+                r.results.at("energy_balance_error").value);
+    // open over most of the needle's width (2R less one 0.5 mm column) along the extent
+    EXPECT_GT(A, R * ext);
+    EXPECT_GT(A, prevA + R * 1e-3);  // 1.5 mm deeper opens at least 1 mm^2 more
+    prevA = A;
+    EXPECT_GE(D, GcA * (1 - 1e-9));
+    EXPECT_LE(D, Gc * (A + Ap) * (1 + 1e-9));
+    EXPECT_LE(r.results.at("cohesive_pair_dissipation_max").value, 1.0 + 1e-9);
+    EXPECT_LT(r.results.at("energy_balance_error").value, 1e-6);
+  }
+}

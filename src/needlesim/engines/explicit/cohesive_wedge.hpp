@@ -31,4 +31,20 @@ bool coneWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose,
 bool bevelWedge2D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                   needle::NeedleHit& hit, double& axialPerLateral);
 
+// 3D bevel, seam plane through the needle axis (normal bevelSide; the sharp point lies on the wall
+// side, a = -R). With b the node's coordinate along the seam across the axis, w = sqrt(R^2 - b^2)
+// the half chord of the outer section (|b| < R; a hollow needle is taken by its outer section):
+//  side < 0 (wall lip): ahead of the point the virtual chisel of 2D across the whole chord,
+//    gap = a + w - s tan(beta), reaction tan(beta); behind it gap = a + w (the lower outline);
+//  side > 0 (bevel lip), where the chisel reaches (s <= w / tan(beta)): held on the axis plane, then
+//    lifted to top = max(0, min(w, -R - s tan(alpha))), gap = top - a (reaction tan(alpha) on the face).
+// Both gaps are continuous in s and b (they vanish at |b| = R), so the lips end at +-w around the
+// shaft, the eye-shaped opening of the cone wedge (docs/models/cohesive.md "3D bevel").
+bool bevelWedge3D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                  needle::NeedleHit& hit, double& axialPerLateral);
+
+// The rule for this tip and dimension (2D bevel, 3D bevel, 3D cone); false for other tips.
+bool lipWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+              bool planar, needle::NeedleHit& hit, double& axialPerLateral);
+
 }  // namespace needlesim::explicit_fe

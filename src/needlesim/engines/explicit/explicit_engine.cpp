@@ -111,8 +111,12 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   // The pre-cut seam runs through the leading point of the tip (the bevel's sharp point).
   const bool aligned = std::abs(th - 0.5 * M_PI) < 1e-9 && std::abs(std::sin(phi)) < 1e-9;
   const bool seamOn = ex.pre_cut && ex.mesh.empty() && aligned;
-  const double seamY =
-      sc.insertion.entry_offset - (sc.needle.tip == TipType::Bevel ? shape.radius * bevelSide.y() : 0.0);
+  // 3D bevel with the cohesive zone: through the needle axis instead (docs/models/cohesive.md "3D bevel"),
+  // a plane through the point is tangent to the shaft and the needle would indent the tissue beside it.
+  const bool seamThroughAxis = dim == 3 && ex.cohesive.enable;
+  const double seamY = sc.insertion.entry_offset - (sc.needle.tip == TipType::Bevel && !seamThroughAxis
+                                                        ? shape.radius * bevelSide.y()
+                                                        : 0.0);
   Setup st = buildMesh(sc, ex, shape, seamY, seamOn);
 
   std::vector<Material> mats;
@@ -441,9 +445,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 std::to_string(cohLaws.front().stiffness) + " Pa/m, t_c = " + std::to_string(cohLaws.front().strength) +
                 " Pa, G_c = " + std::to_string(cohLaws.front().energy) + " J/m^2 (first pair); no node release.");
       if (dim == 3 && sc.needle.tip == TipType::Bevel)
-        sink.note("3D bevel tip: the seam plane touches the needle only along its sharp point's line, so the needle passes "
-                  "without opening it much; the 3D wedge is built for conical tips (seam through the axis), "
-                  "docs/models/cohesive.md.");
+        sink.note("3D bevel tip: the cohesive seam plane runs through the needle axis (the lips open around the "
+                  "outer section; a hollow needle's core is not cut), docs/models/cohesive.md.");
     } else if (seamOn)
       sink.note("The tissue is pre-cut along the needle path through the tip's leading point (node release when the "
                 "tip arrives): the fracture-energy-free limit of the cohesive zone of seeds 001/004.");

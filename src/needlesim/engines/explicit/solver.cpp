@@ -569,18 +569,19 @@ void ExplicitSolver::contactForces(double dtStep) {
     // open"): the lip nodes of a pair that is not fully damaged are pushed across the cut line
     // only, each to its own side, by the lateral gap to the needle's face (the axial push of the
     // inclined faces would shove the closed pair ahead of the point); the needle takes the axial
-    // reaction that makes its work match. 2D bevel and 3D cone: one gap function per lip
-    // (cohesive_wedge.hpp) at the node's reference axial station (conservative); 3D bevel: the
-    // lateral part of the face contact.
-    const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 && coh_.front().state(cohPairOf_[n]).damage < 1.0;
+    // reaction that makes its work match: one gap function per lip (cohesive_wedge.hpp: 2D bevel,
+    // 3D bevel with the seam through the axis, 3D cone) at the node's reference axial station.
+    // (3D bevel: also once fully damaged, cohesive_wedge.hpp: a lip dragged across the axis plane by its
+    // partner would otherwise meet the lip side rule of queryNeedle with a jump in depth)
+    const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
+                     (coh_.front().state(cohPairOf_[n]).damage < 1.0 || (!planar && nd.shape.tip == TipType::Bevel));
     if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
-        ((planar && nd.shape.tip == TipType::Bevel) || nd.shape.tip == TipType::Conical)) {
+        (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
       double uAx = 0.0;
       for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * nd.pose.axis[i];
       const Vector3d xw = x - uAx * nd.pose.axis;
       needle::NeedleHit wh;
-      const bool in = planar ? bevelWedge2D(nd.shape, nd.pose, xw, contactSide_[n], wh, wedgeAxial)
-                             : coneWedge(nd.shape, nd.pose, xw, contactSide_[n], wh, wedgeAxial);
+      const bool in = lipWedge(nd.shape, nd.pose, xw, contactSide_[n], planar, wh, wedgeAxial);
       hit = in ? wh : needle::NeedleHit{};
     } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
       const double c = hit.normal.dot(nd.pose.bevelSide);
