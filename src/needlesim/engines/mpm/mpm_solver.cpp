@@ -888,26 +888,42 @@ void MpmSolver::surfaceContact(bool first) {
         }
         if (!in) continue;
         const std::size_t bkt = (static_cast<std::size_t>(c[0]) * Sf.dim[1] + c[1]) * Sf.dim[2] + c[2];
-        double best = kInf, gap = kInf, bestDot = -kInf;
-        int bt = -1;
+        // Nearest facet; the gap is the distance, signed by the facet that
+        // sees the particle most from outside (at a shared edge or vertex; the
+        // needle is convex): the normal component alone put particles ahead
+        // of a sharp apex in contact far too early. At a tie between a tip
+        // facet and a wall facet (the bevel rim, its sharp point) the facet
+        // that will sweep the particle gives the normal: a wall facet for a
+        // particle outside the cylinder radius (the wall passes it), a tip
+        // facet inside it (the tip face pushes it aside). Picking the tip
+        // facet for every particle ahead of the sharp point pushed points
+        // lying outside the radius across the needle's path, so the tissue
+        // was driven ahead of the bevel instead of parting.
+        const bool outside = xl.y() * xl.y() + xl.z() * xl.z() >= rb.radius * rb.radius;
+        double best = kInf, signDot = -kInf, bestDot = -kInf;
+        int bt = -1, bestRank = -1;
         for (int it = Sf.start[bkt]; it < Sf.start[bkt + 1]; ++it) {
           const int t = Sf.items[static_cast<std::size_t>(it)];
           const Vec3 xc = closestOnTriangle(xl, Sf.a[t], Sf.b[t], Sf.c[t]);  // foot of the perpendicular
           const double d2 = (xl - xc).squaredNorm();
           const double dot = (xl - xc).dot(Sf.n[t]);
-          // Nearest facet; at a shared vertex or edge (a tie) the facet that
-          // sees the particle most from outside decides the sign (the needle
-          // is convex). The gap is the distance with that sign: the normal
-          // component alone would put particles ahead of a sharp tip's apex
-          // in contact far too early.
+          const int rank = outside && Sf.tip[static_cast<std::size_t>(t)] ? 0 : 1;  // the sweeping facet first
           const double tol = 1e-9 * best + 1e-24;
-          if (d2 < best - tol || (d2 <= best + tol && dot > bestDot)) {
+          if (d2 < best - tol) {
+            best = d2;
+            signDot = dot;
+          } else if (d2 <= best + tol) {
             best = std::min(best, d2);
-            bt = t;
-            bestDot = dot;
-            gap = std::copysign(std::sqrt(d2), dot);
+            signDot = std::max(signDot, dot);
+            if (rank < bestRank || (rank == bestRank && dot <= bestDot)) continue;
+          } else {
+            continue;
           }
+          bt = t;
+          bestRank = rank;
+          bestDot = dot;
         }
+        const double gap = std::copysign(std::sqrt(best), signDot);
         if (bt < 0 || !(gap < limit)) continue;
         const Vec3& nl = Sf.n[static_cast<std::size_t>(bt)];
         pairs_.push_back({p, Vec3(nl.x() * e + nl.y() * ys + nl.z() * zs), Sf.tip[static_cast<std::size_t>(bt)] != 0});
