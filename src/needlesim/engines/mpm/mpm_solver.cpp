@@ -13,6 +13,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
+#include "needlesim/engines/mpm/penalty_contact.hpp"
 #include "needlesim/engines/mpm/surface_estimate.hpp"
 
 #ifdef _OPENMP
@@ -88,6 +89,13 @@ inline double invCbrt(double J) {
   std::memcpy(&z, &i, sizeof z);
   for (int it = 0; it < 4; ++it) z *= (4.0 - J * z * z * z) * (1.0 / 3.0);
   return z;
+}
+
+// Initial bulk and shear moduli of a law (St Venant-Kirchhoff from E, nu).
+void initialModuli(const materials::Hyperelastic& L, double& K, double& mu) {
+  const bool lin = L.kind == materials::LawKind::Linear;
+  mu = lin ? L.E / (2 * (1 + L.nu)) : L.initialShear();
+  K = lin ? L.E / (3 * (1 - 2 * L.nu)) : L.bulk;
 }
 
 }  // namespace
@@ -243,6 +251,18 @@ void MpmSolver::finalize() {
     surfaceEst_.emplace(cfg_.shape != Shape::Linear);
     pairGap_ = cfg_.pairGapTolerance * cfg_.h;
   }
+  // Penalty contact of two bodies (penalty_contact.hpp): pair stiffness kappa M d_p.
+  penalty_.reset();
+  if (B > 1 && cfg_.bodyContact == BodyContact::Penalty) {
+    double M = 0.0;
+    for (const MpmMaterial& m : mats_) {
+      double K, mu;
+      initialModuli(m.law, K, mu);
+      M = std::max(M, K + 4.0 / 3.0 * mu);
+    }
+    const double mmin = mass_.empty() ? 0.0 : *std::min_element(mass_.begin(), mass_.end());
+    penalty_.emplace(cfg_.penaltyFactor * M * dp_, dp_, 0.5 * mmin, nthreads_);
+  }
 
   // Boundary conditions on the nodes on or beyond each face of the box.
   fixMask_.assign(nodes_, 0);
@@ -252,11 +272,8 @@ void MpmSolver::finalize() {
   double rho = 0, cp = 0, cs = 0;
   if (m0) {
     rho = m0->density * cfg_.massScaling;
-    const double mu = m0->law.kind == materials::LawKind::Linear ? m0->law.E / (2 * (1 + m0->law.nu))
-                                                                 : m0->law.initialShear();
-    const double K = m0->law.kind == materials::LawKind::Linear
-                         ? m0->law.E / (3 * (1 - 2 * m0->law.nu))
-                         : m0->law.bulk;
+    double K, mu;
+    initialModuli(m0->law, K, mu);
     cp = std::sqrt((K + 4.0 / 3.0 * mu) / rho);
     cs = std::sqrt(mu / rho);
   }
@@ -709,7 +726,7 @@ void MpmSolver::gridUpdate() {
       }
       for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
       if (!any) continue;
-      if (B == 2 && mb[0] > 0 && mb[1] > 0)
+      if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
         pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.rec[NR * I + kG],
                     &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap,
                     nodePosition(I), est, cfg_.h);
@@ -1010,7 +1027,7 @@ void MpmSolver::remapUpdate() {
       mb[b] = m;
       for (int c = 0; c < 3; ++c) vel_[8 * J + 4 + c] = m > 0 ? r[kP + c] / m : 0.0;
     }
-    if (B == 2 && mb[0] > 0 && mb[1] > 0)
+    if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: the forces acted once, in f_I
       pairContact(mb[0], mb[1], &vel_[8 * I + 4], &vel_[8 * (nodes_ + I) + 4], &G.rec[NR * I + kG],
                   &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap,
                   nodePosition(I), est, cfg_.h);
@@ -1262,6 +1279,8 @@ StepReport MpmSolver::step() {
           "or raise the mass scaling",
           cfg_.fixedTimeStep, dtcr, time_));
     dt_ = cfg_.fixedTimeStep;
+  } else if (penalty_) {
+    dt_ = std::min(dt_, penalty_->stepLimit(cfg_.penaltyStepFactor));  // two-body penalty contact (penalty_contact.hpp)
   }
   if (!(dt_ > 0) || !std::isfinite(dt_))
     throw SolverError("mpm: no valid time step (wave speed not finite); check the material parameters");
@@ -1274,6 +1293,7 @@ StepReport MpmSolver::step() {
     if (lin) p2g<2, false>(); else p2g<3, false>();
   }
   reduceBuffers(false);
+  if (penalty_) penaltyForces();  // two-body penalty contact: pair forces into f_I (penalty_contact.cpp)
   gridUpdate();
   const bool cfemp = std::any_of(rigids_.begin(), rigids_.end(), [](const RigidBody& r) { return r.surfaceContact; });
   if (cfemp) {
@@ -1298,6 +1318,12 @@ StepReport MpmSolver::step() {
   time_ += dt_;
   ++steps_;
   last_ = StepReport{dt_, ek, ei, vmax};
+  if (penalty_) {
+    penaltyEnergyAfterStep();
+    last_.contact = penalty_->tally().energy;
+    last_.penetration = penalty_->tally().penetration;
+    last_.frictionWork = penalty_->frictionWork();
+  }
   return last_;
 }
 

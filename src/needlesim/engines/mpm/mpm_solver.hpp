@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/engines/mpm/penalty_contact.hpp"
 #include "needlesim/engines/mpm/surface_estimate.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
 
@@ -28,6 +29,11 @@ enum class Update { USL, MUSL };                 // update-stress-last, modified
 // estimates each body's surface from its centroid at every node
 // (surface_estimate.hpp).
 enum class PairGapRule { Centroid, Surface };
+// Normal contact of two deformable bodies: Velocity = the velocity-consistent
+// impulse of eqs 15-18 (perfectly plastic at the contact nodes); Penalty = a
+// force on the estimated surface gap that stores and returns the energy
+// (penalty_contact.hpp).
+enum class BodyContact { Velocity, Penalty };
 enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 
 // A tissue material as the solver uses it: the law plus the data of a fast path.
@@ -83,6 +89,9 @@ struct MpmConfig {
   PairGapRule pairGapRule = PairGapRule::Surface;
   double pairGapFactor = 1.0;      // Centroid rule: scales the centroid-separation gap of two deformable bodies
   double pairGapTolerance = 0.0;   // Surface rule: contact when the estimated surfaces are closer than this, cells
+  BodyContact bodyContact = BodyContact::Penalty;  // two deformable bodies (the rigid and CFEMP contacts are unaffected)
+  double penaltyFactor = 0.2;      // Penalty: kappa, pair stiffness kappa M d_p (M: largest P-wave modulus)
+  double penaltyStepFactor = 0.15; // Penalty: while in contact dt <= this / omega, omega^2 = k / m_r of a pair (0: off)
   int threads = 0;                 // 0 = OpenMP default
   bool fbar = false;               // anti-locking: stress at F-bar with the cell-averaged det F
 };
@@ -93,6 +102,9 @@ struct StepReport {
   double kinetic = 0.0;   // J (scaled masses)
   double internal = 0.0;  // J
   double maxSpeed = 0.0;  // max (c_p + |v_p|), m/s
+  double contact = 0.0;      // J, energy stored in the penalty contact of two bodies (positions at the step's start)
+  double penetration = 0.0;  // m, largest overlap d_p - |x_p - x_q| of two points of different bodies
+  double frictionWork = 0.0; // J, work of the penalty contact's friction forces this step (>= 0, dissipated)
 };
 
 // Contact force the tissue exerts on one rigid body in the last step.
@@ -144,6 +156,11 @@ class MpmSolver {
   void buildSurface(std::size_t r);
   template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
   void gridUpdate();
+  void penaltyForces();           // penalty_contact.cpp
+  void penaltyEnergyAfterStep();  // penalty_contact.cpp
+  double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
+                      const double* rec, std::size_t NR, double* f) const;  // penalty_contact.cpp
+  void fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const;  // penalty_contact.cpp
   void remapUpdate();
   void zeroBuffers(bool momentumOnly);
   void reduceBuffers(bool momentumOnly);
@@ -183,6 +200,7 @@ class MpmSolver {
   std::vector<std::array<double, 9>> rforceThread_;  // per thread per rigid: total(3) tip(3) shaft(3)
   double pairGap_ = 0.0;
   std::optional<SurfaceFromCentroid> surfaceEst_;  // Surface gap rule
+  std::optional<PairPenalty> penalty_;  // two bodies, BodyContact::Penalty (penalty_contact.cpp)
   Vec3 nodePosition(std::size_t I) const;
   std::vector<std::uint8_t> near_, nearTmp_;  // two bodies: per cell, bit b = body b within 3 cells
   std::vector<std::uint32_t> cellOf_;   // F-bar: cell of each particle

@@ -1,0 +1,305 @@
+// Penalty contact of two deformable bodies between material points (seed 000
+// eqs 14-21 with the normal impulse of eqs 15-18 replaced by a pair penalty;
+// penalty_contact.hpp, docs/models/mpm.md "Penalty contact of two bodies").
+#include "needlesim/engines/mpm/penalty_contact.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <cstdlib>
+
+#include "needlesim/engines/mpm/mpm_solver.hpp"
+
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
+namespace needlesim::mpm {
+
+namespace {
+// Offset of the force in a grid record (MpmSolver::Buf, kF in mpm_solver.cpp).
+constexpr std::size_t kForceLane = 4;
+// Offset of the mass gradient in a two-body grid record (kG in mpm_solver.cpp).
+constexpr std::size_t kGradLane = 8;
+
+// 1D shape function at xi cells from the node: quadratic B-spline or linear hat.
+inline double kernel(bool bspline, double xi) {
+  const double a = std::abs(xi);
+  if (!bspline) return a < 1.0 ? 1.0 - a : 0.0;
+  if (a < 0.5) return 0.75 - a * a;
+  if (a < 1.5) return 0.5 * (1.5 - a) * (1.5 - a);
+  return 0.0;
+}
+}  // namespace
+
+double PairPenalty::stepLimit(double alpha) const {
+  if (!(alpha > 0.0) || tally_.pairs + tally_.close == 0 || !(omega_ > 0.0)) return std::numeric_limits<double>::infinity();
+  return alpha / omega_;
+}
+
+PairPenalty::PairPenalty(double stiffness, double distance, double reducedMass, int threads)
+    : k_(stiffness), d_(distance), omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0), thread_(static_cast<std::size_t>(std::max(threads, 1))), pairs_(thread_.size()),
+      friction_(8 * thread_.size(), 0.0) {}
+
+// Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
+// on p); returns half the pair's friction work over the step (J). The normal
+// is that of the bodies' surfaces, from the two mass gradients at the node
+// nearest the pair (as the velocity contact, eqs 14-21), not the pair axis n:
+// on two lattices sliding past each other the pair axis tilts by up to
+// 30 deg and the friction along it fell to half of mu times the normal
+// impulse. Sticking force m_r |v_t| / dt of the pair (eq 19), limited by mu
+// times the pair force's component along that normal (eqs 20-21).
+double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
+                               const double* rec, std::size_t NR, double* f) const {
+  const double invh = 1.0 / cfg_.h;
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  // Mass gradients of both bodies interpolated (trilinear) at the pair's
+  // midpoint: a single node beside the interface would see the two bodies at
+  // different depths, and the normal would tilt at the edges of the face.
+  const double xm[3] = {(0.5 * (px_[p] + px_[q]) - cfg_.origin.x()) * invh,
+                        (0.5 * (py_[p] + py_[q]) - cfg_.origin.y()) * invh,
+                        (0.5 * (pz_[p] + pz_[q]) - cfg_.origin.z()) * invh};
+  int b[3];
+  double t[3];
+  for (int d = 0; d < 3; ++d) {
+    b[d] = static_cast<int>(xm[d]);
+    t[d] = xm[d] - b[d];
+  }
+  double g0[3] = {0, 0, 0}, g1[3] = {0, 0, 0};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k) {
+        const double w = (i ? t[0] : 1 - t[0]) * (j ? t[1] : 1 - t[1]) * (k ? t[2] : 1 - t[2]);
+        const std::size_t I = (static_cast<std::size_t>(b[0] + i) * n1 + static_cast<std::size_t>(b[1] + j)) * n2 +
+                              static_cast<std::size_t>(b[2] + k);
+        for (int c = 0; c < 3; ++c) {
+          g0[c] += w * rec[NR * I + kGradLane + c];
+          g1[c] += w * rec[NR * (nodes_ + I) + kGradLane + c];
+        }
+      }
+  const double a0 = std::sqrt(g0[0] * g0[0] + g0[1] * g0[1] + g0[2] * g0[2]);
+  const double a1 = std::sqrt(g1[0] * g1[0] + g1[1] * g1[1] + g1[2] * g1[2]);
+  if (!(a0 > 0) || !(a1 > 0)) return 0.0;
+  // Surface normal oriented from q's body to p's (as n).
+  const double sgn = body_[p] == 0 ? -1.0 : 1.0;
+  double m[3] = {g0[0] / a0 - g1[0] / a1, g0[1] / a0 - g1[1] / a1, g0[2] / a0 - g1[2] / a1};
+  const double mm = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+  if (!(mm > 0)) return 0.0;
+  for (double& c : m) c *= sgn / mm;
+  const double fN = fn * (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]);
+  if (!(fN > 0.0)) return 0.0;
+  // Sliding velocity from each point's own body field on the grid, sum N v_I
+  // at the point (the particle velocities carry the FLIP noise of the impact
+  // in all directions; a field read at a node off the interface sees the
+  // other depth's lateral expansion).
+  double vp[3], vq[3];
+  fieldVelocity(p, rec, NR, vp);
+  fieldVelocity(q, rec, NR, vq);
+  double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};
+  const double vn = vt[0] * m[0] + vt[1] * m[1] + vt[2] * m[2];
+  for (int c = 0; c < 3; ++c) vt[c] -= vn * m[c];
+  const double st = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+  if (!(st > 0.0)) return 0.0;
+  const double mr = mass_[p] * mass_[q] / (mass_[p] + mass_[q]);
+  const double ft = std::min(mu * fN, mr * st / dt);
+  for (int c = 0; c < 3; ++c) f[c] -= ft * vt[c] / st;
+  return 0.5 * ft * st * dt;
+}
+
+// Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
+void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const {
+  const bool bspline = cfg_.shape != Shape::Linear;
+  const int S = bspline ? 3 : 2;
+  const double invh = 1.0 / cfg_.h, shift = bspline ? 0.5 : 0.0;
+  const double xs[3] = {(px_[p] - cfg_.origin.x()) * invh, (py_[p] - cfg_.origin.y()) * invh,
+                        (pz_[p] - cfg_.origin.z()) * invh};
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  int base[3];
+  double w[3][3];
+  for (int d = 0; d < 3; ++d) {
+    base[d] = static_cast<int>(xs[d] - shift);
+    for (int i = 0; i < S; ++i) w[d][i] = kernel(bspline, xs[d] - (base[d] + i));
+  }
+  const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+  v[0] = v[1] = v[2] = 0.0;
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j)
+      for (int k = 0; k < S; ++k) {
+        const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
+                              static_cast<std::size_t>(base[2] + k);
+        const double* r = rec + NR * (off + I);
+        if (!(r[0] > 0.0)) continue;
+        const double wn = w[0][i] * w[1][j] * w[2][k] / r[0];
+        for (int c = 0; c < 3; ++c) v[c] += wn * r[1 + c];
+      }
+}
+
+// Pair forces at the positions of the step's start, added to the reduced grid
+// force f_I of each point's own body before the momentum update (eq 3), so
+// the grid update, MUSL remap and boundary conditions treat them like the
+// internal force. Candidates are the points in cells that both bodies reach
+// within 3 cells (markNearBodies); d_p <= h, so a partner lies in the 27
+// cells around a point's cell.
+double PairPenalty::frictionWork() const {
+  double w = 0.0;
+  for (std::size_t t = 0; t < friction_.size(); t += 8) w += friction_[t];
+  return w;
+}
+
+void PairPenalty::resetFriction() { std::fill(friction_.begin(), friction_.end(), 0.0); }
+
+double PairPenalty::pairEnergy(double delta) const {
+  return 0.5 * k_ * delta * delta;
+}
+
+// Stored energy at the positions after the step (the strain energy of the
+// report is also that of the step's end) over the pairs in contact at its
+// start; a pair that came into contact during the step holds O((v dt)^2).
+void MpmSolver::penaltyEnergyAfterStep() {
+  PairPenalty& P = *penalty_;
+  double e = 0.0;
+  const double d = P.d_;
+  for (const auto& list : P.pairs_)
+    for (const auto& pq : list) {
+      const std::size_t p = pq[0], q = pq[1];
+      const double dx = px_[p] - px_[q], dy = py_[p] - py_[q], dz = pz_[p] - pz_[q];
+      const double delta = d - std::sqrt(dx * dx + dy * dy + dz * dz);
+      if (delta > 0.0) e += P.pairEnergy(delta);
+    }
+  P.tally_.energy = e;
+}
+
+void MpmSolver::penaltyForces() {
+  PairPenalty& P = *penalty_;
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  auto cellOf = [&](std::size_t p) {
+    return (static_cast<std::size_t>((px_[p] - ox) * invh) * n1 + static_cast<std::size_t>((py_[p] - oy) * invh)) *
+               n2 +
+           static_cast<std::size_t>((pz_[p] - oz) * invh);
+  };
+  // Cell lists of the candidates (counting sort, serial).
+  P.cand_.clear();
+  P.start_.assign(nodes_ + 1, 0);
+  for (std::size_t p = 0; p < size(); ++p) {
+    const std::size_t c = cellOf(p);
+    if (near_[c] != 3) continue;
+    P.cand_.push_back(static_cast<std::uint32_t>(p));
+    ++P.start_[c + 1];
+  }
+  for (std::size_t c = 0; c < nodes_; ++c) P.start_[c + 1] += P.start_[c];
+  P.items_.resize(P.cand_.size());
+  {
+    std::vector<std::uint32_t>& fill = P.cursor_;
+    fill.assign(P.start_.begin(), P.start_.end() - 1);
+    for (std::uint32_t p : P.cand_) P.items_[fill[cellOf(p)]++] = p;
+  }
+  const std::size_t nc = P.cand_.size();
+  P.force_.assign(3 * nc, 0.0);
+  for (auto& t : P.thread_) t = PenaltyTally{};
+  P.resetFriction();
+  const double d = P.d_, dReach2 = 2.25 * d * d, dt = dt_, k = P.k_, mu = cfg_.friction;
+  const std::size_t NR = static_cast<std::size_t>(nr_);
+  const double* rec0 = buf_[0].rec.data();
+  static const bool barrier = std::getenv("BARRIER") != nullptr;
+  const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
+#pragma omp parallel num_threads(nthreads_)
+  {
+#ifdef _OPENMP
+    const std::size_t tid = static_cast<std::size_t>(omp_get_thread_num());
+#else
+    const std::size_t tid = 0;
+#endif
+    PenaltyTally& T = P.thread_[tid];
+    double& W = P.friction_[8 * tid];
+    auto& Pairs = P.pairs_[tid];
+    Pairs.clear();
+#pragma omp for schedule(static)
+    for (std::size_t a = 0; a < nc; ++a) {
+      const std::size_t p = P.cand_[a];
+      const long long ci[3] = {static_cast<long long>((px_[p] - ox) * invh),
+                               static_cast<long long>((py_[p] - oy) * invh),
+                               static_cast<long long>((pz_[p] - oz) * invh)};
+      double f[3] = {0, 0, 0};
+      for (long long i = std::max(0LL, ci[0] - 1); i <= std::min(lim[0] - 1, ci[0] + 1); ++i)
+        for (long long j = std::max(0LL, ci[1] - 1); j <= std::min(lim[1] - 1, ci[1] + 1); ++j)
+          for (long long kk = std::max(0LL, ci[2] - 1); kk <= std::min(lim[2] - 1, ci[2] + 1); ++kk) {
+            const std::size_t c = (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
+                                  static_cast<std::size_t>(kk);
+            for (std::uint32_t s = P.start_[c]; s < P.start_[c + 1]; ++s) {
+              const std::size_t q = P.items_[s];
+              if (body_[q] == body_[p]) continue;
+              const double dx = px_[p] - px_[q], dy = py_[p] - py_[q], dz = pz_[p] - pz_[q];
+              const double r2 = dx * dx + dy * dy + dz * dz;
+              if (!(r2 < dReach2) || !(r2 > 0.0)) continue;
+              const double r = std::sqrt(r2), delta = d - r;
+              const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
+              if (!(delta > 0.0)) {
+                // Not touching: close if it would within two steps at the
+                // current approach speed (the next step resolves the contact).
+                const double vn = (vx_[q] - vx_[p]) * n[0] + (vy_[q] - vy_[p]) * n[1] + (vz_[q] - vz_[p]) * n[2];
+                if (-delta < 2.0 * vn * dt) T.close += 1;
+                continue;
+              }
+              double fn = k * delta, e = P.pairEnergy(delta);
+              if (barrier) {
+                const double x = std::min(delta / d, 0.9);
+                fn = k * d * x / (1 - x);
+                e = -k * d * d * (std::log(1 - x) + x);
+                if (delta / d > 0.9) {
+                  const double kx = k / ((1 - x) * (1 - x));
+                  e += fn * (delta - 0.9 * d) + 0.5 * kx * (delta - 0.9 * d) * (delta - 0.9 * d);
+                  fn += kx * (delta - 0.9 * d);
+                }
+              }
+              for (int c3 = 0; c3 < 3; ++c3) f[c3] += fn * n[c3];
+              T.energy += 0.5 * e;  // half of the pair's energy on each side
+              T.penetration = std::max(T.penetration, delta);
+              T.pairs += 1;
+              if (body_[p] == 0) Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
+              if (mu > 0.0) W += pairFriction(p, q, n, fn, mu, dt, rec0, NR, f);
+            }
+          }
+      for (int c3 = 0; c3 < 3; ++c3) P.force_[3 * a + c3] = f[c3];
+    }
+  }
+  P.tally_ = PenaltyTally{};
+  for (const PenaltyTally& t : P.thread_) {
+    P.tally_.energy += t.energy;
+    P.tally_.penetration = std::max(P.tally_.penetration, t.penetration);
+    P.tally_.pairs += t.pairs;
+    P.tally_.close += t.close;
+  }
+  P.tally_.pairs /= 2;
+  // Scatter f_I += N_Ip f_p into each point's own body (serial: a thin shell).
+  const bool bspline = cfg_.shape != Shape::Linear;
+  const int S = bspline ? 3 : 2;
+  const double shift = bspline ? 0.5 : 0.0;
+  double* rec = buf_[0].rec.data();
+  for (std::size_t a = 0; a < nc; ++a) {
+    const double* f = &P.force_[3 * a];
+    if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+    const std::size_t p = P.cand_[a];
+    const double xs[3] = {(px_[p] - ox) * invh, (py_[p] - oy) * invh, (pz_[p] - oz) * invh};
+    int base[3];
+    double w[3][3];
+    for (int dd = 0; dd < 3; ++dd) {
+      base[dd] = static_cast<int>(xs[dd] - shift);
+      for (int i = 0; i < S; ++i) w[dd][i] = kernel(bspline, xs[dd] - (base[dd] + i));
+    }
+    const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+    for (int i = 0; i < S; ++i)
+      for (int j = 0; j < S; ++j)
+        for (int kk = 0; kk < S; ++kk) {
+          const double wn = w[0][i] * w[1][j] * w[2][kk];
+          const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) *
+                                    n2 +
+                                static_cast<std::size_t>(base[2] + kk);
+          double* r = rec + NR * (off + I) + kForceLane;
+          for (int c3 = 0; c3 < 3; ++c3) r[c3] += wn * f[c3];
+        }
+  }
+}
+
+}  // namespace needlesim::mpm

@@ -1,0 +1,69 @@
+#pragma once
+// Energy-storing contact of two deformable bodies in the MPM solver
+// (MpmConfig::bodyContact = Penalty; docs/models/mpm.md "Penalty contact of
+// two bodies").
+//
+// Kept from seed 000 eqs 14-21: one velocity field per body on the grid, the
+// bodies interact only where they meet, Coulomb friction limited by mu times
+// the normal force with a sticking limit (eqs 19-21). Departure: the normal
+// force is not the velocity-consistent impulse of eqs 15-18 at the grid
+// nodes (a perfectly plastic impact of the contact-node masses), but a
+// penalty force between material points of different bodies whose volumes
+// overlap: each point is a sphere of diameter d_p (the particle spacing), so
+// the bodies touch when their surfaces (d_p/2 outside the outermost points)
+// meet, and a pair p, q at distance r < d_p pushes apart with
+//   f = k delta n,  delta = d_p - r,  n = (x_p - x_q)/r,  k = kappa M d_p,
+// M the largest P-wave modulus K + 4/3 mu of the materials (a point's face
+// d_p^2 pressed by delta feels the pressure of a layer d_p/kappa thick). The
+// pair potential 1/2 k delta^2 is a function of the positions only, the force
+// is its gradient and enters the grid like the internal force (f_I += N_Ip f_p),
+// so its power is exactly sum_p f_p . v_p of the points' grid velocities:
+// the stored energy is returned (energy balance: kinetic + strain + penalty).
+// Friction on a pair: f_t = -min(mu |f|, m_r |v_t| / dt) v_t / |v_t| (the
+// sticking force of the pair's reduced mass, eq 19, limited by eq 20); it
+// works only while the pair slides.
+#include <cstddef>
+#include <array>
+#include <cstdint>
+#include <vector>
+
+namespace needlesim::mpm {
+
+// Totals of one step.
+struct PenaltyTally {
+  double energy = 0.0;       // J, stored penalty energy sum 1/2 k delta^2
+  double penetration = 0.0;  // m, largest overlap delta
+  int pairs = 0;             // pairs in contact
+  int close = 0;             // pairs that would touch within two steps at their approach speed
+};
+
+// Scratch and parameters of the pair search; the forces are computed and
+// scattered by MpmSolver::penaltyForces (penalty_contact.cpp).
+class PairPenalty {
+ public:
+  // stiffness k (N/m per pair), contact distance d_p (m), the smallest reduced
+  // mass of a pair m_r (kg), threads.
+  PairPenalty(double stiffness, double distance, double reducedMass, int threads);
+  // Time step that resolves the pair oscillator, alpha / omega with
+  // omega = sqrt(k / m_r), while pairs were in contact in the last step
+  // (infinite otherwise, or for alpha <= 0).
+  double stepLimit(double alpha) const;
+  double stiffness() const { return k_; }
+  double distance() const { return d_; }
+  const PenaltyTally& tally() const { return tally_; }
+  double pairEnergy(double delta) const;  // J, potential of one pair at overlap delta
+  double frictionWork() const;  // J, kinetic energy friction removed since resetFriction
+  void resetFriction();
+
+ private:
+  friend class MpmSolver;
+  double k_, d_, omega_;
+  std::vector<std::uint32_t> start_, items_, cand_, cursor_;  // cell lists (CSR) of candidate points
+  std::vector<double> force_;                        // 3 per candidate
+  std::vector<PenaltyTally> thread_;                 // per thread
+  std::vector<std::vector<std::array<std::uint32_t, 2>>> pairs_;  // per thread: pairs in contact (p of body 0)
+  std::vector<double> friction_;                     // per thread (stride 8): friction work
+  PenaltyTally tally_;
+};
+
+}  // namespace needlesim::mpm

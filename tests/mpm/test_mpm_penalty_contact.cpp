@@ -1,0 +1,171 @@
+// Penalty contact of two deformable bodies (MpmConfig::bodyContact = Penalty,
+// src/needlesim/engines/mpm/penalty_contact.*): the collision of two elastic
+// blocks must conserve kinetic + strain + penalty energy (issue target 2 %),
+// bounce with a coefficient of restitution near 1, keep the overlap a small
+// fraction of h, and let friction remove energy only while the faces slide.
+// docs/validation/mpm.md, "Energy in the collision test".
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+
+#include "needlesim/engines/mpm/mpm_solver.hpp"
+
+using namespace needlesim;
+using namespace needlesim::mpm;
+
+namespace {
+
+MpmMaterial linearMaterial(double E, double nu, double rho) {
+  MpmMaterial m;
+  m.law.kind = materials::LawKind::Linear;
+  m.law.E = E;
+  m.law.nu = nu;
+  m.density = rho;
+  return m;
+}
+
+Vec3 bodyVelocity(const MpmSolver& s, int body) {
+  Vec3 p = Vec3::Zero();
+  double m = 0;
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    if (s.body(i) != body) continue;
+    p += s.mass(i) * s.velocity(i);
+    m += s.mass(i);
+  }
+  return p / m;
+}
+
+struct Impact {
+  double drift = 0;         // max |E - E0| / E0 over the run, E = kinetic + strain + penalty
+  double final = 0;         // final E / E0
+  double restitution = 0;   // separation / approach speed along x (centre-of-mass velocities)
+  double tangential = 0;    // final relative velocity along y of the centres of mass, m/s
+  double penetration = 0;   // largest overlap of two points' volumes, m
+  double frictionWork = 0;  // J over the run
+  double e0 = 0;
+  long long steps = 0;
+};
+
+struct Collision {
+  Shape shape = Shape::BSpline2;
+  BodyContact contact = BodyContact::Penalty;
+  double mu = 0.0;
+  double nu = 0.3;
+  double vt = 0.0;  // sliding velocity of each block along y (+ / -), m/s
+};
+
+// Two elastic blocks (8 mm cubes, E 100 kPa, 1000 kg/m^3), the set-up of
+// MpmVerification.TwoElasticBlocksCollideEnergyDrift: 3 mm apart, approach
+// along x at 2 x 0.5 m/s (plus +-vt along y for an oblique impact), h = 1 mm,
+// particles h/2, default time-step factor, 8 ms (contact from 3.0 to ~4.9 ms).
+Impact collide(const Collision& u) {
+  const double h = 1e-3, a = 8e-3, d = 3e-3;
+  MpmConfig cfg;
+  cfg.h = h;
+  cfg.shape = u.shape;
+  cfg.origin = Vec3(-4e-3, -6e-3, -4e-3);
+  cfg.cells = {30, 20, 16};
+  cfg.bodies = 2;
+  cfg.friction = u.mu;
+  cfg.bodyContact = u.contact;
+  cfg.threads = 1;
+  MpmSolver s(cfg);
+  s.addMaterial(linearMaterial(1e5, u.nu, 1000));
+  const double v0 = 0.5;
+  s.addBlock(Vec3(0, 0, 0), Vec3(a, a, a), h / 2, 0, 0, Vec3(v0, u.vt, 0));
+  s.addBlock(Vec3(a + d, 0, 0), Vec3(2 * a + d, a, a), h / 2, 0, 1, Vec3(-v0, -u.vt, 0));
+  s.finalize();
+  Impact c;
+  double e = 0;
+  while (s.time() < 0.008) {
+    const StepReport r = s.step();
+    e = r.kinetic + r.internal + r.contact;
+    if (c.e0 == 0) c.e0 = e;
+    c.drift = std::max(c.drift, std::abs(e - c.e0) / c.e0);
+    c.penetration = std::max(c.penetration, r.penetration);
+    c.frictionWork += r.frictionWork;
+  }
+  c.final = e / c.e0;
+  c.steps = s.steps();
+  const Vec3 u0 = bodyVelocity(s, 0), u1 = bodyVelocity(s, 1);
+  c.restitution = (u1.x() - u0.x()) / (2 * v0);
+  c.tangential = u0.y() - u1.y();
+  return c;
+}
+
+const char* name(Shape s) { return s == Shape::Linear ? "linear" : "B-spline"; }
+
+}  // namespace
+
+// Issue 8 target: total energy drift below 2 % in the two-block collision
+// with friction, with B-splines and with linear shapes, at the grid of the
+// velocity-contact test (which drifts 10.6 % / 8.9 %).
+TEST(MpmPenaltyContact, TwoElasticBlocksCollideEnergyDrift) {
+  for (Shape sh : {Shape::BSpline2, Shape::Linear}) {
+    Collision u;
+    u.shape = sh;
+    u.mu = 0.3;
+    const Impact c = collide(u);
+    u.mu = 0.0;
+    const Impact c0 = collide(u);
+    std::printf("penalty collision %s (h = 1 mm, mu 0.3): max drift %.2f %%, final E/E0 %.4f, restitution %.3f, "
+                "largest overlap %.3f h, %lld steps; mu 0: drift %.2f %%, final %.4f\n",
+                name(sh), 100 * c.drift, c.final, c.restitution, c.penetration / 1e-3, c.steps, 100 * c0.drift,
+                c0.final);
+    // Measured 1.6 % (B-spline) and 1.4 % (linear). What is left is the
+    // FLIP/grid error of the impact plus the half-step kinetic energy of an
+    // explicit step; it grows with the stiffness (kappa 1: 5.5 %).
+    EXPECT_LT(c.drift, 0.02);
+    // The overlap stays well inside a particle spacing (0.5 h): measured 0.15 h.
+    EXPECT_LT(c.penetration, 0.2e-3);
+    // Head-on and mirror-symmetric: nothing slides, so friction does no work.
+    EXPECT_NEAR(c.final, c0.final, 0.005);
+    EXPECT_LT(c.frictionWork, 1e-3 * c.e0);
+  }
+}
+
+// Frictionless head-on impact of two blocks with nu = 0: every cross-section
+// is in uniaxial strain, the 1D problem of two equal elastic bars, which
+// exchange their velocities exactly (coefficient of restitution 1). The
+// penalty stores the energy and gives it back: e near 1, where the
+// velocity-consistent contact (eqs 15-18) keeps the plastic part.
+TEST(MpmPenaltyContact, HeadOnBarsSeparateWithTheirApproachSpeed) {
+  Collision u;
+  u.nu = 0.0;
+  const Impact p = collide(u);
+  u.contact = BodyContact::Velocity;
+  const Impact v = collide(u);
+  std::printf("nu 0 head-on: restitution penalty %.3f (final E/E0 %.4f, drift %.2f %%, overlap %.3f h), velocity "
+              "contact %.3f (final %.4f)\n",
+              p.restitution, p.final, 100 * p.drift, p.penetration / 1e-3, v.restitution, v.final);
+  EXPECT_GT(p.restitution, 0.95);
+  EXPECT_LT(p.drift, 0.02);
+  EXPECT_LT(p.penetration, 0.2e-3);
+}
+
+// Oblique impact: the blocks also slide past each other at 2 x vt along y.
+// Without friction the contact is conservative (final energy = E0 and the
+// sliding speed unchanged); with mu the faces slide during the whole contact
+// (mu times the normal impulse is below the sticking one), so Coulomb's law
+// fixes the change of the relative sliding speed, mu times the change of the
+// normal relative speed, and the energy lost equals the friction work.
+TEST(MpmPenaltyContact, FrictionRemovesEnergyOnlyWhileSliding) {
+  Collision u;
+  u.vt = 0.5;
+  const Impact f0 = collide(u);
+  u.mu = 0.3;
+  const Impact f = collide(u);
+  const double dvn = 1.0 * (1.0 + f.restitution);  // change of the relative normal speed
+  const double dvt = 1.0 - f.tangential;           // change of the relative sliding speed (initially 1 m/s)
+  std::printf("oblique: mu 0 final E/E0 %.4f drift %.2f %% sliding %.3f m/s; mu 0.3 final %.4f, friction work %.4f "
+              "E0, E + W %.4f, dv_t %.3f vs mu dv_n %.3f\n",
+              f0.final, 100 * f0.drift, f0.tangential, f.final, f.frictionWork / f.e0, f.final + f.frictionWork / f.e0,
+              dvt, 0.3 * dvn);
+  EXPECT_LT(f0.drift, 0.02);
+  EXPECT_NEAR(f0.tangential, 1.0, 0.05);
+  EXPECT_LT(f0.frictionWork, 1e-6 * f0.e0);
+  EXPECT_LT(f.final, f0.final - 0.05);
+  EXPECT_NEAR(f.final + f.frictionWork / f.e0, f0.final, 0.02);
+  EXPECT_NEAR(dvt / (0.3 * dvn), 1.0, 0.1);
+}
