@@ -289,6 +289,7 @@ static Collision collide(Shape shape, double mu, int refine = 1) {
   cfg.cells = {30 * refine, 16 * refine, 16 * refine};
   cfg.bodies = 2;
   cfg.friction = mu;
+  cfg.bodyContact = BodyContact::Velocity;  // eqs 15-21 (the penalty contact: test_mpm_penalty_contact.cpp)
   cfg.threads = 1;
   MpmSolver s(cfg);
   s.addMaterial(linearMaterial(1e5, 0.3, 1000));
