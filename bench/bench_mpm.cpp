@@ -66,8 +66,10 @@ void BM_MpmNeedle(benchmark::State& st) {
   st.counters["contact_nodes"] = s.rigidForce(0).contactNodes;
 }
 
-// Two deformable blocks (two velocity fields, frictional grid contact of eqs
-// 14-21 between them, mu 0.3) pressed together while sliding: 2 x 25,600 = 51,200 points.
+// Two deformable blocks (two velocity fields, frictional two-body contact
+// between them, mu 0.3: the default penalty contact of penalty_contact.hpp;
+// the velocity contact of eqs 14-21 before it) pressed together while
+// sliding: 2 x 25,600 = 51,200 points.
 MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads) {
   const double h = 0.8e-3, dp = 0.4e-3, a = 16e-3, b = 6.4e-3;
   MpmConfig cfg;
