@@ -54,6 +54,7 @@ struct Collision {
   double mu = 0.0;
   double nu = 0.3;
   double vt = 0.0;  // sliding velocity of each block along y (+ / -), m/s
+  int refine = 1;   // divides h (1 mm) and the particle spacing (h / 2)
 };
 
 // Two elastic blocks (8 mm cubes, E 100 kPa, 1000 kg/m^3), the set-up of
@@ -61,12 +62,12 @@ struct Collision {
 // along x at 2 x 0.5 m/s (plus +-vt along y for an oblique impact), h = 1 mm,
 // particles h/2, default time-step factor, 8 ms (contact from 3.0 to ~4.9 ms).
 Impact collide(const Collision& u) {
-  const double h = 1e-3, a = 8e-3, d = 3e-3;
+  const double h = 1e-3 / u.refine, a = 8e-3, d = 3e-3;
   MpmConfig cfg;
   cfg.h = h;
   cfg.shape = u.shape;
   cfg.origin = Vec3(-4e-3, -6e-3, -4e-3);
-  cfg.cells = {30, 20, 16};
+  cfg.cells = {30 * u.refine, 20 * u.refine, 16 * u.refine};
   cfg.bodies = 2;
   cfg.friction = u.mu;
   cfg.bodyContact = u.contact;
@@ -177,4 +178,19 @@ TEST(MpmPenaltyContact, FrictionRemovesEnergyOnlyWhileSliding) {
   EXPECT_LT(f.final, f0.final - 0.05);
   EXPECT_NEAR(f.final + f.frictionWork / f.e0, f0.final, 0.02);
   EXPECT_NEAR(dvt / (0.3 * dvn), 1.0, 0.1);
+}
+
+// The penalty contact at half the grid spacing (h = 0.5 mm, points h/2; kappa,
+// alpha and the contact distance d_p follow the grid): the drift must not
+// grow with refinement, and the overlap stays the same fraction of h.
+TEST(MpmPenaltyContact, LongCollisionDriftUnderRefinement) {
+  Collision u;
+  u.mu = 0.3;
+  u.refine = 2;
+  const Impact c = collide(u);
+  std::printf("penalty collision B-spline h = 0.5 mm: max drift %.2f %%, final E/E0 %.4f, restitution %.3f, overlap "
+              "%.3f h, %lld steps\n",
+              100 * c.drift, c.final, c.restitution, c.penetration / 0.5e-3, c.steps);
+  EXPECT_LT(c.drift, 0.02);
+  EXPECT_LT(c.penetration, 0.2 * 0.5e-3);
 }
