@@ -261,7 +261,17 @@ void MpmSolver::finalize() {
       M = std::max(M, K + 4.0 / 3.0 * mu);
     }
     const double mmin = mass_.empty() ? 0.0 : *std::min_element(mass_.begin(), mass_.end());
-    penalty_.emplace(cfg_.penaltyFactor * M * dp_, dp_, 0.5 * mmin, nthreads_);
+    std::vector<double> radius(size());
+    double rmax = 0.0;
+    for (std::size_t p = 0; p < size(); ++p) {
+      radius[p] = 0.5 * std::cbrt(vol0_[p]);
+      rmax = std::max(rmax, radius[p]);
+    }
+    if (2 * rmax > cfg_.h * (1 + 1e-9))
+      throw Error(fmt::format("mpm: the penalty contact needs particle spacings of at most the grid spacing ({:.3g} mm "
+                              "> {:.3g} mm); refine the particles or use the velocity contact",
+                              2e3 * rmax, 1e3 * cfg_.h));
+    penalty_.emplace(cfg_.penaltyFactor * M * dp_, std::move(radius), 0.5 * mmin, nthreads_);
   }
 
   // Boundary conditions on the nodes on or beyond each face of the box.

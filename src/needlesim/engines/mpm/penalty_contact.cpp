@@ -6,7 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
-#include <cstdlib>
+#include <utility>
 
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 
@@ -37,8 +37,8 @@ double PairPenalty::stepLimit(double alpha) const {
   return alpha / omega_;
 }
 
-PairPenalty::PairPenalty(double stiffness, double distance, double reducedMass, int threads)
-    : k_(stiffness), d_(distance), omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0), thread_(static_cast<std::size_t>(std::max(threads, 1))), pairs_(thread_.size()),
+PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double reducedMass, int threads)
+    : k_(stiffness), radius_(std::move(radius)), omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0), thread_(static_cast<std::size_t>(std::max(threads, 1))), pairs_(thread_.size()),
       friction_(8 * thread_.size(), 0.0) {}
 
 // Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
@@ -158,10 +158,10 @@ double PairPenalty::pairEnergy(double delta) const {
 void MpmSolver::penaltyEnergyAfterStep() {
   PairPenalty& P = *penalty_;
   double e = 0.0;
-  const double d = P.d_;
   for (const auto& list : P.pairs_)
     for (const auto& pq : list) {
       const std::size_t p = pq[0], q = pq[1];
+      const double d = P.radius_[p] + P.radius_[q];
       const double dx = px_[p] - px_[q], dy = py_[p] - py_[q], dz = pz_[p] - pz_[q];
       const double delta = d - std::sqrt(dx * dx + dy * dy + dz * dz);
       if (delta > 0.0) e += P.pairEnergy(delta);
@@ -181,28 +181,29 @@ void MpmSolver::penaltyForces() {
   };
   // Cell lists of the candidates (counting sort, serial).
   P.cand_.clear();
-  P.start_.assign(nodes_ + 1, 0);
+  // Lists per body and cell (key body * nodes + cell), so a point scans only
+  // the other body's points.
+  P.start_.assign(2 * nodes_ + 1, 0);
   for (std::size_t p = 0; p < size(); ++p) {
     const std::size_t c = cellOf(p);
     if (near_[c] != 3) continue;
     P.cand_.push_back(static_cast<std::uint32_t>(p));
-    ++P.start_[c + 1];
+    ++P.start_[static_cast<std::size_t>(body_[p]) * nodes_ + c + 1];
   }
-  for (std::size_t c = 0; c < nodes_; ++c) P.start_[c + 1] += P.start_[c];
+  for (std::size_t c = 0; c < 2 * nodes_; ++c) P.start_[c + 1] += P.start_[c];
   P.items_.resize(P.cand_.size());
   {
     std::vector<std::uint32_t>& fill = P.cursor_;
     fill.assign(P.start_.begin(), P.start_.end() - 1);
-    for (std::uint32_t p : P.cand_) P.items_[fill[cellOf(p)]++] = p;
+    for (std::uint32_t p : P.cand_) P.items_[fill[static_cast<std::size_t>(body_[p]) * nodes_ + cellOf(p)]++] = p;
   }
   const std::size_t nc = P.cand_.size();
   P.force_.assign(3 * nc, 0.0);
   for (auto& t : P.thread_) t = PenaltyTally{};
   P.resetFriction();
-  const double d = P.d_, dReach2 = 2.25 * d * d, dt = dt_, k = P.k_, mu = cfg_.friction;
+  const double dt = dt_, k = P.k_, mu = cfg_.friction;
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double* rec0 = buf_[0].rec.data();
-  static const bool barrier = std::getenv("BARRIER") != nullptr;
   const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
 #pragma omp parallel num_threads(nthreads_)
   {
@@ -218,6 +219,7 @@ void MpmSolver::penaltyForces() {
 #pragma omp for schedule(static)
     for (std::size_t a = 0; a < nc; ++a) {
       const std::size_t p = P.cand_[a];
+      const std::size_t other = static_cast<std::size_t>(1 - body_[p]) * nodes_;
       const long long ci[3] = {static_cast<long long>((px_[p] - ox) * invh),
                                static_cast<long long>((py_[p] - oy) * invh),
                                static_cast<long long>((pz_[p] - oz) * invh)};
@@ -225,14 +227,14 @@ void MpmSolver::penaltyForces() {
       for (long long i = std::max(0LL, ci[0] - 1); i <= std::min(lim[0] - 1, ci[0] + 1); ++i)
         for (long long j = std::max(0LL, ci[1] - 1); j <= std::min(lim[1] - 1, ci[1] + 1); ++j)
           for (long long kk = std::max(0LL, ci[2] - 1); kk <= std::min(lim[2] - 1, ci[2] + 1); ++kk) {
-            const std::size_t c = (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
+            const std::size_t c = other + (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
                                   static_cast<std::size_t>(kk);
             for (std::uint32_t s = P.start_[c]; s < P.start_[c + 1]; ++s) {
               const std::size_t q = P.items_[s];
-              if (body_[q] == body_[p]) continue;
               const double dx = px_[p] - px_[q], dy = py_[p] - py_[q], dz = pz_[p] - pz_[q];
               const double r2 = dx * dx + dy * dy + dz * dz;
-              if (!(r2 < dReach2) || !(r2 > 0.0)) continue;
+              const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
+              if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
               const double r = std::sqrt(r2), delta = d - r;
               const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
               if (!(delta > 0.0)) {
@@ -242,19 +244,9 @@ void MpmSolver::penaltyForces() {
                 if (-delta < 2.0 * vn * dt) T.close += 1;
                 continue;
               }
-              double fn = k * delta, e = P.pairEnergy(delta);
-              if (barrier) {
-                const double x = std::min(delta / d, 0.9);
-                fn = k * d * x / (1 - x);
-                e = -k * d * d * (std::log(1 - x) + x);
-                if (delta / d > 0.9) {
-                  const double kx = k / ((1 - x) * (1 - x));
-                  e += fn * (delta - 0.9 * d) + 0.5 * kx * (delta - 0.9 * d) * (delta - 0.9 * d);
-                  fn += kx * (delta - 0.9 * d);
-                }
-              }
+              const double fn = k * delta;
               for (int c3 = 0; c3 < 3; ++c3) f[c3] += fn * n[c3];
-              T.energy += 0.5 * e;  // half of the pair's energy on each side
+              T.energy += 0.5 * P.pairEnergy(delta);  // half of the pair's energy on each side
               T.penetration = std::max(T.penetration, delta);
               T.pairs += 1;
               if (body_[p] == 0) Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});

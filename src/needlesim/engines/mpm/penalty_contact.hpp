@@ -41,15 +41,15 @@ struct PenaltyTally {
 // scattered by MpmSolver::penaltyForces (penalty_contact.cpp).
 class PairPenalty {
  public:
-  // stiffness k (N/m per pair), contact distance d_p (m), the smallest reduced
-  // mass of a pair m_r (kg), threads.
-  PairPenalty(double stiffness, double distance, double reducedMass, int threads);
+  // stiffness k (N/m per pair), the radius of each point's volume (half its
+  // spacing, cbrt(V0) / 2; a pair touches at the sum of the two), the
+  // smallest reduced mass of a pair m_r (kg), threads.
+  PairPenalty(double stiffness, std::vector<double> radius, double reducedMass, int threads);
   // Time step that resolves the pair oscillator, alpha / omega with
   // omega = sqrt(k / m_r), while pairs were in contact in the last step
   // (infinite otherwise, or for alpha <= 0).
   double stepLimit(double alpha) const;
   double stiffness() const { return k_; }
-  double distance() const { return d_; }
   const PenaltyTally& tally() const { return tally_; }
   double pairEnergy(double delta) const;  // J, potential of one pair at overlap delta
   double frictionWork() const;  // J, kinetic energy friction removed since resetFriction
@@ -57,7 +57,9 @@ class PairPenalty {
 
  private:
   friend class MpmSolver;
-  double k_, d_, omega_;
+  double k_;
+  std::vector<double> radius_;  // per point
+  double omega_;
   std::vector<std::uint32_t> start_, items_, cand_, cursor_;  // cell lists (CSR) of candidate points
   std::vector<double> force_;                        // 3 per candidate
   std::vector<PenaltyTally> thread_;                 // per thread
