@@ -31,8 +31,8 @@ enum class Update { USL, MUSL };                 // update-stress-last, modified
 enum class PairGapRule { Centroid, Surface };
 // Normal contact of two deformable bodies: Velocity = the velocity-consistent
 // impulse of eqs 15-18 (perfectly plastic at the contact nodes); Penalty = a
-// force on the estimated surface gap that stores and returns the energy
-// (penalty_contact.hpp).
+// penalty between overlapping material points of the two bodies that stores
+// and returns the energy (penalty_contact.hpp).
 enum class BodyContact { Velocity, Penalty };
 enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 
@@ -102,8 +102,8 @@ struct StepReport {
   double kinetic = 0.0;   // J (scaled masses)
   double internal = 0.0;  // J
   double maxSpeed = 0.0;  // max (c_p + |v_p|), m/s
-  double contact = 0.0;      // J, energy stored in the penalty contact of two bodies (positions at the step's start)
-  double penetration = 0.0;  // m, largest overlap d_p - |x_p - x_q| of two points of different bodies
+  double contact = 0.0;      // J, energy stored in the penalty contact of two bodies (end-of-step positions)
+  double penetration = 0.0;  // m, largest overlap (d_p + d_q)/2 - |x_p - x_q| of two points of different bodies
   double frictionWork = 0.0; // J, work of the penalty contact's friction forces this step (>= 0, dissipated)
 };
 

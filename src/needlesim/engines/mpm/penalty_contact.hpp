@@ -9,21 +9,25 @@
 // force is not the velocity-consistent impulse of eqs 15-18 at the grid
 // nodes (a perfectly plastic impact of the contact-node masses), but a
 // penalty force between material points of different bodies whose volumes
-// overlap: each point is a sphere of diameter d_p (the particle spacing), so
-// the bodies touch when their surfaces (d_p/2 outside the outermost points)
-// meet, and a pair p, q at distance r < d_p pushes apart with
-//   f = k delta n,  delta = d_p - r,  n = (x_p - x_q)/r,  k = kappa M d_p,
+// overlap: each point is a sphere of diameter d_p = cbrt(V0) (its spacing),
+// so the bodies touch when their surfaces (d_p/2 outside the outermost
+// points) meet, and a pair p, q at distance r < d = (d_p + d_q)/2 pushes
+// apart with
+//   f = k delta n,  delta = d - r,  n = (x_p - x_q)/r,  k = kappa M d_p,
 // M the largest P-wave modulus K + 4/3 mu of the materials (a point's face
 // d_p^2 pressed by delta feels the pressure of a layer d_p/kappa thick). The
 // pair potential 1/2 k delta^2 is a function of the positions only, the force
 // is its gradient and enters the grid like the internal force (f_I += N_Ip f_p),
 // so its power is exactly sum_p f_p . v_p of the points' grid velocities:
 // the stored energy is returned (energy balance: kinetic + strain + penalty).
-// Friction on a pair: f_t = -min(mu |f|, m_r |v_t| / dt) v_t / |v_t| (the
-// sticking force of the pair's reduced mass, eq 19, limited by eq 20); it
-// works only while the pair slides.
-#include <cstddef>
+// Friction on a pair: f_t = -min(mu f_n, m_r |v_t| / dt) v_t / |v_t| (the
+// sticking force of the pair's reduced mass, eq 19, limited by eq 20), with
+// f_n the pair force along the bodies' surface normal (mass gradients at the
+// pair's midpoint) and v_t the sliding velocity of the two grid fields at the
+// two points; it works only while the faces slide. While pairs touch, the
+// time step resolves the pair oscillator (stepLimit).
 #include <array>
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
