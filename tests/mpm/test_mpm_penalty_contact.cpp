@@ -10,20 +10,14 @@
 #include <cstdio>
 
 #include "needlesim/engines/mpm/mpm_solver.hpp"
+#include "mpm_test_materials.hpp"
 
 using namespace needlesim;
 using namespace needlesim::mpm;
 
 namespace {
 
-MpmMaterial linearMaterial(double E, double nu, double rho) {
-  MpmMaterial m;
-  m.law.kind = materials::LawKind::Linear;
-  m.law.E = E;
-  m.law.nu = nu;
-  m.density = rho;
-  return m;
-}
+using test::linearMaterial;
 
 Vec3 bodyVelocity(const MpmSolver& s, int body) {
   Vec3 p = Vec3::Zero();

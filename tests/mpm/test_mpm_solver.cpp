@@ -9,6 +9,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
+#include "mpm_test_materials.hpp"
 #include "needlesim/materials/homogeneous.hpp"
 
 using namespace needlesim;
@@ -16,14 +17,7 @@ using namespace needlesim::mpm;
 
 namespace {
 
-MpmMaterial linearMaterial(double E, double nu, double rho) {
-  MpmMaterial m;
-  m.law.kind = materials::LawKind::Linear;
-  m.law.E = E;
-  m.law.nu = nu;
-  m.density = rho;
-  return m;
-}
+using test::linearMaterial;
 
 MpmMaterial fungMaterial(double mu, double gamma, double K, double rho) {
   MpmMaterial m;

@@ -30,6 +30,23 @@ inline double kernel(bool bspline, double xi) {
   if (a < 1.5) return 0.5 * (1.5 - a) * (1.5 - a);
   return 0.0;
 }
+// Support of a point at xs (in cells from the grid origin): per axis the base
+// node and the weights of the S = 3 (B-spline) or 2 (linear) nodes.
+struct Support {
+  int S = 0;
+  int base[3] = {0, 0, 0};
+  double w[3][3] = {};
+};
+inline Support support(bool bspline, const double* xs) {
+  Support s;
+  s.S = bspline ? 3 : 2;
+  const double shift = bspline ? 0.5 : 0.0;
+  for (int d = 0; d < 3; ++d) {
+    s.base[d] = static_cast<int>(xs[d] - shift);
+    for (int i = 0; i < s.S; ++i) s.w[d][i] = kernel(bspline, xs[d] - (s.base[d] + i));
+  }
+  return s;
+}
 }  // namespace
 
 double PairPenalty::stepLimit(double alpha) const {
@@ -108,18 +125,14 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
 
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
 void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const {
-  const bool bspline = cfg_.shape != Shape::Linear;
-  const int S = bspline ? 3 : 2;
-  const double invh = 1.0 / cfg_.h, shift = bspline ? 0.5 : 0.0;
+  const double invh = 1.0 / cfg_.h;
   const double xs[3] = {(px_[p] - cfg_.origin.x()) * invh, (py_[p] - cfg_.origin.y()) * invh,
                         (pz_[p] - cfg_.origin.z()) * invh};
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  int base[3];
-  double w[3][3];
-  for (int d = 0; d < 3; ++d) {
-    base[d] = static_cast<int>(xs[d] - shift);
-    for (int i = 0; i < S; ++i) w[d][i] = kernel(bspline, xs[d] - (base[d] + i));
-  }
+  const Support su = support(cfg_.shape != Shape::Linear, xs);
+  const int S = su.S;
+  const auto& base = su.base;
+  const auto& w = su.w;
   const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
   v[0] = v[1] = v[2] = 0.0;
   for (int i = 0; i < S; ++i)
@@ -266,20 +279,16 @@ void MpmSolver::penaltyForces() {
   P.tally_.pairs /= 2;
   // Scatter f_I += N_Ip f_p into each point's own body (serial: a thin shell).
   const bool bspline = cfg_.shape != Shape::Linear;
-  const int S = bspline ? 3 : 2;
-  const double shift = bspline ? 0.5 : 0.0;
   double* rec = buf_[0].rec.data();
   for (std::size_t a = 0; a < nc; ++a) {
     const double* f = &P.force_[3 * a];
     if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
     const std::size_t p = P.cand_[a];
     const double xs[3] = {(px_[p] - ox) * invh, (py_[p] - oy) * invh, (pz_[p] - oz) * invh};
-    int base[3];
-    double w[3][3];
-    for (int dd = 0; dd < 3; ++dd) {
-      base[dd] = static_cast<int>(xs[dd] - shift);
-      for (int i = 0; i < S; ++i) w[dd][i] = kernel(bspline, xs[dd] - (base[dd] + i));
-    }
+    const Support su = support(bspline, xs);
+    const int S = su.S;
+    const auto& base = su.base;
+    const auto& w = su.w;
     const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
     for (int i = 0; i < S; ++i)
       for (int j = 0; j < S; ++j)

@@ -1,0 +1,17 @@
+#pragma once
+// Materials shared by the MPM solver tests.
+#include "needlesim/engines/mpm/mpm_solver.hpp"
+
+namespace needlesim::mpm::test {
+
+// St Venant-Kirchhoff ("linear" law of the materials library).
+inline MpmMaterial linearMaterial(double E, double nu, double rho) {
+  MpmMaterial m;
+  m.law.kind = materials::LawKind::Linear;
+  m.law.E = E;
+  m.law.nu = nu;
+  m.density = rho;
+  return m;
+}
+
+}  // namespace needlesim::mpm::test
