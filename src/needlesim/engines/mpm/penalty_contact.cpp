@@ -50,12 +50,17 @@ inline Support support(bool bspline, const double* xs) {
 }  // namespace
 
 double PairPenalty::stepLimit(double alpha) const {
-  if (!(alpha > 0.0) || tally_.pairs + tally_.close == 0 || !(omega_ > 0.0)) return std::numeric_limits<double>::infinity();
+  if (!(alpha > 0.0) || tally_.pairs + tally_.close == 0 || !(omega_ > 0.0))
+    return std::numeric_limits<double>::infinity();
   return alpha / omega_;
 }
 
 PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double reducedMass, int threads)
-    : k_(stiffness), radius_(std::move(radius)), omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0), thread_(static_cast<std::size_t>(std::max(threads, 1))), pairs_(thread_.size()),
+    : k_(stiffness),
+      radius_(std::move(radius)),
+      omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0),
+      thread_(static_cast<std::size_t>(std::max(threads, 1))),
+      pairs_(thread_.size()),
       friction_(8 * thread_.size(), 0.0) {}
 
 // Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
@@ -147,12 +152,6 @@ void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, 
       }
 }
 
-// Pair forces at the positions of the step's start, added to the reduced grid
-// force f_I of each point's own body before the momentum update (eq 3), so
-// the grid update, MUSL remap and boundary conditions treat them like the
-// internal force. Candidates are the points in cells that both bodies reach
-// within 3 cells (markNearBodies); d_p <= h, so a partner lies in the 27
-// cells around a point's cell.
 double PairPenalty::frictionWork() const {
   double w = 0.0;
   for (std::size_t t = 0; t < friction_.size(); t += 8) w += friction_[t];
@@ -182,6 +181,12 @@ void MpmSolver::penaltyEnergyAfterStep() {
   P.tally_.energy = e;
 }
 
+// Pair forces at the positions of the step's start, added to the reduced grid
+// force f_I of each point's own body before the momentum update (eq 3), so
+// the grid update, MUSL remap and boundary conditions treat them like the
+// internal force. Candidates are the points in cells that both bodies reach
+// within 3 cells (markNearBodies); d_p <= h, so a partner lies in the 27
+// cells around a point's cell.
 void MpmSolver::penaltyForces() {
   PairPenalty& P = *penalty_;
   const double invh = 1.0 / cfg_.h;
