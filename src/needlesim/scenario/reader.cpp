@@ -506,10 +506,10 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
           if (why.empty() && m.kind == MotionSegment::Kind::Rotate) why = "keeps the bevel fixed: no rotate segments";
         if (!why.empty())
           throw cs.error("path", c.path, why, "path: straight, or a 2d cohesive run that meets this");
-      } else if (!c.path_points.empty()) {
-        throw cs.error("path_points", fmt::format("{} points", c.path_points.size()), "are given but path is straight",
-                       "path: points");
       }
+      if (!c.path_points.empty() && c.path != "points")
+        throw cs.error("path_points", fmt::format("{} points", c.path_points.size()), "are given but path is " + c.path,
+                       "path: points, or no path_points");
       if (c.enable) {
         if (c.strength <= 0 && c.critical_separation <= 0)
           throw cs.error("strength", "0", "is not given and neither is critical_separation",
