@@ -39,6 +39,35 @@ NeedlePath::NeedlePath(const std::vector<Vector2d>& p, double before, double aft
   }
   t_.resize(n + 1);
   for (int k = 0; k <= n; ++k) t_[k] = (q_[std::min(k + 1, n)] - q_[std::max(k - 1, 0)]).normalized();
+  // uniform x cells no wider than the narrowest sample segment (one cell start per segment at most)
+  double dxMin = hs_;
+  for (int k = 0; k < n; ++k) dxMin = std::min(dxMin, q_[k + 1].x() - q_[k].x());
+  x0_ = q_.front().x();
+  hx_ = std::max(dxMin, 1e-6 * hs_);
+  const int cells = static_cast<int>(std::ceil((q_.back().x() - x0_) / hx_)) + 1;
+  cell_.resize(cells);
+  int k = 0;
+  for (int c = 0; c < cells; ++c) {
+    while (k < n - 1 && q_[k + 1].x() <= x0_ + c * hx_) ++k;
+    cell_[c] = k;
+  }
+}
+
+int NeedlePath::segmentAt(double x) const {
+  const int n = static_cast<int>(q_.size()) - 1;
+  const double r = (x - x0_) / hx_;
+  if (!(r > 0)) return 0;
+  const int c = std::min(static_cast<int>(r), static_cast<int>(cell_.size()) - 1);
+  int k = cell_[c];
+  while (k < n - 1 && q_[k + 1].x() <= x) ++k;
+  return k;
+}
+
+bool NeedlePath::near(const Vector2d& x, double reach) const {
+  const int k = segmentAt(x.x());
+  const Vector2d e = q_[k + 1] - q_[k];
+  const double y = q_[k].y() + e.y() * (x.x() - q_[k].x()) / e.x();
+  return std::abs(x.y() - y) <= reach;
 }
 
 void NeedlePath::locate(double sigma, int& k, double& u) const {
@@ -66,11 +95,7 @@ Vector2d NeedlePath::tangent(double sigma) const {
 double NeedlePath::station(const Vector2d& x) const {
   const int n = static_cast<int>(q_.size()) - 1;
   // segment whose abscissa range holds x (the samples are x-monotone), then walk to the nearest one
-  int k = static_cast<int>(std::upper_bound(q_.begin(), q_.end(), x.x(),
-                                            [](double a, const Vector2d& q) { return a < q.x(); }) -
-                           q_.begin()) -
-          1;
-  k = std::clamp(k, 0, n - 1);
+  int k = segmentAt(x.x());
   double u = 0.0;
   int last = -1;
   for (int it = 0; it < 4 * n + 8; ++it) {
@@ -110,6 +135,12 @@ needle::NeedlePose poseAt(const RigidNeedle& n, double sigma) {
 needle::NeedlePose pathPose(const RigidNeedle& n, const Vector3d& x) {
   const double sigma = std::min(n.path->station(Vector2d(x.x(), x.y())), n.station);
   return poseAt(n, sigma);
+}
+
+bool pathPoseNear(const RigidNeedle& n, const Vector3d& x, needle::NeedlePose& pose) {
+  if (!n.path->near(Vector2d(x.x(), x.y()), 4.0 * n.shape.radius)) return false;
+  pose = pathPose(n, x);
+  return true;
 }
 
 void placeOnPath(RigidNeedle& n, double station) {

@@ -40,15 +40,24 @@ class NeedlePath {
   // The path offset by d along its normal, as a polyline (x increasing for |d| below the
   // radius of curvature), for the seam through the bevel's sharp point.
   std::vector<Eigen::Vector2d> offset(double d) const;
+  // |y - path height at x| <= reach (O(1)): a cheap test before station() (the path turns at most
+  // 45 deg from the x axis, so a point within distance d of it has |y - height| <= sqrt(2) d)
+  bool near(const Eigen::Vector2d& x, double reach) const;
 
  private:
   std::vector<Eigen::Vector2d> q_, t_;  // samples and their (vertex) tangents
   double s0_ = 0.0, hs_ = 0.0;
+  std::vector<int> cell_;  // uniform x cells -> the last sample at or before the cell's start
+  double x0_ = 0.0, hx_ = 1.0;
   void locate(double sigma, int& k, double& u) const;
+  int segmentAt(double x) const;  // the sample segment whose x range holds x (clamped)
 };
 
 // Local straight pose of the needle for the tissue point x (above).
 needle::NeedlePose pathPose(const RigidNeedle& n, const Eigen::Vector3d& x);
+// The same, false (pose untouched) when x lies beyond 4 radii across the path: no part of the
+// needle reaches it (the solver's quick rejection).
+bool pathPoseNear(const RigidNeedle& n, const Eigen::Vector3d& x, needle::NeedlePose& pose);
 // Puts the needle's tip at arc length `station` of its path: pose.tip, axis, bevelSide.
 void placeOnPath(RigidNeedle& n, double station);
 // Where the lips of the seam pairs lie across the path (the tissue opened along it): for the pairs

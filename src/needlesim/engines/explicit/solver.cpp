@@ -567,7 +567,11 @@ void ExplicitSolver::contactForces(double dtStep) {
     double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
     // a needle following a path: the straight needle in the frame of x's nearest station (path_needle.hpp),
     // its surface moving with the insertion speed along the local tangent
-    const needle::NeedlePose pose = nd.path ? pathPose(nd, x) : nd.pose;
+    needle::NeedlePose pose = nd.pose;
+    if (nd.path && !pathPoseNear(nd, x, pose)) {  // beyond the needle's reach across its path
+      ft[0] = ft[1] = ft[2] = 0;
+      continue;
+    }
     const Vector3d vb = nd.path ? Vector3d(nd.velocity * pose.axis) : needleSurfaceVelocity(nd, x);  // needle_motion.cpp
     double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
     needle::NeedleHit hit =
