@@ -12,6 +12,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/explicit/path_from_scenario.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
+#include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/scenario/reader.hpp"
 
@@ -196,6 +197,35 @@ TEST(PathNeedle, ArcStationsAndOffsets) {
   EXPECT_NEAR(path.station(Eigen::Vector2d(-2e-3, 0.3e-3)), -2e-3 + 0.3e-3 * 1.25e-3, 1e-8);
   for (const auto& q : path.offset(-1e-3))
     if (q.x() > 0.5e-3 && q.x() < 10e-3) EXPECT_NEAR((q - Eigen::Vector2d(0, Rc)).norm(), Rc + 1e-3, 2e-6);
+}
+
+// The needle placed on the arc: its tip pose is the path's point and tangent, and its ParaView outline (the
+// bent shaft) lies on the two offsets +-R of the path inside the block (bevel points between them).
+TEST(PathNeedle, NeedleOnTheArcAndItsOutline) {
+  const double Rc = 30e-3, R = 1e-3;
+  std::vector<Eigen::Vector2d> pts;
+  for (int k = 0; k <= 100; ++k) pts.emplace_back(Rc * std::sin(0.5 * k / 100), Rc * (1 - std::cos(0.5 * k / 100)));
+  explicit_fe::RigidNeedle nd;
+  nd.shape.radius = R;
+  nd.shape.length = 20e-3;
+  nd.shape.tipAngle = M_PI / 4;
+  nd.shape.tip = TipType::Bevel;
+  nd.path = std::make_shared<explicit_fe::NeedlePath>(pts, 25e-3, 5e-3, 0.05e-3);
+  nd.pathSide = 1;
+  explicit_fe::placeOnPath(nd, 9e-3);
+  const double phi = 9e-3 / Rc;
+  EXPECT_NEAR((nd.pose.tip - Eigen::Vector3d(Rc * std::sin(phi), Rc * (1 - std::cos(phi)), 0)).norm(), 0.0, 1e-6);
+  EXPECT_NEAR(nd.pose.axis.dot(Eigen::Vector3d(std::cos(phi), std::sin(phi), 0)), 1.0, 1e-6);
+  EXPECT_NEAR(nd.pose.bevelSide.dot(Eigen::Vector3d(-std::sin(phi), std::cos(phi), 0)), 1.0, 1e-6);
+  const auto m = explicit_fe::pathNeedleOutline2D(nd, 40);
+  ASSERT_EQ(m.points.size(), 3u * 82);
+  for (std::size_t i = 0; i < m.points.size() / 3; ++i) {
+    const Eigen::Vector2d q(m.points[3 * i], m.points[3 * i + 1]);
+    if (q.x() < 0.1e-3) continue;  // the shaft before the entry lies on the straight extension
+    const double r = (q - Eigen::Vector2d(0, Rc)).norm();  // distance from the centre of curvature
+    EXPECT_LE(std::abs(r - Rc), R + 1e-6) << i;
+    if (i <= 40 || i >= 42) EXPECT_NEAR(std::abs(r - Rc), R, 1e-6) << i;  // walls (and the heel, sharp point)
+  }
 }
 
 // path: steering takes the kinematic bevel-tip model's path (seed 002; engines/steering): with
