@@ -7,6 +7,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <fstream>
 #include <string>
 
 #include "needlesim/core/error.hpp"
@@ -306,4 +308,33 @@ TEST(PathNeedle, BadPathInputsAreRejected) {
       EXPECT_NE(msg.find("allowed"), std::string::npos) << msg;
     }
   }
+}
+
+// path_file: the same points from a CSV next to the scenario (units in the header); a bad row names the CSV
+// file and its line.
+TEST(PathNeedle, PathFromCsvFile) {
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / "needlesim_path_file_test";
+  fs::create_directories(dir);
+  std::ofstream(dir / "path.csv") << "# an arc of 30 mm\nx [mm],y [um]\n0,0\n2,66.7\n4,267.9\n6,606.1\n";
+  std::ofstream(dir / "bad.csv") << "x [mm],y [mm]\n0,0\n2,0.1\n1.5,0.2\n";
+  const std::string good = yaml("      path: points\n      path_file: path.csv\n", 3e-3);
+  std::ofstream(dir / "good.yaml") << good;
+  const Scenario sc = scenario::readFile(dir / "good.yaml");
+  const auto& pp = sc.model.explicit_fe.cohesive.path_points;
+  ASSERT_EQ(pp.size(), 4u);
+  EXPECT_NEAR(pp[3].x, 6e-3, 1e-15);
+  EXPECT_NEAR(pp[3].y, 606.1e-6, 1e-15);
+  std::ofstream(dir / "bad.yaml") << yaml("      path: points\n      path_file: bad.csv\n", 3e-3);
+  try {
+    scenario::readFile(dir / "bad.yaml");
+    ADD_FAILURE() << "bad.csv accepted";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("bad.csv:4"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("does not increase"), std::string::npos) << msg;
+  }
+  std::ofstream(dir / "missing.yaml") << yaml("      path: points\n      path_file: nowhere.csv\n", 3e-3);
+  EXPECT_THROW(scenario::readFile(dir / "missing.yaml"), InputError);
+  fs::remove_all(dir);
 }

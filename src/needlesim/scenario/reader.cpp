@@ -11,6 +11,7 @@
 
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/scenario/cohesive_path_reader.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 
 namespace needlesim::scenario {
@@ -465,51 +466,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
       c.critical_separation = cs.number("critical_separation");
       c.fracture_energy = cs.optNumber("fracture_energy").value_or(0.0);
       c.mode_ii_ratio = cs.number("mode_ii_ratio");
-      // crack path (docs/models/cohesive.md "Crack path"): checked here, built by the engine
-      c.path = cs.choice("path");
-      c.path_radius = cs.number("path_radius");
-      auto pts = cs.list("path_points");
-      for (std::size_t i = 0; i < pts.size(); ++i) {
-        Section e = cs.element(pts[i], "path_points", i);
-        ExplicitCohesiveSpec::PathPoint p{e.number("x"), e.number("y")};
-        const double ylo = -0.5 * sc.tissue.width - sc.insertion.entry_offset, yhi = ylo + sc.tissue.width;
-        if (i == 0 && (p.x != 0.0 || p.y != 0.0))
-          throw e.error("x", fmt::format("({:g}, {:g}) mm", p.x * 1e3, p.y * 1e3), "does not start at the entry point",
-                        "the first point x: 0 mm, y: 0 mm");
-        if (p.x > sc.tissue.length || !(p.y > ylo && p.y < yhi))
-          throw e.error("x", fmt::format("({:g}, {:g}) mm", p.x * 1e3, p.y * 1e3), "lies outside the tissue block",
-                        fmt::format("0 <= x <= {:g} mm, {:g} mm < y < {:g} mm", sc.tissue.length * 1e3, ylo * 1e3, yhi * 1e3));
-        if (i > 0) {
-          const auto& q = c.path_points.back();
-          if (!(p.x > q.x))
-            throw e.error("x", fmt::format("{:g} mm", p.x * 1e3), "does not increase along the path (the path must be "
-                          "monotone along the insertion direction)", fmt::format("> {:g} mm", q.x * 1e3));
-          if (std::abs(p.y - q.y) > p.x - q.x)
-            throw e.error("y", fmt::format("{:g} mm", p.y * 1e3), "turns the path more than 45 deg away from the "
-                          "insertion axis (the seam morph would fold elements)",
-                          fmt::format("{:g} mm <= y <= {:g} mm", (q.y - (p.x - q.x)) * 1e3, (q.y + (p.x - q.x)) * 1e3));
-        }
-        c.path_points.push_back(p);
-      }
-      if (c.path != "straight") {
-        const bool aligned = std::abs(sc.insertion.entry_angle - 0.5 * M_PI) < 1e-9 &&
-                             std::abs(std::sin(sc.insertion.bevel_orientation)) < 1e-9;
-        std::string why;
-        if (!c.enable) why = "needs the cohesive zone (enable: true)";
-        else if (x.dimension == 3) why = "is 2d only";
-        else if (!aligned) why = "needs entry_angle 90 deg and bevel_orientation 0 or 180 deg";
-        else if (x.needle_model != "rigid") why = "needs needle_model: rigid (the needle follows the path)";
-        else if (c.path == "points" && c.path_points.size() < 2) why = "needs at least 2 path_points";
-        else if (c.path == "arc" && !(std::abs(c.path_radius) > 4 * sc.needle.outer_diameter))
-          why = fmt::format("needs |path_radius| > 4 needle diameters ({:g} mm)", 4e3 * sc.needle.outer_diameter);
-        for (const auto& m : sc.insertion.segments)
-          if (why.empty() && m.kind == MotionSegment::Kind::Rotate) why = "keeps the bevel fixed: no rotate segments";
-        if (!why.empty())
-          throw cs.error("path", c.path, why, "path: straight, or a 2d cohesive run that meets this");
-      }
-      if (!c.path_points.empty() && c.path != "points")
-        throw cs.error("path_points", fmt::format("{} points", c.path_points.size()), "are given but path is " + c.path,
-                       "path: points, or no path_points");
+      readCohesivePath(cs, sc, source);  // crack path (cohesive_path_reader.cpp)
       if (c.enable) {
         if (c.strength <= 0 && c.critical_separation <= 0)
           throw cs.error("strength", "0", "is not given and neither is critical_separation",

@@ -325,8 +325,11 @@ std::vector<FieldDoc> build() {
             "kinematic bevel-tip model predicts before the run); the rigid needle follows it (docs/models/cohesive.md, \"Crack path\")",
             false, {}, {"straight", "points", "arc", "steering"}));
   add(other("explicit_cohesive", "path_points", Kind::List, "",
-            "path: points: the needle axis path from the entry point (x 0, y 0), x increasing, each segment within 45 deg of the axis",
+            "path: points: the needle axis path from the entry point (x 0, y 0), x increasing, inside the block, each segment within 45 deg of the axis",
             false, "path_point"));
+  add(other("explicit_cohesive", "path_file", Kind::String, "",
+            "path: points from a CSV file instead of path_points: columns 'x [mm]' and 'y [mm]' (any length unit), "
+            "relative to the scenario file"));
   add(q("path_point", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
   add(q("path_point", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the straight needle line through the entry point", true));
   add(q("explicit_cohesive", "path_radius", D::Length, "0 mm", -kInf, kInf, false, false,
