@@ -13,7 +13,6 @@
 #include "needlesim/engines/explicit/pain_index.hpp"
 #include "needlesim/engines/explicit/path_from_scenario.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
-#include "needlesim/engines/explicit/seam_path.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/materials/material_spec.hpp"
@@ -121,27 +120,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                                                         ? shape.radius * bevelSide.y()
                                                         : 0.0);
   Setup st = buildMesh(sc, ex, shape, seamY, seamOn);
-  // Crack path and follow-the-leader needle (docs/models/cohesive.md "Crack path"): the seam through the
-  // sharp point (the axis path offset by -R bevelSide) is morphed onto the path with the refined core
-  const ScenarioPath axisPath = needleAxisPath(sc, 0.25 * ex.element_size);
-  std::shared_ptr<const NeedlePath> npath;
-  std::vector<Eigen::Vector2d> seamLine;  // empty = the straight grid line y = seamY
-  const double pathSide = bevelSide.y() >= 0 ? 1.0 : -1.0;  // bevelSide = pathSide x the path normal
-  if (!axisPath.points.empty()) {
-    if (!seamOn || !ex.cohesive.enable || dim != 2)
-      throw Error("model.explicit.cohesive.path needs the 2d cohesive seam of a generated quad4 mesh");
-    const double before = shape.length + std::max(0.0, -sc.insertion.start_depth) + 1e-3;
-    npath = std::make_shared<NeedlePath>(axisPath.points, before, 2 * sc.tissue.length + 1e-3, 0.25 * ex.element_size);
-    seamLine = npath->offset(-shape.radius * pathSide);
-    const double room = 0.5 * sc.tissue.width - std::abs(seamY);  // to the nearer lateral face
-    const double plateau = std::min(0.5 * ex.core_width, 0.5 * room);
-    try {
-      morphOntoPath(st.mesh, seamY, seamLine, plateau + 0.9 * (room - plateau), plateau);
-    } catch (const Error& e) {
-      throw Error(std::string("model.explicit.cohesive.path: ") + e.what() +
-                  "; use a gentler path, a wider block or a narrower core_width");
-    }
-  }
+  // crack path and follow-the-leader needle (path_from_scenario.hpp, docs/models/cohesive.md "Crack path")
+  const CrackPathSetup cpath = setupCrackPath(sc, shape, seamY, bevelSide.y() >= 0 ? 1 : -1,
+                                              seamOn && ex.cohesive.enable, st.mesh);
 
   std::vector<Material> mats;
   for (const auto& l : sc.tissue.layers) mats.push_back(Material::fromSpec(l.material));
@@ -218,7 +199,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       double xLast = -1e300, xNext = 1e300;
       for (auto [a, b] : st.seam) xLast = std::max(xLast, meshCopy.coord(a, 0));
       for (int n = 0; n < meshCopy.nodes(); ++n)
-        if (std::abs(meshCopy.coord(n, 1) - (seamLine.empty() ? seamY : pathHeight(seamLine, meshCopy.coord(n, 0)))) < 1e-9 &&
+        if (std::abs(meshCopy.coord(n, 1) - cpath.seamHeight(meshCopy.coord(n, 0), seamY)) < 1e-9 &&
             meshCopy.coord(n, 0) > xLast + 1e-12)
           xNext = std::min(xNext, meshCopy.coord(n, 0));
       if (xNext < 1e299) ci.addEndLength(0.0, 0.5 * (xNext - xLast));
@@ -239,9 +220,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   nd.pose.tip = entry + motion.at(0.0).depth * axis;
   nd.frictionWall = sc.tissue.layers.front().friction.coefficient;
   nd.frictionTip = ex.tip_friction;
-  if (npath) {
-    nd.path = npath;
-    nd.pathSide = static_cast<int>(pathSide);
+  if (cpath.path) {
+    nd.path = cpath.path;
+    nd.pathSide = cpath.side;
     placeOnPath(nd, motion.at(0.0).depth);
   }
   solver.setNeedle(nd);
@@ -485,21 +466,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "tip arrives): the fracture-energy-free limit of the cohesive zone of seeds 001/004.");
     else
       sink.note("No pre-cut seam (an imported mesh, an oblique entry or a rotated bevel): the needle indents the tissue.");
-    if (npath) {
-      sink.note(axisPath.note);
-      // the tissue opened along the path: lips behind the heel, from 0.5 mm in (path_needle.hpp)
-      const auto* n = solver.needle();
-      const double heel = shape.tip == TipType::Bevel ? 2 * shape.radius / std::tan(shape.tipAngle) : 0.0;
-      const auto lo = pathLipOffsets(*n, *solver.cohesive(), meshCopy.X, solver.displacement(), 0.5e-3,
-                                     n->station - heel - 2 * ex.element_size);
-      sink.result("path_lip_pairs", lo.pairs, "1", "seam pairs behind the needle's heel (from 0.5 mm) whose lips are measured");
-      sink.result("path_lip_offset_wall_side", lo.meanA, "m",
-                  "mean offset of the wall-side lips from the needle's axis path along the local bevel side (-R: open)");
-      sink.result("path_lip_offset_bevel_side", lo.meanB, "m",
-                  "mean offset of the bevel-side lips from the axis path along the local bevel side (+R: open)");
-      sink.result("path_lip_offset_wall_side_max", lo.pairs ? lo.maxA : 0.0, "m", "largest wall-side lip offset (< 0: every lip on its side)");
-      sink.result("path_lip_offset_bevel_side_min", lo.pairs ? lo.minB : 0.0, "m", "smallest bevel-side lip offset (> 0: every lip on its side)");
-    }
+    if (cohOn) reportCrackPath(sink, cpath, *solver.needle(), *solver.cohesive(), meshCopy.X, solver.displacement(),
+                               ex.element_size);
     if (ratioMax > 0.1)
       sink.note("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static; lower the mass "
                 "scaling or the speed.");

@@ -4,6 +4,10 @@
 #include <fmt/format.h>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/explicit/cohesive.hpp"
+#include "needlesim/engines/explicit/path_needle.hpp"
+#include "needlesim/engines/explicit/seam_path.hpp"
+#include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/engines/steering/kinematic.hpp"
 #include "needlesim/engines/steering/steering_engines.hpp"
 
@@ -63,6 +67,50 @@ ScenarioPath needleAxisPath(const Scenario& sc, double ds) {
                          kappa, sc.model.steering.curvature >= 0 ? " (model.steering.curvature)"
                                                                 : " (beam on a foundation, from the tip loads)");
   return out;
+}
+
+double CrackPathSetup::seamHeight(double x, double seamY) const { return seam.empty() ? seamY : pathHeight(seam, x); }
+
+CrackPathSetup setupCrackPath(const Scenario& sc, const needle::NeedleShape& shape, double seamY, int bevelSign,
+                              bool cohesiveSeam, Mesh& mesh) {
+  const auto& ex = sc.model.explicit_fe;
+  CrackPathSetup cp;
+  const ScenarioPath axis = needleAxisPath(sc, 0.25 * ex.element_size);
+  if (axis.points.empty()) return cp;
+  if (!cohesiveSeam || mesh.dim != 2)
+    throw Error("model.explicit.cohesive.path needs the 2d cohesive seam of a generated quad4 mesh");
+  const double before = shape.length + std::max(0.0, -sc.insertion.start_depth) + 1e-3;
+  cp.path = std::make_shared<NeedlePath>(axis.points, before, 2 * sc.tissue.length + 1e-3, 0.25 * ex.element_size);
+  cp.side = bevelSign >= 0 ? 1 : -1;
+  cp.seam = cp.path->offset(-shape.radius * cp.side);
+  cp.note = axis.note;
+  const double room = 0.5 * sc.tissue.width - std::abs(seamY);  // to the nearer lateral face
+  const double plateau = std::min(0.5 * ex.core_width, 0.5 * room);
+  try {
+    morphOntoPath(mesh, seamY, cp.seam, plateau + 0.9 * (room - plateau), plateau);
+  } catch (const Error& e) {
+    throw Error(std::string("model.explicit.cohesive.path: ") + e.what() +
+                "; use a gentler path, a wider block or a narrower core_width");
+  }
+  return cp;
+}
+
+void reportCrackPath(ResultSink& sink, const CrackPathSetup& cp, const RigidNeedle& n, const CohesiveInterface& c,
+                     const std::vector<double>& X, const std::vector<double>& u, double h) {
+  if (!cp.path) return;
+  sink.note(cp.note);
+  // the tissue opened along the path: lips behind the heel (and two elements), from 0.5 mm in
+  const double heel = n.shape.tip == TipType::Bevel ? 2 * n.shape.radius / std::tan(n.shape.tipAngle) : 0.0;
+  const auto lo = pathLipOffsets(n, c, X, u, 0.5e-3, n.station - heel - 2 * h);
+  sink.result("path_lip_pairs", lo.pairs, "1", "seam pairs behind the needle's heel (from 0.5 mm) whose lips are measured");
+  sink.result("path_lip_offset_wall_side", lo.meanA, "m",
+              "mean offset of the wall-side lips from the needle's axis path along the local bevel side (-R: open)");
+  sink.result("path_lip_offset_bevel_side", lo.meanB, "m",
+              "mean offset of the bevel-side lips from the axis path along the local bevel side (+R: open)");
+  sink.result("path_lip_offset_wall_side_max", lo.pairs ? lo.maxA : 0.0, "m",
+              "largest wall-side lip offset (< 0: every lip on its side)");
+  sink.result("path_lip_offset_bevel_side_min", lo.pairs ? lo.minB : 0.0, "m",
+              "smallest bevel-side lip offset (> 0: every lip on its side)");
 }
 
 }  // namespace needlesim::explicit_fe
