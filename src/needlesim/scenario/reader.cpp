@@ -11,6 +11,7 @@
 
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/scenario/cohesive_path_reader.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 
 namespace needlesim::scenario {
@@ -465,6 +466,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
       c.critical_separation = cs.number("critical_separation");
       c.fracture_energy = cs.optNumber("fracture_energy").value_or(0.0);
       c.mode_ii_ratio = cs.number("mode_ii_ratio");
+      readCohesivePath(cs, sc, source);  // crack path (cohesive_path_reader.cpp)
       if (c.enable) {
         if (c.strength <= 0 && c.critical_separation <= 0)
           throw cs.error("strength", "0", "is not given and neither is critical_separation",

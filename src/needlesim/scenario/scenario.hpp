@@ -169,6 +169,15 @@ struct ExplicitCohesiveSpec {
   double critical_separation = 0.0;     // m, delta_c (seed 004)
   double fracture_energy = 0.0;         // J/m^2 (0 = layer's interaction.toughness)
   double mode_ii_ratio = 1.0;           // G_IIc / G_Ic (shear strength = t_c)
+  // crack path = the needle axis path (docs/models/cohesive.md "Crack path"): straight, points
+  // (path_points: depth x, lateral y from the straight line through the entry point), arc
+  // (path_radius, + curving towards +y) or steering (the steering model's predicted tip path)
+  std::string path = "straight";
+  struct PathPoint {
+    double x = 0.0, y = 0.0;  // m
+  };
+  std::vector<PathPoint> path_points;
+  double path_radius = 0.0;  // m, signed
 };
 
 struct ExplicitModelSpec {

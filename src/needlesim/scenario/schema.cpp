@@ -320,6 +320,20 @@ std::vector<FieldDoc> build() {
   add(nonneg("explicit_cohesive", "fracture_energy", D::ForcePerLength, "",
              "mode-I fracture energy G_Ic; absent = each layer's toughness"));
   add(positive("explicit_cohesive", "mode_ii_ratio", D::None, "1", "G_IIc / G_Ic (mixed mode: linear energy criterion)"));
+  add(other("explicit_cohesive", "path", Kind::Choice, "straight",
+            "crack path = needle axis path (2d): straight; points (path_points); arc (path_radius); steering (the tip path the "
+            "kinematic bevel-tip model predicts before the run); the rigid needle follows it (docs/models/cohesive.md, \"Crack path\")",
+            false, {}, {"straight", "points", "arc", "steering"}));
+  add(other("explicit_cohesive", "path_points", Kind::List, "",
+            "path: points: the needle axis path from the entry point (x 0, y 0), x increasing, inside the block, each segment within 45 deg of the axis",
+            false, "path_point"));
+  add(other("explicit_cohesive", "path_file", Kind::String, "",
+            "path: points from a CSV file instead of path_points: columns 'x [mm]' and 'y [mm]' (any length unit), "
+            "relative to the scenario file"));
+  add(q("path_point", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
+  add(q("path_point", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the straight needle line through the entry point", true));
+  add(q("explicit_cohesive", "path_radius", D::Length, "0 mm", -kInf, kInf, false, false,
+        "path: arc: radius of curvature, + curving towards +y (the bevel side at bevel_orientation 0), - towards -y"));
   add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
   add(q("explicit", "threads", D::None, "0", 0.0, 1024.0, false, false, "OpenMP threads (0 = all cores)"));
 

@@ -107,13 +107,16 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
       planes_[body - 2].force -= dF;
     } else if (body == 0) {
       const double fnNew = std::max(f0 + df, 0.0);
-      if (contactWedge_[n] != 0.0) dF += df * contactWedge_[n] * needle_.pose.axis;  // wedged lip (solver.cpp)
+      // the needle's axis at the node: its local path tangent for a path needle (path_needle.hpp)
+      const Vector3d ax = contactAxis_.empty() ? needle_.pose.axis : Vector3d(&contactAxis_[static_cast<std::size_t>(n) * 3]);
+      if (contactWedge_[n] != 0.0) dF += df * contactWedge_[n] * ax;  // wedged lip (solver.cpp)
       Vector3d x = Vector3d::Zero();
       for (int i = 0; i < d; ++i) x[i] = mesh_.X[static_cast<std::size_t>(n) * d + i] + u_[static_cast<std::size_t>(n) * d + i];
       nl.force -= dF;
       nl.moment += (x - base).cross(-dF);
       if (contactTip_[n]) nl.tip -= dF;
       nl.normal += fnNew - f0;
+      nl.drive -= dF.dot(ax);
     }
   }
   if (hasNeedle_) {
@@ -121,6 +124,7 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
     needle_.moment = nl.moment;
     needle_.tipForce = nl.tip;
     needle_.normalForce = nl.normal;
+    needle_.driveForce = nl.drive;
   }
 }
 

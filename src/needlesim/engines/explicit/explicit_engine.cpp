@@ -11,6 +11,8 @@
 #include "needlesim/engines/explicit/contact_output.hpp"
 #include "needlesim/engines/explicit/deformable_needle.hpp"
 #include "needlesim/engines/explicit/pain_index.hpp"
+#include "needlesim/engines/explicit/path_from_scenario.hpp"
+#include "needlesim/engines/explicit/path_needle.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/materials/material_spec.hpp"
@@ -118,6 +120,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                                                         ? shape.radius * bevelSide.y()
                                                         : 0.0);
   Setup st = buildMesh(sc, ex, shape, seamY, seamOn);
+  // crack path and follow-the-leader needle (path_from_scenario.hpp, docs/models/cohesive.md "Crack path")
+  const CrackPathSetup cpath = setupCrackPath(sc, shape, seamY, bevelSide.y() >= 0 ? 1 : -1,
+                                              seamOn && ex.cohesive.enable, st.mesh);
 
   std::vector<Material> mats;
   for (const auto& l : sc.tissue.layers) mats.push_back(Material::fromSpec(l.material));
@@ -194,7 +199,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       double xLast = -1e300, xNext = 1e300;
       for (auto [a, b] : st.seam) xLast = std::max(xLast, meshCopy.coord(a, 0));
       for (int n = 0; n < meshCopy.nodes(); ++n)
-        if (std::abs(meshCopy.coord(n, 1) - seamY) < 1e-9 && meshCopy.coord(n, 0) > xLast + 1e-12)
+        if (std::abs(meshCopy.coord(n, 1) - cpath.seamHeight(meshCopy.coord(n, 0), seamY)) < 1e-9 &&
+            meshCopy.coord(n, 0) > xLast + 1e-12)
           xNext = std::min(xNext, meshCopy.coord(n, 0));
       if (xNext < 1e299) ci.addEndLength(0.0, 0.5 * (xNext - xLast));
       solver.setCohesive(std::move(ci));
@@ -214,6 +220,11 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   nd.pose.tip = entry + motion.at(0.0).depth * axis;
   nd.frictionWall = sc.tissue.layers.front().friction.coefficient;
   nd.frictionTip = ex.tip_friction;
+  if (cpath.path) {
+    nd.path = cpath.path;
+    nd.pathSide = cpath.side;
+    placeOnPath(nd, motion.at(0.0).depth);
+  }
   solver.setNeedle(nd);
   // Deformable needle (model.explicit.needle_model: beam, deformable_needle.hpp): a cantilever clamped at
   // the base, which follows the profile; it sets the contact pose from its deflection each step.
@@ -252,6 +263,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   }
   auto needleSurface = [&]() {
     auto* n = solver.needle();
+    if (n->path) return pathNeedleOutline2D(*n);
     return dim == 2 ? needle::needleOutline2D(n->shape, n->pose) : needle::needleSurface3D(n->shape, n->pose, 24, 4);
   };
   if (needleFields) {
@@ -304,9 +316,11 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   auto record = [&]() {
     const auto* n = solver.needle();
     const auto& E = solver.energies();
-    const double depth = (n->pose.tip - entry).dot(axis);
-    const double fAx = -n->force.dot(axis) * thick, fLat = n->force.dot(n->pose.bevelSide) * thick;
-    const double tip = -n->tipForce.dot(axis) * thick;
+    // a path needle: depth = arc length of the tip, axial force = the reaction along the local tangents,
+    // tip and lateral forces in the tip's frame
+    const double depth = n->path ? n->station : (n->pose.tip - entry).dot(axis);
+    const double fAx = (n->path ? -n->driveForce : -n->force.dot(axis)) * thick, fLat = n->force.dot(n->pose.bevelSide) * thick;
+    const double tip = -n->tipForce.dot(n->path ? n->pose.axis : axis) * thick;
     const double ie = E.internal;
     const double ratio = ie > 0 ? E.kinetic / ie : 0.0;
     energyScale = std::max({energyScale, std::abs(ie), std::abs(E.externalWork), std::abs(E.contactWork), E.kinetic});
@@ -452,6 +466,8 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                 "tip arrives): the fracture-energy-free limit of the cohesive zone of seeds 001/004.");
     else
       sink.note("No pre-cut seam (an imported mesh, an oblique entry or a rotated bevel): the needle indents the tissue.");
+    if (cohOn) reportCrackPath(sink, cpath, *solver.needle(), *solver.cohesive(), meshCopy.X, solver.displacement(),
+                               ex.element_size);
     if (ratioMax > 0.1)
       sink.note("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static; lower the mass "
                 "scaling or the speed.");
@@ -477,6 +493,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       n->pose.bevelSide = bevelSideAt(motion.at(t).axial_angle, e1, e2, dim);
       n->spinRate = dim == 3 ? ms.axial_rate : 0.0;
       n->pose.axis = axis;
+      if (n->path) placeOnPath(*n, motion.at(t).depth);
       if (beam) beam->update(*n, solver, n->pose.tip - shape.length * axis, axis, n->pose.bevelSide, thick);
       solver.advanceTo(std::min(T, t + solver.timeStep()));
       if (solver.time() >= nextOut * (1 - 1e-9) || solver.time() >= T * (1 - 1e-12)) {

@@ -2,6 +2,7 @@
 
 #include <cmath>
 
+#include "needlesim/engines/explicit/path_needle.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 
 namespace needlesim::explicit_fe {
@@ -15,6 +16,10 @@ Vector3d needleSurfaceVelocity(const RigidNeedle& n, const Vector3d& x) {
 }
 
 void advanceNeedle(RigidNeedle& n, double dt) {
+  if (n.path) {  // follow-the-leader: the tip moves along its path (path_needle.hpp)
+    placeOnPath(n, n.station + dt * n.velocity);
+    return;
+  }
   n.pose.tip += dt * n.velocity * n.pose.axis;
   if (n.spinRate != 0.0) {
     const Eigen::AngleAxisd rot(n.spinRate * dt, n.pose.axis);

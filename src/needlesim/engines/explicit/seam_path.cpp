@@ -20,14 +20,17 @@ double pathHeight(const std::vector<Eigen::Vector2d>& p, double x) {
   return a.y() + (b.y() - a.y()) * (x - a.x()) / (b.x() - a.x());
 }
 
-void morphOntoPath(Mesh& m, double lineY, const std::vector<Eigen::Vector2d>& path, double band) {
+void morphOntoPath(Mesh& m, double lineY, const std::vector<Eigen::Vector2d>& path, double band, double plateau) {
   if (m.dim != 2) throw Error("crack path: the path morph is 2D only");
   if (!(band > 0)) throw Error("crack path: the morph band must be > 0");
+  if (!(plateau >= 0 && plateau < band)) throw Error("crack path: the morph plateau must lie in [0, band)");
   const int nn = m.nodes();
   std::vector<double> X0 = m.X;
   for (int n = 0; n < nn; ++n) {
     const double x = X0[2 * n], y = X0[2 * n + 1];
-    const double w = std::max(0.0, 1.0 - std::abs(y - lineY) / band);
+    const double dy = std::abs(y - lineY);
+    const double w = plateau > 0.0 ? (dy <= plateau ? 1.0 : std::max(0.0, 1.0 - (dy - plateau) / (band - plateau)))
+                                   : std::max(0.0, 1.0 - dy / band);
     m.X[2 * n + 1] = y + w * (pathHeight(path, x) - lineY);
   }
   // no folded element: every quad / triangle keeps a positive signed area

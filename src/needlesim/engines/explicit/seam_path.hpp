@@ -20,6 +20,9 @@ double pathHeight(const std::vector<Eigen::Vector2d>& path, double x);
 // stay. Throws Error if the morph would fold an element (a path steeper or farther
 // from the line than the band allows: |d path / dx| and |path - lineY| must stay below
 // the band's scale).
-void morphOntoPath(Mesh& mesh, double lineY, const std::vector<Eigen::Vector2d>& path, double band);
+// plateau > 0: nodes within `plateau` of the line follow it fully (w = 1), the weight then falls
+// linearly to 0 at `band` (the refined core around the seam moves with the path).
+void morphOntoPath(Mesh& mesh, double lineY, const std::vector<Eigen::Vector2d>& path, double band,
+                   double plateau = 0.0);
 
 }  // namespace needlesim::explicit_fe

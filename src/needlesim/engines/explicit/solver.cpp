@@ -1,6 +1,7 @@
 #include "needlesim/engines/explicit/solver.hpp"
 
 #include "needlesim/engines/explicit/cohesive_wedge.hpp"
+#include "needlesim/engines/explicit/path_needle.hpp"
 
 #include <Eigen/Dense>
 #include <algorithm>
@@ -340,6 +341,8 @@ void ExplicitSolver::setNeedle(const RigidNeedle& n) {
   needleFt_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
   fconNeedle_.assign(u_.size(), 0.0);
   fconFriction_.assign(u_.size(), 0.0);
+  if (n.path) contactAxis_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
+  else contactAxis_.clear();
 }
 double ExplicitSolver::totalMass() const {
   double s = 0;
@@ -549,10 +552,11 @@ void ExplicitSolver::contactForces(double dtStep) {
   const bool planar = d == 2;
   const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
   double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0, ePen = 0;
+  double drv = 0;  // path needle: reaction along the local tangents
   int count = 0;
   std::fill(fconNeedle_.begin(), fconNeedle_.end(), 0.0);
   std::fill(fconFriction_.begin(), fconFriction_.end(), 0.0);
-#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count, ePen) \
+#pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count, ePen, drv) \
     reduction(max : maxPen)
   for (int n = 0; n < nnode_; ++n) {
     Vector3d x = Vector3d::Zero(), v = Vector3d::Zero();
@@ -561,10 +565,17 @@ void ExplicitSolver::contactForces(double dtStep) {
       v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
     }
     double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
-    const Vector3d vb = needleSurfaceVelocity(nd, x);  // translation + spin (needle_motion.cpp)
+    // a needle following a path: the straight needle in the frame of x's nearest station (path_needle.hpp),
+    // its surface moving with the insertion speed along the local tangent
+    needle::NeedlePose pose = nd.pose;
+    if (nd.path && !pathPoseNear(nd, x, pose)) {  // beyond the needle's reach across its path
+      ft[0] = ft[1] = ft[2] = 0;
+      continue;
+    }
+    const Vector3d vb = nd.path ? Vector3d(nd.velocity * pose.axis) : needleSurfaceVelocity(nd, x);  // needle_motion.cpp
     double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
     needle::NeedleHit hit =
-        needle::queryNeedle(nd.shape, nd.pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
+        needle::queryNeedle(nd.shape, pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
     // Wedge on a still-cohesive seam pair (docs/models/cohesive.md "The point wedges the seam
     // open"): the lip nodes of a pair that is not fully damaged are pushed across the cut line
     // only, each to its own side, by the lateral gap to the needle's face (the axial push of the
@@ -578,17 +589,17 @@ void ExplicitSolver::contactForces(double dtStep) {
     if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
         (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
       double uAx = 0.0;
-      for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * nd.pose.axis[i];
-      const Vector3d xw = x - uAx * nd.pose.axis;
+      for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * pose.axis[i];
+      const Vector3d xw = x - uAx * pose.axis;
       needle::NeedleHit wh;
-      const bool in = lipWedge(nd.shape, nd.pose, xw, contactSide_[n], planar, wh, wedgeAxial);
+      const bool in = lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
       hit = in ? wh : needle::NeedleHit{};
     } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
-      const double c = hit.normal.dot(nd.pose.bevelSide);
+      const double c = hit.normal.dot(pose.bevelSide);
       if (std::abs(c) > 1e-3) {
-        wedgeAxial = hit.normal.dot(nd.pose.axis) / std::abs(c);
+        wedgeAxial = hit.normal.dot(pose.axis) / std::abs(c);
         hit.depth /= std::abs(c);
-        hit.normal = (c > 0 ? 1.0 : -1.0) * nd.pose.bevelSide;
+        hit.normal = (c > 0 ? 1.0 : -1.0) * pose.bevelSide;
       }
     }
     if (!hit.inside) {
@@ -604,6 +615,8 @@ void ExplicitSolver::contactForces(double dtStep) {
     Vector3d f = fn * hit.normal;
     const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
     recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
+    if (nd.path)
+      for (int i = 0; i < 3; ++i) contactAxis_[static_cast<std::size_t>(n) * 3 + i] = pose.axis[i];
     contactWedge_[n] = wedgeAxial;
     contactTip_[n] = hit.face == needle::NeedleFace::Tip;
     if (mu > 0) {
@@ -628,9 +641,10 @@ void ExplicitSolver::contactForces(double dtStep) {
     // reaction on the needle: -f at x; moment about the base centre. A wedged lip (above) feels
     // only the lateral part fn of the face force; the needle takes the whole face force, whose
     // axial part fn tan(face) makes the needle's work match the opening work at the face.
-    if (wedgeAxial != 0.0) f += fn * wedgeAxial * nd.pose.axis;
+    if (wedgeAxial != 0.0) f += fn * wedgeAxial * pose.axis;
     Vector3d r = x - base, m = r.cross(-f);
     fx -= f[0], fy -= f[1], fz -= f[2];
+    drv -= f.dot(pose.axis);
     mx += m[0], my += m[1], mz += m[2];
     if (hit.face == needle::NeedleFace::Tip) tx -= f[0], ty -= f[1], tz -= f[2];
     fnSum += fn;
@@ -638,7 +652,7 @@ void ExplicitSolver::contactForces(double dtStep) {
     maxPen = std::max(maxPen, hit.depth);
   }
   // the forces the next step applies: completed by normalContactCorrection (contact_normal.cpp)
-  needleStage_ = {Vector3d(fx, fy, fz), Vector3d(mx, my, mz), Vector3d(tx, ty, tz), fnSum};
+  needleStage_ = {Vector3d(fx, fy, fz), Vector3d(mx, my, mz), Vector3d(tx, ty, tz), fnSum, drv};
   nd.nodesInContact = count;
   nd.maxPenetration = maxPen;
   en_.penaltyEnergy = ePen;
@@ -720,10 +734,14 @@ void ExplicitSolver::step() {
   double vbd[3] = {0, 0, 0};  // needle velocity
   if (hasNeedle_) {
     for (int i = 0; i < d; ++i) vbd[i] = needle_.velocity * needle_.pose.axis[i];
-    // work of the needle over the step: minus its reaction times its displacement
-    en_.needleWork -= needle_.force.dot(needle_.velocity * needle_.pose.axis) * dt;
+    // work of the needle over the step: minus its reaction times its displacement (a path needle: the
+    // reaction along the local tangents, each contact point moving with the speed along its tangent)
+    if (needle_.path) en_.needleWork -= needle_.driveForce * needle_.velocity * dt;
+    else en_.needleWork -= needle_.force.dot(needle_.velocity * needle_.pose.axis) * dt;
   }
   const bool nee = hasNeedle_;
+  const double* pax = contactAxis_.empty() ? nullptr : contactAxis_.data();  // path needle: local axes
+  const double vNee = hasNeedle_ ? needle_.velocity : 0.0;
 #pragma omp parallel for schedule(static) if (ndof >= 2 * kParallelMin) reduction(+ : ke, keMid, wInt, wExt, wCon, wDamp, wCoh, wConN, dFric)
   for (std::size_t k = 0; k < ndof; ++k) {
     const double m = mass_[k / d];
@@ -749,7 +767,8 @@ void ExplicitSolver::step() {
     wCoh -= fc * dw;
     if (nee) {
       wConN += fconNeedle_[k] * dw;
-      dFric -= fconFriction_[k] * (dw - vbd[k % d] * dtAvg);  // friction force times slip
+      const double vb = pax ? vNee * pax[(k / d) * 3 + k % d] : vbd[k % d];
+      dFric -= fconFriction_[k] * (dw - vb * dtAvg);  // friction force times slip
     }
     ke += 0.5 * m * vNew * vNew;
     keMid += 0.125 * m * (vOld + vNew) * (vOld + vNew);

@@ -20,6 +20,7 @@
 // Contact: rigid needle (needle/surface_mesh.hpp) and rigid planes, penalty
 // node-to-surface with Coulomb friction (elastic stick predictor, return map).
 #include <Eigen/Core>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -102,6 +103,8 @@ struct RigidPlane {
   Eigen::Vector3d force = Eigen::Vector3d::Zero();  // reaction on the plane (from the body), applied in the last step
 };
 
+class NeedlePath;  // path_needle.hpp
+
 struct RigidNeedle {
   needle::NeedleShape shape;
   needle::NeedlePose pose;
@@ -116,6 +119,11 @@ struct RigidNeedle {
   double normalForce = 0.0;      // sum of normal force magnitudes
   int nodesInContact = 0;
   double maxPenetration = 0.0;
+  // Follow-the-leader along a 2D path (path_needle.hpp); null = the straight needle of `pose`.
+  std::shared_ptr<const NeedlePath> path;
+  double station = 0.0;     // arc length of the tip along the path
+  int pathSide = 1;         // bevelSide = pathSide x the path normal
+  double driveForce = 0.0;  // path: reaction along the local path tangents (the work-conjugate force)
 };
 
 class ExplicitSolver {
@@ -263,7 +271,9 @@ class ExplicitSolver {
   struct NeedleLoads {
     Eigen::Vector3d force = Eigen::Vector3d::Zero(), moment = Eigen::Vector3d::Zero(), tip = Eigen::Vector3d::Zero();
     double normal = 0.0;
+    double drive = 0.0;  // path needle: reaction along the local tangents
   } needleStage_;
+  std::vector<double> contactAxis_;  // path needle: local axis per node in needle contact (3 per node)
   std::vector<Eigen::Vector3d> planeStage_;
   Eigen::Vector3d extContactForce_ = Eigen::Vector3d::Zero(), extContactForceLast_ = Eigen::Vector3d::Zero();
   // seam ties
