@@ -127,34 +127,37 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks]`: N steps of the 1-thread problem
-// without the benchmark harness, for instruction counts under
-// `valgrind --tool=callgrind` (docs/performance.md).
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks] [--threads T]`: N steps of the
+// problem (1 thread unless told) without the benchmark harness, for instruction counts
+// under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread;
+// docs/performance.md).
 int main(int argc, char** argv) {
   int steps = -1;
   Shape shape = Shape::BSpline2;
   Update update = Update::MUSL;
   bool twoBlocks = false;
+  int threads = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
     if (a == "--linear") shape = Shape::Linear;
     if (a == "--usl") update = Update::USL;
     if (a == "--two-blocks") twoBlocks = true;
+    if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
   }
   if (steps >= 0 && twoBlocks) {
-    MpmSolver s = makeTwoBlockProblem(shape, update, 1);
+    MpmSolver s = makeTwoBlockProblem(shape, update, threads);
     for (int i = 0; i < steps; ++i) s.step();
-    std::printf("%zu particles, %d steps\n", s.size(), steps);
+    std::printf("%zu particles, %d steps, kinetic energy %.12e J\n", s.size(), steps, s.lastReport().kinetic);
     return 0;
   }
   if (steps >= 0) {
-    MpmSolver s = makeNeedleProblem(shape, update, 1);
+    MpmSolver s = makeNeedleProblem(shape, update, threads);
     for (int i = 0; i < steps; ++i) {
       s.step();
       s.rigid(0).point += s.rigid(0).velocity * s.lastReport().dt;
     }
-    std::printf("%zu particles, %d steps, contact nodes %d, force %.6e N\n", s.size(), steps,
+    std::printf("%zu particles, %d steps, contact nodes %d, force %.12e N\n", s.size(), steps,
                 s.rigidForce(0).contactNodes, s.rigidForce(0).total.x());
     return 0;
   }
