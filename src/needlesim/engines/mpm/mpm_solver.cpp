@@ -31,6 +31,16 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 typedef double A4 __attribute__((vector_size(32), aligned(8), may_alias));
 inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
 inline void add(double* p, A4 v) { *reinterpret_cast<A4*>(p) += v; }
+// 0.0 that the compiler cannot see through: lanes packed with it compile to
+// unpack/insert instructions instead of the VEX "vmovq xmm, xmm" that
+// valgrind 3.19 cannot decode (callgrind counts of docs/performance.md).
+inline double opaqueZero() {
+  double z = 0.0;
+#if defined(__GNUC__) && defined(__x86_64__)
+  asm("" : "+x"(z));
+#endif
+  return z;
+}
 // Offsets in a grid record (MpmSolver::Buf).
 constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
 
@@ -519,66 +529,70 @@ void MpmSolver::planScatter() {
 
 // ---------------------------------------------------------------- particle to grid (eqs 1-3)
 
-// Two bodies: near_[cell] bit b is set when body b has a point within 3 cells
-// (occupied cells dilated by 3 along each axis). A node both bodies reach lies
-// within 1.5 cells of a point of each, so the points that scatter to it are
-// within 3 cells of the other body. Serial, one pass over the points and three
-// over the cells.
+// Two bodies: the bit of cell (i, j, k) in row (i, j) of body b is set when
+// body b has a point within 3 cells (occupied cells dilated by 3 along each
+// axis). A node both bodies reach lies within 1.5 cells of a point of each, so
+// the points that scatter to it are within 3 cells of the other body. A row
+// is nearW_ 64-bit words per body (k = bit), so the dilation is shifts and ORs
+// of words. One parallel pass over the points, three over the rows.
 void MpmSolver::markNearBodies() {
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n0 = static_cast<std::size_t>(nn_[0]), n1 = static_cast<std::size_t>(nn_[1]),
                     n2 = static_cast<std::size_t>(nn_[2]);
   const std::size_t np = size();
-  near_.resize(nodes_);
-  nearTmp_.resize(nodes_);
-  std::uint8_t* a = near_.data();
-  std::uint8_t* b = nearTmp_.data();
+  const std::size_t W = (n2 + 63) / 64, rw = 2 * W;  // words per row (both bodies)
+  nearW_ = W;
+  const std::size_t rows = n0 * n1, words = rows * rw;
+  near_.resize(words);
+  nearTmp_.resize(words);
+  std::uint64_t* a = near_.data();
+  std::uint64_t* b = nearTmp_.data();
   constexpr std::size_t reach = 3;
-  // Dilation along one axis, row by row (a row runs along k): dst = OR of src
-  // over offsets -3..3 along axis d (0: i, 1: j, 2: k), clipped to the grid.
-  const auto dilate = [&](const std::uint8_t* src, std::uint8_t* dst, int d, std::size_t row) {
-    const std::size_t i = row / n1, j = row % n1;
-    std::uint8_t* out = dst + row * n2;
-    if (d == 2) {
-      const std::uint8_t* in = src + row * n2;
-      for (std::size_t k = 0; k < n2; ++k) {
-        std::uint8_t v = 0;
-        const std::size_t k0 = k >= reach ? k - reach : 0, k1 = std::min(n2 - 1, k + reach);
-        for (std::size_t kk = k0; kk <= k1; ++kk) v |= in[kk];
-        out[k] = v;
-      }
-      return;
-    }
-    const std::size_t idx = d == 0 ? i : j, n = d == 0 ? n0 : n1, stride = d == 0 ? n1 * n2 : n2;
-    const std::size_t lo = idx >= reach ? idx - reach : 0, hi = std::min(n - 1, idx + reach);
-    const std::uint8_t* first = src + row * n2 - (idx - lo) * stride;
-    std::memcpy(out, first, n2);
-    for (std::size_t o = lo + 1; o <= hi; ++o) {
-      const std::uint8_t* in = first + (o - lo) * stride;
-      for (std::size_t k = 0; k < n2; ++k) out[k] |= in[k];
-    }
-  };
-  const std::size_t rows = n0 * n1;
+  const std::uint64_t lastMask = n2 % 64 ? (std::uint64_t{1} << (n2 % 64)) - 1 : ~std::uint64_t{0};
 #pragma omp parallel num_threads(nthreads_)
   {
 #pragma omp for schedule(static)
-    for (std::size_t I = 0; I < nodes_; ++I) a[I] = 0;
+    for (std::size_t w = 0; w < words; ++w) a[w] = 0;
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < np; ++p) {
-      const std::size_t c = (static_cast<std::size_t>((px_[p] - ox) * invh) * n1 +
-                             static_cast<std::size_t>((py_[p] - oy) * invh)) * n2 +
-                            static_cast<std::size_t>((pz_[p] - oz) * invh);
-      const auto bit = static_cast<std::uint8_t>(1u << body_[p]);
-      // Threads may mark the same cell: an atomic OR, skipped when already set.
-      if (!(__atomic_load_n(&a[c], __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(&a[c], bit, __ATOMIC_RELAXED);
+      const std::size_t row = static_cast<std::size_t>((px_[p] - ox) * invh) * n1 +
+                              static_cast<std::size_t>((py_[p] - oy) * invh);
+      const auto k = static_cast<std::size_t>((pz_[p] - oz) * invh);
+      std::uint64_t* w = a + row * rw + body_[p] * W + k / 64;
+      const std::uint64_t bit = std::uint64_t{1} << (k % 64);
+      // Threads may mark the same word: an atomic OR, skipped when already set.
+      if (!(__atomic_load_n(w, __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(w, bit, __ATOMIC_RELAXED);
     }
+    // Along i, then j: OR of the rows within 3.
+    for (int d = 0; d < 2; ++d) {
+      const std::uint64_t* src = d == 0 ? a : b;
+      std::uint64_t* dst = d == 0 ? b : a;
 #pragma omp for schedule(static)
-    for (std::size_t r = 0; r < rows; ++r) dilate(a, b, 0, r);
+      for (std::size_t row = 0; row < rows; ++row) {
+        const std::size_t idx = d == 0 ? row / n1 : row % n1, n = d == 0 ? n0 : n1, stride = d == 0 ? n1 : 1;
+        const std::size_t lo = idx >= reach ? idx - reach : 0, hi = std::min(n - 1, idx + reach);
+        std::uint64_t* out = dst + row * rw;
+        for (std::size_t w = 0; w < rw; ++w) out[w] = 0;
+        for (std::size_t o = lo; o <= hi; ++o) {
+          const std::uint64_t* in = src + (row + o * stride - idx * stride) * rw;
+          for (std::size_t w = 0; w < rw; ++w) out[w] |= in[w];
+        }
+      }
+    }
+    // Along k: bits shifted by -3..3 within the row (across word edges).
 #pragma omp for schedule(static)
-    for (std::size_t r = 0; r < rows; ++r) dilate(b, a, 1, r);
-#pragma omp for schedule(static)
-    for (std::size_t r = 0; r < rows; ++r) dilate(a, b, 2, r);
+    for (std::size_t row = 0; row < rows; ++row)
+      for (std::size_t body = 0; body < 2; ++body) {
+        const std::uint64_t* in = a + row * rw + body * W;
+        std::uint64_t* out = b + row * rw + body * W;
+        for (std::size_t w = 0; w < W; ++w) {
+          const std::uint64_t x = in[w], prev = w > 0 ? in[w - 1] : 0, next = w + 1 < W ? in[w + 1] : 0;
+          std::uint64_t v = x;
+          for (unsigned s = 1; s <= reach; ++s) v |= (x << s) | (prev >> (64 - s)) | (x >> s) | (next << (64 - s));
+          out[w] = w + 1 == W ? v & lastMask : v;
+        }
+      }
   }
   near_.swap(nearTmp_);
 }
@@ -610,6 +624,8 @@ MPM_CLONES void MpmSolver::p2g() {
   Buf& B = buf_[0];
   double* __restrict rec = B.rec.data();
   const std::uint32_t* __restrict order = order_.data();
+  const std::uint64_t* nearRows = near_.data();
+  const std::size_t nearW = nearW_;
   const bool gridClean = gridClean_;  // remapUpdate cleared the records it used
   gridClean_ = false;
 #pragma omp parallel num_threads(nthreads_)
@@ -635,16 +651,17 @@ MPM_CLONES void MpmSolver::p2g() {
       const double V = -vol0_[p] * J;  // -V sigma : grad N is the internal force
       const double s00 = V * sig_[0][p], s11 = V * sig_[1][p], s22 = V * sig_[2][p];
       const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
-      const A4 S0 = {s00, s01, s02, 0.0}, S1 = {s01, s11, s12, 0.0}, S2 = {s02, s12, s22, 0.0};  // rows of -V sigma
+      const double z0 = opaqueZero();
+      const A4 S0 = {s00, s01, s02, z0}, S1 = {s01, s11, s12, z0}, S2 = {s02, s12, s22, z0};  // rows of -V sigma
       const double xp[3] = {px_[p], py_[p], pz_[p]};
       // Two bodies: the normal and gap lanes matter only at nodes that both
       // bodies reach, i.e. for points with the other body within 3 cells.
       bool needG = false;
       if constexpr (Grad) {
-        const std::size_t cell = (static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
-                                  static_cast<std::size_t>((xp[1] - oy) * invh)) * n2 +
-                                 static_cast<std::size_t>((xp[2] - oz) * invh);
-        needG = near_[cell] & (1u << (1 - body_[p]));
+        const std::size_t row = static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
+                                static_cast<std::size_t>((xp[1] - oy) * invh);
+        const auto k = static_cast<std::size_t>((xp[2] - oz) * invh);
+        needG = (nearRows[(2 * row + 1 - body_[p]) * nearW + k / 64] >> (k % 64)) & 1;
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
@@ -659,8 +676,8 @@ MPM_CLONES void MpmSolver::p2g() {
           const A4 b1 = wij * S2;
           if (Grad && needG) {
             const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
-            const A4 b2 = {0.0, 0.0, m * wij, 0.0};
-            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], 0.0, 0.0};
+            const A4 b2 = {z0, z0, m * wij, z0};
+            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
             for (int k = 0; k < S; ++k, r += NR) {
               add(r, wz[k] * a0);
               add(r + 4, wz[k] * a1 + dz[k] * b1);
