@@ -138,6 +138,7 @@ class MpmSolver {
   void setVelocity(std::size_t p, const Vec3& v) { vx_[p] = v.x(); vy_[p] = v.y(); vz_[p] = v.z(); }
   const MpmConfig& config() const { return cfg_; }
   int threads() const { return nthreads_; }
+  bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
 
  private:
   template <int S, bool Grad> void p2g();
