@@ -3,11 +3,14 @@
 // shapes, MUSL), on 1 and 2 threads. Figures: docs/performance.md.
 #include <benchmark/benchmark.h>
 
+#include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <string>
 #include <numbers>
+#include <vector>
 
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 
@@ -129,35 +132,45 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks]`: N steps of the 1-thread problem
-// without the benchmark harness, for instruction counts under
-// `valgrind --tool=callgrind` (docs/performance.md).
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks] [--threads T]`: N steps of the
+// problem (1 thread unless told) without the benchmark harness, for instruction counts
+// under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread);
+// prints the fastest and the median step wall time (docs/performance.md).
 int main(int argc, char** argv) {
   int steps = -1;
   Shape shape = Shape::BSpline2;
   Update update = Update::MUSL;
   bool twoBlocks = false;
+  int threads = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
     if (a == "--linear") shape = Shape::Linear;
     if (a == "--usl") update = Update::USL;
     if (a == "--two-blocks") twoBlocks = true;
-  }
-  if (steps >= 0 && twoBlocks) {
-    MpmSolver s = makeTwoBlockProblem(shape, update, 1);
-    for (int i = 0; i < steps; ++i) s.step();
-    std::printf("%zu particles, %d steps\n", s.size(), steps);
-    return 0;
+    if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
   }
   if (steps >= 0) {
-    MpmSolver s = makeNeedleProblem(shape, update, 1);
+    MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads) : makeNeedleProblem(shape, update, threads);
+    // Wall time of each step: the fastest and the median (on a shared machine
+    // the fastest steps are those that found the cores free).
+    std::vector<double> ms;
     for (int i = 0; i < steps; ++i) {
+      const auto t0 = std::chrono::steady_clock::now();
       s.step();
-      s.rigid(0).point += s.rigid(0).velocity * s.lastReport().dt;
+      ms.push_back(std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - t0).count());
+      if (!twoBlocks) s.rigid(0).point += s.rigid(0).velocity * s.lastReport().dt;
     }
-    std::printf("%zu particles, %d steps, contact nodes %d, force %.6e N\n", s.size(), steps,
-                s.rigidForce(0).contactNodes, s.rigidForce(0).total.x());
+    std::printf("%zu particles, %d steps, %d threads, kinetic energy %.12e J", s.size(), steps, s.threads(),
+                s.lastReport().kinetic);
+    if (!twoBlocks) std::printf(", contact nodes %d, force %.12e N", s.rigidForce(0).contactNodes, s.rigidForce(0).total.x());
+    std::printf("\n");
+    if (!ms.empty()) {
+      std::sort(ms.begin(), ms.end());
+      const double np = static_cast<double>(s.size());
+      std::printf("step wall time: fastest %.3f ms (%.2f M particle-steps/s), median %.3f ms (%.2f M/s)\n", ms.front(),
+                  np / ms.front() * 1e-3, ms[ms.size() / 2], np / ms[ms.size() / 2] * 1e-3);
+    }
     return 0;
   }
   benchmark::Initialize(&argc, argv);

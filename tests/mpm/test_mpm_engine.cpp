@@ -220,6 +220,28 @@ TEST(MpmEngine, ScenarioErrors) {
   std::filesystem::remove(csv);
 }
 
+// An empty measured-markers file (or one with a header and no rows) is refused
+// when the scenario is read, i.e. by `needlesim check`, naming the file.
+TEST(MpmEngine, CheckRefusesEmptyMeasuredMarkers) {
+  const std::string mk = "    markers:\n      - {name: near, x: 1.25 mm, y: 0.75 mm}\n";
+  const auto csv = std::filesystem::temp_directory_path() / "needlesim_mpm_markers_empty.csv";
+  const std::string yaml = smallScenario(mk + "    measured_markers: " + csv.string() + "\n");
+  for (const char* text : {"", "depth [mm],near_ux [mm],near_uy [mm]\n"}) {
+    { std::ofstream(csv) << text; }
+    try {
+      scenario::readText(yaml, "t.yaml");
+      ADD_FAILURE() << "accepted a measured-markers file holding '" << text << "'";
+    } catch (const InputError& e) {
+      const std::string what = e.what();
+      EXPECT_NE(what.find(csv.string()), std::string::npos) << what;
+      EXPECT_TRUE(what.find("empty") != std::string::npos || what.find("no data rows") != std::string::npos) << what;
+    }
+  }
+  { std::ofstream(csv) << "depth [mm],near_ux [mm],near_uy [mm]\n1,0,0\n"; }
+  EXPECT_NO_THROW(scenario::readText(yaml, "t.yaml"));
+  std::filesystem::remove(csv);
+}
+
 // The quick example of examples/mpm runs and gives a resisting force.
 TEST(MpmEngine, QuickExampleRuns) {
   const auto path = std::filesystem::path(NEEDLESIM_SOURCE_DIR) / "examples/mpm/quick_needle_block.yaml";

@@ -12,6 +12,7 @@
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/scenario/cohesive_path_reader.hpp"
+#include "needlesim/io/csv_reader.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 
 namespace needlesim::scenario {
@@ -422,6 +423,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
       }
       if (!std::filesystem::exists(p))
         throw mpmSec.error(field, f, "does not exist (paths are relative to the scenario file)", allowed);
+      io::readCsv(p);  // an empty or malformed file is refused by `check` too (InputError naming file and line)
       return p.string();
     };
     m.measured_force = measuredFile("measured_force", "a CSV file with columns 'depth [mm]' and 'force [N]'");

@@ -10,6 +10,7 @@
 #include <cstring>
 #include <limits>
 #include <numbers>
+#include <tuple>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
@@ -31,6 +32,16 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 typedef double A4 __attribute__((vector_size(32), aligned(8), may_alias));
 inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
 inline void add(double* p, A4 v) { *reinterpret_cast<A4*>(p) += v; }
+// 0.0 that the compiler cannot see through: lanes packed with it compile to
+// unpack/insert instructions instead of the VEX "vmovq xmm, xmm" that
+// valgrind 3.19 cannot decode (callgrind counts of docs/performance.md).
+inline double opaqueZero() {
+  double z = 0.0;
+#if defined(__GNUC__) && defined(__x86_64__)
+  asm("" : "+x"(z));
+#endif
+  return z;
+}
 // Offsets in a grid record (MpmSolver::Buf).
 constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
 
@@ -48,6 +59,14 @@ inline int threadId() {
   return omp_get_thread_num();
 #else
   return 0;
+#endif
+}
+
+inline int teamSize() {
+#ifdef _OPENMP
+  return omp_get_num_threads();
+#else
+  return 1;
 #endif
 }
 
@@ -226,12 +245,17 @@ void MpmSolver::finalize() {
   const int B = cfg_.bodies;
   const std::size_t R = rigids_.size();
   nr_ = B > 1 ? 16 : 8;
-  buf_.resize(static_cast<std::size_t>(nthreads_));
+  buf_.resize(1);
   for (auto& b : buf_) {
     b.rec.assign(static_cast<std::size_t>(nr_) * B * nodes_, 0.0);
     b.gmin.assign(R * nodes_, kInf);
   }
   vel_.assign(8 * B * nodes_, 0.0);
+  gridClean_ = true;
+  order_.resize(size());
+  for (std::size_t p = 0; p < size(); ++p) order_[p] = static_cast<std::uint32_t>(p);
+  coloured_ = false;
+  planAgain_ = 0;
   vgx_.assign(size(), 0.0);
   vgy_.assign(size(), 0.0);
   vgz_.assign(size(), 0.0);
@@ -446,82 +470,158 @@ void MpmSolver::fail(std::size_t p, int cause) const {
 
 // ---------------------------------------------------------------- grid buffers
 
-void MpmSolver::zeroBuffers(bool momentumOnly) {
-  const std::size_t nrec = static_cast<std::size_t>(cfg_.bodies) * nodes_;
-  const std::size_t NR = static_cast<std::size_t>(nr_);
-#pragma omp parallel num_threads(nthreads_)
-  {
-    Buf& b = buf_[static_cast<std::size_t>(threadId())];
-    if (momentumOnly) {
-      double* r = b.rec.data();
-      for (std::size_t J = 0; J < nrec; ++J)
-        for (std::size_t c = kP; c < kP + 3; ++c) r[NR * J + c] = 0.0;
-    } else {
-      std::fill(b.rec.begin(), b.rec.end(), 0.0);
-      std::fill(b.gmin.begin(), b.gmin.end(), kInf);
-    }
-  }
+// Thread t of T clears its share of the shared grid (inside a parallel region).
+void MpmSolver::zeroGrid(int t, int T) {
+  Buf& b = buf_[0];
+  const auto part = [&](std::vector<double>& v, double x) {
+    const std::size_t n = v.size(), a = n * static_cast<std::size_t>(t) / static_cast<std::size_t>(T),
+                      e = n * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
+    std::fill(v.begin() + static_cast<std::ptrdiff_t>(a), v.begin() + static_cast<std::ptrdiff_t>(e), x);
+  };
+  part(b.rec, 0.0);  // gmin: reset by gridUpdate, its only reader
 }
 
-void MpmSolver::reduceBuffers(bool momentumOnly) {
-  if (nthreads_ == 1) return;
-  const std::size_t nrec = static_cast<std::size_t>(cfg_.bodies) * nodes_;
-  const std::size_t NR = static_cast<std::size_t>(nr_);
-  const std::size_t ng = rigids_.size() * nodes_;
-  Buf& out = buf_[0];
-#pragma omp parallel num_threads(nthreads_)
-  {
-    for (std::size_t t = 1; t < buf_.size(); ++t) {
-      const Buf& in = buf_[t];
-      if (momentumOnly) {
-#pragma omp for schedule(static) nowait
-        for (std::size_t J = 0; J < nrec; ++J)
-          for (std::size_t c = kP; c < kP + 3; ++c) out.rec[NR * J + c] += in.rec[NR * J + c];
-      } else {
-#pragma omp for schedule(static) nowait
-        for (std::size_t i = 0; i < NR * nrec; ++i) out.rec[i] += in.rec[i];
-#pragma omp for schedule(static) nowait
-        for (std::size_t i = 0; i < ng; ++i) out.gmin[i] = std::min(out.gmin[i], in.gmin[i]);
-      }
-#pragma omp barrier
+// Slabs of one parity must touch disjoint node layers: a point with base
+// layer bx reaches layers bx .. bx + S - 1.
+// The points thread t of a team of T scatters in pass colour (0, then 1 after
+// a barrier): its slab of that parity, or all of them on thread 0 when the
+// scatter is serial.
+std::pair<std::size_t, std::size_t> MpmSolver::slabRange(int t, int T, int colour) const {
+  if (coloured_ && T == nthreads_) {
+    const auto s = static_cast<std::size_t>(2 * t + colour);
+    return {slabStart_[s], slabStart_[s + 1]};
+  }
+  if (t == 0 && colour == 0) return {0, size()};
+  return {0, 0};
+}
+
+bool MpmSolver::slabsDisjoint() const {
+  const int reach = cfg_.shape == Shape::Linear ? 1 : 2;
+  const int ns = static_cast<int>(slabLo_.size());
+  for (int s = 0; s < ns; ++s) {
+    if (slabLo_[static_cast<std::size_t>(s)] > slabHi_[static_cast<std::size_t>(s)]) continue;  // empty
+    for (int u = s + 2; u < ns; u += 2) {
+      const auto a = static_cast<std::size_t>(s), b = static_cast<std::size_t>(u);
+      if (slabLo_[b] > slabHi_[b]) continue;
+      if (slabHi_[a] + reach >= slabLo_[b] && slabHi_[b] + reach >= slabLo_[a]) return false;
     }
   }
+  return true;
+}
+
+// Stable counting sort of the points by the x layer of their base node (the
+// creation order, lattice order with x slowest, is kept within a layer), cut
+// into 2 slabs per thread of equal point counts. Returns whether the slabs of
+// one parity are disjoint (false for problems only a few cells long).
+bool MpmSolver::sortByLayer() {
+  const std::size_t np = size();
+  const double invh = 1.0 / cfg_.h, ox = cfg_.origin.x();
+  const double sh = cfg_.shape == Shape::Linear ? 0.0 : 0.5;
+  const int n0 = nn_[0];
+  const auto layer = [&](std::size_t p) {
+    return std::clamp(static_cast<int>(std::floor((px_[p] - ox) * invh - sh)), 0, n0 - 1);
+  };
+  std::vector<std::size_t> start(static_cast<std::size_t>(n0) + 1, 0);
+  for (std::size_t p = 0; p < np; ++p) ++start[static_cast<std::size_t>(layer(p)) + 1];
+  for (int l = 0; l < n0; ++l) start[static_cast<std::size_t>(l) + 1] += start[static_cast<std::size_t>(l)];
+  order_.resize(np);
+  for (std::size_t p = 0; p < np; ++p) order_[start[static_cast<std::size_t>(layer(p))]++] = static_cast<std::uint32_t>(p);
+  const std::size_t ns = 2 * static_cast<std::size_t>(nthreads_);
+  slabStart_.resize(ns + 1);
+  slabLo_.assign(ns, std::numeric_limits<int>::max());
+  slabHi_.assign(ns, std::numeric_limits<int>::min());
+  for (std::size_t s = 0; s <= ns; ++s) slabStart_[s] = np * s / ns;
+  for (std::size_t s = 0; s < ns; ++s)
+    for (std::size_t q = slabStart_[s]; q < slabStart_[s + 1]; ++q) {
+      const int l = layer(order_[q]);
+      slabLo_[s] = std::min(slabLo_[s], l);
+      slabHi_[s] = std::max(slabHi_[s], l);
+    }
+  return slabsDisjoint();
+}
+
+// Before each step's scatter: keep the slabs while their parity classes stay
+// disjoint (points move less than a cell per step), else re-sort; a problem
+// too short for disjoint slabs scatters on one thread and tries again later.
+void MpmSolver::planScatter() {
+  if (nthreads_ == 1 || size() == 0) {
+    coloured_ = false;
+    return;
+  }
+  if (coloured_ && slabsDisjoint()) return;
+  if (!coloured_ && steps_ < planAgain_) return;
+  coloured_ = sortByLayer();
+  if (!coloured_) planAgain_ = steps_ + 50;
 }
 
 // ---------------------------------------------------------------- particle to grid (eqs 1-3)
 
-// Two bodies: near_[cell] bit b is set when body b has a point within 3 cells
-// (occupied cells dilated by 3 along each axis). A node both bodies reach lies
-// within 1.5 cells of a point of each, so the points that scatter to it are
-// within 3 cells of the other body. Serial, one pass over the points and three
-// over the cells.
+// Two bodies: the bit of cell (i, j, k) in row (i, j) of body b is set when
+// body b has a point within 3 cells (occupied cells dilated by 3 along each
+// axis). A node both bodies reach lies within 1.5 cells of a point of each, so
+// the points that scatter to it are within 3 cells of the other body. A row
+// is nearW_ 64-bit words per body (k = bit), so the dilation is shifts and ORs
+// of words. One parallel pass over the points, three over the rows.
 void MpmSolver::markNearBodies() {
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
-  const std::size_t n[3] = {static_cast<std::size_t>(nn_[0]), static_cast<std::size_t>(nn_[1]),
-                            static_cast<std::size_t>(nn_[2])};
-  near_.assign(nodes_, 0);
-  for (std::size_t p = 0; p < size(); ++p) {
-    const std::size_t c = (static_cast<std::size_t>((px_[p] - ox) * invh) * n[1] +
-                           static_cast<std::size_t>((py_[p] - oy) * invh)) * n[2] +
-                          static_cast<std::size_t>((pz_[p] - oz) * invh);
-    near_[c] |= static_cast<std::uint8_t>(1u << body_[p]);
-  }
-  const std::size_t stride[3] = {n[1] * n[2], n[2], 1};
-  constexpr int reach = 3;
-  for (int d = 0; d < 3; ++d) {
-    nearTmp_ = near_;
-    for (std::size_t I = 0; I < nodes_; ++I) {
-      const std::size_t idx = (I / stride[d]) % n[d];
-      std::uint8_t v = 0;
-      for (int o = -reach; o <= reach; ++o) {
-        const long long j = static_cast<long long>(idx) + o;
-        if (j < 0 || j >= static_cast<long long>(n[d])) continue;
-        v |= nearTmp_[I + static_cast<std::size_t>(o * static_cast<long long>(stride[d]))];
-      }
-      near_[I] = v;
+  const std::size_t n0 = static_cast<std::size_t>(nn_[0]), n1 = static_cast<std::size_t>(nn_[1]),
+                    n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t np = size();
+  const std::size_t W = (n2 + 63) / 64, rw = 2 * W;  // words per row (both bodies)
+  nearW_ = W;
+  const std::size_t rows = n0 * n1, words = rows * rw;
+  near_.resize(words);
+  nearTmp_.resize(words);
+  std::uint64_t* a = near_.data();
+  std::uint64_t* b = nearTmp_.data();
+  constexpr std::size_t reach = 3;
+  const std::uint64_t lastMask = n2 % 64 ? (std::uint64_t{1} << (n2 % 64)) - 1 : ~std::uint64_t{0};
+#pragma omp parallel num_threads(nthreads_)
+  {
+#pragma omp for schedule(static)
+    for (std::size_t w = 0; w < words; ++w) a[w] = 0;
+#pragma omp for schedule(static)
+    for (std::size_t p = 0; p < np; ++p) {
+      const std::size_t row = static_cast<std::size_t>((px_[p] - ox) * invh) * n1 +
+                              static_cast<std::size_t>((py_[p] - oy) * invh);
+      const auto k = static_cast<std::size_t>((pz_[p] - oz) * invh);
+      std::uint64_t* w = a + row * rw + body_[p] * W + k / 64;
+      const std::uint64_t bit = std::uint64_t{1} << (k % 64);
+      // Threads may mark the same word: an atomic OR, skipped when already set.
+      if (!(__atomic_load_n(w, __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(w, bit, __ATOMIC_RELAXED);
     }
+    // Along i, then j: OR of the rows within 3.
+    for (int d = 0; d < 2; ++d) {
+      const std::uint64_t* src = d == 0 ? a : b;
+      std::uint64_t* dst = d == 0 ? b : a;
+#pragma omp for schedule(static)
+      for (std::size_t row = 0; row < rows; ++row) {
+        const std::size_t idx = d == 0 ? row / n1 : row % n1, n = d == 0 ? n0 : n1, stride = d == 0 ? n1 : 1;
+        const std::size_t lo = idx >= reach ? idx - reach : 0, hi = std::min(n - 1, idx + reach);
+        std::uint64_t* out = dst + row * rw;
+        for (std::size_t w = 0; w < rw; ++w) out[w] = 0;
+        for (std::size_t o = lo; o <= hi; ++o) {
+          const std::uint64_t* in = src + (row + o * stride - idx * stride) * rw;
+          for (std::size_t w = 0; w < rw; ++w) out[w] |= in[w];
+        }
+      }
+    }
+    // Along k: bits shifted by -3..3 within the row (across word edges).
+#pragma omp for schedule(static)
+    for (std::size_t row = 0; row < rows; ++row)
+      for (std::size_t body = 0; body < 2; ++body) {
+        const std::uint64_t* in = a + row * rw + body * W;
+        std::uint64_t* out = b + row * rw + body * W;
+        for (std::size_t w = 0; w < W; ++w) {
+          const std::uint64_t x = in[w], prev = w > 0 ? in[w - 1] : 0, next = w + 1 < W ? in[w + 1] : 0;
+          std::uint64_t v = x;
+          for (unsigned s = 1; s <= reach; ++s) v |= (x << s) | (prev >> (64 - s)) | (x >> s) | (next << (64 - s));
+          out[w] = w + 1 == W ? v & lastMask : v;
+        }
+      }
   }
+  near_.swap(nearTmp_);
 }
 
 // Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
@@ -531,7 +631,6 @@ void MpmSolver::markNearBodies() {
 template <int S, bool Grad>
 MPM_CLONES void MpmSolver::p2g() {
   constexpr std::size_t NR = Grad ? 16 : 8;
-  const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
@@ -549,12 +648,24 @@ MPM_CLONES void MpmSolver::p2g() {
     A.e = rb.axis;
     A.rmax2 = (rb.radius + gapReach) * (rb.radius + gapReach);
   }
+  Buf& B = buf_[0];
+  double* __restrict rec = B.rec.data();
+  const std::uint32_t* __restrict order = order_.data();
+  const std::uint64_t* nearRows = near_.data();
+  const std::size_t nearW = nearW_;
+  const bool gridClean = gridClean_;  // remapUpdate cleared the records it used
+  gridClean_ = false;
 #pragma omp parallel num_threads(nthreads_)
   {
-    Buf& B = buf_[static_cast<std::size_t>(threadId())];
-    double* __restrict rec = B.rec.data();
-#pragma omp for schedule(static)
-    for (std::size_t p = 0; p < np; ++p) {
+    const int T = teamSize(), t = threadId();
+    if (!gridClean) {
+      zeroGrid(t, T);
+#pragma omp barrier
+    }
+    for (int colour = 0; colour < 2; ++colour) {
+    const auto [q0, q1] = slabRange(t, T, colour);
+    for (std::size_t qi = q0; qi < q1; ++qi) {
+      const std::size_t p = order[qi];
       double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
       const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
@@ -567,16 +678,17 @@ MPM_CLONES void MpmSolver::p2g() {
       const double V = -vol0_[p] * J;  // -V sigma : grad N is the internal force
       const double s00 = V * sig_[0][p], s11 = V * sig_[1][p], s22 = V * sig_[2][p];
       const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
-      const A4 S0 = {s00, s01, s02, 0.0}, S1 = {s01, s11, s12, 0.0}, S2 = {s02, s12, s22, 0.0};  // rows of -V sigma
+      const double z0 = opaqueZero();
+      const A4 S0 = {s00, s01, s02, z0}, S1 = {s01, s11, s12, z0}, S2 = {s02, s12, s22, z0};  // rows of -V sigma
       const double xp[3] = {px_[p], py_[p], pz_[p]};
       // Two bodies: the normal and gap lanes matter only at nodes that both
       // bodies reach, i.e. for points with the other body within 3 cells.
       bool needG = false;
       if constexpr (Grad) {
-        const std::size_t cell = (static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
-                                  static_cast<std::size_t>((xp[1] - oy) * invh)) * n2 +
-                                 static_cast<std::size_t>((xp[2] - oz) * invh);
-        needG = near_[cell] & (1u << (1 - body_[p]));
+        const std::size_t row = static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
+                                static_cast<std::size_t>((xp[1] - oy) * invh);
+        const auto k = static_cast<std::size_t>((xp[2] - oz) * invh);
+        needG = (nearRows[(2 * row + 1 - body_[p]) * nearW + k / 64] >> (k % 64)) & 1;
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
@@ -591,8 +703,8 @@ MPM_CLONES void MpmSolver::p2g() {
           const A4 b1 = wij * S2;
           if (Grad && needG) {
             const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
-            const A4 b2 = {0.0, 0.0, m * wij, 0.0};
-            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], 0.0, 0.0};
+            const A4 b2 = {z0, z0, m * wij, z0};
+            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
             for (int k = 0; k < S; ++k, r += NR) {
               add(r, wz[k] * a0);
               add(r + 4, wz[k] * a1 + dz[k] * b1);
@@ -627,6 +739,10 @@ MPM_CLONES void MpmSolver::p2g() {
               gmin[I] = std::min(gmin[I], gap);
             }
       }
+    }
+    if (colour == 0) {
+#pragma omp barrier
+    }
     }
   }
 }
@@ -701,7 +817,8 @@ void MpmSolver::gridUpdate() {
   const int B = cfg_.bodies;
   const std::size_t R = rigids_.size();
   const double dt = dt_;
-  const Buf& G = buf_[0];
+  Buf& G = buf_[0];
+  const bool musl = cfg_.update == Update::MUSL;
   const double gap = cfg_.contactGap;
   const double mu = cfg_.friction;
   const double pairGap = pairGap_;
@@ -718,7 +835,7 @@ void MpmSolver::gridUpdate() {
       bool any = false;
       for (int b = 0; b < B; ++b) {
         const std::size_t J = static_cast<std::size_t>(b) * nodes_ + I;
-        const double* r = &G.rec[NR * J];
+        double* r = &G.rec[NR * J];
         double* v = &vel_[8 * J];
         const double m = r[kM];
         mb[b] = m;
@@ -732,10 +849,14 @@ void MpmSolver::gridUpdate() {
           v[4 + c] = p / m;
           const double d = dashpot_[3 * I + c];
           v[c] = (p + (r[kF + c] + m * g[c]) * dt) / (m + d * dt);  // eq 3 (+ gravity, dashpot)
+          if (musl) r[kP + c] = 0.0;  // the momentum lanes take the MUSL remap (g2pRemap); v_old is v[4..6]
         }
       }
       for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
-      if (!any) continue;
+      if (!any) {
+        for (std::size_t r = 0; r < R; ++r) G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g
+        continue;
+      }
       if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
         pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.rec[NR * I + kG],
                     &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap,
@@ -746,7 +867,9 @@ void MpmSolver::gridUpdate() {
         const int k = static_cast<int>(I % static_cast<std::size_t>(nn_[2]));
         const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, k);
         for (std::size_t r = 0; r < R; ++r) {
-          if (!(G.gmin[r * nodes_ + I] < gap)) continue;  // eq 22: no particle touches the body here
+          const double gm = G.gmin[r * nodes_ + I];
+          G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g (gridUpdate is its only reader)
+          if (!(gm < gap)) continue;  // eq 22: no particle touches the body here
           const RigidBody& rb = rigids_[r];
           Vec3 n;
           int part = 0;
@@ -1019,10 +1142,10 @@ void MpmSolver::surfaceContact(bool first) {
 
 // After the momentum remap of MUSL: the same contact (at the nodes found in
 // the first update, with their normals) and boundary conditions on v*.
-void MpmSolver::remapUpdate() {
+void MpmSolver::remapUpdate(bool clear) {
   const int B = cfg_.bodies;
   const std::size_t R = rigids_.size();
-  const Buf& G = buf_[0];
+  Buf& G = buf_[0];
   const double mu = cfg_.friction;
   const double pairGap = pairGap_;
   const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
@@ -1055,7 +1178,13 @@ void MpmSolver::remapUpdate() {
       for (int b = 0; b < B; ++b)
         for (int c = 0; c < 3; ++c)
           if (mask & (1 << c)) vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I) + 4 + c] = 0.0;
+    // Last use of the records this step: clear them for the next p2g while
+    // they are in cache (a record without mass holds only zeros already).
+    if (clear)
+      for (int b = 0; b < B; ++b)
+        if (mb[b] > 0) std::fill_n(&G.rec[NR * (static_cast<std::size_t>(b) * nodes_ + I)], NR, 0.0);
   }
+  if (clear) gridClean_ = true;
 }
 
 // ---------------------------------------------------------------- grid to particle (eq 4)
@@ -1065,19 +1194,21 @@ void MpmSolver::remapUpdate() {
 // product, as in p2g).
 template <int S>
 MPM_CLONES void MpmSolver::g2pRemap() {
-  const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double flip = cfg_.flip;
   const double* __restrict vel = vel_.data();
+  double* __restrict rec = buf_[0].rec.data();
+  const std::uint32_t* __restrict order = order_.data();
 #pragma omp parallel num_threads(nthreads_)
   {
-    Buf& B = buf_[static_cast<std::size_t>(threadId())];
-    double* __restrict rec = B.rec.data();
-#pragma omp for schedule(static)
-    for (std::size_t p = 0; p < np; ++p) {
+    const int T = teamSize(), t = threadId();
+    for (int colour = 0; colour < 2; ++colour) {
+    const auto [q0, q1] = slabRange(t, T, colour);
+    for (std::size_t qi = q0; qi < q1; ++qi) {
+      const std::size_t p = order[qi];
       double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
       const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
       const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
@@ -1122,6 +1253,10 @@ MPM_CLONES void MpmSolver::g2pRemap() {
             add(r, wz[k] * a);
         }
     }
+    if (colour == 0) {
+#pragma omp barrier
+    }
+    }
   }
 }
 
@@ -1147,8 +1282,24 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   double ek = 0, ei = 0, vmax = 0;
   const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
   const bool fbar = cfg_.fbar;
-#pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax)
-  for (std::size_t p = 0; p < np; ++p) {
+  const std::uint32_t* __restrict order = order_.data();
+  // Same slabs as the scatter (no barrier between the two), recording each
+  // slab's range of base x layers at the new positions for planScatter.
+#pragma omp parallel num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax)
+  {
+  const int T = teamSize(), t = threadId();
+  const bool slabs = coloured_ && T == nthreads_;
+  for (int colour = 0; colour < 2; ++colour) {
+  std::size_t q0 = 0, q1 = 0;
+  if (slabs) {
+    std::tie(q0, q1) = slabRange(t, T, colour);
+  } else if (colour == 0) {
+    q0 = np * static_cast<std::size_t>(t) / static_cast<std::size_t>(T);
+    q1 = np * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
+  }
+  int layerLo = std::numeric_limits<int>::max(), layerHi = std::numeric_limits<int>::min();
+  for (std::size_t qi = q0; qi < q1; ++qi) {
+    const std::size_t p = order[qi];
     double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
     const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
     const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
@@ -1218,6 +1369,11 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
         const double b = std::floor(xs[d]);
         if (b < 0.0 || b > lim[d]) cause = 3;
       }
+      if (!cause) {
+        const int l = static_cast<int>(xs[0]);  // = the floor, xs[0] >= 0
+        layerLo = std::min(layerLo, l);
+        layerHi = std::max(layerHi, l);
+      }
     }
     if (cause) {
       int expected = 0;
@@ -1230,6 +1386,13 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     stress(p, F, W, c);
     ei += vol0_[p] * W;
     vmax = std::max(vmax, c + std::sqrt(speed2));
+  }
+  if (slabs) {
+    const auto sl = static_cast<std::size_t>(2 * t + colour);
+    slabLo_[sl] = layerLo;
+    slabHi_[sl] = layerHi;
+  }
+  }
   }
   if (bad.load()) fail(badP.load(), bad.load());
   if (fbar) fbarStress(ei, vmax);
@@ -1295,14 +1458,13 @@ StepReport MpmSolver::step() {
   if (!(dt_ > 0) || !std::isfinite(dt_))
     throw SolverError("mpm: no valid time step (wave speed not finite); check the material parameters");
   const bool lin = cfg_.shape == Shape::Linear;
-  zeroBuffers(false);
+  planScatter();  // p2g clears the grid
   if (cfg_.bodies > 1) {
     markNearBodies();
     if (lin) p2g<2, true>(); else p2g<3, true>();
   } else {
     if (lin) p2g<2, false>(); else p2g<3, false>();
   }
-  reduceBuffers(false);
   if (penalty_) penaltyForces();  // two-body penalty contact: pair forces into f_I (penalty_contact.cpp)
   gridUpdate();
   const bool cfemp = std::any_of(rigids_.begin(), rigids_.end(), [](const RigidBody& r) { return r.surfaceContact; });
@@ -1310,10 +1472,8 @@ StepReport MpmSolver::step() {
     if (lin) surfaceContact<2>(true); else surfaceContact<3>(true);
   }
   if (cfg_.update == Update::MUSL) {
-    zeroBuffers(true);
-    if (lin) g2pRemap<2>(); else g2pRemap<3>();
-    reduceBuffers(true);
-    remapUpdate();
+    if (lin) g2pRemap<2>(); else g2pRemap<3>();  // into the momentum lanes gridUpdate cleared
+    remapUpdate(!cfemp);  // CFEMP reads the masses after it
     if (cfemp) {
       if (lin) surfaceContact<2>(false); else surfaceContact<3>(false);
     }

@@ -2,8 +2,9 @@
 // Explicit 3D material point method (seed 000 eqs 1-4) with multi-field grid
 // contact (eqs 14-21), CFL time step (eqs 25-27) and mass scaling (eq 28).
 // Particles are stored as structure of arrays; the background grid is a dense
-// box that is reset every step. Scatter is race-free with one grid copy per
-// OpenMP thread, reduced after each scatter. Interpretations:
+// box that is reset every step. Scatter is race-free on one shared grid: the
+// points are visited in x-layer order and cut into 2 slabs per thread, and the
+// even slabs (then the odd ones) touch disjoint node layers. Interpretations:
 // docs/models/mpm.md.
 #include <Eigen/Core>
 #include <Eigen/LU>
@@ -11,6 +12,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "needlesim/engines/mpm/penalty_contact.hpp"
@@ -148,6 +150,7 @@ class MpmSolver {
   void setVelocity(std::size_t p, const Vec3& v) { vx_[p] = v.x(); vy_[p] = v.y(); vz_[p] = v.z(); }
   const MpmConfig& config() const { return cfg_; }
   int threads() const { return nthreads_; }
+  bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
 
  private:
   template <int S, bool Grad> void p2g();
@@ -161,9 +164,12 @@ class MpmSolver {
   double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
                       const double* rec, std::size_t NR, double* f) const;  // penalty_contact.cpp
   void fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const;  // penalty_contact.cpp
-  void remapUpdate();
-  void zeroBuffers(bool momentumOnly);
-  void reduceBuffers(bool momentumOnly);
+  void remapUpdate(bool clear);
+  void zeroGrid(int t, int T);
+  void planScatter();
+  bool sortByLayer();
+  bool slabsDisjoint() const;
+  std::pair<std::size_t, std::size_t> slabRange(int t, int T, int colour) const;
   void stress(std::size_t p, const Mat3& F, double& energy, double& wave);
   void fbarStress(double& ei, double& vmax);
   void markNearBodies();
@@ -189,7 +195,18 @@ class MpmSolver {
   struct Buf {
     std::vector<double> rec, gmin;  // rec: nr_ per node per body; gmin: per node per rigid
   };
-  std::vector<Buf> buf_;                // one per thread; buf_[0] holds the reduced grid
+  std::vector<Buf> buf_;                // one shared grid (buf_[0])
+  // Race-free scatter: order_ visits the points by x layer of their base
+  // node; slab s is order_[slabStart_[s], slabStart_[s + 1]), thread t scatters
+  // slab 2t, then (after a barrier) slab 2t + 1. Slabs of one parity touch
+  // disjoint node layers (checked each step from the base layers g2pFinal
+  // records; re-sorted when not). One slab (serial scatter) when that fails.
+  std::vector<std::uint32_t> order_;
+  std::vector<std::size_t> slabStart_;
+  std::vector<int> slabLo_, slabHi_;    // per slab: lowest, highest base x layer
+  bool coloured_ = false;
+  bool gridClean_ = false;              // the records are all zero (remapUpdate cleared them)
+  long long planAgain_ = 0;             // serial fallback: step of the next try
   int nr_ = 8;
   std::vector<double> vel_;             // per node per body: v_new (3), pad, v_old (3), pad
   std::vector<std::uint8_t> fixMask_;   // per node: bits 0-2 fixed velocity components
@@ -202,7 +219,8 @@ class MpmSolver {
   std::optional<SurfaceFromCentroid> surfaceEst_;  // Surface gap rule
   std::optional<PairPenalty> penalty_;  // two bodies, BodyContact::Penalty (penalty_contact.cpp)
   Vec3 nodePosition(std::size_t I) const;
-  std::vector<std::uint8_t> near_, nearTmp_;  // two bodies: per cell, bit b = body b within 3 cells
+  std::vector<std::uint64_t> near_, nearTmp_;  // two bodies: per (i, j) row, per body nearW_ words, bit k = body within 3 cells
+  std::size_t nearW_ = 1;
   std::vector<std::uint32_t> cellOf_;   // F-bar: cell of each particle
   std::vector<double> cellJ_;           // F-bar: per cell sum V0 J, sum V0
   // CFEMP (eqs 22-24): the needle surface triangulated in its own frame (tip at

@@ -204,7 +204,9 @@ void MpmSolver::penaltyForces() {
   P.start_.assign(2 * nodes_ + 1, 0);
   for (std::size_t p = 0; p < size(); ++p) {
     const std::size_t c = cellOf(p);
-    if (near_[c] != 3) continue;
+    // both bodies within 3 cells (markNearBodies: per (i, j) row nearW_ words per body, bit k)
+    const std::size_t row = c / n2, kc = c % n2, w = kc / 64, bit = kc % 64;
+    if (!((near_[(2 * row) * nearW_ + w] >> bit) & (near_[(2 * row + 1) * nearW_ + w] >> bit) & 1u)) continue;
     P.cand_.push_back(static_cast<std::uint32_t>(p));
     ++P.start_[static_cast<std::size_t>(body_[p]) * nodes_ + c + 1];
   }
