@@ -196,6 +196,23 @@ TEST(Cohesive3dInsertion, NeedleEnergyBalanceWithFixedContactStiffness) {
   EXPECT_LT(r.results.at("energy_balance_error").value, 1e-9);
 }
 
+// The same cut on the default contact settings (each node's penalty kept over its contact episode,
+// solver.cpp episodeStiffness): the needle work balances within 5 %. What is left is the cone wedge's
+// force, which leaves the along-seam part b/c of the gap's gradient off the lips (docs/models/cohesive.md):
+// not the gradient of 1/2 k gap^2, so its work differs from the stored energy's change (measured 4.0 %;
+// 37 % with k following the shrinking step).
+TEST(Cohesive3dInsertion, NeedleEnergyBalanceOnDefaults) {
+  MemorySink r = runInMemory(scenario::readText(insertion3dYaml(), "<c3d>"));
+  std::printf("3D cohesive insertion (defaults): needle work %.4g J, friction %.3g J, cohesive D %.3g J, cracked %.3g "
+              "mm^2, needle balance error %.3g\n",
+              r.results.at("needle_work").value, r.results.at("friction_dissipation").value,
+              r.results.at("cohesive_dissipation").value, r.results.at("cracked_area").value * 1e6,
+              r.results.at("needle_energy_balance_error").value);
+  EXPECT_GT(r.results.at("cracked_area").value, 2e-6);
+  EXPECT_LT(r.results.at("needle_energy_balance_error").value, 0.05);
+  EXPECT_LT(r.results.at("energy_balance_error").value, 1e-9);
+}
+
 // Engine level, 3D bevel (45 deg, 2 mm): the cohesive seam plane runs through the needle axis
 // (docs/models/cohesive.md "3D bevel"); the wall-side lip is pushed down ahead of the point by the
 // virtual chisel and the bevel-side lip up by the face, to +-sqrt(R^2 - b^2) around the shaft. The
@@ -215,7 +232,7 @@ std::string bevel3dYaml(const std::string& depth) {
   // the wall-side lip penetrates 0.51-0.58 mm > the 0.5 mm tolerance at 1.4-2.2 mm; measured after the
   // merge of the end-of-step contact, docs/models/cohesive.md "3D bevel")
   const auto hg = y.find("    hourglass: 3\n");
-  y.insert(hg, "    contact_penalty: 0.2\n");
+  y.insert(hg, "    contact_penalty: 0.3\n");
   return y;
 }
 }  // namespace
@@ -229,9 +246,9 @@ TEST(Cohesive3dInsertion, BevelOpensSeamThroughAxisAndDissipationMatchesGcTimesC
     const double Ap = r.results.at("process_zone_area").value, GcA = r.results.at("fracture_energy_of_crack").value;
     const double ext = r.results.at("cracked_length").value;
     std::printf("3D bevel cohesive insertion to %s: cracked area %.4g mm^2 (extent %.3f mm), process zone %.4g mm^2, "
-                "D = %.4g J, G_c A = %.4g J (%+.2f %%), peak force %.4g N, balance %.2g\n",
+                "D = %.4g J, G_c A = %.4g J (%+.2f %%), peak force %.4g N, balance %.2g, needle balance %.3g\n",
                 depth, A * 1e6, ext * 1e3, Ap * 1e6, D, GcA, 100 * (D / GcA - 1), r.results.at("peak_force").value,
-                r.results.at("energy_balance_error").value);
+                r.results.at("energy_balance_error").value, r.results.at("needle_energy_balance_error").value);
     // open over most of the needle's width (2R less one 0.5 mm column) along the extent
     EXPECT_GT(A, R * ext);
     EXPECT_GT(A, prevA + R * 1e-3);  // 1.5 mm deeper opens at least 1 mm^2 more

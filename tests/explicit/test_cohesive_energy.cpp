@@ -83,12 +83,37 @@ TEST(NeedleEnergy, CohesiveInsertionWithFrictionBalancesNeedleWork) {
   EXPECT_LT(res(r, "energy_balance_error"), 1e-9);
 }
 
-// The default penalty (k following the stable step) is not conservative: printed, not asserted.
-TEST(NeedleEnergy, CohesiveInsertionDefaultPenaltyReportsMismatch) {
+// The same insertion on the default contact settings (penalty 10 implicit, seam lips 0.3 explicit, each
+// node's stiffness kept over its contact episode, solver.cpp episodeStiffness): within 2 % too. With k
+// following the shrinking stable step the stored 1/2 k g^2 grew without work and the balance was 18.8 %
+// off (fails with the per-episode stiffness taken out).
+TEST(NeedleEnergy, CohesiveInsertionOnDefaultsBalancesNeedleWork) {
   MemorySink r = runInMemory(scenario::readText(yaml2d("true", 0.3, 0.5e-3, 4e-3, true), "<coh>"));
-  std::printf("cohesive insertion (k follows dt): needle work %.4g J, needle balance error %.3g\n",
-              res(r, "needle_work"), res(r, "needle_energy_balance_error"));
-  EXPECT_GT(res(r, "needle_work"), 0.0);
+  const double W = res(r, "needle_work");
+  std::printf("cohesive insertion (defaults): needle work %.4g J = cohesive D %.4g + stored %.3g + friction %.4g + "
+              "penalty %.3g + viscous %.3g + strain, kinetic ...; needle balance error %.3g, cracked %.3g mm^2\n",
+              W, res(r, "cohesive_dissipation"), res(r, "cohesive_stored"), res(r, "friction_dissipation"),
+              res(r, "penalty_energy"), res(r, "viscous_dissipation"), res(r, "needle_energy_balance_error"),
+              res(r, "cracked_area") * 1e6);
+  EXPECT_GT(res(r, "cracked_area"), 4e-6);
+  EXPECT_GT(res(r, "friction_dissipation"), 0.1 * W);
+  EXPECT_GT(res(r, "cohesive_dissipation"), 0.3 * W);
+  EXPECT_LT(res(r, "needle_energy_balance_error"), 0.02);
+  EXPECT_LT(res(r, "energy_balance_error"), 1e-9);
+}
+
+// A finer mesh and a tougher-to-balance law (G_c = 2 J/m^2, delta_f = 0.2 mm, h = 0.125 mm) on the defaults:
+// the lips of fully damaged pairs stay on the wedge rule (solver.cpp). With the switch to queryNeedle's lip
+// side rules at d = 1 a wall-side lip released above the point's line by the chisel was later found inside
+// the bevel sliver and sent out through the wall (a jump in depth): 8.4 % off; with the wedge kept, 0.26 %.
+TEST(NeedleEnergy, FineMeshCutBalancesNeedleWork) {
+  MemorySink r = runInMemory(scenario::readText(yaml2d("true", 0.3, 0.125e-3, 4e-3, true, 2.0), "<fine>"));
+  std::printf("fine cut (h 0.125 mm, G_c 2 J/m^2): needle work %.4g J, cohesive D %.4g J, friction %.4g J, needle balance "
+              "error %.3g, front %.3f mm behind the point\n",
+              res(r, "needle_work"), res(r, "cohesive_dissipation"), res(r, "friction_dissipation"),
+              res(r, "needle_energy_balance_error"), (4e-3 - res(r, "crack_tip")) * 1e3);
+  EXPECT_GT(res(r, "cracked_area"), 6e-6);  // > 3 mm of the 4 mm path x 2 mm
+  EXPECT_LT(res(r, "needle_energy_balance_error"), 0.02);
   EXPECT_LT(res(r, "energy_balance_error"), 1e-9);
 }
 
@@ -105,8 +130,10 @@ TEST(CohesiveInsertion, MeshObjectivityOfDissipation) {
   const double Ac = res(c, "cracked_area"), Af = res(f, "cracked_area");
   const double lagC = depth - res(c, "crack_tip"), lagF = depth - res(f, "crack_tip");
   std::printf("mesh objectivity: h 0.5 mm: D %.5g J, cracked %.4g mm^2, D/A %.4g J/m^2, front %.3f mm behind the point; "
-              "h 0.25 mm: D %.5g J, cracked %.4g mm^2, D/A %.4g J/m^2, front %.3f mm behind; D fine/coarse %.4f\n",
-              Dc, Ac * 1e6, Dc / Ac, lagC * 1e3, Df, Af * 1e6, Df / Af, lagF * 1e3, Df / Dc);
+              "h 0.25 mm: D %.5g J, cracked %.4g mm^2, D/A %.4g J/m^2, front %.3f mm behind; D fine/coarse %.4f; "
+              "needle balance %.3g / %.3g\n",
+              Dc, Ac * 1e6, Dc / Ac, lagC * 1e3, Df, Af * 1e6, Df / Af, lagF * 1e3, Df / Dc,
+              res(c, "needle_energy_balance_error"), res(f, "needle_energy_balance_error"));
   EXPECT_NEAR(Dc / Ac, Gc, 0.1 * Gc);
   EXPECT_NEAR(Df / Af, Gc, 0.1 * Gc);
   EXPECT_LT(lagC, 2.5 * 0.5e-3);

@@ -197,7 +197,7 @@ struct ExplicitModelSpec {
   double damping = 0.0;              // 1/s, mass-proportional
   double contact_penalty = 10.0;     // k = penalty m / dt^2 (explicit/contact_normal.cpp)
   double tip_friction = 0.0;         // Coulomb coefficient on the tip surface (seed 001: 0)
-  bool fixed_contact_stiffness = false;  // k from the first step's dt (conservative penalty, docs/models/cohesive.md)
+  bool fixed_contact_stiffness = false;  // one k from the first contact step (default: k per contact episode, docs/models/explicit.md)
   std::string needle_model = "rigid";  // rigid or beam (explicit/deformable_needle.hpp)
   bool pre_cut = true;               // node-release seam along the needle path
   ExplicitCohesiveSpec cohesive;     // cohesive law on the seam instead of node release (2D, 3D hex8)

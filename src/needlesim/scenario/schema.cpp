@@ -299,7 +299,7 @@ std::vector<FieldDoc> build() {
   add(nonneg("explicit", "damping", D::Frequency, "0 1/s", "mass-proportional damping (dynamic relaxation)"));
   add(q("explicit", "contact_penalty", D::None, "10", 0.0, 1e4, true, false, "normal contact stiffness k = penalty m/dt^2, force at the end of the step (stable for any value); a value <= 1 also applies to cohesive seam lips, which otherwise use 0.3"));
   add(other("explicit", "fixed_contact_stiffness", Kind::Bool, "false",
-            "keep the contact stiffness of the first step (a conservative penalty: closes the needle energy balance of cohesive cutting; use contact_penalty 0.3-0.4)"));
+            "one needle contact stiffness for the whole run, from the first contact step (default: each node keeps the stiffness of the step its contact began); needs contact_penalty 0.3-0.4 on cohesive cuts"));
   add(nonneg("explicit", "tip_friction", D::None, "0", "Coulomb coefficient on the tip surface (seed 001: frictionless); the wall uses the layer's friction.coefficient"));
   add(other("explicit", "needle_model", Kind::Choice, "rigid",
             "rigid: the needle moves as a rigid body; beam: an Euler-Bernoulli cantilever clamped at the base, bent by the "

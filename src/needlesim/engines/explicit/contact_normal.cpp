@@ -97,6 +97,8 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
       if (tn > lim || (tn > 0 && tn >= contactMu_[n] * f0 * (1 - 1e-9))) {
         const double sc = lim / tn;
         for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += (sc - 1.0) * t[i];
+        if (body == 0)  // the needle's friction on the body (energy bookkeeping, solver.cpp)
+          for (int i = 0; i < d; ++i) fconFriction_[static_cast<std::size_t>(n) * d + i] += (sc - 1.0) * t[i];
         dF += (sc - 1.0) * Vector3d(t[0], t[1], t[2]);
         for (int i = 0; i < 3; ++i) t[i] *= sc;
       }
@@ -106,6 +108,8 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
     } else if (body >= 2) {
       planes_[body - 2].force -= dF;
     } else if (body == 0) {
+      // the needle's share of the body's contact force (energy bookkeeping, solver.cpp)
+      for (int i = 0; i < d; ++i) fconNeedle_[static_cast<std::size_t>(n) * d + i] += dF[i];
       const double fnNew = std::max(f0 + df, 0.0);
       // the needle's axis at the node: its local path tangent for a path needle (path_needle.hpp)
       const Vector3d ax = contactAxis_.empty() ? needle_.pose.axis : Vector3d(&contactAxis_[static_cast<std::size_t>(n) * 3]);

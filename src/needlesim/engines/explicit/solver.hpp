@@ -214,6 +214,9 @@ class ExplicitSolver {
   // internalForces for this mesh's element type.
   void elementForces(double dtStep);
   void contactForces(double dtStep);
+  // needle contact stiffness of a node, kept over its contact episode (solver.cpp)
+  double episodeStiffness(int n, double k0, double kMax);
+  static constexpr double kLipPenaltyMax = 0.6;  // explicit lip penalty cap, m/(cfl dt_stable)^2
   // Normal contact forces evaluated at the end of the step (contact_normal.cpp).
   void recordNormalContact(int node, int body, const Eigen::Vector3d& normal, double k, double depth,
                            const Eigen::Vector3d& vb, double mu = 0.0);
@@ -259,6 +262,7 @@ class ExplicitSolver {
   bool hasNeedle_ = false;
   std::vector<double> needleFt_;
   std::vector<double> fconNeedle_, fconFriction_;  // per dof: needle contact force on the body, its friction part
+  std::vector<double> needleK_;  // per node: needle contact stiffness of the current contact episode (0 = none)
   std::vector<signed char> contactSide_;  // per node, empty = none
   double penetrationTol_ = 0.0;
   double dtPenFixed_ = 0.0;  // stable step of the first contact evaluation (fixedContactStiffness)
