@@ -1,0 +1,36 @@
+#pragma once
+// The annular wedge of a hollow bevel needle on a cylindrical cohesive sleeve
+// (seed 001 section 3.2: cohesive elements on "the thin cylindrical sleeve along
+// the axial direction"; its "custom constraint ... to ensure that the needle tip
+// cut along the cohesive surface"; docs/models/cohesive.md "Sleeve seam").
+//
+// The sleeve (radius r_s, r_i < r_s < r_o) is split into core-side nodes
+// (side -1) and outer-side nodes (side +1). The bevel plane reaches radius r_s
+// at azimuth theta (cos theta = e_r . bevelSide) at the axial position
+// s_e = -(r_s cos theta + R) / tan(alpha) from the tip (the sharp point,
+// theta = pi, leads; the heel trails by 2R / tan(alpha)). Once the wall's leading
+// edge has passed a node's reference axial station by Delta = s_e - s > 0, the
+// core-side node must lie inside r <= max(r_i, r_s - Delta tan(beta)) and the
+// outer-side node outside r >= min(r_o, r_s + Delta tan(beta)): a ramp of angle
+// beta (kLipRampAngle, 30 deg: the 2D rule's virtual chisel) on the wall's edge
+// (tip face, frictionless; the needle takes the axial reaction tan(beta) per unit
+// radial force so that its work equals the opening work), then the bore and the
+// outer wall (wall friction). The analogue of the 2D bevel lip rule
+// (cohesive_wedge.hpp), continuous in s and theta.
+#include <Eigen/Core>
+
+#include "needlesim/needle/surface_mesh.hpp"
+
+namespace needlesim::explicit_fe {
+
+// x: the node's position at its reference axial station; side -1 core, +1 outer; rs the sleeve radius.
+// Returns false (hit untouched) for a solid or non-bevel needle, a node the edge has not passed,
+// or a node already on its allowed side.
+bool sleeveWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                 double rs, needle::NeedleHit& hit, double& axialPerLateral);
+
+// Axial position (from the tip, along the axis; <= 0) where the bevel plane crosses radius r at
+// azimuth cosine c = e_r . bevelSide: s = -(r c + R) / tan(alpha).
+double sleeveEdge(const needle::NeedleShape& shape, double r, double cosTheta);
+
+}  // namespace needlesim::explicit_fe
