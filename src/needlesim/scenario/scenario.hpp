@@ -169,6 +169,8 @@ struct ExplicitCohesiveSpec {
   double critical_separation = 0.0;     // m, delta_c (seed 004)
   double fracture_energy = 0.0;         // J/m^2 (0 = layer's interaction.toughness)
   double mode_ii_ratio = 1.0;           // G_IIc / G_Ic (shear strength = t_c)
+  std::string seam = "plane";           // plane | sleeve (3D cylinder around the axis, explicit/mesh_sleeve.hpp)
+  double sleeve_radius = 0.0;           // m, sleeve seam radius (0 = the needle wall's mid radius)
 };
 
 struct ExplicitModelSpec {

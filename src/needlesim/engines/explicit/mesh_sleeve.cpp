@@ -28,12 +28,13 @@ std::vector<double> radialFractions(double D, double h0, double hmax, double rat
 SleeveMesh sleeveBlock(const SleeveMeshSpec& sp) {
   auto bad = [](const std::string& what) { throw Error("sleeve mesh: " + what); };
   if (!(sp.radius > 0)) bad("the sleeve radius must be > 0");
+  if (!(sp.squareRatio > 0 && sp.squareRatio < 0.7)) bad("the inner square's half-side must lie in (0, 0.7) r_s");
   if (sp.perQuarter < 1 || sp.coreLayers < 1) bad("needs >= 1 cell per quarter circle and >= 1 core layer");
   if (sp.xs.size() < 2) bad("needs at least two axial stations");
   for (std::size_t i = 1; i < sp.xs.size(); ++i)
     if (!(sp.xs[i] > sp.xs[i - 1])) bad("axial stations must increase");
   const int nq = sp.perQuarter, M = 4 * nq, nc = sp.coreLayers;
-  const double rs = sp.radius, a = 0.5 * rs;
+  const double rs = sp.radius, a = sp.squareRatio * rs;
   const double ymin = -0.5 * sp.width - sp.axisY, ymax = 0.5 * sp.width - sp.axisY;
   const double zmin = -0.5 * sp.height, zmax = 0.5 * sp.height;
   const double reach = std::min({ymax, -ymin, zmax, -zmin});

@@ -4,7 +4,7 @@
 // predetermined crack path, which is the direction of the thin cylindrical
 // sleeve along the axial direction"; docs/models/cohesive.md "Sleeve seam").
 //
-// Cross-section (y, z) as an O-grid: an inner square of half-side 0.5 r_s,
+// Cross-section (y, z) as an O-grid: an inner square of half-side 0.4 r_s,
 // curved blocks from the square to the circle r = r_s (the core), and
 // circle-to-rectangle blocks graded outward to the block faces (seed 001: 0.25
 // -> 3 mm). The section is extruded along x (insertion axis, depth from the
@@ -27,6 +27,8 @@ struct SleeveMeshSpec {
   double radius = 0.0;               // m, sleeve radius r_s
   int perQuarter = 4;                // cells per quarter circle (4 x around; inner square perQuarter^2)
   int coreLayers = 2;                // radial cells between the inner square and the circle
+  double squareRatio = 0.4;          // inner square half-side / r_s (small: the ring inside the sleeve stays
+                                     // well inside the bore when the sleeve is pushed in, cohesive_sleeve.hpp)
   double radialSize = 0.0;           // m, first radial cell outside the circle (0 = the circumferential size)
   double maxSize = 3e-3;             // m, largest radial cell towards the block faces
   double grading = 1.25;             // growth ratio of neighbouring radial cells

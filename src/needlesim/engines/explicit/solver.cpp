@@ -1,5 +1,6 @@
 #include "needlesim/engines/explicit/solver.hpp"
 
+#include "needlesim/engines/explicit/cohesive_sleeve.hpp"
 #include "needlesim/engines/explicit/cohesive_wedge.hpp"
 
 #include <Eigen/Dense>
@@ -581,7 +582,9 @@ void ExplicitSolver::contactForces(double dtStep) {
       for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * nd.pose.axis[i];
       const Vector3d xw = x - uAx * nd.pose.axis;
       needle::NeedleHit wh;
-      const bool in = lipWedge(nd.shape, nd.pose, xw, contactSide_[n], planar, wh, wedgeAxial);
+      const bool in = sleeveRadius_ > 0
+                          ? sleeveWedge(nd.shape, nd.pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial)
+                          : lipWedge(nd.shape, nd.pose, xw, contactSide_[n], planar, wh, wedgeAxial);
       hit = in ? wh : needle::NeedleHit{};
     } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
       const double c = hit.normal.dot(nd.pose.bevelSide);
@@ -597,7 +600,7 @@ void ExplicitSolver::contactForces(double dtStep) {
     }
     // cohesive seam lips keep an explicit-range penalty, the one the wedge model was built with: the
     // contact_penalty itself when it is <= 1, else lipPenalty (docs/models/explicit.md)
-    const bool seamLip = !cohPairOf_.empty() && cohPairOf_[n] >= 0;
+    const bool seamLip = sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0;  // sleeve: full penalty
     const double lipPen = opt_.contactPenalty <= 1.0 ? opt_.contactPenalty : opt_.lipPenalty;
     const double k = (seamLip ? lipPen / (dtPen * dtPen) : pen) * mass_[n];
     const double fn = k * hit.depth;
