@@ -233,7 +233,9 @@ TEST(CohesiveSleeveInsertion, LongCoreEntersTheBoreAndDissipationIsGcTimesCutSle
   EXPECT_NEAR(A, Ageo, 0.5 * h * arc + 2 * chord * h);
   EXPECT_GT(A, 0.5 * Ageo);
   // the needle's work goes into the cut, friction, the tissue and the contact springs
-  EXPECT_LT(v("needle_energy_balance_error"), 0.05);  // measured 2.0 %; the penalty k follows the step (docs)
+  // measured 4.6 % (2.0 % with the softer lip contact, which instead let the entry elements chatter): the
+  // penalty energy is a state function only up to the change of k with the step (docs/models/cohesive.md)
+  EXPECT_LT(v("needle_energy_balance_error"), 0.08);
   EXPECT_LT(v("kinetic_internal_ratio_max"), 0.2);
 }
 

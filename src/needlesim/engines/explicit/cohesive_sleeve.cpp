@@ -19,8 +19,9 @@ bool sleeveWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, 
   const double r = lat.norm();
   if (!(r > 1e-12 * sh.radius)) return false;
   const Eigen::Vector3d er = lat / r;
-  const double delta = sleeveEdge(sh, rs, er.dot(pose.bevelSide)) - s;  // how far the edge has passed
-  if (!(delta > 0.0)) return false;
+  // how far the edge has passed; the ramp extends ahead of the edge (delta < 0) as the 2D rule's chisel, so a
+  // pair dragged off the sleeve as a whole meets it gradually instead of with a jump in depth at delta = 0
+  const double delta = sleeveEdge(sh, rs, er.dot(pose.bevelSide)) - s;
   const double tb = std::tan(needle::kLipRampAngle);
   double gap, target;
   bool ramp;

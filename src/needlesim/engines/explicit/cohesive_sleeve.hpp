@@ -16,7 +16,10 @@
 // (tip face, frictionless; the needle takes the axial reaction tan(beta) per unit
 // radial force so that its work equals the opening work), then the bore and the
 // outer wall (wall friction). The analogue of the 2D bevel lip rule
-// (cohesive_wedge.hpp), continuous in s and theta.
+// (cohesive_wedge.hpp), continuous in s and theta. The ramp line extends ahead of the edge (Delta < 0):
+// a core node dragged outwards beyond r_s + |Delta| tan(beta) (or an outer node inwards) is pushed back
+// before the edge arrives (without it an intact pair dragged off the sleeve by the bevel's leading
+// outer rim met the rule with a jump in depth, chattered and tore the entry elements).
 #include <Eigen/Core>
 
 #include "needlesim/needle/surface_mesh.hpp"
@@ -24,8 +27,8 @@
 namespace needlesim::explicit_fe {
 
 // x: the node's position at its reference axial station; side -1 core, +1 outer; rs the sleeve radius.
-// Returns false (hit untouched) for a solid or non-bevel needle, a node the edge has not passed,
-// or a node already on its allowed side.
+// Returns false (hit untouched) for a solid or non-bevel needle, a node behind the needle's base, or a
+// node on its allowed side.
 bool sleeveWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                  double rs, needle::NeedleHit& hit, double& axialPerLateral);
 

@@ -602,7 +602,11 @@ void ExplicitSolver::contactForces(double dtStep) {
     // contact_penalty itself when it is <= 1, else lipPenalty (docs/models/explicit.md)
     const bool seamLip = sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0;  // sleeve: full penalty
     const double lipPen = opt_.contactPenalty <= 1.0 ? opt_.contactPenalty : opt_.lipPenalty;
-    const double k = (seamLip ? lipPen / (dtPen * dtPen) : pen) * mass_[n];
+    double k = (seamLip ? lipPen / (dtPen * dtPen) : pen) * mass_[n];
+    // sleeve lips (implicit contact, any k is stable): at least 10x the pair's cohesive spring K A, so the wall
+    // holds t_c with a gap of delta_0 / 10 instead of storing (and releasing at failure) a large penalty energy
+    if (sleeveRadius_ > 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0)
+      k = std::max(k, 10.0 * coh_.front().law(cohPairOf_[n]).stiffness * coh_.front().tributaryLength(cohPairOf_[n]));
     const double fn = k * hit.depth;
     Vector3d f = fn * hit.normal;
     const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
