@@ -10,7 +10,7 @@ double sleeveEdge(const needle::NeedleShape& sh, double r, double cosTheta) {
 }
 
 bool sleeveWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
-                 double rs, needle::NeedleHit& hit, double& axialPerLateral) {
+                 double rs, needle::NeedleHit& hit, double& axialPerLateral, const Eigen::Vector3d* xRef) {
   if (sh.tip != TipType::Bevel || !(sh.innerRadius > 0) || side == 0) return false;
   const Eigen::Vector3d q = x - pose.tip;
   const double s = q.dot(pose.axis);
@@ -21,7 +21,14 @@ bool sleeveWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, 
   const Eigen::Vector3d er = lat / r;
   // how far the edge has passed; the ramp extends ahead of the edge (delta < 0) as the 2D rule's chisel, so a
   // pair dragged off the sleeve as a whole meets it gradually instead of with a jump in depth at delta = 0
-  const double delta = sleeveEdge(sh, rs, er.dot(pose.bevelSide)) - s;
+  // the edge's station from the reference azimuth when given: the gap then depends on the current position only
+  // through r, so the radial push is its full gradient (a potential; the current azimuth made it non-conservative)
+  double c = er.dot(pose.bevelSide);
+  if (xRef) {
+    const Eigen::Vector3d qr = *xRef - pose.tip, lr = qr - qr.dot(pose.axis) * pose.axis;
+    if (lr.norm() > 1e-12 * sh.radius) c = lr.normalized().dot(pose.bevelSide);
+  }
+  const double delta = sleeveEdge(sh, rs, c) - s;
   const double tb = std::tan(needle::kLipRampAngle);
   double gap, target;
   bool ramp;

@@ -29,8 +29,10 @@ namespace needlesim::explicit_fe {
 // x: the node's position at its reference axial station; side -1 core, +1 outer; rs the sleeve radius.
 // Returns false (hit untouched) for a solid or non-bevel needle, a node behind the needle's base, or a
 // node on its allowed side.
+// xRef (optional): the node's reference position; its azimuth places the edge (s_e), so the gap depends on the
+// current position through r only and the radial push derives from a potential.
 bool sleeveWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
-                 double rs, needle::NeedleHit& hit, double& axialPerLateral);
+                 double rs, needle::NeedleHit& hit, double& axialPerLateral, const Eigen::Vector3d* xRef = nullptr);
 
 // Axial position (from the tip, along the axis; <= 0) where the bevel plane crosses radius r at
 // azimuth cosine c = e_r . bevelSide: s = -(r c + R) / tan(alpha).

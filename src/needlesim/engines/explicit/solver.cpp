@@ -582,8 +582,10 @@ void ExplicitSolver::contactForces(double dtStep) {
       for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * nd.pose.axis[i];
       const Vector3d xw = x - uAx * nd.pose.axis;
       needle::NeedleHit wh;
+      const Vector3d xRef(mesh_.X[static_cast<std::size_t>(n) * d], mesh_.X[static_cast<std::size_t>(n) * d + 1],
+                          d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
       const bool in = sleeveRadius_ > 0
-                          ? sleeveWedge(nd.shape, nd.pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial)
+                          ? sleeveWedge(nd.shape, nd.pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial, &xRef)
                           : lipWedge(nd.shape, nd.pose, xw, contactSide_[n], planar, wh, wedgeAxial);
       hit = in ? wh : needle::NeedleHit{};
     } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
