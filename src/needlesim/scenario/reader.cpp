@@ -469,6 +469,18 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
       c.fracture_energy = cs.optNumber("fracture_energy").value_or(0.0);
       c.mode_ii_ratio = cs.number("mode_ii_ratio");
       readCohesivePath(cs, sc, source);  // crack path (cohesive_path_reader.cpp)
+      c.seam = cs.choice("seam");
+      c.sleeve_radius = cs.number("sleeve_radius");
+      if (c.enable && c.seam == "sleeve") {
+        const double ro = 0.5 * sc.needle.outer_diameter, ri = 0.5 * sc.needle.inner_diameter;
+        if (x.dimension != 3 || !(ri > 0) || sc.needle.tip != TipType::Bevel)
+          throw cs.error("seam", "sleeve", "needs a 3d model and a hollow bevel needle",
+                         "plane, or dimension: 3d with needle.inner_diameter > 0 and tip: bevel");
+        if (c.sleeve_radius != 0 && !(c.sleeve_radius > ri && c.sleeve_radius < ro))
+          throw cs.error("sleeve_radius", std::to_string(c.sleeve_radius * 1e3) + " mm",
+                         "is not between the needle's inner and outer radius",
+                         std::to_string(ri * 1e3) + " mm < sleeve_radius < " + std::to_string(ro * 1e3) + " mm, or 0");
+      }
       if (c.enable) {
         if (c.strength <= 0 && c.critical_separation <= 0)
           throw cs.error("strength", "0", "is not given and neither is critical_separation",

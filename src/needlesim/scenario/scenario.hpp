@@ -178,6 +178,8 @@ struct ExplicitCohesiveSpec {
   };
   std::vector<PathPoint> path_points;
   double path_radius = 0.0;  // m, signed
+  std::string seam = "plane";           // plane | sleeve (3D cylinder around the axis, explicit/mesh_sleeve.hpp)
+  double sleeve_radius = 0.0;           // m, sleeve seam radius (0 = the needle wall's mid radius)
 };
 
 struct ExplicitModelSpec {

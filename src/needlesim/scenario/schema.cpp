@@ -334,6 +334,12 @@ std::vector<FieldDoc> build() {
   add(q("path_point", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the straight needle line through the entry point", true));
   add(q("explicit_cohesive", "path_radius", D::Length, "0 mm", -kInf, kInf, false, false,
         "path: arc: radius of curvature, + curving towards +y (the bevel side at bevel_orientation 0), - towards -y"));
+  add(other("explicit_cohesive", "seam", Kind::Choice, "plane",
+            "plane: the seam plane along the path (3D: through the needle axis); sleeve (3d hex8, hollow bevel needle): a "
+            "cylinder around the axis that the needle wall cuts, the core entering the bore (seed 001 3.2; docs/models/cohesive.md \"Sleeve seam\")",
+            false, {}, {"plane", "sleeve"}));
+  add(nonneg("explicit_cohesive", "sleeve_radius", D::Length, "0 mm",
+             "radius of the sleeve seam, between the needle's inner and outer radius; 0 = the wall's mid radius"));
   add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
   add(q("explicit", "threads", D::None, "0", 0.0, 1024.0, false, false, "OpenMP threads (0 = all cores)"));
 

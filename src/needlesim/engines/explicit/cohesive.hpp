@@ -93,6 +93,14 @@ class CohesiveInterface {
                                      std::vector<CohesiveLaw> laws, Eigen::Vector3d refNormal,
                                      Eigen::Vector3d direction);
 
+  // 3D quadrilaterals given explicitly (a curved seam, e.g. the cylindrical sleeve of mesh_sleeve.hpp):
+  // each quad lists 4 mesh nodes in cyclic order, the copy b of a pair or an unsplit node (closed
+  // front), with its reference normal (a's side to b's side; only its sign relative to the quad's
+  // diagonal cross product is used). Same nodal integration and per-pair current frame as surface3D.
+  static CohesiveInterface fromQuads(const Mesh& mesh, const std::vector<std::pair<int, int>>& pairs,
+                                     std::vector<CohesiveLaw> laws, const std::vector<std::array<int, 4>>& quadNodes,
+                                     const std::vector<Eigen::Vector3d>& quadRefNormals, Eigen::Vector3d direction);
+
   // Extra tributary length at the first / last pair (half the segment to a
   // shared, unsplit node beyond the seam's end: a closed crack tip).
   void addEndLength(double first, double last);

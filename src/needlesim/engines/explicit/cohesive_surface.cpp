@@ -26,13 +26,60 @@ CohesiveInterface CohesiveInterface::surface3D(const Mesh& m, const std::vector<
                                                Eigen::Vector3d direction) {
   if (m.dim != 3 || m.type != ElementType::Hex8)
     throw Error("cohesive interface 3D: needs a hex8 mesh (quadrilateral faces on the seam plane)");
+  if (pairs.empty()) throw Error("cohesive interface 3D: no seam pairs");
+  refNormal.normalize();
+  auto P = [&](int n) { return Eigen::Vector3d(m.X[3 * n], m.X[3 * n + 1], m.X[3 * n + 2]); };
+  const Eigen::Vector3d dir = direction.normalized();
+  std::vector<char> isCopy(m.nodes(), 0), split(m.nodes(), 0);
+  for (const auto& [a, b] : pairs) {
+    isCopy[b] = 1;
+    split[a] = split[b] = 1;
+  }
+  const double plane = P(pairs[0].first).dot(refNormal);
+  double size = 0;  // length scale for the plane tolerance
+  for (const auto& pr : pairs) size = std::max(size, std::abs((P(pr.first) - P(pairs[0].first)).dot(dir)));
+  const double tol = 1e-9 * std::max(size, 1e-3);
+  std::vector<std::array<int, 4>> quads;
+  for (int e = 0; e < m.elements(); ++e) {
+    const int* h = &m.conn[8 * e];
+    Eigen::Vector3d cen = Eigen::Vector3d::Zero();
+    for (int a = 0; a < 8; ++a) cen += P(h[a]) / 8;
+    if ((cen.dot(refNormal) - plane) <= 0) continue;  // the copies belong to the + side
+    for (const auto& fc : kHexFaces) {
+      std::array<int, 4> q{};
+      bool onPlane = true, anyCopy = false;
+      for (int k = 0; k < 4; ++k) {
+        const int n = h[fc[k]];
+        // off the plane, or an original a of a pair on the + side: not this seam's face
+        if (std::abs(P(n).dot(refNormal) - plane) > tol || (split[n] && !isCopy[n])) {
+          onPlane = false;
+          break;
+        }
+        q[k] = n;
+        anyCopy = anyCopy || isCopy[n];
+      }
+      if (onPlane && anyCopy) quads.push_back(q);
+    }
+  }
+  if (quads.empty()) throw Error("cohesive interface 3D: no hex face lies on the seam plane");
+  return fromQuads(m, pairs, std::move(laws), quads, std::vector<Eigen::Vector3d>(quads.size(), refNormal), dir);
+}
+
+CohesiveInterface CohesiveInterface::fromQuads(const Mesh& m, const std::vector<std::pair<int, int>>& pairs,
+                                               std::vector<CohesiveLaw> laws,
+                                               const std::vector<std::array<int, 4>>& quadNodes,
+                                               const std::vector<Eigen::Vector3d>& quadRefNormals,
+                                               Eigen::Vector3d direction) {
+  if (m.dim != 3) throw Error("cohesive interface 3D: needs a 3D mesh");
   if (laws.size() != 1 && laws.size() != pairs.size())
     throw Error("cohesive interface: one law per pair or one for all");
   if (pairs.empty()) throw Error("cohesive interface 3D: no seam pairs");
+  if (quadNodes.empty() || quadNodes.size() != quadRefNormals.size())
+    throw Error("cohesive interface 3D: no quadrilaterals, or not one reference normal per quadrilateral");
   for (const auto& l : laws) l.validate();
   CohesiveInterface c;
   c.dim_ = 3;
-  c.refNormal3_ = refNormal.normalized();
+  c.refNormal3_ = quadRefNormals.front().normalized();
   const Eigen::Vector3d dir = direction.normalized();
   auto P = [&](int n) { return Eigen::Vector3d(m.X[3 * n], m.X[3 * n + 1], m.X[3 * n + 2]); };
   const int np = static_cast<int>(pairs.size());
@@ -46,65 +93,43 @@ CohesiveInterface CohesiveInterface::surface3D(const Mesh& m, const std::vector<
     c.s_.push_back(P(pairs[p].first).dot(dir));
     c.law_.push_back(laws.size() == 1 ? laws[0] : laws[p]);
   }
-  const double plane = P(pairs[0].first).dot(c.refNormal3_);
-  double size = 0;  // length scale for the plane tolerance
-  for (int p = 0; p < np; ++p) size = std::max(size, std::abs(P(pairs[p].first).dot(dir) - c.s_[0]));
-  const double tol = 1e-9 * std::max(size, 1e-3);
   c.len_.assign(np, 0.0);
-  const int nel = m.elements();
-  for (int e = 0; e < nel; ++e) {
-    const int* h = &m.conn[8 * e];
-    Eigen::Vector3d cen = Eigen::Vector3d::Zero();
-    for (int a = 0; a < 8; ++a) cen += P(h[a]) / 8;
-    if ((cen.dot(c.refNormal3_) - plane) <= 0) continue;  // the copies belong to the + side
-    for (const auto& fc : kHexFaces) {
-      std::array<int, 4> q{};
-      bool onPlane = true, anyCopy = false;
-      for (int k = 0; k < 4; ++k) {
-        const int n = h[fc[k]];
-        if (std::abs(P(n).dot(c.refNormal3_) - plane) > tol) {
-          onPlane = false;
-          break;
-        }
-        if (pairOfCopy[n] >= 0) {
-          q[k] = pairOfCopy[n];
-          anyCopy = true;
-        } else if (!split[n]) {
-          q[k] = -1 - n;  // unsplit node: closed crack front
-        } else {
-          onPlane = false;  // an original a of a pair on the + side: not this seam's face
-          break;
-        }
-      }
-      if (!onPlane || !anyCopy) continue;
-      // reference weights int N_a dA (2x2 Gauss on the bilinear face)
-      Eigen::Vector3d x[4];
-      for (int k = 0; k < 4; ++k) x[k] = P(h[fc[k]]);
-      const double g = 1.0 / std::sqrt(3.0);
-      const double xi[4] = {-1, 1, 1, -1}, eta[4] = {-1, -1, 1, 1};
-      double w[4] = {0, 0, 0, 0};
-      for (double gx : {-g, g})
-        for (double gy : {-g, g}) {
-          Eigen::Vector3d dxi = Eigen::Vector3d::Zero(), deta = Eigen::Vector3d::Zero();
-          for (int k = 0; k < 4; ++k) {
-            dxi += 0.25 * xi[k] * (1 + eta[k] * gy) * x[k];
-            deta += 0.25 * eta[k] * (1 + xi[k] * gx) * x[k];
-          }
-          const double J = dxi.cross(deta).norm();
-          for (int k = 0; k < 4; ++k) w[k] += 0.25 * (1 + xi[k] * gx) * (1 + eta[k] * gy) * J;
-        }
-      for (int k = 0; k < 4; ++k)
-        if (q[k] >= 0) c.len_[q[k]] += w[k];
-      const Eigen::Vector3d nref = (x[2] - x[0]).cross(x[3] - x[1]);
-      c.quad_.push_back(q);
-      c.quadSign_.push_back(nref.dot(c.refNormal3_) >= 0 ? 1.0 : -1.0);
+  for (std::size_t f = 0; f < quadNodes.size(); ++f) {
+    std::array<int, 4> q{};
+    Eigen::Vector3d x[4];
+    for (int k = 0; k < 4; ++k) {
+      const int n = quadNodes[f][k];
+      if (n < 0 || n >= m.nodes()) throw Error("cohesive interface 3D: quadrilateral node out of range");
+      if (split[n] && pairOfCopy[n] < 0)
+        throw Error("cohesive interface 3D: quadrilateral " + std::to_string(f) + " lists the core-side node " +
+                    std::to_string(n) + " of a pair (give the copy)");
+      q[k] = pairOfCopy[n] >= 0 ? pairOfCopy[n] : -1 - n;  // unsplit node: closed crack front
+      x[k] = P(n);
     }
+    // reference weights int N_a dA (2x2 Gauss on the bilinear face)
+    const double g = 1.0 / std::sqrt(3.0);
+    const double xi[4] = {-1, 1, 1, -1}, eta[4] = {-1, -1, 1, 1};
+    double w[4] = {0, 0, 0, 0};
+    for (double gx : {-g, g})
+      for (double gy : {-g, g}) {
+        Eigen::Vector3d dxi = Eigen::Vector3d::Zero(), deta = Eigen::Vector3d::Zero();
+        for (int k = 0; k < 4; ++k) {
+          dxi += 0.25 * xi[k] * (1 + eta[k] * gy) * x[k];
+          deta += 0.25 * eta[k] * (1 + xi[k] * gx) * x[k];
+        }
+        const double J = dxi.cross(deta).norm();
+        for (int k = 0; k < 4; ++k) w[k] += 0.25 * (1 + xi[k] * gx) * (1 + eta[k] * gy) * J;
+      }
+    for (int k = 0; k < 4; ++k)
+      if (q[k] >= 0) c.len_[q[k]] += w[k];
+    const Eigen::Vector3d nref = (x[2] - x[0]).cross(x[3] - x[1]);
+    c.quad_.push_back(q);
+    c.quadSign_.push_back(nref.dot(quadRefNormals[f]) >= 0 ? 1.0 : -1.0);
   }
-  if (c.quad_.empty()) throw Error("cohesive interface 3D: no hex face lies on the seam plane");
   for (int p = 0; p < np; ++p)
     if (!(c.len_[p] > 0))
       throw Error("cohesive interface 3D: seam pair " + std::to_string(p) + " (node " + std::to_string(c.a_[p]) +
-                  ") belongs to no face on the seam plane");
+                  ") belongs to no face on the seam");
   // pair -> quads (CSR)
   c.pairQuadStart_.assign(np + 1, 0);
   for (const auto& q : c.quad_)

@@ -63,7 +63,8 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
     if (contactBody_[n] < 0) continue;
     const double m = mass_[n], k = contactK_[n];
     // cohesive seam lips keep the explicit penalty the wedge model was built with (solver.cpp)
-    if (!cohPairOf_.empty() && cohPairOf_[n] >= 0) {
+    // (the sleeve's lips take the implicit correction: they must hold t_c >> E, cohesive_sleeve.hpp)
+    if (sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0) {
       contactFnApplied_[n] = k * contactDepth_[n];
       continue;
     }

@@ -13,6 +13,7 @@
 #include "needlesim/engines/explicit/pain_index.hpp"
 #include "needlesim/engines/explicit/path_from_scenario.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
+#include "needlesim/engines/explicit/sleeve_setup.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/materials/material_spec.hpp"
@@ -119,7 +120,18 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   const double seamY = sc.insertion.entry_offset - (sc.needle.tip == TipType::Bevel && !seamThroughAxis
                                                         ? shape.radius * bevelSide.y()
                                                         : 0.0);
-  Setup st = buildMesh(sc, ex, shape, seamY, seamOn);
+  // cylindrical sleeve seam (docs/models/cohesive.md "Sleeve seam"): its own O-grid block (sleeve_setup.hpp)
+  const bool sleeve = ex.cohesive.enable && ex.cohesive.seam == "sleeve";
+  double sleeveR = 0.0;
+  SleeveMesh sm;
+  Setup st;
+  if (sleeve) {
+    sm = sleeveMeshFor(sc, shape, sleeveR);
+    st.mesh = sm.mesh;
+    st.seam = sm.pairs;
+  } else {
+    st = buildMesh(sc, ex, shape, seamY, seamOn);
+  }
   // crack path and follow-the-leader needle (path_from_scenario.hpp, docs/models/cohesive.md "Crack path")
   const CrackPathSetup cpath = setupCrackPath(sc, shape, seamY, bevelSide.y() >= 0 ? 1 : -1,
                                               seamOn && ex.cohesive.enable, st.mesh);
@@ -138,14 +150,14 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
   o.fixedContactStiffness = ex.fixed_contact_stiffness;
   // Seam lips meet the sharp point with the offset the intact tissue ahead had (up to ~0.4 of a
   // core element at 0.5 mm, seed 004 example): allow one core element before stopping.
-  if (seamOn) o.penetrationTolerance = ex.element_size;
+  if (seamOn || sleeve) o.penetrationTolerance = ex.element_size;
   const Mesh meshCopy = st.mesh;
   ExplicitSolver solver(std::move(st.mesh), mats, o);
   // splitSeam gives the copies to the +y lip; the bevel faces +y when bevelSide.y > 0
-  const int copySide = bevelSide.y() >= 0 ? 1 : -1;
+  const int copySide = sleeve || bevelSide.y() >= 0 ? 1 : -1;  // sleeve: core side -1, outer side +1
   const auto& cs = ex.cohesive;
   const bool cohOn = cs.enable;
-  if (cohOn && (!seamOn || meshCopy.type == ElementType::Tri3 || meshCopy.type == ElementType::Tet4))
+  if (cohOn && !sleeve && (!seamOn || meshCopy.type == ElementType::Tri3 || meshCopy.type == ElementType::Tet4))
     throw Error("model.explicit.cohesive needs the pre-cut seam of a quad4 (2d) or hex8 (3d) mesh (pre_cut: true, no "
                 "imported mesh, entry_angle 90 deg, bevel_orientation 0 or 180 deg)");
   for (auto [a, b] : st.seam) {
@@ -192,7 +204,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
     if (dim == 3) {
       // quadrilaterals on the seam plane y = seamY (cohesive_surface.cpp); the faces reaching the
       // unsplit nodes beyond the strip carry the closed crack front
-      solver.setCohesive(CohesiveInterface::surface3D(meshCopy, st.seam, cohLaws, Vector3d::UnitY(), axis));
+      solver.setCohesive(sleeve ? CohesiveInterface::fromQuads(meshCopy, st.seam, cohLaws, sm.quads, sm.quadNormals, axis)
+                                : CohesiveInterface::surface3D(meshCopy, st.seam, cohLaws, Vector3d::UnitY(), axis));
+      if (sleeve) solver.setSleeveRadius(sleeveR);
     } else {
       CohesiveInterface ci(meshCopy.X, st.seam, cohLaws, Eigen::Vector2d::UnitX(), 1.0);
       // closed crack tip: the shared node beyond the seam's last pair
@@ -458,7 +472,15 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
       sink.note("Cohesive zone on the seam (model.explicit.cohesive, docs/models/cohesive.md): K = " +
                 std::to_string(cohLaws.front().stiffness) + " Pa/m, t_c = " + std::to_string(cohLaws.front().strength) +
                 " Pa, G_c = " + std::to_string(cohLaws.front().energy) + " J/m^2 (first pair); no node release.");
-      if (dim == 3 && sc.needle.tip == TipType::Bevel)
+      if (sleeve) {
+        sink.result("sleeve_core_in_bore", sleeveCoreInBore(solver), "1",
+                    "of the sleeve pairs the wall passed, the fraction with the core node in the bore and the outer "
+                    "node outside the wall (-1: none passed)");
+        sink.result("sleeve_radius", sleeveR, "m", "radius of the cylindrical cohesive sleeve");
+        sink.note("Sleeve seam (docs/models/cohesive.md \"Sleeve seam\"): cohesive quadrilaterals on a cylinder of "
+                  "radius " + std::to_string(sleeveR * 1e3) + " mm around the axis; the wall's edge pushes the core "
+                  "side into the bore and the outer side out of the wall (seed 001 section 3.2).");
+      } else if (dim == 3 && sc.needle.tip == TipType::Bevel)
         sink.note("3D bevel tip: the cohesive seam plane runs through the needle axis (the lips open around the "
                   "outer section; a hollow needle's core is not cut), docs/models/cohesive.md.");
     } else if (seamOn)

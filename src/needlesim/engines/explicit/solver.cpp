@@ -1,5 +1,6 @@
 #include "needlesim/engines/explicit/solver.hpp"
 
+#include "needlesim/engines/explicit/cohesive_sleeve.hpp"
 #include "needlesim/engines/explicit/cohesive_wedge.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
 
@@ -608,7 +609,11 @@ void ExplicitSolver::contactForces(double dtStep) {
       for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * pose.axis[i];
       const Vector3d xw = x - uAx * pose.axis;
       needle::NeedleHit wh;
-      const bool in = lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
+      const Vector3d xRef(mesh_.X[static_cast<std::size_t>(n) * d], mesh_.X[static_cast<std::size_t>(n) * d + 1],
+                          d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
+      const bool in = sleeveRadius_ > 0
+                          ? sleeveWedge(nd.shape, pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial, &xRef)
+                          : lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
       hit = in ? wh : needle::NeedleHit{};
     } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
       const double c = hit.normal.dot(pose.bevelSide);
@@ -625,12 +630,16 @@ void ExplicitSolver::contactForces(double dtStep) {
     }
     // cohesive seam lips keep an explicit-range penalty, the one the wedge model was built with: the
     // contact_penalty itself when it is <= 1, else lipPenalty (docs/models/explicit.md)
-    const bool seamLip = !cohPairOf_.empty() && cohPairOf_[n] >= 0;
+    const bool seamLip = sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0;  // sleeve: full penalty
     const double lipPen = opt_.contactPenalty <= 1.0 ? opt_.contactPenalty : opt_.lipPenalty;
     // (an explicit lip penalty stays below 4 - (2 cfl)^2 = 0.76 m/dt^2 at cfl 0.9: kLipPenaltyMax)
-    const double k = seamLip ? episodeStiffness(n, lipPen / (dtPen * dtPen) * mass_[n],
+    double k = seamLip ? episodeStiffness(n, lipPen / (dtPen * dtPen) * mass_[n],
                                                 std::max(kLipPenaltyMax, lipPen) / (dtPen * dtPen) * mass_[n])
                              : episodeStiffness(n, pen * mass_[n], std::numeric_limits<double>::infinity());
+    // sleeve lips (implicit contact, any k is stable): at least 10x the pair's cohesive spring K A, so the wall
+    // holds t_c with a gap of delta_0 / 10 instead of storing (and releasing at failure) a large penalty energy
+    if (sleeveRadius_ > 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0)
+      k = std::max(k, 10.0 * coh_.front().law(cohPairOf_[n]).stiffness * coh_.front().tributaryLength(cohPairOf_[n]));
     const double fn = k * hit.depth;
     Vector3d f = fn * hit.normal;
     const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;

@@ -144,6 +144,9 @@ class ExplicitSolver {
   // side, -1 the wall side; needle::queryNeedle's `side`): set on seam nodes.
   void setContactSide(int node, int side);
   void setReleaseDistance(double d) { releaseDistance_ = d; }
+  // Cylindrical cohesive sleeve of radius r (mesh_sleeve.hpp): the seam lips (setContactSide -1 core,
+  // +1 outer) meet the annular wedge of a hollow bevel needle (cohesive_sleeve.hpp) instead of lipWedge.
+  void setSleeveRadius(double r) { sleeveRadius_ = r; }
   int activeTies() const;
 
   // Cohesive zone on seam pairs (cohesive.hpp): forces join the internal forces,
@@ -285,6 +288,7 @@ class ExplicitSolver {
   std::vector<char> tieOn_;
   std::vector<double> ftie_;
   double releaseDistance_ = 0.0;
+  double sleeveRadius_ = 0.0;  // > 0: the cohesive seam is a cylindrical sleeve (cohesive_sleeve.hpp)
   // cohesive zone (0 or 1 interface)
   std::vector<CohesiveInterface> coh_;
   std::vector<double> fcoh_;
