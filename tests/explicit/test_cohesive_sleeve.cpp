@@ -239,6 +239,46 @@ TEST(CohesiveSleeveInsertion, LongCoreEntersTheBoreAndDissipationIsGcTimesCutSle
   EXPECT_LT(v("kinetic_internal_ratio_max"), 0.2);
 }
 
+TEST(CohesiveSleeveInsertion, LongFullCircumferenceCutsAtGcTimesSleevePerimeter) {
+  // Seed 001's 12 deg bevel brings the whole circumference to the edge only beyond (R + r_s) / tan 12 deg =
+  // 12.3 mm; a 45 deg bevel on the same tube does so at (R + r_s) / tan 45 deg + Delta_f = 2.8 mm, so a short
+  // run reaches the steady cut of the examples' deep runs: the force G_c x 2 pi r_s (seed 001 Fig 12's ~4 N).
+  std::string y = sleeveYaml("4 mm");
+  auto sub = [&](const std::string& a, const std::string& b) { y.replace(y.find(a), a.size(), b); };
+  sub("length: 4 mm", "length: 5 mm");
+  sub("bevel_angle: 12 deg", "bevel_angle: 45 deg");
+  sub("speed: 5 mm/s", "speed: 10 mm/s");
+  sub("interval: 20 ms", "interval: 10 ms");
+  MemorySink r = runInMemory(scenario::readText(y, "<sleeve45>"));
+  const double Gc = 550, R = 1.385e-3, ri = 1.08e-3, rs = 0.5 * (R + ri);
+  const double dF = 2 * Gc / 5.5e6 / (2 * std::tan(needle::kLipRampAngle)), dFull = (R + rs) + dF;
+  const io::Table& t = r.tables.at("explicit");
+  const auto depth = t.column("depth"), W = t.column("needle work"), D = t.column("cohesive dissipation");
+  auto rate = [&](const std::vector<double>& e, double a, double b) {  // d e / d depth between the samples at a, b
+    std::size_t i = 0, j = 0;
+    while (i + 1 < depth.size() && depth[i] < a - 1e-9) ++i;
+    while (j + 1 < depth.size() && depth[j] < b - 1e-9) ++j;
+    return (e[j] - e[i]) / (depth[j] - depth[i]);
+  };
+  // steady window [3, 4] mm, past dFull = 2.79 mm and two stations (2h) long: each of the 16 columns of
+  // pairs fails once per station, so dD/dx = G_c x the sleeve's chord polygon (tributary areas) exactly,
+  // up to the process zone's change between the window's ends
+  const double poly = 2 * 16 * rs * std::sin(M_PI / 16), Fss = Gc * 2 * M_PI * rs;
+  const double dD = rate(D, 3e-3, 4e-3), dW = rate(W, 3e-3, 4e-3), dDearly = rate(D, 1e-3, 2e-3);
+  std::printf("45 deg sleeve: full cut from %.2f mm; dD/dx over 3-4 mm %.4g N (G_c x polygon %.4g N), dW/dx %.4g N "
+              "(G_c 2 pi r_s %.4g N), dD/dx over 1-2 mm %.4g N, needle balance %.3g, ke/ie %.3g\n",
+              dFull * 1e3, dD, Gc * poly, dW, Fss, dDearly, r.results.at("needle_energy_balance_error").value,
+              r.results.at("kinetic_internal_ratio_max").value);
+  EXPECT_NEAR(dD / (Gc * poly), 1.0, 0.02);
+  // the needle's mean force: the cut plus the outer wall's friction (measured +1.4 %) and the chord polygon
+  // (-0.64 %): within 3 % of G_c 2 pi r_s
+  EXPECT_NEAR(dW / Fss, 1.0, 0.03);
+  EXPECT_GE(dW, dD);
+  // before the full cut only part of the circumference is at the edge
+  EXPECT_LT(dDearly, 0.85 * Gc * poly);
+  EXPECT_LT(r.results.at("needle_energy_balance_error").value, 0.02);
+}
+
 TEST(CohesiveSleeveInsertion, BadInputIsRefused) {
   // a sleeve radius outside the needle wall
   EXPECT_THROW(scenario::readText(sleeveYaml("1 mm", ", sleeve_radius: 1.5 mm"), "<bad>"), Error);
