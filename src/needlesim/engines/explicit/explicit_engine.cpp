@@ -482,7 +482,9 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
                   "side into the bore and the outer side out of the wall (seed 001 section 3.2).");
       } else if (dim == 3 && sc.needle.tip == TipType::Bevel)
         sink.note("3D bevel tip: the cohesive seam plane runs through the needle axis (the lips open around the "
-                  "outer section; a hollow needle's core is not cut), docs/models/cohesive.md.");
+                  "outer section; a hollow needle's core is not cut), docs/models/cohesive.md. EXPERIMENTAL: its "
+                  "dissipation is G_c x cracked area, but its needle energy balance can be far off (rim nodes enter "
+                  "the wedge with a gap; check needle_energy_balance_error); for a hollow needle use seam: sleeve.");
     } else if (seamOn)
       sink.note("The tissue is pre-cut along the needle path through the tip's leading point (node release when the "
                 "tip arrives): the fracture-energy-free limit of the cohesive zone of seeds 001/004.");
