@@ -14,6 +14,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
+#include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/penalty_contact.hpp"
 #include "needlesim/engines/mpm/surface_estimate.hpp"
 
@@ -42,8 +43,9 @@ inline double opaqueZero() {
 #endif
   return z;
 }
-// Offsets in a grid record (MpmSolver::Buf).
-constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
+// Grid record offsets and shape functions (grid_kernels.hpp).
+using grid::kM, grid::kP, grid::kF, grid::kG, grid::kX;
+using grid::weights;
 
 // Function multiversioning of the particle-grid kernels: a baseline x86-64
 // clone and an x86-64-v3 (AVX2, FMA) clone chosen at load time, so the default
@@ -68,33 +70,6 @@ inline int teamSize() {
 #else
   return 1;
 #endif
-}
-
-// Shape functions along one axis: base node index, weights and derivatives.
-// xi >= 0 inside the grid (finalize and g2pFinal check it), so truncation is
-// the floor (std::floor is a library call without SSE4.1).
-template <int S>
-inline int weights(double xi, double invh, double* w, double* dw) {
-  if constexpr (S == 2) {  // linear hat
-    const double b = static_cast<double>(static_cast<int>(xi));
-    const double f = xi - b;
-    w[0] = 1.0 - f;
-    w[1] = f;
-    dw[0] = -invh;
-    dw[1] = invh;
-    return static_cast<int>(b);
-  } else {  // quadratic B-spline, support 3 nodes
-    const double b = static_cast<double>(static_cast<int>(xi - 0.5));
-    const double f = xi - b;  // in [0.5, 1.5)
-    const double a0 = 1.5 - f, a1 = f - 1.0, a2 = f - 0.5;
-    w[0] = 0.5 * a0 * a0;
-    w[1] = 0.75 - a1 * a1;
-    w[2] = 0.5 * a2 * a2;
-    dw[0] = -a0 * invh;
-    dw[1] = -2.0 * a1 * invh;
-    dw[2] = a2 * invh;
-    return static_cast<int>(b);
-  }
 }
 
 // J^(-1/3) for J > 0 without pow or a division: exponent-bit estimate (within

@@ -8,6 +8,7 @@
 #include <limits>
 #include <utility>
 
+#include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 
 #ifdef _OPENMP
@@ -17,21 +18,10 @@
 namespace needlesim::mpm {
 
 namespace {
-// Offset of the force in a grid record (MpmSolver::Buf, kF in mpm_solver.cpp).
-constexpr std::size_t kForceLane = 4;
-// Offset of the mass gradient in a two-body grid record (kG in mpm_solver.cpp).
-constexpr std::size_t kGradLane = 8;
-
-// 1D shape function at xi cells from the node: quadratic B-spline or linear hat.
-inline double kernel(bool bspline, double xi) {
-  const double a = std::abs(xi);
-  if (!bspline) return a < 1.0 ? 1.0 - a : 0.0;
-  if (a < 0.5) return 0.75 - a * a;
-  if (a < 1.5) return 0.5 * (1.5 - a) * (1.5 - a);
-  return 0.0;
-}
+using grid::kF, grid::kG;  // force and mass-gradient lanes of a grid record (grid_kernels.hpp)
 // Support of a point at xs (in cells from the grid origin): per axis the base
-// node and the weights of the S = 3 (B-spline) or 2 (linear) nodes.
+// node and the weights of the S = 3 (B-spline) or 2 (linear) nodes, from the
+// solver's own shape functions.
 struct Support {
   int S = 0;
   int base[3] = {0, 0, 0};
@@ -40,11 +30,9 @@ struct Support {
 inline Support support(bool bspline, const double* xs) {
   Support s;
   s.S = bspline ? 3 : 2;
-  const double shift = bspline ? 0.5 : 0.0;
-  for (int d = 0; d < 3; ++d) {
-    s.base[d] = static_cast<int>(xs[d] - shift);
-    for (int i = 0; i < s.S; ++i) s.w[d][i] = kernel(bspline, xs[d] - (s.base[d] + i));
-  }
+  double dw[3];
+  for (int d = 0; d < 3; ++d)
+    s.base[d] = bspline ? grid::weights<3>(xs[d], 1.0, s.w[d], dw) : grid::weights<2>(xs[d], 1.0, s.w[d], dw);
   return s;
 }
 }  // namespace
@@ -95,8 +83,8 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
         const std::size_t I = (static_cast<std::size_t>(b[0] + i) * n1 + static_cast<std::size_t>(b[1] + j)) * n2 +
                               static_cast<std::size_t>(b[2] + k);
         for (int c = 0; c < 3; ++c) {
-          g0[c] += w * rec[NR * I + kGradLane + c];
-          g1[c] += w * rec[NR * (nodes_ + I) + kGradLane + c];
+          g0[c] += w * rec[NR * I + kG + c];
+          g1[c] += w * rec[NR * (nodes_ + I) + kG + c];
         }
       }
   const double a0 = std::sqrt(g0[0] * g0[0] + g0[1] * g0[1] + g0[2] * g0[2]);
@@ -304,7 +292,7 @@ void MpmSolver::penaltyForces() {
           const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) *
                                     n2 +
                                 static_cast<std::size_t>(base[2] + kk);
-          double* r = rec + NR * (off + I) + kForceLane;
+          double* r = rec + NR * (off + I) + kF;
           for (int c3 = 0; c3 < 3; ++c3) r[c3] += wn * f[c3];
         }
   }

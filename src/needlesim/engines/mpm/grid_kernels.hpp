@@ -1,0 +1,41 @@
+// Grid record layout and 1D shape functions shared by the MPM kernels
+// (mpm_solver.cpp) and the two-body penalty contact (penalty_contact.cpp).
+// Seed 000 eqs 1-4 (linear hat); quadratic B-spline for section 5.2's noise.
+#pragma once
+
+#include <cstddef>
+
+namespace needlesim::mpm::grid {
+
+// Offsets in a grid record (MpmSolver::Buf): mass, momentum (3), force (3),
+// and for two bodies the mass gradient (3) and mass-weighted position (3).
+constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
+
+// Shape functions along one axis: base node index, weights and derivatives.
+// xi >= 0 inside the grid (finalize and g2pFinal check it), so truncation is
+// the floor (std::floor is a library call without SSE4.1).
+template <int S>
+inline int weights(double xi, double invh, double* w, double* dw) {
+  if constexpr (S == 2) {  // linear hat
+    const double b = static_cast<double>(static_cast<int>(xi));
+    const double f = xi - b;
+    w[0] = 1.0 - f;
+    w[1] = f;
+    dw[0] = -invh;
+    dw[1] = invh;
+    return static_cast<int>(b);
+  } else {  // quadratic B-spline, support 3 nodes
+    const double b = static_cast<double>(static_cast<int>(xi - 0.5));
+    const double f = xi - b;  // in [0.5, 1.5)
+    const double a0 = 1.5 - f, a1 = f - 1.0, a2 = f - 0.5;
+    w[0] = 0.5 * a0 * a0;
+    w[1] = 0.75 - a1 * a1;
+    w[2] = 0.5 * a2 * a2;
+    dw[0] = -a0 * invh;
+    dw[1] = -2.0 * a1 * invh;
+    dw[2] = a2 * invh;
+    return static_cast<int>(b);
+  }
+}
+
+}  // namespace needlesim::mpm::grid
