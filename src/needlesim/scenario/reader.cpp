@@ -477,9 +477,9 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
           throw cs.error("seam", "sleeve", "needs a 3d model and a hollow bevel needle",
                          "plane, or dimension: 3d with needle.inner_diameter > 0 and tip: bevel");
         if (c.sleeve_radius != 0 && !(c.sleeve_radius > ri && c.sleeve_radius < ro))
-          throw cs.error("sleeve_radius", std::to_string(c.sleeve_radius * 1e3) + " mm",
+          throw cs.error("sleeve_radius", fmt::format("{:g} mm", c.sleeve_radius * 1e3),
                          "is not between the needle's inner and outer radius",
-                         std::to_string(ri * 1e3) + " mm < sleeve_radius < " + std::to_string(ro * 1e3) + " mm, or 0");
+                         fmt::format("{:g} mm < sleeve_radius < {:g} mm, or 0", ri * 1e3, ro * 1e3));
       }
       if (c.enable) {
         if (c.strength <= 0 && c.critical_separation <= 0)
