@@ -182,38 +182,56 @@ int MpmSolver::addRigid(const RigidBody& r) {
   return static_cast<int>(rigids_.size()) - 1;
 }
 
-std::size_t MpmSolver::addBlock(const Vec3& lo, const Vec3& hi, double dp, int material, int body,
-                                const Vec3& velocity) {
+void MpmSolver::checkIds(int material, int body) const {
   if (material < 0 || material >= static_cast<int>(mats_.size())) throw Error("mpm: unknown material index");
   if (body < 0 || body >= cfg_.bodies) throw Error("mpm: body index out of range");
+}
+
+std::size_t MpmSolver::addBlock(const Vec3& lo, const Vec3& hi, double dp, int material, int body,
+                                const Vec3& velocity) {
+  checkIds(material, body);
   int n[3];
   double sp[3];
   for (int d = 0; d < 3; ++d) {
     n[d] = std::max(1, static_cast<int>(std::lround((hi[d] - lo[d]) / dp)));
     sp[d] = (hi[d] - lo[d]) / n[d];
   }
-  const std::size_t first = px_.size();
+  const std::size_t first = size();
   const double vol = sp[0] * sp[1] * sp[2];
   const double m = mats_[static_cast<std::size_t>(material)].density * vol * cfg_.massScaling;
   for (int i = 0; i < n[0]; ++i)
     for (int j = 0; j < n[1]; ++j)
-      for (int k = 0; k < n[2]; ++k) {
-        px_.push_back(lo[0] + (i + 0.5) * sp[0]);
-        py_.push_back(lo[1] + (j + 0.5) * sp[1]);
-        pz_.push_back(lo[2] + (k + 0.5) * sp[2]);
-        vx_.push_back(velocity.x());
-        vy_.push_back(velocity.y());
-        vz_.push_back(velocity.z());
-        mass_.push_back(m);
-        vol0_.push_back(vol);
-        for (int c = 0; c < 9; ++c) F_[c].push_back(c % 4 == 0 ? 1.0 : 0.0);
-        for (int c = 0; c < 6; ++c) sig_[c].push_back(0.0);
-        body_.push_back(static_cast<std::uint8_t>(body));
-        mat_.push_back(static_cast<std::uint8_t>(material));
-      }
+      for (int k = 0; k < n[2]; ++k)
+        pushParticle(Vec3(lo[0] + (i + 0.5) * sp[0], lo[1] + (j + 0.5) * sp[1], lo[2] + (k + 0.5) * sp[2]), velocity,
+                     m, vol, material, body);
   const double spMin = std::min({sp[0], sp[1], sp[2]});
   dp_ = dp_ > 0 ? std::min(dp_, spMin) : spMin;
   return first;
+}
+
+std::size_t MpmSolver::addParticle(const Vec3& x, double volume, int material, int body, const Vec3& velocity) {
+  checkIds(material, body);
+  if (!(volume > 0) || !std::isfinite(volume)) throw Error("mpm: a material point needs a positive volume");
+  const double m = mats_[static_cast<std::size_t>(material)].density * volume * cfg_.massScaling;
+  pushParticle(x, velocity, m, volume, material, body);
+  const double sp = std::cbrt(volume);
+  dp_ = dp_ > 0 ? std::min(dp_, sp) : sp;
+  return size() - 1;
+}
+
+void MpmSolver::pushParticle(const Vec3& x, const Vec3& v, double mass, double volume, int material, int body) {
+  px_.push_back(x.x());
+  py_.push_back(x.y());
+  pz_.push_back(x.z());
+  vx_.push_back(v.x());
+  vy_.push_back(v.y());
+  vz_.push_back(v.z());
+  mass_.push_back(mass);
+  vol0_.push_back(volume);
+  for (int c = 0; c < 9; ++c) F_[c].push_back(c % 4 == 0 ? 1.0 : 0.0);
+  for (int c = 0; c < 6; ++c) sig_[c].push_back(0.0);
+  body_.push_back(static_cast<std::uint8_t>(body));
+  mat_.push_back(static_cast<std::uint8_t>(material));
 }
 
 void MpmSolver::finalize() {

@@ -126,6 +126,10 @@ class MpmSolver {
   // implied); returns the index of the first new particle.
   std::size_t addBlock(const Vec3& lo, const Vec3& hi, double dp, int material, int body,
                        const Vec3& velocity = Vec3::Zero());
+  // One material point of the given volume (its spacing, the cube root, enters
+  // the particle spacing as addBlock's does); returns its index. For shapes
+  // other than boxes (spheres, imported point clouds).
+  std::size_t addParticle(const Vec3& x, double volume, int material, int body, const Vec3& velocity = Vec3::Zero());
   // Call once after adding everything (sizes scratch; no allocation afterwards).
   void finalize();
 
@@ -153,6 +157,8 @@ class MpmSolver {
   bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
 
  private:
+  void checkIds(int material, int body) const;
+  void pushParticle(const Vec3& x, const Vec3& v, double mass, double volume, int material, int body);
   template <int S, bool Grad> void p2g();
   template <int S> void g2pRemap();
   template <int S> void surfaceContact(bool first);
