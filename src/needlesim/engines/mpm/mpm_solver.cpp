@@ -220,16 +220,16 @@ std::size_t MpmSolver::addParticle(const Vec3& x, double volume, int material, i
 }
 
 void MpmSolver::pushParticle(const Vec3& x, const Vec3& v, double mass, double volume, int material, int body) {
-  px_.push_back(x.x());
-  py_.push_back(x.y());
-  pz_.push_back(x.z());
-  vx_.push_back(v.x());
-  vy_.push_back(v.y());
-  vz_.push_back(v.z());
-  mass_.push_back(mass);
-  vol0_.push_back(volume);
-  for (int c = 0; c < 9; ++c) F_[c].push_back(c % 4 == 0 ? 1.0 : 0.0);
-  for (int c = 0; c < 6; ++c) sig_[c].push_back(0.0);
+  Point q{};
+  for (int d = 0; d < 3; ++d) {
+    q.x[d] = x[d];
+    q.v[d] = v[d];
+  }
+  q.mass = mass;
+  q.vol0 = volume;
+  q.vol = volume;
+  for (int c = 0; c < 9; ++c) q.F[c] = c % 4 == 0 ? 1.0 : 0.0;
+  P_.push_back(q);
   body_.push_back(static_cast<std::uint8_t>(body));
   mat_.push_back(static_cast<std::uint8_t>(material));
 }
@@ -249,9 +249,6 @@ void MpmSolver::finalize() {
   for (std::size_t p = 0; p < size(); ++p) order_[p] = static_cast<std::uint32_t>(p);
   coloured_ = false;
   planAgain_ = 0;
-  vgx_.assign(size(), 0.0);
-  vgy_.assign(size(), 0.0);
-  vgz_.assign(size(), 0.0);
   active_.assign(R * nodes_, 0);
   rnormal_.assign(3 * R * nodes_, 0.0);
   rforce_.assign(R, RigidForce{});
@@ -277,11 +274,12 @@ void MpmSolver::finalize() {
       initialModuli(m.law, K, mu);
       M = std::max(M, K + 4.0 / 3.0 * mu);
     }
-    const double mmin = mass_.empty() ? 0.0 : *std::min_element(mass_.begin(), mass_.end());
+    double mmin = P_.empty() ? 0.0 : kInf;
+    for (const Point& q : P_) mmin = std::min(mmin, q.mass);
     std::vector<double> radius(size());
     double rmax = 0.0;
     for (std::size_t p = 0; p < size(); ++p) {
-      radius[p] = 0.5 * std::cbrt(vol0_[p]);
+      radius[p] = 0.5 * std::cbrt(P_[p].vol0);
       rmax = std::max(rmax, radius[p]);
     }
     if (2 * rmax > cfg_.h * (1 + 1e-9))
@@ -335,7 +333,7 @@ void MpmSolver::finalize() {
   const int S = cfg_.shape == Shape::Linear ? 2 : 3;
   const double invh = 1.0 / cfg_.h;
   for (std::size_t p = 0; p < size(); ++p) {
-    const double xs[3] = {px_[p], py_[p], pz_[p]};
+    const double xs[3] = {P_[p].x[0], P_[p].x[1], P_[p].x[2]};
     for (int d = 0; d < 3; ++d) {
       double xi = (xs[d] - cfg_.origin[d]) * invh;
       int b = S == 2 ? static_cast<int>(std::floor(xi)) : static_cast<int>(std::floor(xi - 0.5));
@@ -357,13 +355,13 @@ Vec3 MpmSolver::nodePosition(std::size_t I) const {
 
 Mat3 MpmSolver::defGrad(std::size_t p) const {
   Mat3 F;
-  for (int c = 0; c < 9; ++c) F(c / 3, c % 3) = F_[c][p];
+  for (int c = 0; c < 9; ++c) F(c / 3, c % 3) = P_[p].F[c];
   return F;
 }
 
 Mat3 MpmSolver::cauchy(std::size_t p) const {
   Mat3 s;
-  s << sig_[0][p], sig_[3][p], sig_[5][p], sig_[3][p], sig_[1][p], sig_[4][p], sig_[5][p], sig_[4][p], sig_[2][p];
+  s << P_[p].sig[0], P_[p].sig[3], P_[p].sig[5], P_[p].sig[3], P_[p].sig[1], P_[p].sig[4], P_[p].sig[5], P_[p].sig[4], P_[p].sig[2];
   return s;
 }
 
@@ -431,12 +429,12 @@ MPM_CLONES Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massS
 
 void MpmSolver::stress(std::size_t p, const Mat3& F, double& W, double& wave) {
   const Mat3 sigma = evaluateStress(mats_[mat_[p]], F, cfg_.massScaling, W, wave);
-  sig_[0][p] = sigma(0, 0);
-  sig_[1][p] = sigma(1, 1);
-  sig_[2][p] = sigma(2, 2);
-  sig_[3][p] = sigma(0, 1);
-  sig_[4][p] = sigma(1, 2);
-  sig_[5][p] = sigma(0, 2);
+  P_[p].sig[0] = sigma(0, 0);
+  P_[p].sig[1] = sigma(1, 1);
+  P_[p].sig[2] = sigma(2, 2);
+  P_[p].sig[3] = sigma(0, 1);
+  P_[p].sig[4] = sigma(1, 2);
+  P_[p].sig[5] = sigma(0, 2);
 }
 
 void MpmSolver::fail(std::size_t p, int cause) const {
@@ -512,7 +510,7 @@ bool MpmSolver::sortByLayer() {
   const double sh = cfg_.shape == Shape::Linear ? 0.0 : 0.5;
   const int n0 = nn_[0];
   const auto layer = [&](std::size_t p) {
-    return std::clamp(static_cast<int>(std::floor((px_[p] - ox) * invh - sh)), 0, n0 - 1);
+    return std::clamp(static_cast<int>(std::floor((P_[p].x[0] - ox) * invh - sh)), 0, n0 - 1);
   };
   std::vector<std::size_t> start(static_cast<std::size_t>(n0) + 1, 0);
   for (std::size_t p = 0; p < np; ++p) ++start[static_cast<std::size_t>(layer(p)) + 1];
@@ -576,9 +574,9 @@ void MpmSolver::markNearBodies() {
     for (std::size_t w = 0; w < words; ++w) a[w] = 0;
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < np; ++p) {
-      const std::size_t row = static_cast<std::size_t>((px_[p] - ox) * invh) * n1 +
-                              static_cast<std::size_t>((py_[p] - oy) * invh);
-      const auto k = static_cast<std::size_t>((pz_[p] - oz) * invh);
+      const std::size_t row = static_cast<std::size_t>((P_[p].x[0] - ox) * invh) * n1 +
+                              static_cast<std::size_t>((P_[p].x[1] - oy) * invh);
+      const auto k = static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
       std::uint64_t* w = a + row * rw + body_[p] * W + k / 64;
       const std::uint64_t bit = std::uint64_t{1} << (k % 64);
       // Threads may mark the same word: an atomic OR, skipped when already set.
@@ -660,20 +658,17 @@ MPM_CLONES void MpmSolver::p2g() {
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
       double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-      const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
-      const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
-      const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
-      const double m = mass_[p];
-      const A4 q = {m, m * vx_[p], m * vy_[p], m * vz_[p]};  // eqs 1-2
-      const double J = F_[0][p] * (F_[4][p] * F_[8][p] - F_[5][p] * F_[7][p]) -
-                       F_[1][p] * (F_[3][p] * F_[8][p] - F_[5][p] * F_[6][p]) +
-                       F_[2][p] * (F_[3][p] * F_[7][p] - F_[4][p] * F_[6][p]);
-      const double V = -vol0_[p] * J;  // -V sigma : grad N is the internal force
-      const double s00 = V * sig_[0][p], s11 = V * sig_[1][p], s22 = V * sig_[2][p];
-      const double s01 = V * sig_[3][p], s12 = V * sig_[4][p], s02 = V * sig_[5][p];
+      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
+      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
+      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
+      const double m = P_[p].mass;
+      const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
+      const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
+      const double s00 = V * P_[p].sig[0], s11 = V * P_[p].sig[1], s22 = V * P_[p].sig[2];
+      const double s01 = V * P_[p].sig[3], s12 = V * P_[p].sig[4], s02 = V * P_[p].sig[5];
       const double z0 = opaqueZero();
       const A4 S0 = {s00, s01, s02, z0}, S1 = {s01, s11, s12, z0}, S2 = {s02, s12, s22, z0};  // rows of -V sigma
-      const double xp[3] = {px_[p], py_[p], pz_[p]};
+      const double xp[3] = {P_[p].x[0], P_[p].x[1], P_[p].x[2]};
       // Two bodies: the normal and gap lanes matter only at nodes that both
       // bodies reach, i.e. for points with the other body within 3 cells.
       bool needG = false;
@@ -1020,7 +1015,7 @@ void MpmSolver::surfaceContact(bool first) {
       pairs_.clear();
       const double limit = 0.5 * rb.elementSize + cfg_.contactGap;  // eq 22: (d_e + d_p)/2
       for (std::size_t p = 0; p < size(); ++p) {
-        const Vec3 q(px_[p] - rb.point.x(), py_[p] - rb.point.y(), pz_[p] - rb.point.z());
+        const Vec3 q(P_[p].x[0] - rb.point.x(), P_[p].x[1] - rb.point.y(), P_[p].x[2] - rb.point.z());
         const Vec3 xl(q.dot(e), q.dot(ys), q.dot(zs));
         int c[3];
         bool in = true;
@@ -1077,9 +1072,9 @@ void MpmSolver::surfaceContact(bool first) {
     for (const SurfacePair& pr : pairs_) {
       const std::size_t p = pr.p;
       double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-      const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
-      const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
-      const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
+      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
+      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
+      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       Vec3 vp = Vec3::Zero();
       double inv = 0.0;  // eq 24: 1/m_p = sum N^2 / m_I
@@ -1203,9 +1198,9 @@ MPM_CLONES void MpmSolver::g2pRemap() {
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
       double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-      const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
-      const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
-      const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
+      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
+      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
+      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old
       for (int i = 0; i < S; ++i)
@@ -1224,17 +1219,17 @@ MPM_CLONES void MpmSolver::g2pRemap() {
           ao += wij * so;
         }
       // eq 4: FLIP v + sum N (v_new - v_old), blended with PIC sum N v_new
-      const double v0 = flip * (vx_[p] + (an[0] - ao[0])) + (1 - flip) * an[0];
-      const double v1 = flip * (vy_[p] + (an[1] - ao[1])) + (1 - flip) * an[1];
-      const double v2 = flip * (vz_[p] + (an[2] - ao[2])) + (1 - flip) * an[2];
-      vx_[p] = v0;
-      vy_[p] = v1;
-      vz_[p] = v2;
+      const double v0 = flip * (P_[p].v[0] + (an[0] - ao[0])) + (1 - flip) * an[0];
+      const double v1 = flip * (P_[p].v[1] + (an[1] - ao[1])) + (1 - flip) * an[1];
+      const double v2 = flip * (P_[p].v[2] + (an[2] - ao[2])) + (1 - flip) * an[2];
+      P_[p].v[0] = v0;
+      P_[p].v[1] = v1;
+      P_[p].v[2] = v2;
       // The position update of g2pFinal uses the same sum (positions do not move in between).
-      vgx_[p] = an[0];
-      vgy_[p] = an[1];
-      vgz_[p] = an[2];
-      const double m = mass_[p];
+      P_[p].vg[0] = an[0];
+      P_[p].vg[1] = an[1];
+      P_[p].vg[2] = an[2];
+      const double m = P_[p].mass;
       const A4 q = {0.0, m * v0, m * v1, m * v2};  // lane 0 (mass) gets + 0
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
@@ -1294,9 +1289,9 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   for (std::size_t qi = q0; qi < q1; ++qi) {
     const std::size_t p = order[qi];
     double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-    const int bx = weights<S>((px_[p] - ox) * invh, invh, wx, dx);
-    const int by = weights<S>((py_[p] - oy) * invh, invh, wy, dy);
-    const int bz = weights<S>((pz_[p] - oz) * invh, invh, wz, dz);
+    const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
+    const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
+    const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
     const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
     A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
     A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
@@ -1326,38 +1321,39 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     const double L[9] = {Lx[0], Ly[0], Lz[0], Lx[1], Ly[1], Lz[1], Lx[2], Ly[2], Lz[2]};
     double acc[3];
     if constexpr (usl) {
-      vx_[p] = flip * (vx_[p] + (an[0] - ao[0])) + (1 - flip) * an[0];
-      vy_[p] = flip * (vy_[p] + (an[1] - ao[1])) + (1 - flip) * an[1];
-      vz_[p] = flip * (vz_[p] + (an[2] - ao[2])) + (1 - flip) * an[2];
+      P_[p].v[0] = flip * (P_[p].v[0] + (an[0] - ao[0])) + (1 - flip) * an[0];
+      P_[p].v[1] = flip * (P_[p].v[1] + (an[1] - ao[1])) + (1 - flip) * an[1];
+      P_[p].v[2] = flip * (P_[p].v[2] + (an[2] - ao[2])) + (1 - flip) * an[2];
       for (int c = 0; c < 3; ++c) acc[c] = an[c];
     } else {
-      acc[0] = vgx_[p];
-      acc[1] = vgy_[p];
-      acc[2] = vgz_[p];
+      acc[0] = P_[p].vg[0];
+      acc[1] = P_[p].vg[1];
+      acc[2] = P_[p].vg[2];
     }
-    px_[p] += dt * acc[0];
-    py_[p] += dt * acc[1];
-    pz_[p] += dt * acc[2];
+    P_[p].x[0] += dt * acc[0];
+    P_[p].x[1] += dt * acc[1];
+    P_[p].x[2] += dt * acc[2];
     // F <- (I + dt L) F
     double Fn[9];
     for (int r = 0; r < 3; ++r)
       for (int c = 0; c < 3; ++c)
-        Fn[3 * r + c] = F_[3 * r + c][p] + dt * (L[3 * r + 0] * F_[c][p] + L[3 * r + 1] * F_[3 + c][p] +
-                                                 L[3 * r + 2] * F_[6 + c][p]);
+        Fn[3 * r + c] = P_[p].F[3 * r + c] + dt * (L[3 * r + 0] * P_[p].F[c] + L[3 * r + 1] * P_[p].F[3 + c] +
+                                                 L[3 * r + 2] * P_[p].F[6 + c]);
     Mat3 F;
     for (int c = 0; c < 9; ++c) {
-      F_[c][p] = Fn[c];
+      P_[p].F[c] = Fn[c];
       F(c / 3, c % 3) = Fn[c];
     }
     const double J = F.determinant();
-    const double speed2 = vx_[p] * vx_[p] + vy_[p] * vy_[p] + vz_[p] * vz_[p];
+    P_[p].vol = P_[p].vol0 * J;  // the next scatter's volume
+    const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
     int cause = 0;
-    if (!std::isfinite(speed2) || !std::isfinite(px_[p] + py_[p] + pz_[p])) cause = 2;
+    if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) cause = 2;
     else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
     else {
       // Base node of the support at the new position (as weights<S>).
       const double sh = S == 2 ? 0.0 : 0.5;
-      const double xs[3] = {(px_[p] - ox) * invh - sh, (py_[p] - oy) * invh - sh, (pz_[p] - oz) * invh - sh};
+      const double xs[3] = {(P_[p].x[0] - ox) * invh - sh, (P_[p].x[1] - oy) * invh - sh, (P_[p].x[2] - oz) * invh - sh};
       for (int d = 0; d < 3; ++d) {
         const double b = std::floor(xs[d]);
         if (b < 0.0 || b > lim[d]) cause = 3;
@@ -1373,11 +1369,11 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
       if (bad.compare_exchange_strong(expected, cause)) badP = p;
       continue;
     }
-    ek += 0.5 * mass_[p] * speed2;
+    ek += 0.5 * P_[p].mass * speed2;
     if (fbar) continue;  // stress after the cell averages of det F (fbarStress)
     double W, c;
     stress(p, F, W, c);
-    ei += vol0_[p] * W;
+    ei += P_[p].vol0 * W;
     vmax = std::max(vmax, c + std::sqrt(speed2));
   }
   if (slabs) {
@@ -1409,12 +1405,12 @@ void MpmSolver::fbarStress(double& eiOut, double& vmaxOut) {
   cellOf_.resize(np);
   cellJ_.assign(2 * nodes_, 0.0);
   for (std::size_t p = 0; p < np; ++p) {  // serial: one multiply-add per particle
-    const auto i = static_cast<std::size_t>((px_[p] - ox) * invh), j = static_cast<std::size_t>((py_[p] - oy) * invh),
-               k = static_cast<std::size_t>((pz_[p] - oz) * invh);
+    const auto i = static_cast<std::size_t>((P_[p].x[0] - ox) * invh), j = static_cast<std::size_t>((P_[p].x[1] - oy) * invh),
+               k = static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
     const std::size_t c = (i * n1 + j) * n2 + k;  // cell by its lower node (inside: checked in g2pFinal)
     cellOf_[p] = static_cast<std::uint32_t>(c);
-    cellJ_[2 * c] += vol0_[p] * defGrad(p).determinant();
-    cellJ_[2 * c + 1] += vol0_[p];
+    cellJ_[2 * c] += P_[p].vol0 * defGrad(p).determinant();
+    cellJ_[2 * c + 1] += P_[p].vol0;
   }
   double ei = 0.0, vmax = 0.0;
 #pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(+ : ei) reduction(max : vmax)
@@ -1425,8 +1421,8 @@ void MpmSolver::fbarStress(double& eiOut, double& vmaxOut) {
     const Mat3 Fbar = std::cbrt(Jbar / F.determinant()) * F;
     double W, w;
     stress(p, Fbar, W, w);
-    ei += vol0_[p] * W;
-    vmax = std::max(vmax, w + std::sqrt(vx_[p] * vx_[p] + vy_[p] * vy_[p] + vz_[p] * vz_[p]));
+    ei += P_[p].vol0 * W;
+    vmax = std::max(vmax, w + std::sqrt(P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2]));
   }
   eiOut += ei;
   vmaxOut = std::max(vmaxOut, vmax);

@@ -142,16 +142,16 @@ class MpmSolver {
   StepReport lastReport() const { return last_; }
 
   // Particle data (SoA).
-  std::size_t size() const { return px_.size(); }
-  Vec3 position(std::size_t p) const { return {px_[p], py_[p], pz_[p]}; }
-  Vec3 velocity(std::size_t p) const { return {vx_[p], vy_[p], vz_[p]}; }
+  std::size_t size() const { return P_.size(); }
+  Vec3 position(std::size_t p) const { return {P_[p].x[0], P_[p].x[1], P_[p].x[2]}; }
+  Vec3 velocity(std::size_t p) const { return {P_[p].v[0], P_[p].v[1], P_[p].v[2]}; }
   Mat3 defGrad(std::size_t p) const;
   Mat3 cauchy(std::size_t p) const;
-  double mass(std::size_t p) const { return mass_[p]; }           // scaled
-  double volume0(std::size_t p) const { return vol0_[p]; }
+  double mass(std::size_t p) const { return P_[p].mass; }           // scaled
+  double volume0(std::size_t p) const { return P_[p].vol0; }
   int body(std::size_t p) const { return body_[p]; }
   double particleSpacing() const { return dp_; }
-  void setVelocity(std::size_t p, const Vec3& v) { vx_[p] = v.x(); vy_[p] = v.y(); vz_[p] = v.z(); }
+  void setVelocity(std::size_t p, const Vec3& v) { P_[p].v[0] = v.x(); P_[p].v[1] = v.y(); P_[p].v[2] = v.z(); }
   const MpmConfig& config() const { return cfg_; }
   int threads() const { return nthreads_; }
   bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
@@ -185,10 +185,23 @@ class MpmSolver {
   std::vector<MpmMaterial> mats_;
   std::vector<RigidBody> rigids_;
   // particles
-  std::vector<double> px_, py_, pz_, vx_, vy_, vz_, mass_, vol0_;
-  std::array<std::vector<double>, 9> F_;
-  std::array<std::vector<double>, 6> sig_;
-  std::vector<double> vgx_, vgy_, vgz_;      // MUSL: sum_I N_Ip v_I (new grid velocity) from g2pRemap  // Cauchy, Voigt 11 22 33 12 23 13
+  // One material point in four cache lines (array of structures): every
+  // particle pass streams one contiguous record instead of ~30 arrays, which
+  // the hardware prefetchers could not all follow (docs/performance.md).
+  // The scatter reads the first two lines only.
+  struct alignas(64) Point {
+    double x[3], v[3];  // position, velocity
+    double mass;        // scaled (eq 28)
+    double vol;         // current volume V0 det F (the scatter's -V sigma)
+    double sig[6];      // Cauchy stress, Voigt 11 22 33 12 23 13
+    double vol0;        // reference volume
+    double pad0;
+    double vg[3];       // MUSL: sum_I N_Ip v_I (new grid velocity) from g2pRemap
+    double F[9];        // deformation gradient, row major
+    double pad1[4];
+  };
+  static_assert(sizeof(Point) == 256);
+  std::vector<Point> P_;
   std::vector<std::uint8_t> body_, mat_;
   double dp_ = 0.0;
   // grid

@@ -66,9 +66,9 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   // Mass gradients of both bodies interpolated (trilinear) at the pair's
   // midpoint: a single node beside the interface would see the two bodies at
   // different depths, and the normal would tilt at the edges of the face.
-  const double xm[3] = {(0.5 * (px_[p] + px_[q]) - cfg_.origin.x()) * invh,
-                        (0.5 * (py_[p] + py_[q]) - cfg_.origin.y()) * invh,
-                        (0.5 * (pz_[p] + pz_[q]) - cfg_.origin.z()) * invh};
+  const double xm[3] = {(0.5 * (P_[p].x[0] + P_[q].x[0]) - cfg_.origin.x()) * invh,
+                        (0.5 * (P_[p].x[1] + P_[q].x[1]) - cfg_.origin.y()) * invh,
+                        (0.5 * (P_[p].x[2] + P_[q].x[2]) - cfg_.origin.z()) * invh};
   int b[3];
   double t[3];
   for (int d = 0; d < 3; ++d) {
@@ -110,7 +110,7 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   for (int c = 0; c < 3; ++c) vt[c] -= vn * m[c];
   const double st = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
   if (!(st > 0.0)) return 0.0;
-  const double mr = mass_[p] * mass_[q] / (mass_[p] + mass_[q]);
+  const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
   const double ft = std::min(mu * fN, mr * st / dt);
   for (int c = 0; c < 3; ++c) f[c] -= ft * vt[c] / st;
   return 0.5 * ft * st * dt;
@@ -119,8 +119,8 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
 void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const {
   const double invh = 1.0 / cfg_.h;
-  const double xs[3] = {(px_[p] - cfg_.origin.x()) * invh, (py_[p] - cfg_.origin.y()) * invh,
-                        (pz_[p] - cfg_.origin.z()) * invh};
+  const double xs[3] = {(P_[p].x[0] - cfg_.origin.x()) * invh, (P_[p].x[1] - cfg_.origin.y()) * invh,
+                        (P_[p].x[2] - cfg_.origin.z()) * invh};
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const Support su = support(cfg_.shape != Shape::Linear, xs);
   const int S = su.S;
@@ -162,7 +162,7 @@ void MpmSolver::penaltyEnergyAfterStep() {
     for (const auto& pq : list) {
       const std::size_t p = pq[0], q = pq[1];
       const double d = P.radius_[p] + P.radius_[q];
-      const double dx = px_[p] - px_[q], dy = py_[p] - py_[q], dz = pz_[p] - pz_[q];
+      const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
       const double delta = d - std::sqrt(dx * dx + dy * dy + dz * dz);
       if (delta > 0.0) e += P.pairEnergy(delta);
     }
@@ -181,9 +181,9 @@ void MpmSolver::penaltyForces() {
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   auto cellOf = [&](std::size_t p) {
-    return (static_cast<std::size_t>((px_[p] - ox) * invh) * n1 + static_cast<std::size_t>((py_[p] - oy) * invh)) *
+    return (static_cast<std::size_t>((P_[p].x[0] - ox) * invh) * n1 + static_cast<std::size_t>((P_[p].x[1] - oy) * invh)) *
                n2 +
-           static_cast<std::size_t>((pz_[p] - oz) * invh);
+           static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
   };
   // Cell lists of the candidates (counting sort, serial).
   P.cand_.clear();
@@ -228,9 +228,9 @@ void MpmSolver::penaltyForces() {
     for (std::size_t a = 0; a < nc; ++a) {
       const std::size_t p = P.cand_[a];
       const std::size_t other = static_cast<std::size_t>(1 - body_[p]) * nodes_;
-      const long long ci[3] = {static_cast<long long>((px_[p] - ox) * invh),
-                               static_cast<long long>((py_[p] - oy) * invh),
-                               static_cast<long long>((pz_[p] - oz) * invh)};
+      const long long ci[3] = {static_cast<long long>((P_[p].x[0] - ox) * invh),
+                               static_cast<long long>((P_[p].x[1] - oy) * invh),
+                               static_cast<long long>((P_[p].x[2] - oz) * invh)};
       double f[3] = {0, 0, 0};
       for (long long i = std::max(0LL, ci[0] - 1); i <= std::min(lim[0] - 1, ci[0] + 1); ++i)
         for (long long j = std::max(0LL, ci[1] - 1); j <= std::min(lim[1] - 1, ci[1] + 1); ++j)
@@ -239,7 +239,7 @@ void MpmSolver::penaltyForces() {
                                   static_cast<std::size_t>(kk);
             for (std::uint32_t s = P.start_[c]; s < P.start_[c + 1]; ++s) {
               const std::size_t q = P.items_[s];
-              const double dx = px_[p] - px_[q], dy = py_[p] - py_[q], dz = pz_[p] - pz_[q];
+              const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
               const double r2 = dx * dx + dy * dy + dz * dz;
               const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
               if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
@@ -248,7 +248,7 @@ void MpmSolver::penaltyForces() {
               if (!(delta > 0.0)) {
                 // Not touching: close if it would within two steps at the
                 // current approach speed (the next step resolves the contact).
-                const double vn = (vx_[q] - vx_[p]) * n[0] + (vy_[q] - vy_[p]) * n[1] + (vz_[q] - vz_[p]) * n[2];
+                const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
                 if (-delta < 2.0 * vn * dt) T.close += 1;
                 continue;
               }
@@ -279,7 +279,7 @@ void MpmSolver::penaltyForces() {
     const double* f = &P.force_[3 * a];
     if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
     const std::size_t p = P.cand_[a];
-    const double xs[3] = {(px_[p] - ox) * invh, (py_[p] - oy) * invh, (pz_[p] - oz) * invh};
+    const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
     const Support su = support(bspline, xs);
     const int S = su.S;
     const auto& base = su.base;
