@@ -52,13 +52,17 @@ TEST(MpmStress, FastPathsMatchMaterialsLibrary) {
   nh.law.C10 = 3.6e3;
   nh.law.bulk = 1e5;
   ms.push_back(nh);
-  for (const auto& m : ms) {
-    double W, c;
-    Mat3 s = evaluateStress(m, F, 1.0, W, c);
-    auto ref = materials::evaluate(m.law, F, false);
-    EXPECT_LT((s - ref.sigma).norm(), 1e-10 * ref.sigma.norm()) << materials::lawName(m.law.kind);
-    EXPECT_NEAR(W, ref.energy, 1e-10 * std::abs(ref.energy)) << materials::lawName(m.law.kind);
-  }
+  // det F on both sides of the J^(-1/3) branch at |J - 1| = 0.05, near 1 and far from it.
+  const double J0 = F.determinant();
+  for (const double Jt : {0.6, 0.951, 0.97, 1.0004, 1.049, 1.051, 1.8})
+    for (const auto& m : ms) {
+      const Mat3 Fs = std::cbrt(Jt / J0) * F;
+      double W, c;
+      Mat3 s = evaluateStress(m, Fs, 1.0, W, c);
+      auto ref = materials::evaluate(m.law, Fs, false);
+      EXPECT_LT((s - ref.sigma).norm(), 1e-10 * ref.sigma.norm()) << materials::lawName(m.law.kind) << " J " << Jt;
+      EXPECT_NEAR(W, ref.energy, 1e-10 * std::abs(ref.energy)) << materials::lawName(m.law.kind) << " J " << Jt;
+    }
 }
 
 // Seed 000 eq 27 with mass scaling: c = sqrt(M / (c_m rho)).

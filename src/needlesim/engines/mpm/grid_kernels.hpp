@@ -4,12 +4,31 @@
 #pragma once
 
 #include <cstddef>
+#include <new>
+#include <vector>
 
 namespace needlesim::mpm::grid {
 
 // Offsets in a grid record (MpmSolver::Buf): mass, momentum (3), force (3),
 // and for two bodies the mass gradient (3) and mass-weighted position (3).
 constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
+
+// Allocator on cache-line boundaries: a 64-byte grid record then never
+// straddles two lines, so its 32-byte vector loads and stores stay within one
+// line and the store of one point's scatter forwards to the next point's load.
+template <class T>
+struct LineAllocator {
+  using value_type = T;
+  LineAllocator() = default;
+  template <class U>
+  LineAllocator(const LineAllocator<U>&) {}
+  T* allocate(std::size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), std::align_val_t{64})); }
+  void deallocate(T* p, std::size_t) { ::operator delete(p, std::align_val_t{64}); }
+  template <class U>
+  bool operator==(const LineAllocator<U>&) const { return true; }
+};
+template <class T>
+using LineVector = std::vector<T, LineAllocator<T>>;
 
 // Shape functions along one axis: base node index, weights and derivatives.
 // xi >= 0 inside the grid (finalize and g2pFinal check it), so truncation is

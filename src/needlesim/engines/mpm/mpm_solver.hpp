@@ -15,6 +15,7 @@
 #include <utility>
 #include <vector>
 
+#include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/penalty_contact.hpp"
 #include "needlesim/engines/mpm/surface_estimate.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
@@ -212,7 +213,8 @@ class MpmSolver {
   // body): mass, momentum (3), force (3), pad; two bodies add the mass
   // gradient (3) and the mass-weighted position (3), pad (2).
   struct Buf {
-    std::vector<double> rec, gmin;  // rec: nr_ per node per body; gmin: per node per rigid
+    grid::LineVector<double> rec;  // nr_ per node per body (64-byte aligned records)
+    std::vector<double> gmin;      // per node per rigid
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])
   // Race-free scatter: order_ visits the points by x layer of their base
@@ -227,7 +229,7 @@ class MpmSolver {
   bool gridClean_ = false;              // the records are all zero (remapUpdate cleared them)
   long long planAgain_ = 0;             // serial fallback: step of the next try
   int nr_ = 8;
-  std::vector<double> vel_;             // per node per body: v_new (3), pad, v_old (3), pad
+  grid::LineVector<double> vel_;        // per node per body: v_new (3), pad, v_old (3), pad
   std::vector<std::uint8_t> fixMask_;   // per node: bits 0-2 fixed velocity components
   std::vector<double> dashpot_;         // per node: 3 viscous coefficients (non-reflecting), kg/s
   std::vector<std::uint8_t> active_;    // per node: rigid contact flags of the first update
