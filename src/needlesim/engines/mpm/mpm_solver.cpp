@@ -722,9 +722,11 @@ MPM_CLONES void MpmSolver::p2g() {
         if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
         if (r < 8 && ax[static_cast<std::size_t>(r)].needle) {
           const Axis& A = ax[static_cast<std::size_t>(r)];
-          const Vec3 rel(xp[0] - A.c.x(), xp[1] - A.c.y(), xp[2] - A.c.z());
-          const double s = rel.dot(A.e);
-          if (rel.squaredNorm() - s * s > A.rmax2) continue;
+          // Scalar on purpose: a vectorised form packs rel through the stack and
+          // stalls on store forwarding in this, the most frequent, branch.
+          const double r0 = xp[0] - A.c.x(), r1 = xp[1] - A.c.y(), r2 = xp[2] - A.c.z();
+          const double s = r0 * A.e.x() + r1 * A.e.y() + r2 * A.e.z();
+          if (r0 * r0 + r1 * r1 + r2 * r2 - s * s > A.rmax2) continue;
         }
         const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
         if (gap > gapReach) continue;
