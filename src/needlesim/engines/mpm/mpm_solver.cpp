@@ -1,6 +1,7 @@
 // Explicit MPM core: seed 000 eqs 1-4 (mapping and update), 14-21 (grid
 // contact), 25-28 (time step, mass scaling). See docs/models/mpm.md.
 #include "needlesim/engines/mpm/mpm_solver.hpp"
+#include "needlesim/engines/mpm/stress_lanes.hpp"
 
 #include <fmt/format.h>
 
@@ -29,8 +30,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Four lanes of a grid record as a GCC vector: two SSE2 operations in the
 // baseline x86-64 build, one AVX2/FMA operation in the x86-64-v3 clones of the
 // hot kernels (NEEDLESIM_MPM_CLONES). Unaligned, may alias double.
-#pragma GCC diagnostic ignored "-Wpsabi"  // A4 helpers are inlined into each clone
-typedef double A4 __attribute__((vector_size(32), aligned(8), may_alias));
+using lanes::A4;  // stress_lanes.hpp
 inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
 inline void add(double* p, A4 v) { *reinterpret_cast<A4*>(p) += v; }
 // 0.0 that the compiler cannot see through: lanes packed with it compile to
@@ -72,28 +72,7 @@ inline int teamSize() {
 #endif
 }
 
-// J^(-1/3) for J > 0 without pow or a division. Near J = 1 (soft tissue is
-// nearly incompressible): the Taylor series 1 - e/3 + 2e^2/9 in e = J - 1 (error
-// 14|e|^3/81 < 2.2e-5 for |e| < 0.05), then two Newton steps
-// z <- z (4 - J z^3) / 3 (quadratic: to rounding). Elsewhere: an exponent-bit
-// estimate (within 3.5 %), then four Newton steps.
-inline double invCbrt(double J) {
-  const double e = J - 1.0;
-  double z;
-  int steps;
-  if (std::abs(e) < 0.05) {
-    z = 1.0 + e * (-1.0 / 3.0 + e * (2.0 / 9.0));
-    steps = 2;
-  } else {
-    std::uint64_t i;
-    std::memcpy(&i, &J, sizeof i);
-    i = 0x553ef0ff289dd796ull - i / 3;  // (4/3) x bias bits - bits/3, tuned constant
-    std::memcpy(&z, &i, sizeof z);
-    steps = 4;
-  }
-  for (int it = 0; it < steps; ++it) z *= (4.0 - J * z * z * z) * (1.0 / 3.0);
-  return z;
-}
+using lanes::invCbrt;
 
 // Initial bulk and shear moduli of a law (St Venant-Kirchhoff from E, nu).
 void initialModuli(const materials::Hyperelastic& L, double& K, double& mu) {
@@ -1298,95 +1277,125 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     q1 = np * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
   }
   int layerLo = std::numeric_limits<int>::max(), layerHi = std::numeric_limits<int>::min();
-  for (std::size_t qi = q0; qi < q1; ++qi) {
-    const std::size_t p = order[qi];
-    double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-    const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
-    const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
-    const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
-    const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-    A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
-    A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
-    for (int i = 0; i < S; ++i)
-      for (int j = 0; j < S; ++j) {
-        const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                static_cast<std::size_t>(bz);
-        const double* __restrict v = vel + 8 * row;
-        // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
-        A4 sw = {0, 0, 0, 0}, sd = {0, 0, 0, 0}, so = {0, 0, 0, 0};
-        for (int k = 0; k < S; ++k) {
-          const A4 vg = ld(v + 8 * k + go);
-          sw += wz[k] * vg;
-          sd += dz[k] * vg;
-          if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
+  // Chunks of points: the kinematics of the chunk, then its stresses, four
+  // points of one material at a time on vector lanes (stress_lanes.hpp).
+  constexpr std::size_t kChunk = 32;
+  for (std::size_t c0 = q0; c0 < q1; c0 += kChunk) {
+    const std::size_t c1 = std::min(c0 + kChunk, q1);
+    std::size_t ready[kChunk];
+    std::size_t nready = 0;
+    for (std::size_t qi = c0; qi < c1; ++qi) {
+      const std::size_t p = order[qi];
+      double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
+      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
+      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
+      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
+      const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+      A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
+      A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
+      for (int i = 0; i < S; ++i)
+        for (int j = 0; j < S; ++j) {
+          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                                  static_cast<std::size_t>(bz);
+          const double* __restrict v = vel + 8 * row;
+          // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
+          A4 sw = {0, 0, 0, 0}, sd = {0, 0, 0, 0}, so = {0, 0, 0, 0};
+          for (int k = 0; k < S; ++k) {
+            const A4 vg = ld(v + 8 * k + go);
+            sw += wz[k] * vg;
+            sd += dz[k] * vg;
+            if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
+          }
+          const double wij = wx[i] * wy[j];
+          const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+          if constexpr (usl) {
+            an += wij * sw;
+            ao += wij * so;
+          }
+          Lx += gxij * sw;
+          Ly += gyij * sw;
+          Lz += wij * sd;
         }
-        const double wij = wx[i] * wy[j];
-        const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
-        if constexpr (usl) {
-          an += wij * sw;
-          ao += wij * so;
+      const double L[9] = {Lx[0], Ly[0], Lz[0], Lx[1], Ly[1], Lz[1], Lx[2], Ly[2], Lz[2]};
+      double acc[3];
+      if constexpr (usl) {
+        P_[p].v[0] = flip * (P_[p].v[0] + (an[0] - ao[0])) + (1 - flip) * an[0];
+        P_[p].v[1] = flip * (P_[p].v[1] + (an[1] - ao[1])) + (1 - flip) * an[1];
+        P_[p].v[2] = flip * (P_[p].v[2] + (an[2] - ao[2])) + (1 - flip) * an[2];
+        for (int c = 0; c < 3; ++c) acc[c] = an[c];
+      } else {
+        acc[0] = P_[p].vg[0];
+        acc[1] = P_[p].vg[1];
+        acc[2] = P_[p].vg[2];
+      }
+      P_[p].x[0] += dt * acc[0];
+      P_[p].x[1] += dt * acc[1];
+      P_[p].x[2] += dt * acc[2];
+      // F <- (I + dt L) F
+      double Fn[9];
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 3; ++c)
+          Fn[3 * r + c] = P_[p].F[3 * r + c] + dt * (L[3 * r + 0] * P_[p].F[c] + L[3 * r + 1] * P_[p].F[3 + c] +
+                                                   L[3 * r + 2] * P_[p].F[6 + c]);
+      Mat3 F;
+      for (int c = 0; c < 9; ++c) {
+        P_[p].F[c] = Fn[c];
+        F(c / 3, c % 3) = Fn[c];
+      }
+      const double J = F.determinant();
+      P_[p].vol = P_[p].vol0 * J;  // the next scatter's volume
+      const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
+      int cause = 0;
+      if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) cause = 2;
+      else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
+      else {
+        // Base node of the support at the new position (as weights<S>).
+        const double sh = S == 2 ? 0.0 : 0.5;
+        const double xs[3] = {(P_[p].x[0] - ox) * invh - sh, (P_[p].x[1] - oy) * invh - sh, (P_[p].x[2] - oz) * invh - sh};
+        for (int d = 0; d < 3; ++d) {
+          const double b = std::floor(xs[d]);
+          if (b < 0.0 || b > lim[d]) cause = 3;
         }
-        Lx += gxij * sw;
-        Ly += gyij * sw;
-        Lz += wij * sd;
+        if (!cause) {
+          const int l = static_cast<int>(xs[0]);  // = the floor, xs[0] >= 0
+          layerLo = std::min(layerLo, l);
+          layerHi = std::max(layerHi, l);
+        }
       }
-    const double L[9] = {Lx[0], Ly[0], Lz[0], Lx[1], Ly[1], Lz[1], Lx[2], Ly[2], Lz[2]};
-    double acc[3];
-    if constexpr (usl) {
-      P_[p].v[0] = flip * (P_[p].v[0] + (an[0] - ao[0])) + (1 - flip) * an[0];
-      P_[p].v[1] = flip * (P_[p].v[1] + (an[1] - ao[1])) + (1 - flip) * an[1];
-      P_[p].v[2] = flip * (P_[p].v[2] + (an[2] - ao[2])) + (1 - flip) * an[2];
-      for (int c = 0; c < 3; ++c) acc[c] = an[c];
-    } else {
-      acc[0] = P_[p].vg[0];
-      acc[1] = P_[p].vg[1];
-      acc[2] = P_[p].vg[2];
-    }
-    P_[p].x[0] += dt * acc[0];
-    P_[p].x[1] += dt * acc[1];
-    P_[p].x[2] += dt * acc[2];
-    // F <- (I + dt L) F
-    double Fn[9];
-    for (int r = 0; r < 3; ++r)
-      for (int c = 0; c < 3; ++c)
-        Fn[3 * r + c] = P_[p].F[3 * r + c] + dt * (L[3 * r + 0] * P_[p].F[c] + L[3 * r + 1] * P_[p].F[3 + c] +
-                                                 L[3 * r + 2] * P_[p].F[6 + c]);
-    Mat3 F;
-    for (int c = 0; c < 9; ++c) {
-      P_[p].F[c] = Fn[c];
-      F(c / 3, c % 3) = Fn[c];
-    }
-    const double J = F.determinant();
-    P_[p].vol = P_[p].vol0 * J;  // the next scatter's volume
-    const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
-    int cause = 0;
-    if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) cause = 2;
-    else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
-    else {
-      // Base node of the support at the new position (as weights<S>).
-      const double sh = S == 2 ? 0.0 : 0.5;
-      const double xs[3] = {(P_[p].x[0] - ox) * invh - sh, (P_[p].x[1] - oy) * invh - sh, (P_[p].x[2] - oz) * invh - sh};
-      for (int d = 0; d < 3; ++d) {
-        const double b = std::floor(xs[d]);
-        if (b < 0.0 || b > lim[d]) cause = 3;
+      if (cause) {
+        int expected = 0;
+        if (bad.compare_exchange_strong(expected, cause)) badP = p;
+        continue;
       }
-      if (!cause) {
-        const int l = static_cast<int>(xs[0]);  // = the floor, xs[0] >= 0
-        layerLo = std::min(layerLo, l);
-        layerHi = std::max(layerHi, l);
+      ek += 0.5 * P_[p].mass * speed2;
+      if (!fbar) ready[nready++] = p;  // fbar: stress after the cell averages of det F (fbarStress)
+    }
+    for (std::size_t r = 0; r < nready;) {
+      const std::size_t p0 = ready[r];
+      const MpmMaterial& mat = mats_[mat_[p0]];
+      if (!lanes::hasLanes(mat)) {
+        double W, c;
+        stress(p0, defGrad(p0), W, c);
+        const Point& q = P_[p0];
+        ei += q.vol0 * W;
+        vmax = std::max(vmax, c + std::sqrt(q.v[0] * q.v[0] + q.v[1] * q.v[1] + q.v[2] * q.v[2]));
+        ++r;
+        continue;
+      }
+      std::size_t g[4];
+      int n = 0;
+      while (r < nready && n < 4 && mat_[ready[r]] == mat_[p0]) g[n++] = ready[r++];
+      for (int l = n; l < 4; ++l) g[l] = g[n - 1];  // idle lanes repeat the last point
+      A4 Fl[9] = {}, sl[6] = {}, W = {}, wave = {};
+      for (int c = 0; c < 9; ++c) Fl[c] = A4{P_[g[0]].F[c], P_[g[1]].F[c], P_[g[2]].F[c], P_[g[3]].F[c]};
+      lanes::hyperelasticStress4(mat, cfg_.massScaling, Fl, sl, W, wave);
+      for (int l = 0; l < n; ++l) {
+        Point& q = P_[g[l]];
+        for (int c = 0; c < 6; ++c) q.sig[c] = sl[c][l];
+        ei += q.vol0 * W[l];
+        vmax = std::max(vmax, wave[l] + std::sqrt(q.v[0] * q.v[0] + q.v[1] * q.v[1] + q.v[2] * q.v[2]));
       }
     }
-    if (cause) {
-      int expected = 0;
-      if (bad.compare_exchange_strong(expected, cause)) badP = p;
-      continue;
-    }
-    ek += 0.5 * P_[p].mass * speed2;
-    if (fbar) continue;  // stress after the cell averages of det F (fbarStress)
-    double W, c;
-    stress(p, F, W, c);
-    ei += P_[p].vol0 * W;
-    vmax = std::max(vmax, c + std::sqrt(speed2));
   }
   if (slabs) {
     const auto sl = static_cast<std::size_t>(2 * t + colour);
