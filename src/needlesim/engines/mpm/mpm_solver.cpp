@@ -31,8 +31,10 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // baseline x86-64 build, one AVX2/FMA operation in the x86-64-v3 clones of the
 // hot kernels (NEEDLESIM_MPM_CLONES). Unaligned, may alias double.
 using lanes::A4;  // stress_lanes.hpp
-inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
-inline void add(double* p, A4 v) { *reinterpret_cast<A4*>(p) += v; }
+// Always inlined, also at -O0: a call would pass A4 by the baseline ABI
+// (memory) from an AVX2 clone that expects it in a register.
+[[gnu::always_inline]] inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
+[[gnu::always_inline]] inline void add(double* p, A4 v) { *reinterpret_cast<A4*>(p) += v; }
 // 0.0 that the compiler cannot see through: lanes packed with it compile to
 // unpack/insert instructions instead of the VEX "vmovq xmm, xmm" that
 // valgrind 3.19 cannot decode (callgrind counts of docs/performance.md).
