@@ -52,7 +52,7 @@ PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double re
       friction_(8 * thread_.size(), 0.0) {}
 
 // Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
-// on p); returns half the pair's friction work over the step (J). The normal
+// on p); returns the pair's friction work over the step (J). The normal
 // is that of the bodies' surfaces, from the two mass gradients at the node
 // nearest the pair (as the velocity contact, eqs 14-21), not the pair axis n:
 // on two lattices sliding past each other the pair axis tilts by up to
@@ -113,7 +113,7 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
   const double ft = std::min(mu * fN, mr * st / dt);
   for (int c = 0; c < 3; ++c) f[c] -= ft * vt[c] / st;
-  return 0.5 * ft * st * dt;
+  return ft * st * dt;
 }
 
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
@@ -174,7 +174,11 @@ void MpmSolver::penaltyEnergyAfterStep() {
 // the grid update, MUSL remap and boundary conditions treat them like the
 // internal force. Candidates are the points in cells that both bodies reach
 // within 3 cells (markNearBodies); d_p <= h, so a partner lies in the 27
-// cells around a point's cell.
+// cells around a point's cell. Each pair is visited once, from the cell of
+// its body-0 point: the pair force acts on p and its opposite on q (the
+// normal force, the friction force and the pair's friction work are odd in
+// the exchange p <-> q to the last bit, pairFriction), so the forces equal
+// those of a search from both sides up to the order of the sums.
 void MpmSolver::penaltyForces() {
   PairPenalty& P = *penalty_;
   const double invh = 1.0 / cfg_.h;
@@ -185,34 +189,43 @@ void MpmSolver::penaltyForces() {
                n2 +
            static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
   };
-  // Cell lists of the candidates (counting sort, serial).
+  // Cell lists of the candidates (counting sort, serial), per body and cell
+  // (key body * nodes + cell), so a point scans only the other body's points.
   P.cand_.clear();
-  // Lists per body and cell (key body * nodes + cell), so a point scans only
-  // the other body's points.
+  P.candKey_.clear();
+  P.cells0_.clear();
   P.start_.assign(2 * nodes_ + 1, 0);
   for (std::size_t p = 0; p < size(); ++p) {
     const std::size_t c = cellOf(p);
     // both bodies within 3 cells (markNearBodies: per (i, j) row nearW_ words per body, bit k)
     const std::size_t row = c / n2, kc = c % n2, w = kc / 64, bit = kc % 64;
     if (!((near_[(2 * row) * nearW_ + w] >> bit) & (near_[(2 * row + 1) * nearW_ + w] >> bit) & 1u)) continue;
+    const std::size_t key = static_cast<std::size_t>(body_[p]) * nodes_ + c;
     P.cand_.push_back(static_cast<std::uint32_t>(p));
-    ++P.start_[static_cast<std::size_t>(body_[p]) * nodes_ + c + 1];
+    P.candKey_.push_back(static_cast<std::uint32_t>(key));
+    if (P.start_[key + 1]++ == 0 && key < nodes_) P.cells0_.push_back(static_cast<std::uint32_t>(c));
   }
   for (std::size_t c = 0; c < 2 * nodes_; ++c) P.start_[c + 1] += P.start_[c];
-  P.items_.resize(P.cand_.size());
+  const std::size_t nc = P.cand_.size();
+  P.items_.resize(nc);
   {
     std::vector<std::uint32_t>& fill = P.cursor_;
     fill.assign(P.start_.begin(), P.start_.end() - 1);
-    for (std::uint32_t p : P.cand_) P.items_[fill[static_cast<std::size_t>(body_[p]) * nodes_ + cellOf(p)]++] = p;
+    for (std::size_t a = 0; a < nc; ++a) P.items_[fill[P.candKey_[a]]++] = P.cand_[a];
   }
-  const std::size_t nc = P.cand_.size();
+  // Body-1 items follow all body-0 items: slots [first1, nc).
+  const std::size_t first1 = P.start_[nodes_];
+  const std::size_t nthreads = P.thread_.size();
   P.force_.assign(3 * nc, 0.0);
+  P.reaction_.resize(nthreads);
   for (auto& t : P.thread_) t = PenaltyTally{};
   P.resetFriction();
   const double dt = dt_, k = P.k_, mu = cfg_.friction;
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double* rec0 = buf_[0].rec.data();
   const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
+  const std::size_t ncell = P.cells0_.size();
+  for (auto& r : P.reaction_) r.clear();  // a thread that does not run this step adds nothing
 #pragma omp parallel num_threads(nthreads_)
   {
 #ifdef _OPENMP
@@ -224,44 +237,71 @@ void MpmSolver::penaltyForces() {
     double& W = P.friction_[8 * tid];
     auto& Pairs = P.pairs_[tid];
     Pairs.clear();
+    // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
+    double* react = P.force_.data();
+    if (tid > 0) {
+      P.reaction_[tid].assign(3 * (nc - first1), 0.0);
+      react = P.reaction_[tid].data() - 3 * first1;
+    }
 #pragma omp for schedule(static)
-    for (std::size_t a = 0; a < nc; ++a) {
-      const std::size_t p = P.cand_[a];
-      const std::size_t other = static_cast<std::size_t>(1 - body_[p]) * nodes_;
-      const long long ci[3] = {static_cast<long long>((P_[p].x[0] - ox) * invh),
-                               static_cast<long long>((P_[p].x[1] - oy) * invh),
-                               static_cast<long long>((P_[p].x[2] - oz) * invh)};
-      double f[3] = {0, 0, 0};
+    for (std::size_t ic = 0; ic < ncell; ++ic) {
+      const std::size_t c0 = P.cells0_[ic];
+      const long long ci[3] = {static_cast<long long>(c0 / (n1 * n2)), static_cast<long long>((c0 / n2) % n1),
+                               static_cast<long long>(c0 % n2)};
+      // The occupied body-1 cells among the 27 around c0 (slot ranges).
+      std::uint32_t lo[27], hi[27];
+      int nb = 0;
       for (long long i = std::max(0LL, ci[0] - 1); i <= std::min(lim[0] - 1, ci[0] + 1); ++i)
         for (long long j = std::max(0LL, ci[1] - 1); j <= std::min(lim[1] - 1, ci[1] + 1); ++j)
           for (long long kk = std::max(0LL, ci[2] - 1); kk <= std::min(lim[2] - 1, ci[2] + 1); ++kk) {
-            const std::size_t c = other + (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
+            const std::size_t c = nodes_ + (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
                                   static_cast<std::size_t>(kk);
-            for (std::uint32_t s = P.start_[c]; s < P.start_[c + 1]; ++s) {
-              const std::size_t q = P.items_[s];
-              const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
-              const double r2 = dx * dx + dy * dy + dz * dz;
-              const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
-              if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
-              const double r = std::sqrt(r2), delta = d - r;
-              const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
-              if (!(delta > 0.0)) {
-                // Not touching: close if it would within two steps at the
-                // current approach speed (the next step resolves the contact).
-                const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
-                if (-delta < 2.0 * vn * dt) T.close += 1;
-                continue;
-              }
-              const double fn = k * delta;
-              for (int c3 = 0; c3 < 3; ++c3) f[c3] += fn * n[c3];
-              T.energy += 0.5 * P.pairEnergy(delta);  // half of the pair's energy on each side
-              T.penetration = std::max(T.penetration, delta);
-              T.pairs += 1;
-              if (body_[p] == 0) Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
-              if (mu > 0.0) W += pairFriction(p, q, n, fn, mu, dt, rec0, NR, f);
+            if (P.start_[c] == P.start_[c + 1]) continue;
+            lo[nb] = P.start_[c];
+            hi[nb] = P.start_[c + 1];
+            ++nb;
+          }
+      if (nb == 0) continue;
+      for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
+        const std::size_t p = P.items_[sp];
+        double f[3] = {0, 0, 0};
+        for (int b = 0; b < nb; ++b)
+          for (std::uint32_t sq = lo[b]; sq < hi[b]; ++sq) {
+            const std::size_t q = P.items_[sq];
+            const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
+            const double r2 = dx * dx + dy * dy + dz * dz;
+            const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
+            if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
+            const double r = std::sqrt(r2), delta = d - r;
+            const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
+            if (!(delta > 0.0)) {
+              // Not touching: close if it would within two steps at the
+              // current approach speed (the next step resolves the contact).
+              const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
+              if (-delta < 2.0 * vn * dt) T.close += 1;
+              continue;
+            }
+            const double fn = k * delta;
+            double fp[3] = {fn * n[0], fn * n[1], fn * n[2]};  // on p; -fp on q
+            T.energy += P.pairEnergy(delta);
+            T.penetration = std::max(T.penetration, delta);
+            T.pairs += 1;
+            Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
+            if (mu > 0.0) W += pairFriction(p, q, n, fn, mu, dt, rec0, NR, fp);
+            for (int c3 = 0; c3 < 3; ++c3) {
+              f[c3] += fp[c3];
+              react[3 * sq + c3] -= fp[c3];
             }
           }
-      for (int c3 = 0; c3 < 3; ++c3) P.force_[3 * a + c3] = f[c3];
+        for (int c3 = 0; c3 < 3; ++c3) P.force_[3 * sp + c3] = f[c3];
+      }
+    }
+    // Sum the other threads' reactions into force_ (after the barrier of the loop).
+    if (nthreads > 1) {
+#pragma omp for schedule(static)
+      for (std::size_t s = 3 * first1; s < 3 * nc; ++s)
+        for (std::size_t t = 1; t < nthreads; ++t)
+          if (!P.reaction_[t].empty()) P.force_[s] += P.reaction_[t][s - 3 * first1];
     }
   }
   P.tally_ = PenaltyTally{};
@@ -271,14 +311,13 @@ void MpmSolver::penaltyForces() {
     P.tally_.pairs += t.pairs;
     P.tally_.close += t.close;
   }
-  P.tally_.pairs /= 2;
   // Scatter f_I += N_Ip f_p into each point's own body (serial: a thin shell).
   const bool bspline = cfg_.shape != Shape::Linear;
   double* rec = buf_[0].rec.data();
   for (std::size_t a = 0; a < nc; ++a) {
     const double* f = &P.force_[3 * a];
     if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
-    const std::size_t p = P.cand_[a];
+    const std::size_t p = P.items_[a];
     const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
     const Support su = support(bspline, xs);
     const int S = su.S;

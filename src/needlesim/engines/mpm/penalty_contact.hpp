@@ -64,8 +64,15 @@ class PairPenalty {
   double k_;
   std::vector<double> radius_;  // per point
   double omega_;
-  std::vector<std::uint32_t> start_, items_, cand_, cursor_;  // cell lists (CSR) of candidate points
-  std::vector<double> force_;                        // 3 per candidate
+  // Cell lists (CSR, key body * nodes + cell) of the candidate points: start_,
+  // items_; cand_ and candKey_ the candidates with their keys, cells0_ the
+  // cells that hold candidates of body 0 (the pair search visits these).
+  std::vector<std::uint32_t> start_, items_, cand_, candKey_, cursor_, cells0_;
+  // 3 per item slot of items_: the pair forces (body-0 slots from the thread
+  // that owns the cell, body-1 slots the reactions of thread 0); reaction_[t]
+  // holds those of thread t > 0.
+  std::vector<double> force_;
+  std::vector<std::vector<double>> reaction_;
   std::vector<PenaltyTally> thread_;                 // per thread
   std::vector<std::vector<std::array<std::uint32_t, 2>>> pairs_;  // per thread: pairs in contact (p of body 0)
   std::vector<double> friction_;                     // per thread (stride 8): friction work
