@@ -209,11 +209,14 @@ class MpmSolver {
   int nn_[3] = {0, 0, 0};
   std::size_t nodes_ = 0;
   int nthreads_ = 1;
-  // Grid record of one node of one body, nr_ doubles (one cache line for one
-  // body): mass, momentum (3), force (3), pad; two bodies add the mass
-  // gradient (3) and the mass-weighted position (3), pad (2).
+  // Grid record of one node of one body, nr_ = 8 doubles (one cache line):
+  // mass, momentum (3), force (3), pad. Two bodies keep the mass gradient (3)
+  // and the mass-weighted position (3), pad (2) in a second array of 8
+  // doubles per node per body, written only by the points near the other
+  // body (p2g), so the scatter of all other points touches half the memory.
   struct Buf {
-    grid::LineVector<double> rec;  // nr_ per node per body (64-byte aligned records)
+    grid::LineVector<double> rec;   // nr_ per node per body (64-byte aligned records)
+    grid::LineVector<double> grad;  // two bodies: 8 per node per body (grid::kG, grid::kX)
     std::vector<double> gmin;      // per node per rigid
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])

@@ -18,7 +18,7 @@
 namespace needlesim::mpm {
 
 namespace {
-using grid::kF, grid::kG;  // force and mass-gradient lanes of a grid record (grid_kernels.hpp)
+using grid::kF, grid::kG;  // force lanes of a grid record, mass-gradient lanes of a gradient record (grid_kernels.hpp)
 // Support of a point at xs (in cells from the grid origin): per axis the base
 // node and the weights of the S = 3 (B-spline) or 2 (linear) nodes, from the
 // solver's own shape functions.
@@ -63,6 +63,7 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
                                const double* rec, std::size_t NR, double* f) const {
   const double invh = 1.0 / cfg_.h;
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const double* grad = buf_[0].grad.data();
   // Mass gradients of both bodies interpolated (trilinear) at the pair's
   // midpoint: a single node beside the interface would see the two bodies at
   // different depths, and the normal would tilt at the edges of the face.
@@ -83,8 +84,8 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
         const std::size_t I = (static_cast<std::size_t>(b[0] + i) * n1 + static_cast<std::size_t>(b[1] + j)) * n2 +
                               static_cast<std::size_t>(b[2] + k);
         for (int c = 0; c < 3; ++c) {
-          g0[c] += w * rec[NR * I + kG + c];
-          g1[c] += w * rec[NR * (nodes_ + I) + kG + c];
+          g0[c] += w * grad[8 * I + kG + c];
+          g1[c] += w * grad[8 * (nodes_ + I) + kG + c];
         }
       }
   const double a0 = std::sqrt(g0[0] * g0[0] + g0[1] * g0[1] + g0[2] * g0[2]);
