@@ -254,6 +254,7 @@ void MpmSolver::finalize() {
     b.grad.assign(B > 1 ? 8 * 2 * nodes_ : 0, 0.0);
     b.gmin.assign(R * nodes_, kInf);
   }
+  nearPoint_.assign(B > 1 ? size() : 0, 0);
   vel_.assign(8 * B * nodes_, 0.0);
   gridClean_ = true;
   order_.resize(size());
@@ -654,6 +655,7 @@ MPM_CLONES void MpmSolver::p2g() {
   Buf& B = buf_[0];
   double* __restrict rec = B.rec.data();
   double* __restrict grad = B.grad.data();  // two bodies
+  std::uint8_t* __restrict nearPoint = nearPoint_.data();  // two bodies
   const std::uint32_t* __restrict order = order_.data();
   const std::uint64_t* nearRows = near_.data();
   const std::size_t nearW = nearW_;
@@ -690,6 +692,7 @@ MPM_CLONES void MpmSolver::p2g() {
                                 static_cast<std::size_t>((xp[1] - oy) * invh);
         const auto k = static_cast<std::size_t>((xp[2] - oz) * invh);
         needG = (nearRows[(2 * row + 1 - body_[p]) * nearW + k / 64] >> (k % 64)) & 1;
+        nearPoint[p] = needG;  // the penalty contact's candidates (penaltyForces)
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)

@@ -245,6 +245,7 @@ class MpmSolver {
   Vec3 nodePosition(std::size_t I) const;
   std::vector<std::uint64_t> near_, nearTmp_;  // two bodies: per (i, j) row, per body nearW_ words, bit k = body within 3 cells
   std::size_t nearW_ = 1;
+  std::vector<std::uint8_t> nearPoint_; // two bodies: per point, the other body within 3 cells of its cell (p2g)
   std::vector<std::uint32_t> cellOf_;   // F-bar: cell of each particle
   std::vector<double> cellJ_;           // F-bar: per cell sum V0 J, sum V0
   // CFEMP (eqs 22-24): the needle surface triangulated in its own frame (tip at

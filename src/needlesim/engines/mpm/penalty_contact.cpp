@@ -196,11 +196,11 @@ void MpmSolver::penaltyForces() {
   P.candKey_.clear();
   P.cells0_.clear();
   P.start_.assign(2 * nodes_ + 1, 0);
+  const std::uint8_t* nearPoint = nearPoint_.data();
   for (std::size_t p = 0; p < size(); ++p) {
+    // both bodies within 3 cells of the point's cell (markNearBodies; p2g marked them)
+    if (!nearPoint[p]) continue;
     const std::size_t c = cellOf(p);
-    // both bodies within 3 cells (markNearBodies: per (i, j) row nearW_ words per body, bit k)
-    const std::size_t row = c / n2, kc = c % n2, w = kc / 64, bit = kc % 64;
-    if (!((near_[(2 * row) * nearW_ + w] >> bit) & (near_[(2 * row + 1) * nearW_ + w] >> bit) & 1u)) continue;
     const std::size_t key = static_cast<std::size_t>(body_[p]) * nodes_ + c;
     P.cand_.push_back(static_cast<std::uint32_t>(p));
     P.candKey_.push_back(static_cast<std::uint32_t>(key));
