@@ -169,7 +169,7 @@ class MpmSolver {
   void penaltyForces();           // penalty_contact.cpp
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
   double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
-                      const double* rec, std::size_t NR, double* f) const;  // penalty_contact.cpp
+                      const double* vp, const double* vq, double* f) const;  // penalty_contact.cpp
   void fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const;  // penalty_contact.cpp
   void remapUpdate(bool clear);
   void zeroGrid(int t, int T);

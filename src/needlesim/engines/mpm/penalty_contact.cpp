@@ -60,7 +60,7 @@ PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double re
 // impulse. Sticking force m_r |v_t| / dt of the pair (eq 19), limited by mu
 // times the pair force's component along that normal (eqs 20-21).
 double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
-                               const double* rec, std::size_t NR, double* f) const {
+                               const double* vp, const double* vq, double* f) const {
   const double invh = 1.0 / cfg_.h;
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const double* grad = buf_[0].grad.data();
@@ -102,10 +102,7 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   // Sliding velocity from each point's own body field on the grid, sum N v_I
   // at the point (the particle velocities carry the FLIP noise of the impact
   // in all directions; a field read at a node off the interface sees the
-  // other depth's lateral expansion).
-  double vp[3], vq[3];
-  fieldVelocity(p, rec, NR, vp);
-  fieldVelocity(q, rec, NR, vq);
+  // other depth's lateral expansion): vp, vq from fieldVelocity.
   double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};
   const double vn = vt[0] * m[0] + vt[1] * m[1] + vt[2] * m[2];
   for (int c = 0; c < 3; ++c) vt[c] -= vn * m[c];
@@ -221,6 +218,10 @@ void MpmSolver::penaltyForces() {
   P.reaction_.resize(nthreads);
   for (auto& t : P.thread_) t = PenaltyTally{};
   P.resetFriction();
+  P.contacts_.resize(nthreads);
+  P.vfield_.resize(3 * nc);
+  P.need_.assign(nc, 0);
+  std::uint8_t* need = P.need_.data();
   const double dt = dt_, k = P.k_, mu = cfg_.friction;
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double* rec0 = buf_[0].rec.data();
@@ -238,6 +239,8 @@ void MpmSolver::penaltyForces() {
     double& W = P.friction_[8 * tid];
     auto& Pairs = P.pairs_[tid];
     Pairs.clear();
+    auto& Contacts = P.contacts_[tid];
+    Contacts.clear();
     // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
     double* react = P.force_.data();
     if (tid > 0) {
@@ -265,7 +268,6 @@ void MpmSolver::penaltyForces() {
       if (nb == 0) continue;
       for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
         const std::size_t p = P.items_[sp];
-        double f[3] = {0, 0, 0};
         for (int b = 0; b < nb; ++b)
           for (std::uint32_t sq = lo[b]; sq < hi[b]; ++sq) {
             const std::size_t q = P.items_[sq];
@@ -282,21 +284,35 @@ void MpmSolver::penaltyForces() {
               if (-delta < 2.0 * vn * dt) T.close += 1;
               continue;
             }
-            const double fn = k * delta;
-            double fp[3] = {fn * n[0], fn * n[1], fn * n[2]};  // on p; -fp on q
             T.energy += P.pairEnergy(delta);
             T.penetration = std::max(T.penetration, delta);
             T.pairs += 1;
             Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
-            if (mu > 0.0) W += pairFriction(p, q, n, fn, mu, dt, rec0, NR, fp);
-            for (int c3 = 0; c3 < 3; ++c3) {
-              f[c3] += fp[c3];
-              react[3 * sq + c3] -= fp[c3];
+            Contacts.push_back({sp, sq, {n[0], n[1], n[2]}, k * delta});
+            if (mu > 0.0) {  // several threads may mark q: atomic stores of the same value
+              __atomic_store_n(need + sp, std::uint8_t{1}, __ATOMIC_RELAXED);
+              __atomic_store_n(need + sq, std::uint8_t{1}, __ATOMIC_RELAXED);
             }
           }
-        for (int c3 = 0; c3 < 3; ++c3) P.force_[3 * sp + c3] = f[c3];
       }
     }
+    // Field velocity of each point in a pair, once (after the barrier of the search).
+    if (mu > 0.0) {
+#pragma omp for schedule(static)
+      for (std::size_t s = 0; s < nc; ++s)
+        if (need[s]) fieldVelocity(P.items_[s], rec0, NR, &P.vfield_[3 * s]);
+    }
+    // Pair forces: fp on p (this thread's cells), -fp on q.
+    for (const PairPenalty::Contact& C : Contacts) {
+      const std::size_t p = P.items_[C.sp], q = P.items_[C.sq];
+      double fp[3] = {C.fn * C.n[0], C.fn * C.n[1], C.fn * C.n[2]};
+      if (mu > 0.0) W += pairFriction(p, q, C.n, C.fn, mu, dt, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], fp);
+      for (int c3 = 0; c3 < 3; ++c3) {
+        P.force_[3 * C.sp + c3] += fp[c3];
+        react[3 * C.sq + c3] -= fp[c3];
+      }
+    }
+#pragma omp barrier
     // Sum the other threads' reactions into force_ (after the barrier of the loop).
     if (nthreads > 1) {
 #pragma omp for schedule(static)
@@ -326,15 +342,16 @@ void MpmSolver::penaltyForces() {
     const auto& w = su.w;
     const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
     for (int i = 0; i < S; ++i)
-      for (int j = 0; j < S; ++j)
-        for (int kk = 0; kk < S; ++kk) {
-          const double wn = w[0][i] * w[1][j] * w[2][kk];
-          const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) *
-                                    n2 +
-                                static_cast<std::size_t>(base[2] + kk);
-          double* r = rec + NR * (off + I) + kF;
-          for (int c3 = 0; c3 < 3; ++c3) r[c3] += wn * f[c3];
-        }
+      for (int j = 0; j < S; ++j) {
+        const double wij = w[0][i] * w[1][j];
+        const double a[3] = {wij * f[0], wij * f[1], wij * f[2]};
+        double* r = rec + NR * (off + (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) *
+                                          n2 +
+                               static_cast<std::size_t>(base[2])) +
+                    kF;
+        for (int kk = 0; kk < S; ++kk, r += NR)
+          for (int c3 = 0; c3 < 3; ++c3) r[c3] += w[2][kk] * a[c3];
+      }
   }
 }
 

@@ -73,6 +73,16 @@ class PairPenalty {
   // holds those of thread t > 0.
   std::vector<double> force_;
   std::vector<std::vector<double>> reaction_;
+  // Pairs in contact found by each thread: slots of p and q, normal n (3),
+  // force magnitude; the field velocities (3 per slot) of the points in a
+  // pair, each computed once (need_ marks them).
+  struct Contact {
+    std::uint32_t sp, sq;
+    double n[3], fn;
+  };
+  std::vector<std::vector<Contact>> contacts_;
+  std::vector<double> vfield_;
+  std::vector<std::uint8_t> need_;
   std::vector<PenaltyTally> thread_;                 // per thread
   std::vector<std::vector<std::array<std::uint32_t, 2>>> pairs_;  // per thread: pairs in contact (p of body 0)
   std::vector<double> friction_;                     // per thread (stride 8): friction work
