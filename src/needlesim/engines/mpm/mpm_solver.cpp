@@ -656,6 +656,7 @@ MPM_CLONES void MpmSolver::p2g() {
   double* __restrict rec = B.rec.data();
   double* __restrict grad = B.grad.data();  // two bodies
   std::uint8_t* __restrict nearPoint = nearPoint_.data();  // two bodies
+  const bool centroid = !penalty_;  // the velocity contact's gap rule reads the mass-weighted positions
   const std::uint32_t* __restrict order = order_.data();
   const std::uint64_t* nearRows = near_.data();
   const std::size_t nearW = nearW_;
@@ -712,12 +713,13 @@ MPM_CLONES void MpmSolver::p2g() {
             const A4 b2 = {z0, z0, m * wij, z0};
             const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
             double* __restrict g = grad + 8 * node;
-            for (int k = 0; k < S; ++k, r += NR, g += 8) {
+            for (int k = 0; k < S; ++k, r += NR) {
               add(r, wz[k] * a0);
               add(r + 4, wz[k] * a1 + dz[k] * b1);
-              add(g, wz[k] * a2 + dz[k] * b2);
-              add(g + 4, wz[k] * a3);
+              add(g + 8 * k, wz[k] * a2 + dz[k] * b2);
             }
+            if (centroid)
+              for (int k = 0; k < S; ++k) add(g + 8 * k + 4, wz[k] * a3);
           } else {
             for (int k = 0; k < S; ++k, r += NR) {
               add(r, wz[k] * a0);

@@ -216,7 +216,7 @@ class MpmSolver {
   // body (p2g), so the scatter of all other points touches half the memory.
   struct Buf {
     grid::LineVector<double> rec;   // nr_ per node per body (64-byte aligned records)
-    grid::LineVector<double> grad;  // two bodies: 8 per node per body (grid::kG, grid::kX)
+    grid::LineVector<double> grad;  // two bodies: 8 per node per body (grid::kG; grid::kX velocity contact only)
     std::vector<double> gmin;      // per node per rigid
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])
