@@ -328,30 +328,36 @@ void MpmSolver::penaltyForces() {
     P.tally_.pairs += t.pairs;
     P.tally_.close += t.close;
   }
-  // Scatter f_I += N_Ip f_p into each point's own body (serial: a thin shell).
+  // Scatter f_I += N_Ip f_p into each point's own body (a thin shell): the
+  // body-0 slots [0, first1) touch only body 0's records, the body-1 slots
+  // only body 1's, so two threads scatter one body each.
   const bool bspline = cfg_.shape != Shape::Linear;
   double* rec = buf_[0].rec.data();
-  for (std::size_t a = 0; a < nc; ++a) {
-    const double* f = &P.force_[3 * a];
-    if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
-    const std::size_t p = P.items_[a];
-    const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
-    const Support su = support(bspline, xs);
-    const int S = su.S;
-    const auto& base = su.base;
-    const auto& w = su.w;
-    const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-    for (int i = 0; i < S; ++i)
-      for (int j = 0; j < S; ++j) {
-        const double wij = w[0][i] * w[1][j];
-        const double a[3] = {wij * f[0], wij * f[1], wij * f[2]};
-        double* r = rec + NR * (off + (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) *
-                                          n2 +
-                               static_cast<std::size_t>(base[2])) +
-                    kF;
-        for (int kk = 0; kk < S; ++kk, r += NR)
-          for (int c3 = 0; c3 < 3; ++c3) r[c3] += w[2][kk] * a[c3];
-      }
+#pragma omp parallel for num_threads(std::min(nthreads_, 2)) schedule(static, 1)
+  for (int body = 0; body < 2; ++body) {
+    const std::size_t s0 = body == 0 ? 0 : first1, s1 = body == 0 ? first1 : nc;
+    const std::size_t off = static_cast<std::size_t>(body) * nodes_;
+    for (std::size_t a = s0; a < s1; ++a) {
+      const double* f = &P.force_[3 * a];
+      if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+      const std::size_t p = P.items_[a];
+      const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
+      const Support su = support(bspline, xs);
+      const int S = su.S;
+      const auto& base = su.base;
+      const auto& w = su.w;
+      for (int i = 0; i < S; ++i)
+        for (int j = 0; j < S; ++j) {
+          const double wij = w[0][i] * w[1][j];
+          const double fa[3] = {wij * f[0], wij * f[1], wij * f[2]};
+          double* r = rec +
+                      NR * (off + (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
+                            static_cast<std::size_t>(base[2])) +
+                      kF;
+          for (int kk = 0; kk < S; ++kk, r += NR)
+            for (int c3 = 0; c3 < 3; ++c3) r[c3] += w[2][kk] * fa[c3];
+        }
+    }
   }
 }
 
