@@ -49,7 +49,9 @@ PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double re
       omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0),
       thread_(static_cast<std::size_t>(std::max(threads, 1))),
       pairs_(thread_.size()),
-      friction_(8 * thread_.size(), 0.0) {}
+      friction_(8 * thread_.size(), 0.0) {
+  for (double r : radius_) rmax_ = std::max(rmax_, r);
+}
 
 // Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
 // on p); returns the pair's friction work over the step (J). The normal
@@ -192,6 +194,7 @@ void MpmSolver::penaltyForces() {
   P.cand_.clear();
   P.candKey_.clear();
   P.cells0_.clear();
+  P.cells1_.clear();
   P.start_.assign(2 * nodes_ + 1, 0);
   const std::uint8_t* nearPoint = nearPoint_.data();
   for (std::size_t p = 0; p < size(); ++p) {
@@ -201,7 +204,7 @@ void MpmSolver::penaltyForces() {
     const std::size_t key = static_cast<std::size_t>(body_[p]) * nodes_ + c;
     P.cand_.push_back(static_cast<std::uint32_t>(p));
     P.candKey_.push_back(static_cast<std::uint32_t>(key));
-    if (P.start_[key + 1]++ == 0 && key < nodes_) P.cells0_.push_back(static_cast<std::uint32_t>(c));
+    if (P.start_[key + 1]++ == 0) (key < nodes_ ? P.cells0_ : P.cells1_).push_back(static_cast<std::uint32_t>(c));
   }
   for (std::size_t c = 0; c < 2 * nodes_; ++c) P.start_[c + 1] += P.start_[c];
   const std::size_t nc = P.cand_.size();
@@ -228,6 +231,9 @@ void MpmSolver::penaltyForces() {
   const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
   const std::size_t ncell = P.cells0_.size();
   for (auto& r : P.reaction_) r.clear();  // a thread that does not run this step adds nothing
+  P.box_.resize(6 * nodes_);
+  double* box = P.box_.data();
+  const std::size_t ncell1 = P.cells1_.size();
 #pragma omp parallel num_threads(nthreads_)
   {
 #ifdef _OPENMP
@@ -241,6 +247,22 @@ void MpmSolver::penaltyForces() {
     Pairs.clear();
     auto& Contacts = P.contacts_[tid];
     Contacts.clear();
+    // Bounding boxes of the body-1 cells: a body-0 point skips a cell farther
+    // than 1.5 (r_p + r_max) along an axis (no pair there passes the distance test).
+#pragma omp for schedule(static)
+    for (std::size_t ic = 0; ic < ncell1; ++ic) {
+      const std::size_t c = P.cells1_[ic];
+      double* bx = box + 6 * c;
+      for (int d = 0; d < 3; ++d) {
+        bx[d] = std::numeric_limits<double>::infinity();
+        bx[3 + d] = -std::numeric_limits<double>::infinity();
+      }
+      for (std::uint32_t s = P.start_[nodes_ + c]; s < P.start_[nodes_ + c + 1]; ++s)
+        for (int d = 0; d < 3; ++d) {
+          bx[d] = std::min(bx[d], P_[P.items_[s]].x[d]);
+          bx[3 + d] = std::max(bx[3 + d], P_[P.items_[s]].x[d]);
+        }
+    }
     // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
     double* react = P.force_.data();
     if (tid > 0) {
@@ -254,6 +276,7 @@ void MpmSolver::penaltyForces() {
                                static_cast<long long>(c0 % n2)};
       // The occupied body-1 cells among the 27 around c0 (slot ranges).
       std::uint32_t lo[27], hi[27];
+      const double* bb[27];
       int nb = 0;
       for (long long i = std::max(0LL, ci[0] - 1); i <= std::min(lim[0] - 1, ci[0] + 1); ++i)
         for (long long j = std::max(0LL, ci[1] - 1); j <= std::min(lim[1] - 1, ci[1] + 1); ++j)
@@ -263,12 +286,19 @@ void MpmSolver::penaltyForces() {
             if (P.start_[c] == P.start_[c + 1]) continue;
             lo[nb] = P.start_[c];
             hi[nb] = P.start_[c + 1];
+            bb[nb] = box + 6 * (c - nodes_);
             ++nb;
           }
       if (nb == 0) continue;
       for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
         const std::size_t p = P.items_[sp];
-        for (int b = 0; b < nb; ++b)
+        const double reach = 1.5 * (P.radius_[p] + P.rmax_) * (1 + 1e-12);
+        const double* xp = P_[p].x;
+        for (int b = 0; b < nb; ++b) {
+          const double* bx = bb[b];
+          if (xp[0] < bx[0] - reach || xp[0] > bx[3] + reach || xp[1] < bx[1] - reach || xp[1] > bx[4] + reach ||
+              xp[2] < bx[2] - reach || xp[2] > bx[5] + reach)
+            continue;
           for (std::uint32_t sq = lo[b]; sq < hi[b]; ++sq) {
             const std::size_t q = P.items_[sq];
             const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
@@ -294,6 +324,7 @@ void MpmSolver::penaltyForces() {
               __atomic_store_n(need + sq, std::uint8_t{1}, __ATOMIC_RELAXED);
             }
           }
+        }
       }
     }
     // Field velocity of each point in a pair, once (after the barrier of the search).

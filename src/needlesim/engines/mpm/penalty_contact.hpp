@@ -67,7 +67,9 @@ class PairPenalty {
   // Cell lists (CSR, key body * nodes + cell) of the candidate points: start_,
   // items_; cand_ and candKey_ the candidates with their keys, cells0_ the
   // cells that hold candidates of body 0 (the pair search visits these).
-  std::vector<std::uint32_t> start_, items_, cand_, candKey_, cursor_, cells0_;
+  std::vector<std::uint32_t> start_, items_, cand_, candKey_, cursor_, cells0_, cells1_;
+  std::vector<double> box_;  // 6 per cell (body-1 cells with candidates): bounding box of their points, lo (3), hi (3)
+  double rmax_ = 0.0;        // largest radius
   // 3 per item slot of items_: the pair forces (body-0 slots from the thread
   // that owns the cell, body-1 slots the reactions of thread 0); reaction_[t]
   // holds those of thread t > 0.
