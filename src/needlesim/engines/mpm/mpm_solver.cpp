@@ -693,7 +693,6 @@ MPM_CLONES void MpmSolver::p2g() {
                                 static_cast<std::size_t>((xp[1] - oy) * invh);
         const auto k = static_cast<std::size_t>((xp[2] - oz) * invh);
         needG = (nearRows[(2 * row + 1 - body_[p]) * nearW + k / 64] >> (k % 64)) & 1;
-        nearPoint[p] = needG;  // the penalty contact's candidates (penaltyForces)
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
@@ -711,15 +710,17 @@ MPM_CLONES void MpmSolver::p2g() {
             // gradient record: mass gradient (3), mass-weighted position (3)
             const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
             const A4 b2 = {z0, z0, m * wij, z0};
-            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
             double* __restrict g = grad + 8 * node;
-            for (int k = 0; k < S; ++k, r += NR) {
+            for (int k = 0; k < S; ++k, r += NR, g += 8) {
               add(r, wz[k] * a0);
               add(r + 4, wz[k] * a1 + dz[k] * b1);
-              add(g + 8 * k, wz[k] * a2 + dz[k] * b2);
+              add(g, wz[k] * a2 + dz[k] * b2);
             }
-            if (centroid)
-              for (int k = 0; k < S; ++k) add(g + 8 * k + 4, wz[k] * a3);
+            if (centroid) {
+              const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
+              g -= 8 * S;
+              for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
+            }
           } else {
             for (int k = 0; k < S; ++k, r += NR) {
               add(r, wz[k] * a0);
@@ -727,6 +728,7 @@ MPM_CLONES void MpmSolver::p2g() {
             }
           }
         }
+      if constexpr (Grad) nearPoint[p] = needG;  // the penalty contact's candidates (penaltyForces)
       // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
       for (int r = 0; r < R; ++r) {
         const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
