@@ -19,21 +19,45 @@ namespace needlesim::mpm {
 
 namespace {
 using grid::kF, grid::kG;  // force lanes of a grid record, mass-gradient lanes of a gradient record (grid_kernels.hpp)
-// Support of a point at xs (in cells from the grid origin): per axis the base
-// node and the weights of the S = 3 (B-spline) or 2 (linear) nodes, from the
-// solver's own shape functions.
-struct Support {
-  int S = 0;
-  int base[3] = {0, 0, 0};
-  double w[3][3] = {};
-};
-inline Support support(bool bspline, const double* xs) {
-  Support s;
-  s.S = bspline ? 3 : 2;
-  double dw[3];
-  for (int d = 0; d < 3; ++d)
-    s.base[d] = bspline ? grid::weights<3>(xs[d], 1.0, s.w[d], dw) : grid::weights<2>(xs[d], 1.0, s.w[d], dw);
-  return s;
+// f_I += N_Ip f (force lanes) at the nodes of a point at xs (in cells) in the
+// records of its body (off = body * nodes), S = 3 (B-spline) or 2 (linear).
+template <int S>
+inline void scatterForce(const double* xs, const double* f, double* rec, std::size_t NR, std::size_t off,
+                         std::size_t n1, std::size_t n2) {
+  double w[3][S], dw[S];
+  int base[3];
+  for (int d = 0; d < 3; ++d) base[d] = grid::weights<S>(xs[d], 1.0, w[d], dw);
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j) {
+      const double wij = w[0][i] * w[1][j];
+      const double fa[3] = {wij * f[0], wij * f[1], wij * f[2]};
+      double* r = rec +
+                  NR * (off + (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
+                        static_cast<std::size_t>(base[2])) +
+                  kF;
+      for (int k = 0; k < S; ++k, r += NR)
+        for (int c = 0; c < 3; ++c) r[c] += w[2][k] * fa[c];
+    }
+}
+// sum_I N_I p_I / m_I over the nodes with mass of a point at xs (in cells),
+// records of its body (off = body * nodes).
+template <int S>
+inline void gatherVelocity(const double* xs, const double* rec, std::size_t NR, std::size_t off, std::size_t n1,
+                           std::size_t n2, double* v) {
+  double w[3][S], dw[S];
+  int base[3];
+  for (int d = 0; d < 3; ++d) base[d] = grid::weights<S>(xs[d], 1.0, w[d], dw);
+  v[0] = v[1] = v[2] = 0.0;
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j)
+      for (int k = 0; k < S; ++k) {
+        const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
+                              static_cast<std::size_t>(base[2] + k);
+        const double* r = rec + NR * (off + I);
+        if (!(r[0] > 0.0)) continue;
+        const double wn = w[0][i] * w[1][j] * w[2][k] / r[0];
+        for (int c = 0; c < 3; ++c) v[c] += wn * r[1 + c];
+      }
 }
 }  // namespace
 
@@ -122,22 +146,11 @@ void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, 
   const double xs[3] = {(P_[p].x[0] - cfg_.origin.x()) * invh, (P_[p].x[1] - cfg_.origin.y()) * invh,
                         (P_[p].x[2] - cfg_.origin.z()) * invh};
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  const Support su = support(cfg_.shape != Shape::Linear, xs);
-  const int S = su.S;
-  const auto& base = su.base;
-  const auto& w = su.w;
   const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-  v[0] = v[1] = v[2] = 0.0;
-  for (int i = 0; i < S; ++i)
-    for (int j = 0; j < S; ++j)
-      for (int k = 0; k < S; ++k) {
-        const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
-                              static_cast<std::size_t>(base[2] + k);
-        const double* r = rec + NR * (off + I);
-        if (!(r[0] > 0.0)) continue;
-        const double wn = w[0][i] * w[1][j] * w[2][k] / r[0];
-        for (int c = 0; c < 3; ++c) v[c] += wn * r[1 + c];
-      }
+  if (cfg_.shape != Shape::Linear)
+    gatherVelocity<3>(xs, rec, NR, off, n1, n2, v);
+  else
+    gatherVelocity<2>(xs, rec, NR, off, n1, n2, v);
 }
 
 double PairPenalty::frictionWork() const {
@@ -373,21 +386,10 @@ void MpmSolver::penaltyForces() {
       if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
       const std::size_t p = P.items_[a];
       const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
-      const Support su = support(bspline, xs);
-      const int S = su.S;
-      const auto& base = su.base;
-      const auto& w = su.w;
-      for (int i = 0; i < S; ++i)
-        for (int j = 0; j < S; ++j) {
-          const double wij = w[0][i] * w[1][j];
-          const double fa[3] = {wij * f[0], wij * f[1], wij * f[2]};
-          double* r = rec +
-                      NR * (off + (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
-                            static_cast<std::size_t>(base[2])) +
-                      kF;
-          for (int kk = 0; kk < S; ++kk, r += NR)
-            for (int c3 = 0; c3 < 3; ++c3) r[c3] += w[2][kk] * fa[c3];
-        }
+      if (bspline)
+        scatterForce<3>(xs, f, rec, NR, off, n1, n2);
+      else
+        scatterForce<2>(xs, f, rec, NR, off, n1, n2);
     }
   }
 }
