@@ -33,6 +33,11 @@ struct LineAllocator {
 template <class T>
 using LineVector = std::vector<T, LineAllocator<T>>;
 
+// Cell of a coordinate xi >= 0 (in cells from the grid origin; points lie
+// inside the grid): through int, one instruction (double to size_t is a
+// branchy sequence on x86-64 without AVX-512).
+inline std::size_t cellOf(double xi) { return static_cast<std::size_t>(static_cast<int>(xi)); }
+
 // Shape functions along one axis: base node index, weights and derivatives.
 // xi >= 0 inside the grid (finalize and g2pFinal check it), so truncation is
 // the floor (std::floor is a library call without SSE4.1).

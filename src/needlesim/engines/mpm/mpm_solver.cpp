@@ -587,9 +587,8 @@ void MpmSolver::markNearBodies() {
     for (std::size_t w = 0; w < words; ++w) a[w] = 0;
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < np; ++p) {
-      const std::size_t row = static_cast<std::size_t>((P_[p].x[0] - ox) * invh) * n1 +
-                              static_cast<std::size_t>((P_[p].x[1] - oy) * invh);
-      const auto k = static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
+      const std::size_t row = grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh);
+      const std::size_t k = grid::cellOf((P_[p].x[2] - oz) * invh);
       std::uint64_t* w = a + row * rw + body_[p] * W + k / 64;
       const std::uint64_t bit = std::uint64_t{1} << (k % 64);
       // Threads may mark the same word: an atomic OR, skipped when already set.
@@ -689,9 +688,8 @@ MPM_CLONES void MpmSolver::p2g() {
       // bodies reach, i.e. for points with the other body within 3 cells.
       bool needG = false;
       if constexpr (Grad) {
-        const std::size_t row = static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
-                                static_cast<std::size_t>((xp[1] - oy) * invh);
-        const auto k = static_cast<std::size_t>((xp[2] - oz) * invh);
+        const std::size_t row = grid::cellOf((xp[0] - ox) * invh) * n1 + grid::cellOf((xp[1] - oy) * invh);
+        const std::size_t k = grid::cellOf((xp[2] - oz) * invh);
         needG = (nearRows[(2 * row + 1 - body_[p]) * nearW + k / 64] >> (k % 64)) & 1;
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;

@@ -198,9 +198,8 @@ void MpmSolver::penaltyForces() {
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   auto cellOf = [&](std::size_t p) {
-    return (static_cast<std::size_t>((P_[p].x[0] - ox) * invh) * n1 + static_cast<std::size_t>((P_[p].x[1] - oy) * invh)) *
-               n2 +
-           static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
+    return (grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh)) * n2 +
+           grid::cellOf((P_[p].x[2] - oz) * invh);
   };
   // Cell lists of the candidates (counting sort, serial), per body and cell
   // (key body * nodes + cell), so a point scans only the other body's points.
