@@ -276,10 +276,13 @@ void MpmSolver::penaltyForces() {
         }
     }
     // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
+    // (slot s at react[3 (s - reactFrom)]).
     double* react = P.force_.data();
+    std::size_t reactFrom = 0;
     if (tid > 0) {
       P.reaction_[tid].assign(3 * (nc - first1), 0.0);
-      react = P.reaction_[tid].data() - 3 * first1;
+      react = P.reaction_[tid].data();
+      reactFrom = first1;
     }
 #pragma omp for schedule(static)
     for (std::size_t ic = 0; ic < ncell; ++ic) {
@@ -352,7 +355,7 @@ void MpmSolver::penaltyForces() {
       if (mu > 0.0) W += pairFriction(p, q, C.n, C.fn, mu, dt, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], fp);
       for (int c3 = 0; c3 < 3; ++c3) {
         P.force_[3 * C.sp + c3] += fp[c3];
-        react[3 * C.sq + c3] -= fp[c3];
+        react[3 * (C.sq - reactFrom) + c3] -= fp[c3];
       }
     }
 #pragma omp barrier
