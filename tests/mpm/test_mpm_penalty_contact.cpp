@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <cstdio>
+#include <utility>
+#include <vector>
 
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 #include "mpm_test_materials.hpp"
@@ -187,4 +189,65 @@ TEST(MpmPenaltyContact, LongCollisionDriftUnderRefinement) {
               100 * c.drift, c.final, c.restitution, c.penetration / 0.5e-3, c.steps);
   EXPECT_LT(c.drift, 0.02);
   EXPECT_LT(c.penetration, 0.2 * 0.5e-3);
+}
+
+// The pair search visits each pair once, from the cell of its body-0 point,
+// and gives the partner the opposite force (penalty_contact.cpp). Against a
+// brute-force O(n^2) search over all points of two overlapping blocks on
+// different, offset lattices (different radii; pairs across cell faces in
+// all directions): the same pairs (the stored energy of the pairs in contact
+// at the step's start, evaluated at its end, and the largest overlap, to
+// round-off), and the forces act on both bodies (momentum of the initially
+// resting pair stays zero while each body gains some).
+TEST(MpmPenaltyContact, PairSearchMatchesBruteForce) {
+  MpmConfig cfg;
+  cfg.h = 1e-3;
+  cfg.origin = Vec3(-4e-3, -4e-3, -4e-3);
+  cfg.cells = {14, 12, 12};
+  cfg.bodies = 2;
+  cfg.friction = 0.3;
+  cfg.threads = 1;
+  MpmSolver s(cfg);
+  const double E = 1e5, nu = 0.3;
+  s.addMaterial(linearMaterial(E, nu, 1000));
+  s.addBlock(Vec3(0, 0, 0), Vec3(3e-3, 3e-3, 3e-3), 0.5e-3, 0, 0);
+  // 0.4 mm lattice, shifted off the first one and overlapping it by ~0.3 mm along x.
+  s.addBlock(Vec3(2.7e-3, 0.13e-3, -0.21e-3), Vec3(5.9e-3, 3.33e-3, 2.99e-3), 0.4e-3, 0, 1);
+  s.finalize();
+  const std::size_t n = s.size();
+  std::vector<Vec3> x0(n);
+  std::vector<double> rad(n);
+  for (std::size_t p = 0; p < n; ++p) {
+    x0[p] = s.position(p);
+    rad[p] = 0.5 * std::cbrt(s.volume0(p));
+  }
+  std::vector<std::pair<std::size_t, std::size_t>> pairs;
+  double deltaMax = 0;
+  for (std::size_t p = 0; p < n; ++p)
+    for (std::size_t q = 0; q < n; ++q) {
+      if (s.body(p) != 0 || s.body(q) != 1) continue;
+      const double delta = rad[p] + rad[q] - (x0[p] - x0[q]).norm();
+      if (delta <= 0) continue;
+      pairs.emplace_back(p, q);
+      deltaMax = std::max(deltaMax, delta);
+    }
+  ASSERT_GT(pairs.size(), 100u);
+  const StepReport r = s.step();
+  // Pair stiffness kappa M d_p (penalty_contact.hpp), M = K + 4/3 mu of the St Venant-Kirchhoff law.
+  const double M = E / (3 * (1 - 2 * nu)) + 4.0 / 3.0 * E / (2 * (1 + nu));
+  const double k = cfg.penaltyFactor * M * s.particleSpacing();
+  double energy = 0;
+  for (const auto& [p, q] : pairs) {
+    const double delta = rad[p] + rad[q] - (s.position(p) - s.position(q)).norm();
+    if (delta > 0) energy += 0.5 * k * delta * delta;
+  }
+  std::printf("pair search: %zu pairs, energy %.6e J (brute force %.6e J), overlap %.4e m (%.4e m)\n", pairs.size(),
+              r.contact, energy, r.penetration, deltaMax);
+  EXPECT_NEAR(r.contact, energy, 1e-12 * energy);
+  EXPECT_NEAR(r.penetration, deltaMax, 1e-15);
+  Vec3 mom[2] = {Vec3::Zero(), Vec3::Zero()};
+  for (std::size_t p = 0; p < n; ++p) mom[s.body(p)] += s.mass(p) * s.velocity(p);
+  EXPECT_LT(mom[0].x(), 0.0);  // pushed apart along x
+  EXPECT_GT(mom[1].x(), 0.0);
+  EXPECT_LT((mom[0] + mom[1]).norm(), 1e-12 * mom[1].norm());
 }

@@ -9,9 +9,12 @@
 
 namespace needlesim::mpm::grid {
 
-// Offsets in a grid record (MpmSolver::Buf): mass, momentum (3), force (3),
-// and for two bodies the mass gradient (3) and mass-weighted position (3).
-constexpr std::size_t kM = 0, kP = 1, kF = 4, kG = 8, kX = 11;
+// Offsets in a grid record (MpmSolver::Buf::rec, 8 doubles): mass, momentum
+// (3), force (3), pad.
+constexpr std::size_t kM = 0, kP = 1, kF = 4;
+// Two bodies, offsets in a gradient record (MpmSolver::Buf::grad, 8 doubles):
+// mass gradient (3), mass-weighted position (3), pad (2).
+constexpr std::size_t kG = 0, kX = 3;
 
 // Allocator on cache-line boundaries: a 64-byte grid record then never
 // straddles two lines, so its 32-byte vector loads and stores stay within one
@@ -29,6 +32,11 @@ struct LineAllocator {
 };
 template <class T>
 using LineVector = std::vector<T, LineAllocator<T>>;
+
+// Cell of a coordinate xi >= 0 (in cells from the grid origin; points lie
+// inside the grid): through int, one instruction (double to size_t is a
+// branchy sequence on x86-64 without AVX-512).
+inline std::size_t cellOf(double xi) { return static_cast<std::size_t>(static_cast<int>(xi)); }
 
 // Shape functions along one axis: base node index, weights and derivatives.
 // xi >= 0 inside the grid (finalize and g2pFinal check it), so truncation is

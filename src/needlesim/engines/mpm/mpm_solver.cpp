@@ -228,12 +228,14 @@ void MpmSolver::pushParticle(const Vec3& x, const Vec3& v, double mass, double v
 void MpmSolver::finalize() {
   const int B = cfg_.bodies;
   const std::size_t R = rigids_.size();
-  nr_ = B > 1 ? 16 : 8;
+  nr_ = 8;
   buf_.resize(1);
   for (auto& b : buf_) {
     b.rec.assign(static_cast<std::size_t>(nr_) * B * nodes_, 0.0);
+    b.grad.assign(B > 1 ? 8 * 2 * nodes_ : 0, 0.0);
     b.gmin.assign(R * nodes_, kInf);
   }
+  nearPoint_.assign(B > 1 ? size() : 0, 0);
   vel_.assign(8 * B * nodes_, 0.0);
   gridClean_ = true;
   order_.resize(size());
@@ -461,6 +463,7 @@ void MpmSolver::zeroGrid(int t, int T) {
     std::fill(v.begin() + static_cast<std::ptrdiff_t>(a), v.begin() + static_cast<std::ptrdiff_t>(e), x);
   };
   part(b.rec, 0.0);  // gmin: reset by gridUpdate, its only reader
+  part(b.grad, 0.0);
 }
 
 // Slabs of one parity must touch disjoint node layers: a point with base
@@ -565,9 +568,8 @@ void MpmSolver::markNearBodies() {
     for (std::size_t w = 0; w < words; ++w) a[w] = 0;
 #pragma omp for schedule(static)
     for (std::size_t p = 0; p < np; ++p) {
-      const std::size_t row = static_cast<std::size_t>((P_[p].x[0] - ox) * invh) * n1 +
-                              static_cast<std::size_t>((P_[p].x[1] - oy) * invh);
-      const auto k = static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
+      const std::size_t row = grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh);
+      const std::size_t k = grid::cellOf((P_[p].x[2] - oz) * invh);
       std::uint64_t* w = a + row * rw + body_[p] * W + k / 64;
       const std::uint64_t bit = std::uint64_t{1} << (k % 64);
       // Threads may mark the same word: an atomic OR, skipped when already set.
@@ -612,7 +614,7 @@ void MpmSolver::markNearBodies() {
 // is a fixed-length vector update of one cache line.
 template <int S, bool Grad>
 MPM_CLONES void MpmSolver::p2g() {
-  constexpr std::size_t NR = Grad ? 16 : 8;
+  constexpr std::size_t NR = 8;
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
@@ -632,6 +634,9 @@ MPM_CLONES void MpmSolver::p2g() {
   }
   Buf& B = buf_[0];
   double* __restrict rec = B.rec.data();
+  double* __restrict grad = B.grad.data();  // two bodies
+  std::uint8_t* __restrict nearPoint = nearPoint_.data();  // two bodies
+  const bool centroid = !penalty_;  // the velocity contact's gap rule reads the mass-weighted positions
   const std::uint32_t* __restrict order = order_.data();
   const std::uint64_t* nearRows = near_.data();
   const std::size_t nearW = nearW_;
@@ -664,9 +669,8 @@ MPM_CLONES void MpmSolver::p2g() {
       // bodies reach, i.e. for points with the other body within 3 cells.
       bool needG = false;
       if constexpr (Grad) {
-        const std::size_t row = static_cast<std::size_t>((xp[0] - ox) * invh) * n1 +
-                                static_cast<std::size_t>((xp[1] - oy) * invh);
-        const auto k = static_cast<std::size_t>((xp[2] - oz) * invh);
+        const std::size_t row = grid::cellOf((xp[0] - ox) * invh) * n1 + grid::cellOf((xp[1] - oy) * invh);
+        const std::size_t k = grid::cellOf((xp[2] - oz) * invh);
         needG = (nearRows[(2 * row + 1 - body_[p]) * nearW + k / 64] >> (k % 64)) & 1;
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
@@ -674,21 +678,27 @@ MPM_CLONES void MpmSolver::p2g() {
         for (int j = 0; j < S; ++j) {
           const double wij = wx[i] * wy[j];
           const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
-          double* __restrict r = rec + NR * (off + (static_cast<std::size_t>(bx + i) * n1 +
-                                                    static_cast<std::size_t>(by + j)) * n2 +
-                                             static_cast<std::size_t>(bz));
+          const std::size_t node = off + (static_cast<std::size_t>(bx + i) * n1 +
+                                          static_cast<std::size_t>(by + j)) * n2 +
+                                   static_cast<std::size_t>(bz);
+          double* __restrict r = rec + NR * node;
           const A4 a0 = wij * q;
           const A4 a1 = gxij * S0 + gyij * S1;
           const A4 b1 = wij * S2;
           if (Grad && needG) {
+            // gradient record: mass gradient (3), mass-weighted position (3)
             const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
             const A4 b2 = {z0, z0, m * wij, z0};
-            const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
-            for (int k = 0; k < S; ++k, r += NR) {
+            double* __restrict g = grad + 8 * node;
+            for (int k = 0; k < S; ++k, r += NR, g += 8) {
               add(r, wz[k] * a0);
               add(r + 4, wz[k] * a1 + dz[k] * b1);
-              add(r + 8, wz[k] * a2 + dz[k] * b2);
-              add(r + 12, wz[k] * a3);
+              add(g, wz[k] * a2 + dz[k] * b2);
+            }
+            if (centroid) {
+              const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
+              g -= 8 * S;
+              for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
             }
           } else {
             for (int k = 0; k < S; ++k, r += NR) {
@@ -697,6 +707,7 @@ MPM_CLONES void MpmSolver::p2g() {
             }
           }
         }
+      if constexpr (Grad) nearPoint[p] = needG;  // the penalty contact's candidates (penaltyForces)
       // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
       for (int r = 0; r < R; ++r) {
         const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
@@ -839,8 +850,8 @@ void MpmSolver::gridUpdate() {
         continue;
       }
       if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
-        pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.rec[NR * I + kG],
-                    &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap,
+        pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.grad[8 * I + kG],
+                    &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX], pairGap,
                     nodePosition(I), est, cfg_.h);
       if (R > 0) {
         const int i = static_cast<int>(I / (static_cast<std::size_t>(nn_[1]) * nn_[2]));
@@ -1142,8 +1153,8 @@ void MpmSolver::remapUpdate(bool clear) {
       for (int c = 0; c < 3; ++c) vel_[8 * J + 4 + c] = m > 0 ? r[kP + c] / m : 0.0;
     }
     if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: the forces acted once, in f_I
-      pairContact(mb[0], mb[1], &vel_[8 * I + 4], &vel_[8 * (nodes_ + I) + 4], &G.rec[NR * I + kG],
-                  &G.rec[NR * (nodes_ + I) + kG], mu, &G.rec[NR * I + kX], &G.rec[NR * (nodes_ + I) + kX], pairGap,
+      pairContact(mb[0], mb[1], &vel_[8 * I + 4], &vel_[8 * (nodes_ + I) + 4], &G.grad[8 * I + kG],
+                  &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX], pairGap,
                   nodePosition(I), est, cfg_.h);
     for (std::size_t r = 0; r < R; ++r) {
       if (!(active_[r * nodes_ + I] & 2)) continue;
@@ -1163,7 +1174,10 @@ void MpmSolver::remapUpdate(bool clear) {
     // they are in cache (a record without mass holds only zeros already).
     if (clear)
       for (int b = 0; b < B; ++b)
-        if (mb[b] > 0) std::fill_n(&G.rec[NR * (static_cast<std::size_t>(b) * nodes_ + I)], NR, 0.0);
+        if (mb[b] > 0) {
+          std::fill_n(&G.rec[NR * (static_cast<std::size_t>(b) * nodes_ + I)], NR, 0.0);
+          if (B > 1) std::fill_n(&G.grad[8 * (static_cast<std::size_t>(b) * nodes_ + I)], 8, 0.0);
+        }
   }
   if (clear) gridClean_ = true;
 }

@@ -169,7 +169,7 @@ class MpmSolver {
   void penaltyForces();           // penalty_contact.cpp
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
   double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
-                      const double* rec, std::size_t NR, double* f) const;  // penalty_contact.cpp
+                      const double* vp, const double* vq, double* f) const;  // penalty_contact.cpp
   void fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const;  // penalty_contact.cpp
   void remapUpdate(bool clear);
   void zeroGrid(int t, int T);
@@ -209,11 +209,14 @@ class MpmSolver {
   int nn_[3] = {0, 0, 0};
   std::size_t nodes_ = 0;
   int nthreads_ = 1;
-  // Grid record of one node of one body, nr_ doubles (one cache line for one
-  // body): mass, momentum (3), force (3), pad; two bodies add the mass
-  // gradient (3) and the mass-weighted position (3), pad (2).
+  // Grid record of one node of one body, nr_ = 8 doubles (one cache line):
+  // mass, momentum (3), force (3), pad. Two bodies keep the mass gradient (3)
+  // and the mass-weighted position (3), pad (2) in a second array of 8
+  // doubles per node per body, written only by the points near the other
+  // body (p2g), so the scatter of all other points touches half the memory.
   struct Buf {
-    grid::LineVector<double> rec;  // nr_ per node per body (64-byte aligned records)
+    grid::LineVector<double> rec;   // nr_ per node per body (64-byte aligned records)
+    grid::LineVector<double> grad;  // two bodies: 8 per node per body (grid::kG; grid::kX velocity contact only)
     std::vector<double> gmin;      // per node per rigid
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])
@@ -242,6 +245,7 @@ class MpmSolver {
   Vec3 nodePosition(std::size_t I) const;
   std::vector<std::uint64_t> near_, nearTmp_;  // two bodies: per (i, j) row, per body nearW_ words, bit k = body within 3 cells
   std::size_t nearW_ = 1;
+  std::vector<std::uint8_t> nearPoint_; // two bodies: per point, the other body within 3 cells of its cell (p2g)
   std::vector<std::uint32_t> cellOf_;   // F-bar: cell of each particle
   std::vector<double> cellJ_;           // F-bar: per cell sum V0 J, sum V0
   // CFEMP (eqs 22-24): the needle surface triangulated in its own frame (tip at

@@ -18,22 +18,46 @@
 namespace needlesim::mpm {
 
 namespace {
-using grid::kF, grid::kG;  // force and mass-gradient lanes of a grid record (grid_kernels.hpp)
-// Support of a point at xs (in cells from the grid origin): per axis the base
-// node and the weights of the S = 3 (B-spline) or 2 (linear) nodes, from the
-// solver's own shape functions.
-struct Support {
-  int S = 0;
-  int base[3] = {0, 0, 0};
-  double w[3][3] = {};
-};
-inline Support support(bool bspline, const double* xs) {
-  Support s;
-  s.S = bspline ? 3 : 2;
-  double dw[3];
-  for (int d = 0; d < 3; ++d)
-    s.base[d] = bspline ? grid::weights<3>(xs[d], 1.0, s.w[d], dw) : grid::weights<2>(xs[d], 1.0, s.w[d], dw);
-  return s;
+using grid::kF, grid::kG;  // force lanes of a grid record, mass-gradient lanes of a gradient record (grid_kernels.hpp)
+// f_I += N_Ip f (force lanes) at the nodes of a point at xs (in cells) in the
+// records of its body (off = body * nodes), S = 3 (B-spline) or 2 (linear).
+template <int S>
+inline void scatterForce(const double* xs, const double* f, double* rec, std::size_t NR, std::size_t off,
+                         std::size_t n1, std::size_t n2) {
+  double w[3][S], dw[S];
+  int base[3];
+  for (int d = 0; d < 3; ++d) base[d] = grid::weights<S>(xs[d], 1.0, w[d], dw);
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j) {
+      const double wij = w[0][i] * w[1][j];
+      const double fa[3] = {wij * f[0], wij * f[1], wij * f[2]};
+      double* r = rec +
+                  NR * (off + (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
+                        static_cast<std::size_t>(base[2])) +
+                  kF;
+      for (int k = 0; k < S; ++k, r += NR)
+        for (int c = 0; c < 3; ++c) r[c] += w[2][k] * fa[c];
+    }
+}
+// sum_I N_I p_I / m_I over the nodes with mass of a point at xs (in cells),
+// records of its body (off = body * nodes).
+template <int S>
+inline void gatherVelocity(const double* xs, const double* rec, std::size_t NR, std::size_t off, std::size_t n1,
+                           std::size_t n2, double* v) {
+  double w[3][S], dw[S];
+  int base[3];
+  for (int d = 0; d < 3; ++d) base[d] = grid::weights<S>(xs[d], 1.0, w[d], dw);
+  v[0] = v[1] = v[2] = 0.0;
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j)
+      for (int k = 0; k < S; ++k) {
+        const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
+                              static_cast<std::size_t>(base[2] + k);
+        const double* r = rec + NR * (off + I);
+        if (!(r[0] > 0.0)) continue;
+        const double wn = w[0][i] * w[1][j] * w[2][k] / r[0];
+        for (int c = 0; c < 3; ++c) v[c] += wn * r[1 + c];
+      }
 }
 }  // namespace
 
@@ -49,10 +73,12 @@ PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double re
       omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0),
       thread_(static_cast<std::size_t>(std::max(threads, 1))),
       pairs_(thread_.size()),
-      friction_(8 * thread_.size(), 0.0) {}
+      friction_(8 * thread_.size(), 0.0) {
+  for (double r : radius_) rmax_ = std::max(rmax_, r);
+}
 
 // Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
-// on p); returns half the pair's friction work over the step (J). The normal
+// on p); returns the pair's friction work over the step (J). The normal
 // is that of the bodies' surfaces, from the two mass gradients at the node
 // nearest the pair (as the velocity contact, eqs 14-21), not the pair axis n:
 // on two lattices sliding past each other the pair axis tilts by up to
@@ -60,9 +86,10 @@ PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double re
 // impulse. Sticking force m_r |v_t| / dt of the pair (eq 19), limited by mu
 // times the pair force's component along that normal (eqs 20-21).
 double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
-                               const double* rec, std::size_t NR, double* f) const {
+                               const double* vp, const double* vq, double* f) const {
   const double invh = 1.0 / cfg_.h;
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const double* grad = buf_[0].grad.data();
   // Mass gradients of both bodies interpolated (trilinear) at the pair's
   // midpoint: a single node beside the interface would see the two bodies at
   // different depths, and the normal would tilt at the edges of the face.
@@ -83,8 +110,8 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
         const std::size_t I = (static_cast<std::size_t>(b[0] + i) * n1 + static_cast<std::size_t>(b[1] + j)) * n2 +
                               static_cast<std::size_t>(b[2] + k);
         for (int c = 0; c < 3; ++c) {
-          g0[c] += w * rec[NR * I + kG + c];
-          g1[c] += w * rec[NR * (nodes_ + I) + kG + c];
+          g0[c] += w * grad[8 * I + kG + c];
+          g1[c] += w * grad[8 * (nodes_ + I) + kG + c];
         }
       }
   const double a0 = std::sqrt(g0[0] * g0[0] + g0[1] * g0[1] + g0[2] * g0[2]);
@@ -101,10 +128,7 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   // Sliding velocity from each point's own body field on the grid, sum N v_I
   // at the point (the particle velocities carry the FLIP noise of the impact
   // in all directions; a field read at a node off the interface sees the
-  // other depth's lateral expansion).
-  double vp[3], vq[3];
-  fieldVelocity(p, rec, NR, vp);
-  fieldVelocity(q, rec, NR, vq);
+  // other depth's lateral expansion): vp, vq from fieldVelocity.
   double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};
   const double vn = vt[0] * m[0] + vt[1] * m[1] + vt[2] * m[2];
   for (int c = 0; c < 3; ++c) vt[c] -= vn * m[c];
@@ -113,7 +137,7 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
   const double ft = std::min(mu * fN, mr * st / dt);
   for (int c = 0; c < 3; ++c) f[c] -= ft * vt[c] / st;
-  return 0.5 * ft * st * dt;
+  return ft * st * dt;
 }
 
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
@@ -122,22 +146,11 @@ void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, 
   const double xs[3] = {(P_[p].x[0] - cfg_.origin.x()) * invh, (P_[p].x[1] - cfg_.origin.y()) * invh,
                         (P_[p].x[2] - cfg_.origin.z()) * invh};
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  const Support su = support(cfg_.shape != Shape::Linear, xs);
-  const int S = su.S;
-  const auto& base = su.base;
-  const auto& w = su.w;
   const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-  v[0] = v[1] = v[2] = 0.0;
-  for (int i = 0; i < S; ++i)
-    for (int j = 0; j < S; ++j)
-      for (int k = 0; k < S; ++k) {
-        const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
-                              static_cast<std::size_t>(base[2] + k);
-        const double* r = rec + NR * (off + I);
-        if (!(r[0] > 0.0)) continue;
-        const double wn = w[0][i] * w[1][j] * w[2][k] / r[0];
-        for (int c = 0; c < 3; ++c) v[c] += wn * r[1 + c];
-      }
+  if (cfg_.shape != Shape::Linear)
+    gatherVelocity<3>(xs, rec, NR, off, n1, n2, v);
+  else
+    gatherVelocity<2>(xs, rec, NR, off, n1, n2, v);
 }
 
 double PairPenalty::frictionWork() const {
@@ -174,45 +187,65 @@ void MpmSolver::penaltyEnergyAfterStep() {
 // the grid update, MUSL remap and boundary conditions treat them like the
 // internal force. Candidates are the points in cells that both bodies reach
 // within 3 cells (markNearBodies); d_p <= h, so a partner lies in the 27
-// cells around a point's cell.
+// cells around a point's cell. Each pair is visited once, from the cell of
+// its body-0 point: the pair force acts on p and its opposite on q (the
+// normal force, the friction force and the pair's friction work are odd in
+// the exchange p <-> q to the last bit, pairFriction), so the forces equal
+// those of a search from both sides up to the order of the sums.
 void MpmSolver::penaltyForces() {
   PairPenalty& P = *penalty_;
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   auto cellOf = [&](std::size_t p) {
-    return (static_cast<std::size_t>((P_[p].x[0] - ox) * invh) * n1 + static_cast<std::size_t>((P_[p].x[1] - oy) * invh)) *
-               n2 +
-           static_cast<std::size_t>((P_[p].x[2] - oz) * invh);
+    return (grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh)) * n2 +
+           grid::cellOf((P_[p].x[2] - oz) * invh);
   };
-  // Cell lists of the candidates (counting sort, serial).
+  // Cell lists of the candidates (counting sort, serial), per body and cell
+  // (key body * nodes + cell), so a point scans only the other body's points.
   P.cand_.clear();
-  // Lists per body and cell (key body * nodes + cell), so a point scans only
-  // the other body's points.
+  P.candKey_.clear();
+  P.cells0_.clear();
+  P.cells1_.clear();
   P.start_.assign(2 * nodes_ + 1, 0);
+  const std::uint8_t* nearPoint = nearPoint_.data();
   for (std::size_t p = 0; p < size(); ++p) {
+    // both bodies within 3 cells of the point's cell (markNearBodies; p2g marked them)
+    if (!nearPoint[p]) continue;
     const std::size_t c = cellOf(p);
-    // both bodies within 3 cells (markNearBodies: per (i, j) row nearW_ words per body, bit k)
-    const std::size_t row = c / n2, kc = c % n2, w = kc / 64, bit = kc % 64;
-    if (!((near_[(2 * row) * nearW_ + w] >> bit) & (near_[(2 * row + 1) * nearW_ + w] >> bit) & 1u)) continue;
+    const std::size_t key = static_cast<std::size_t>(body_[p]) * nodes_ + c;
     P.cand_.push_back(static_cast<std::uint32_t>(p));
-    ++P.start_[static_cast<std::size_t>(body_[p]) * nodes_ + c + 1];
+    P.candKey_.push_back(static_cast<std::uint32_t>(key));
+    if (P.start_[key + 1]++ == 0) (key < nodes_ ? P.cells0_ : P.cells1_).push_back(static_cast<std::uint32_t>(c));
   }
   for (std::size_t c = 0; c < 2 * nodes_; ++c) P.start_[c + 1] += P.start_[c];
-  P.items_.resize(P.cand_.size());
+  const std::size_t nc = P.cand_.size();
+  P.items_.resize(nc);
   {
     std::vector<std::uint32_t>& fill = P.cursor_;
     fill.assign(P.start_.begin(), P.start_.end() - 1);
-    for (std::uint32_t p : P.cand_) P.items_[fill[static_cast<std::size_t>(body_[p]) * nodes_ + cellOf(p)]++] = p;
+    for (std::size_t a = 0; a < nc; ++a) P.items_[fill[P.candKey_[a]]++] = P.cand_[a];
   }
-  const std::size_t nc = P.cand_.size();
+  // Body-1 items follow all body-0 items: slots [first1, nc).
+  const std::size_t first1 = P.start_[nodes_];
+  const std::size_t nthreads = P.thread_.size();
   P.force_.assign(3 * nc, 0.0);
+  P.reaction_.resize(nthreads);
   for (auto& t : P.thread_) t = PenaltyTally{};
   P.resetFriction();
+  P.contacts_.resize(nthreads);
+  P.vfield_.resize(3 * nc);
+  P.need_.assign(nc, 0);
+  std::uint8_t* need = P.need_.data();
   const double dt = dt_, k = P.k_, mu = cfg_.friction;
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double* rec0 = buf_[0].rec.data();
   const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
+  const std::size_t ncell = P.cells0_.size();
+  for (auto& r : P.reaction_) r.clear();  // a thread that does not run this step adds nothing
+  P.box_.resize(6 * nodes_);
+  double* box = P.box_.data();
+  const std::size_t ncell1 = P.cells1_.size();
 #pragma omp parallel num_threads(nthreads_)
   {
 #ifdef _OPENMP
@@ -224,44 +257,114 @@ void MpmSolver::penaltyForces() {
     double& W = P.friction_[8 * tid];
     auto& Pairs = P.pairs_[tid];
     Pairs.clear();
+    auto& Contacts = P.contacts_[tid];
+    Contacts.clear();
+    // Bounding boxes of the body-1 cells: a body-0 point skips a cell farther
+    // than 1.5 (r_p + r_max) along an axis (no pair there passes the distance test).
 #pragma omp for schedule(static)
-    for (std::size_t a = 0; a < nc; ++a) {
-      const std::size_t p = P.cand_[a];
-      const std::size_t other = static_cast<std::size_t>(1 - body_[p]) * nodes_;
-      const long long ci[3] = {static_cast<long long>((P_[p].x[0] - ox) * invh),
-                               static_cast<long long>((P_[p].x[1] - oy) * invh),
-                               static_cast<long long>((P_[p].x[2] - oz) * invh)};
-      double f[3] = {0, 0, 0};
+    for (std::size_t ic = 0; ic < ncell1; ++ic) {
+      const std::size_t c = P.cells1_[ic];
+      double* bx = box + 6 * c;
+      for (int d = 0; d < 3; ++d) {
+        bx[d] = std::numeric_limits<double>::infinity();
+        bx[3 + d] = -std::numeric_limits<double>::infinity();
+      }
+      for (std::uint32_t s = P.start_[nodes_ + c]; s < P.start_[nodes_ + c + 1]; ++s)
+        for (int d = 0; d < 3; ++d) {
+          bx[d] = std::min(bx[d], P_[P.items_[s]].x[d]);
+          bx[3 + d] = std::max(bx[3 + d], P_[P.items_[s]].x[d]);
+        }
+    }
+    // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
+    // (slot s at react[3 (s - reactFrom)]).
+    double* react = P.force_.data();
+    std::size_t reactFrom = 0;
+    if (tid > 0) {
+      P.reaction_[tid].assign(3 * (nc - first1), 0.0);
+      react = P.reaction_[tid].data();
+      reactFrom = first1;
+    }
+#pragma omp for schedule(static)
+    for (std::size_t ic = 0; ic < ncell; ++ic) {
+      const std::size_t c0 = P.cells0_[ic];
+      const long long ci[3] = {static_cast<long long>(c0 / (n1 * n2)), static_cast<long long>((c0 / n2) % n1),
+                               static_cast<long long>(c0 % n2)};
+      // The occupied body-1 cells among the 27 around c0 (slot ranges).
+      std::uint32_t lo[27], hi[27];
+      const double* bb[27];
+      int nb = 0;
       for (long long i = std::max(0LL, ci[0] - 1); i <= std::min(lim[0] - 1, ci[0] + 1); ++i)
         for (long long j = std::max(0LL, ci[1] - 1); j <= std::min(lim[1] - 1, ci[1] + 1); ++j)
           for (long long kk = std::max(0LL, ci[2] - 1); kk <= std::min(lim[2] - 1, ci[2] + 1); ++kk) {
-            const std::size_t c = other + (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
+            const std::size_t c = nodes_ + (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
                                   static_cast<std::size_t>(kk);
-            for (std::uint32_t s = P.start_[c]; s < P.start_[c + 1]; ++s) {
-              const std::size_t q = P.items_[s];
-              const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
-              const double r2 = dx * dx + dy * dy + dz * dz;
-              const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
-              if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
-              const double r = std::sqrt(r2), delta = d - r;
-              const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
-              if (!(delta > 0.0)) {
-                // Not touching: close if it would within two steps at the
-                // current approach speed (the next step resolves the contact).
-                const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
-                if (-delta < 2.0 * vn * dt) T.close += 1;
-                continue;
-              }
-              const double fn = k * delta;
-              for (int c3 = 0; c3 < 3; ++c3) f[c3] += fn * n[c3];
-              T.energy += 0.5 * P.pairEnergy(delta);  // half of the pair's energy on each side
-              T.penetration = std::max(T.penetration, delta);
-              T.pairs += 1;
-              if (body_[p] == 0) Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
-              if (mu > 0.0) W += pairFriction(p, q, n, fn, mu, dt, rec0, NR, f);
+            if (P.start_[c] == P.start_[c + 1]) continue;
+            lo[nb] = P.start_[c];
+            hi[nb] = P.start_[c + 1];
+            bb[nb] = box + 6 * (c - nodes_);
+            ++nb;
+          }
+      if (nb == 0) continue;
+      for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
+        const std::size_t p = P.items_[sp];
+        const double reach = 1.5 * (P.radius_[p] + P.rmax_) * (1 + 1e-12);
+        const double* xp = P_[p].x;
+        for (int b = 0; b < nb; ++b) {
+          const double* bx = bb[b];
+          if (xp[0] < bx[0] - reach || xp[0] > bx[3] + reach || xp[1] < bx[1] - reach || xp[1] > bx[4] + reach ||
+              xp[2] < bx[2] - reach || xp[2] > bx[5] + reach)
+            continue;
+          for (std::uint32_t sq = lo[b]; sq < hi[b]; ++sq) {
+            const std::size_t q = P.items_[sq];
+            const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
+            const double r2 = dx * dx + dy * dy + dz * dz;
+            const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
+            if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
+            const double r = std::sqrt(r2), delta = d - r;
+            const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
+            if (!(delta > 0.0)) {
+              // Not touching: close if it would within two steps at the
+              // current approach speed (the next step resolves the contact).
+              const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
+              if (-delta < 2.0 * vn * dt) T.close += 1;
+              continue;
+            }
+            T.energy += P.pairEnergy(delta);
+            T.penetration = std::max(T.penetration, delta);
+            T.pairs += 1;
+            Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
+            Contacts.push_back({sp, sq, {n[0], n[1], n[2]}, k * delta});
+            if (mu > 0.0) {  // several threads may mark q: atomic stores of the same value
+              __atomic_store_n(need + sp, std::uint8_t{1}, __ATOMIC_RELAXED);
+              __atomic_store_n(need + sq, std::uint8_t{1}, __ATOMIC_RELAXED);
             }
           }
-      for (int c3 = 0; c3 < 3; ++c3) P.force_[3 * a + c3] = f[c3];
+        }
+      }
+    }
+    // Field velocity of each point in a pair, once (after the barrier of the search).
+    if (mu > 0.0) {
+#pragma omp for schedule(static)
+      for (std::size_t s = 0; s < nc; ++s)
+        if (need[s]) fieldVelocity(P.items_[s], rec0, NR, &P.vfield_[3 * s]);
+    }
+    // Pair forces: fp on p (this thread's cells), -fp on q.
+    for (const PairPenalty::Contact& C : Contacts) {
+      const std::size_t p = P.items_[C.sp], q = P.items_[C.sq];
+      double fp[3] = {C.fn * C.n[0], C.fn * C.n[1], C.fn * C.n[2]};
+      if (mu > 0.0) W += pairFriction(p, q, C.n, C.fn, mu, dt, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], fp);
+      for (int c3 = 0; c3 < 3; ++c3) {
+        P.force_[3 * C.sp + c3] += fp[c3];
+        react[3 * (C.sq - reactFrom) + c3] -= fp[c3];
+      }
+    }
+#pragma omp barrier
+    // Sum the other threads' reactions into force_ (after the barrier of the loop).
+    if (nthreads > 1) {
+#pragma omp for schedule(static)
+      for (std::size_t s = 3 * first1; s < 3 * nc; ++s)
+        for (std::size_t t = 1; t < nthreads; ++t)
+          if (!P.reaction_[t].empty()) P.force_[s] += P.reaction_[t][s - 3 * first1];
     }
   }
   P.tally_ = PenaltyTally{};
@@ -271,30 +374,25 @@ void MpmSolver::penaltyForces() {
     P.tally_.pairs += t.pairs;
     P.tally_.close += t.close;
   }
-  P.tally_.pairs /= 2;
-  // Scatter f_I += N_Ip f_p into each point's own body (serial: a thin shell).
+  // Scatter f_I += N_Ip f_p into each point's own body (a thin shell): the
+  // body-0 slots [0, first1) touch only body 0's records, the body-1 slots
+  // only body 1's, so two threads scatter one body each.
   const bool bspline = cfg_.shape != Shape::Linear;
   double* rec = buf_[0].rec.data();
-  for (std::size_t a = 0; a < nc; ++a) {
-    const double* f = &P.force_[3 * a];
-    if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
-    const std::size_t p = P.cand_[a];
-    const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
-    const Support su = support(bspline, xs);
-    const int S = su.S;
-    const auto& base = su.base;
-    const auto& w = su.w;
-    const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-    for (int i = 0; i < S; ++i)
-      for (int j = 0; j < S; ++j)
-        for (int kk = 0; kk < S; ++kk) {
-          const double wn = w[0][i] * w[1][j] * w[2][kk];
-          const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) *
-                                    n2 +
-                                static_cast<std::size_t>(base[2] + kk);
-          double* r = rec + NR * (off + I) + kF;
-          for (int c3 = 0; c3 < 3; ++c3) r[c3] += wn * f[c3];
-        }
+#pragma omp parallel for num_threads(std::min(nthreads_, 2)) schedule(static, 1)
+  for (int body = 0; body < 2; ++body) {
+    const std::size_t s0 = body == 0 ? 0 : first1, s1 = body == 0 ? first1 : nc;
+    const std::size_t off = static_cast<std::size_t>(body) * nodes_;
+    for (std::size_t a = s0; a < s1; ++a) {
+      const double* f = &P.force_[3 * a];
+      if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+      const std::size_t p = P.items_[a];
+      const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
+      if (bspline)
+        scatterForce<3>(xs, f, rec, NR, off, n1, n2);
+      else
+        scatterForce<2>(xs, f, rec, NR, off, n1, n2);
+    }
   }
 }
 

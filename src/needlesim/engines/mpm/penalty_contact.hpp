@@ -64,8 +64,27 @@ class PairPenalty {
   double k_;
   std::vector<double> radius_;  // per point
   double omega_;
-  std::vector<std::uint32_t> start_, items_, cand_, cursor_;  // cell lists (CSR) of candidate points
-  std::vector<double> force_;                        // 3 per candidate
+  // Cell lists (CSR, key body * nodes + cell) of the candidate points: start_,
+  // items_; cand_ and candKey_ the candidates with their keys, cells0_ the
+  // cells that hold candidates of body 0 (the pair search visits these).
+  std::vector<std::uint32_t> start_, items_, cand_, candKey_, cursor_, cells0_, cells1_;
+  std::vector<double> box_;  // 6 per cell (body-1 cells with candidates): bounding box of their points, lo (3), hi (3)
+  double rmax_ = 0.0;        // largest radius
+  // 3 per item slot of items_: the pair forces (body-0 slots from the thread
+  // that owns the cell, body-1 slots the reactions of thread 0); reaction_[t]
+  // holds those of thread t > 0.
+  std::vector<double> force_;
+  std::vector<std::vector<double>> reaction_;
+  // Pairs in contact found by each thread: slots of p and q, normal n (3),
+  // force magnitude; the field velocities (3 per slot) of the points in a
+  // pair, each computed once (need_ marks them).
+  struct Contact {
+    std::uint32_t sp, sq;
+    double n[3], fn;
+  };
+  std::vector<std::vector<Contact>> contacts_;
+  std::vector<double> vfield_;
+  std::vector<std::uint8_t> need_;
   std::vector<PenaltyTally> thread_;                 // per thread
   std::vector<std::vector<std::array<std::uint32_t, 2>>> pairs_;  // per thread: pairs in contact (p of body 0)
   std::vector<double> friction_;                     // per thread (stride 8): friction work
