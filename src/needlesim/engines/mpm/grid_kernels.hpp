@@ -65,4 +65,21 @@ inline int weights(double xi, double invh, double* w, double* dw) {
   }
 }
 
+// The support of a point: weights and derivatives along each axis and the
+// base node, for the particle passes of mpm_solver.cpp.
+template <int S>
+struct Stencil {
+  double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
+  int bx, by, bz;
+};
+
+template <int S>
+[[gnu::always_inline]] inline Stencil<S> stencil(const double* x, double ox, double oy, double oz, double invh) {
+  Stencil<S> s;
+  s.bx = weights<S>((x[0] - ox) * invh, invh, s.wx, s.dx);
+  s.by = weights<S>((x[1] - oy) * invh, invh, s.wy, s.dy);
+  s.bz = weights<S>((x[2] - oz) * invh, invh, s.wz, s.dz);
+  return s;
+}
+
 }  // namespace needlesim::mpm::grid

@@ -653,10 +653,7 @@ MPM_CLONES void MpmSolver::p2g() {
     const auto [q0, q1] = slabRange(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
-      double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
-      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
-      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
       const double m = P_[p].mass;
       const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
       const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
@@ -1075,10 +1072,7 @@ void MpmSolver::surfaceContact(bool first) {
     int count = 0;
     for (const SurfacePair& pr : pairs_) {
       const std::size_t p = pr.p;
-      double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
-      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
-      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       Vec3 vp = Vec3::Zero();
       double inv = 0.0;  // eq 24: 1/m_p = sum N^2 / m_I
@@ -1204,10 +1198,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
     const auto [q0, q1] = slabRange(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
-      double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
-      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
-      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old
       for (int i = 0; i < S; ++i)
@@ -1302,10 +1293,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     std::size_t nready = 0;
     for (std::size_t qi = c0; qi < c1; ++qi) {
       const std::size_t p = order[qi];
-      double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];
-      const int bx = weights<S>((P_[p].x[0] - ox) * invh, invh, wx, dx);
-      const int by = weights<S>((P_[p].x[1] - oy) * invh, invh, wy, dy);
-      const int bz = weights<S>((P_[p].x[2] - oz) * invh, invh, wz, dz);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
       A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
