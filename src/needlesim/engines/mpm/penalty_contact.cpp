@@ -61,16 +61,16 @@ inline void gatherVelocity(const double* xs, const double* rec, std::size_t NR, 
 }
 }  // namespace
 
-double PairPenalty::stepLimit(double alpha) const {
-  if (!(alpha > 0.0) || tally_.pairs + tally_.close == 0 || !(omega_ > 0.0))
+double PairPenalty::limit(const PenaltyTally& t, double alpha) const {
+  if (!(alpha > 0.0) || t.pairs + t.close == 0 || !(mr_ > 0.0) || !(k_ > 0.0))
     return std::numeric_limits<double>::infinity();
-  return alpha / omega_;
+  return std::min(alpha / std::sqrt(std::max(k_, t.tangent) / mr_), alpha * t.travel);
 }
 
 PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double reducedMass, int threads)
     : k_(stiffness),
       radius_(std::move(radius)),
-      omega_(reducedMass > 0 ? std::sqrt(stiffness / reducedMass) : 0.0),
+      mr_(reducedMass),
       thread_(static_cast<std::size_t>(std::max(threads, 1))),
       pairs_(thread_.size()),
       friction_(8 * thread_.size(), 0.0) {
@@ -161,8 +161,36 @@ double PairPenalty::frictionWork() const {
 
 void PairPenalty::resetFriction() { std::fill(friction_.begin(), friction_.end(), 0.0); }
 
-double PairPenalty::pairEnergy(double delta) const {
-  return 0.5 * k_ * delta * delta;
+// The pair law (penalty_contact.hpp): linear up to the onset delta_s = a d,
+// beyond it the barrier f = k delta (G / r)^m, G = d - delta_s, r = d - delta.
+namespace {
+constexpr double kOnset = 0.3;  // a: the barrier starts at 0.3 d (the block impact stays below it)
+constexpr double kPower = 6.0;  // m: f(d/2) = 3.8 k d, a face pressure 3.8 kappa M held at half a spacing
+}  // namespace
+
+double PairPenalty::pairForce(double delta, double d) const {
+  const double s = kOnset * d;
+  if (delta <= s) return k_ * delta;
+  const double G = d - s, r = d - delta;
+  return k_ * delta * std::pow(G / r, kPower);
+}
+
+double PairPenalty::pairTangent(double delta, double d) const {
+  const double s = kOnset * d;
+  if (delta <= s) return k_;
+  const double G = d - s, r = d - delta, m = kPower;
+  return k_ * std::pow(G / r, m) * (1.0 + m * delta / r);
+}
+
+// U = 1/2 k delta_s^2 + k G^m int_{delta_s}^{delta} y (d - y)^-m dy
+//   = 1/2 k delta_s^2 + k [d G (rho^(m-1) - 1) / (m-1) - G^2 (rho^(m-2) - 1) / (m-2)],
+// rho = G / r (m > 2; expm1/log1p keep the small-overlap differences exact).
+double PairPenalty::pairEnergy(double delta, double d) const {
+  const double s = kOnset * d;
+  if (delta <= s) return 0.5 * k_ * delta * delta;
+  const double G = d - s, r = d - delta, m = kPower;
+  const double l = std::log1p((delta - s) / r);  // log rho
+  return k_ * (0.5 * s * s + d * G * std::expm1((m - 1) * l) / (m - 1) - G * G * std::expm1((m - 2) * l) / (m - 2));
 }
 
 // Stored energy at the positions after the step (the strain energy of the
@@ -170,16 +198,21 @@ double PairPenalty::pairEnergy(double delta) const {
 // start; a pair that came into contact during the step holds O((v dt)^2).
 void MpmSolver::penaltyEnergyAfterStep() {
   PairPenalty& P = *penalty_;
-  double e = 0.0;
+  double e = 0.0, kt = 0.0;
   for (const auto& list : P.pairs_)
     for (const auto& pq : list) {
       const std::size_t p = pq[0], q = pq[1];
       const double d = P.radius_[p] + P.radius_[q];
       const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
       const double delta = d - std::sqrt(dx * dx + dy * dy + dz * dz);
-      if (delta > 0.0) e += P.pairEnergy(delta);
+      if (delta > 0.0 && delta < d) {
+        e += P.pairEnergy(delta, d);
+        kt = std::max(kt, P.pairTangent(delta, d));
+      }
     }
   P.tally_.energy = e;
+  // The next step starts here: its limit follows the stiffer of the two ends.
+  P.tally_.tangent = std::max(P.tally_.tangent, kt);
 }
 
 // Pair forces at the positions of the step's start, added to the reduced grid
@@ -237,7 +270,7 @@ void MpmSolver::penaltyForces() {
   P.vfield_.resize(3 * nc);
   P.need_.assign(nc, 0);
   std::uint8_t* need = P.need_.data();
-  const double dt = dt_, k = P.k_, mu = cfg_.friction;
+  const double dt0 = dt_, mu = cfg_.friction;
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double* rec0 = buf_[0].rec.data();
   const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
@@ -322,18 +355,24 @@ void MpmSolver::penaltyForces() {
             if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
             const double r = std::sqrt(r2), delta = d - r;
             const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
+            // approach speed of the pair (> 0: closing)
+            const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
             if (!(delta > 0.0)) {
               // Not touching: close if it would within two steps at the
               // current approach speed (the next step resolves the contact).
-              const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
-              if (-delta < 2.0 * vn * dt) T.close += 1;
+              if (-delta < 2.0 * vn * dt0) {
+                T.close += 1;
+                T.travel = std::min(T.travel, r / vn);
+              }
               continue;
             }
-            T.energy += P.pairEnergy(delta);
+            if (vn > 0.0) T.travel = std::min(T.travel, r / vn);
+            T.energy += P.pairEnergy(delta, d);
             T.penetration = std::max(T.penetration, delta);
+            T.tangent = std::max(T.tangent, P.pairTangent(delta, d));
             T.pairs += 1;
             Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
-            Contacts.push_back({sp, sq, {n[0], n[1], n[2]}, k * delta});
+            Contacts.push_back({sp, sq, {n[0], n[1], n[2]}, P.pairForce(delta, d)});
             if (mu > 0.0) {  // several threads may mark q: atomic stores of the same value
               __atomic_store_n(need + sp, std::uint8_t{1}, __ATOMIC_RELAXED);
               __atomic_store_n(need + sq, std::uint8_t{1}, __ATOMIC_RELAXED);
@@ -342,6 +381,20 @@ void MpmSolver::penaltyForces() {
         }
       }
     }
+    // The step's own limit (after the barrier of the search): the pairs'
+    // tangent stiffness and approach at its start (PairPenalty::limit).
+#pragma omp single
+    {
+      PenaltyTally all;
+      for (const PenaltyTally& t : P.thread_) {
+        all.pairs += t.pairs;
+        all.close += t.close;
+        all.tangent = std::max(all.tangent, t.tangent);
+        all.travel = std::min(all.travel, t.travel);
+      }
+      if (!(cfg_.fixedTimeStep > 0)) dt_ = std::min(dt_, P.limit(all, cfg_.penaltyStepFactor));
+    }
+    const double dt = dt_;  // the step's (after the barrier of the single)
     // Field velocity of each point in a pair, once (after the barrier of the search).
     if (mu > 0.0) {
 #pragma omp for schedule(static)
@@ -371,6 +424,8 @@ void MpmSolver::penaltyForces() {
   for (const PenaltyTally& t : P.thread_) {
     P.tally_.energy += t.energy;
     P.tally_.penetration = std::max(P.tally_.penetration, t.penetration);
+    P.tally_.tangent = std::max(P.tally_.tangent, t.tangent);
+    P.tally_.travel = std::min(P.tally_.travel, t.travel);
     P.tally_.pairs += t.pairs;
     P.tally_.close += t.close;
   }

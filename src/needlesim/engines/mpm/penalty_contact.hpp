@@ -12,31 +12,46 @@
 // overlap: each point is a sphere of diameter d_p = cbrt(V0) (its spacing),
 // so the bodies touch when their surfaces (d_p/2 outside the outermost
 // points) meet, and a pair p, q at distance r < d = (d_p + d_q)/2 pushes
-// apart with
-//   f = k delta n,  delta = d - r,  n = (x_p - x_q)/r,  k = kappa M d_p,
-// M the largest P-wave modulus K + 4/3 mu of the materials (a point's face
-// d_p^2 pressed by delta feels the pressure of a layer d_p/kappa thick). The
-// pair potential 1/2 k delta^2 is a function of the positions only, the force
-// is its gradient and enters the grid like the internal force (f_I += N_Ip f_p),
-// so its power is exactly sum_p f_p . v_p of the points' grid velocities:
-// the stored energy is returned (energy balance: kinetic + strain + penalty).
+// apart along n = (x_p - x_q)/r with, delta = d - r the overlap,
+//   f = k delta                      for delta <= delta_s = 0.3 d,
+//   f = k delta (G / r)^6, G = d - delta_s,   beyond (barrier),
+// k = kappa M d_p, M the largest P-wave modulus K + 4/3 mu of the materials
+// (a point's face d_p^2 pressed by delta feels the pressure of a layer
+// d_p/kappa thick). The barrier is a departure for robustness: with the
+// linear law alone a face pressure p >= kappa M drove the overlap to d_p and
+// the points passed through each other (two spheres at 2 x 0.5 m/s, Hertz
+// p0 = 0.2 M: drift 13.5 %); with it f(d/2) = 3.8 k d (a pressure 3.8 kappa
+// M held at half a spacing) and f -> infinity only as r -> 0, finite for
+// any r > 0. The flat block impact (overlap 0.29 d) stays in the linear part.
+// f is continuous (its slope steps from k to k (1 + 6 delta_s / G) = 3.6 k at
+// the onset; the step limit follows it) and derives
+// from the pair potential U(delta) = int_0^delta f (closed form, pairEnergy),
+// a function of the positions only; the force enters the grid like the
+// internal force (f_I += N_Ip f_p), so its power is exactly sum_p f_p . v_p of
+// the points' grid velocities: the stored energy is returned (energy
+// balance: kinetic + strain + penalty).
 // Friction on a pair: f_t = -min(mu f_n, m_r |v_t| / dt) v_t / |v_t| (the
 // sticking force of the pair's reduced mass, eq 19, limited by eq 20), with
 // f_n the pair force along the bodies' surface normal (mass gradients at the
 // pair's midpoint) and v_t the sliding velocity of the two grid fields at the
 // two points; it works only while the faces slide. While pairs touch, the
-// time step resolves the pair oscillator (stepLimit).
+// time step resolves the pair oscillator at the largest tangent stiffness
+// df/ddelta = k (G/r)^6 (1 + 6 delta / r) of the step (stepLimit): the step
+// shrinks with the gap r, so a pair cannot cross r = 0 in one step.
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 namespace needlesim::mpm {
 
 // Totals of one step.
 struct PenaltyTally {
-  double energy = 0.0;       // J, stored penalty energy sum 1/2 k delta^2
+  double energy = 0.0;       // J, stored penalty energy, sum of U(delta) over the pairs
   double penetration = 0.0;  // m, largest overlap delta
+  double tangent = 0.0;      // N/m, largest tangent stiffness df/ddelta of a pair in contact
+  double travel = std::numeric_limits<double>::infinity();  // s, smallest r / v_n of an approaching pair in contact or close
   int pairs = 0;             // pairs in contact
   int close = 0;             // pairs that would touch within two steps at their approach speed
 };
@@ -49,13 +64,23 @@ class PairPenalty {
   // spacing, cbrt(V0) / 2; a pair touches at the sum of the two), the
   // smallest reduced mass of a pair m_r (kg), threads.
   PairPenalty(double stiffness, std::vector<double> radius, double reducedMass, int threads);
-  // Time step that resolves the pair oscillator, alpha / omega with
-  // omega = sqrt(k / m_r), while pairs were in contact in the last step
-  // (infinite otherwise, or for alpha <= 0).
-  double stepLimit(double alpha) const;
+  // Time step that resolves the pair oscillator and the approach, the
+  // smaller of alpha / omega with omega = sqrt(k_t / m_r), k_t the largest
+  // tangent stiffness of a pair at the start or end of the last step, and
+  // alpha r / v_n, the time in which an approaching pair closes the fraction
+  // alpha of its distance r, while pairs were in contact or close in it
+  // (infinite otherwise, or for alpha <= 0). MpmSolver::penaltyForces lowers
+  // the step further to the same limit of the step's own start (limit).
+  double stepLimit(double alpha) const { return limit(tally_, alpha); }
+  double limit(const PenaltyTally& t, double alpha) const;
   double stiffness() const { return k_; }
   const PenaltyTally& tally() const { return tally_; }
-  double pairEnergy(double delta) const;  // J, potential of one pair at overlap delta
+  // The pair law at overlap delta of a pair with contact distance d (m):
+  // force (N), tangent stiffness df/ddelta (N/m), potential U (J); for
+  // 0 < delta < d (r = d - delta > 0).
+  double pairForce(double delta, double d) const;
+  double pairTangent(double delta, double d) const;
+  double pairEnergy(double delta, double d) const;
   double frictionWork() const;  // J, kinetic energy friction removed since resetFriction
   void resetFriction();
 
@@ -63,7 +88,7 @@ class PairPenalty {
   friend class MpmSolver;
   double k_;
   std::vector<double> radius_;  // per point
-  double omega_;
+  double mr_;                   // kg, smallest reduced mass of a pair
   // Cell lists (CSR, key body * nodes + cell) of the candidate points: start_,
   // items_; cand_ and candKey_ the candidates with their keys, cells0_ the
   // cells that hold candidates of body 0 (the pair search visits these).
