@@ -1,7 +1,7 @@
 #pragma once
 // Explicit 3D material point method (seed 000 eqs 1-4) with multi-field grid
 // contact (eqs 14-21), CFL time step (eqs 25-27) and mass scaling (eq 28).
-// Particles are stored as structure of arrays; the background grid is a dense
+// Particles are an array of 256-byte records; the background grid is a dense
 // box that is reset every step. Scatter is race-free on one shared grid: the
 // points are visited in x-layer order and cut into 2 slabs per thread, and the
 // even slabs (then the odd ones) touch disjoint node layers. Interpretations:
