@@ -180,7 +180,10 @@ std::string siName(const Dim& d) {
     if (e == 0) return;
     if (!s.empty()) s += " ";
     s += sym;
-    if (e != 1) s += "^" + std::to_string(e);
+    if (e != 1) {
+      s += '^';
+      s += std::to_string(e);
+    }
   };
   part("kg", d.M);
   part("m", d.L);

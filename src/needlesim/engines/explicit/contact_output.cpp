@@ -39,7 +39,7 @@ ContactOutput::ContactOutput(const Mesh& mesh) : dim_(mesh.dim) {
       std::array<int, 4> nodes{-1, -1, -1, -1}, key;
       for (std::size_t k = 0; k < f.size(); ++k) nodes[k] = mesh.conn[static_cast<std::size_t>(e) * npe + f[k]];
       key = nodes;
-      std::sort(key.begin(), key.begin() + f.size());
+      std::sort(key.begin(), key.end());  // the -1 padding of a 2- or 3-node facet sorts first, alike for all
       auto& c = count[key];
       c.first++;
       c.second = nodes;
