@@ -393,12 +393,13 @@ std::string FieldDoc::rangeText() const {
     return t;
   }
   if (kind != Kind::Quantity && kind != Kind::Number) return "";
-  std::string unit = kind == Kind::Quantity ? " " + units::siName(dim) : "";
+  // fmt rather than "literal" + std::string temporaries (GCC 12 warns falsely on those).
+  const std::string unit = kind == Kind::Quantity ? fmt::format(" {}", units::siName(dim)) : std::string();
   bool hasLo = std::isfinite(lo), hasHi = std::isfinite(hi);
   if (!hasLo && !hasHi) return "any";
-  if (hasLo && !hasHi) return (lo_open ? "> " : ">= ") + num(lo) + unit;
-  if (!hasLo && hasHi) return (hi_open ? "< " : "<= ") + num(hi) + unit;
-  return (lo_open ? "(" : "[") + num(lo) + ", " + num(hi) + (hi_open ? ")" : "]") + unit;
+  if (hasLo && !hasHi) return fmt::format("{} {}{}", lo_open ? ">" : ">=", num(lo), unit);
+  if (!hasLo && hasHi) return fmt::format("{} {}{}", hi_open ? "<" : "<=", num(hi), unit);
+  return fmt::format("{}{}, {}{}{}", lo_open ? "(" : "[", num(lo), num(hi), hi_open ? ")" : "]", unit);
 }
 
 bool FieldDoc::inRange(double v) const {
