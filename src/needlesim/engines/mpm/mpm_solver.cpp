@@ -74,8 +74,6 @@ inline int teamSize() {
 #endif
 }
 
-using lanes::invCbrt;
-
 // Initial bulk and shear moduli of a law (St Venant-Kirchhoff from E, nu).
 void initialModuli(const materials::Hyperelastic& L, double& K, double& mu) {
   const bool lin = L.kind == materials::LawKind::Linear;
@@ -365,38 +363,23 @@ double MpmSolver::stableTimeStep() const { return maxSpeed_ > 0 ? cfg_.h / maxSp
 // tangent shear modulus of the law).
 MPM_CLONES Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave) {
   const auto& L = m.law;
+  if (lanes::hasLanes(m)) {
+    // Fung-Demiray and neo-Hookean: the closed form of stress_lanes.hpp (seed
+    // 000 eqs 8-13), one point in all four lanes.
+    lanes::A4 Fl[9], sl[6], W4, wave4;
+    for (int c = 0; c < 9; ++c) Fl[c] = lanes::A4{} + F(c / 3, c % 3);
+    lanes::hyperelasticStress4(m, massScaling, Fl, sl, W4, wave4);
+    W = W4[0];
+    wave = wave4[0];
+    Mat3 sigma;
+    sigma << sl[0][0], sl[3][0], sl[5][0], sl[3][0], sl[1][0], sl[4][0], sl[5][0], sl[4][0], sl[2][0];
+    return sigma;
+  }
   const double J = F.determinant();
   Mat3 sigma;
   double muc = 0.0, K = 0.0;
   using materials::LawKind;
-  if (L.kind == LawKind::Fung || L.kind == LawKind::NeoHookean) {
-    // Decoupled form of the materials library: W = W_iso(I1bar) + K/2 (J-1)^2,
-    // sigma = 2/J W1 dev(bbar) + K (J-1) I (seed 000 eqs 8-13 with the library's
-    // volumetric term in place of the Lagrange multiplier of eq 11).
-    const Mat3 b = F * F.transpose();
-    const double Jm13 = invCbrt(J);
-    const double Jm23 = Jm13 * Jm13;
-    const double trb = b.trace();
-    const double I1b = Jm23 * trb;
-    double W1;
-    if (L.kind == LawKind::Fung) {
-      const double x = L.gamma * (I1b - 3.0);
-      const double ex = std::exp(x);  // one exponential: W reuses it
-      W1 = 0.5 * L.mu * ex;
-      // expm1 from ex: a short series where ex - 1 would cancel.
-      const double em1 = std::abs(x) < 1e-3 ? x * (1.0 + x * (0.5 + x * (1.0 / 6.0 + x / 24.0))) : ex - 1.0;
-      W = L.mu / (2.0 * L.gamma) * em1;
-      muc = L.mu * ex * (1.0 + 2.0 * L.gamma * I1b);
-    } else {
-      W1 = L.C10;
-      W = L.C10 * (I1b - 3.0);
-      muc = 2.0 * L.C10;
-    }
-    K = L.bulk;
-    W += 0.5 * K * (J - 1.0) * (J - 1.0);
-    sigma = (2.0 * W1 * Jm23 / J) * b;
-    sigma.diagonal().array() += -(2.0 * W1 * Jm23 / J) * trb / 3.0 + K * (J - 1.0);
-  } else if (L.kind == LawKind::Linear) {
+  if (L.kind == LawKind::Linear) {
     // St Venant-Kirchhoff, as the library's "linear" law.
     const double lam = L.E * L.nu / ((1 + L.nu) * (1 - 2 * L.nu));
     const double mu = L.E / (2 * (1 + L.nu));

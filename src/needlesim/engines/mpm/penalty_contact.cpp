@@ -19,43 +19,39 @@ namespace needlesim::mpm {
 
 namespace {
 using grid::kF, grid::kG;  // force lanes of a grid record, mass-gradient lanes of a gradient record (grid_kernels.hpp)
-// f_I += N_Ip f (force lanes) at the nodes of a point at xs (in cells) in the
-// records of its body (off = body * nodes), S = 3 (B-spline) or 2 (linear).
+// f_I += N_Ip f (force lanes) at the nodes of a point at x in the records of
+// its body (off = body * nodes), S = 3 (B-spline) or 2 (linear).
 template <int S>
-inline void scatterForce(const double* xs, const double* f, double* rec, std::size_t NR, std::size_t off,
-                         std::size_t n1, std::size_t n2) {
-  double w[3][S], dw[S];
-  int base[3];
-  for (int d = 0; d < 3; ++d) base[d] = grid::weights<S>(xs[d], 1.0, w[d], dw);
+inline void scatterForce(const double* x, const double* o, double invh, const double* f, double* rec, std::size_t NR,
+                         std::size_t off, std::size_t n1, std::size_t n2) {
+  const auto st = grid::stencil<S>(x, o[0], o[1], o[2], invh);
   for (int i = 0; i < S; ++i)
     for (int j = 0; j < S; ++j) {
-      const double wij = w[0][i] * w[1][j];
+      const double wij = st.wx[i] * st.wy[j];
       const double fa[3] = {wij * f[0], wij * f[1], wij * f[2]};
       double* r = rec +
-                  NR * (off + (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
-                        static_cast<std::size_t>(base[2])) +
+                  NR * (off + (static_cast<std::size_t>(st.bx + i) * n1 + static_cast<std::size_t>(st.by + j)) * n2 +
+                        static_cast<std::size_t>(st.bz)) +
                   kF;
       for (int k = 0; k < S; ++k, r += NR)
-        for (int c = 0; c < 3; ++c) r[c] += w[2][k] * fa[c];
+        for (int c = 0; c < 3; ++c) r[c] += st.wz[k] * fa[c];
     }
 }
-// sum_I N_I p_I / m_I over the nodes with mass of a point at xs (in cells),
-// records of its body (off = body * nodes).
+// sum_I N_I p_I / m_I over the nodes with mass of a point at x, records of
+// its body (off = body * nodes).
 template <int S>
-inline void gatherVelocity(const double* xs, const double* rec, std::size_t NR, std::size_t off, std::size_t n1,
-                           std::size_t n2, double* v) {
-  double w[3][S], dw[S];
-  int base[3];
-  for (int d = 0; d < 3; ++d) base[d] = grid::weights<S>(xs[d], 1.0, w[d], dw);
+inline void gatherVelocity(const double* x, const double* o, double invh, const double* rec, std::size_t NR,
+                           std::size_t off, std::size_t n1, std::size_t n2, double* v) {
+  const auto st = grid::stencil<S>(x, o[0], o[1], o[2], invh);
   v[0] = v[1] = v[2] = 0.0;
   for (int i = 0; i < S; ++i)
     for (int j = 0; j < S; ++j)
       for (int k = 0; k < S; ++k) {
-        const std::size_t I = (static_cast<std::size_t>(base[0] + i) * n1 + static_cast<std::size_t>(base[1] + j)) * n2 +
-                              static_cast<std::size_t>(base[2] + k);
+        const std::size_t I = (static_cast<std::size_t>(st.bx + i) * n1 + static_cast<std::size_t>(st.by + j)) * n2 +
+                              static_cast<std::size_t>(st.bz + k);
         const double* r = rec + NR * (off + I);
         if (!(r[0] > 0.0)) continue;
-        const double wn = w[0][i] * w[1][j] * w[2][k] / r[0];
+        const double wn = st.wx[i] * st.wy[j] * st.wz[k] / r[0];
         for (int c = 0; c < 3; ++c) v[c] += wn * r[1 + c];
       }
 }
@@ -143,14 +139,13 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
 void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const {
   const double invh = 1.0 / cfg_.h;
-  const double xs[3] = {(P_[p].x[0] - cfg_.origin.x()) * invh, (P_[p].x[1] - cfg_.origin.y()) * invh,
-                        (P_[p].x[2] - cfg_.origin.z()) * invh};
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+  const double* o = cfg_.origin.data();
   if (cfg_.shape != Shape::Linear)
-    gatherVelocity<3>(xs, rec, NR, off, n1, n2, v);
+    gatherVelocity<3>(P_[p].x, o, invh, rec, NR, off, n1, n2, v);
   else
-    gatherVelocity<2>(xs, rec, NR, off, n1, n2, v);
+    gatherVelocity<2>(P_[p].x, o, invh, rec, NR, off, n1, n2, v);
 }
 
 double PairPenalty::frictionWork() const {
@@ -442,11 +437,10 @@ void MpmSolver::penaltyForces() {
       const double* f = &P.force_[3 * a];
       if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
       const std::size_t p = P.items_[a];
-      const double xs[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};
       if (bspline)
-        scatterForce<3>(xs, f, rec, NR, off, n1, n2);
+        scatterForce<3>(P_[p].x, cfg_.origin.data(), invh, f, rec, NR, off, n1, n2);
       else
-        scatterForce<2>(xs, f, rec, NR, off, n1, n2);
+        scatterForce<2>(P_[p].x, cfg_.origin.data(), invh, f, rec, NR, off, n1, n2);
     }
   }
 }
