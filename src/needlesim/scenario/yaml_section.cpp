@@ -126,8 +126,9 @@ std::optional<double> Section::optNumber(const std::string& key) {
     throw errorAt(n, fieldPath(key), text, "is not a finite number", f.rangeText());
   if (!f.inRange(qv.value))
     throw errorAt(n, fieldPath(key), text,
-                  fmt::format("is out of range ({:g} {} in SI)", qv.value,
-                              f.kind == Kind::Quantity ? units::siName(f.dim) : ""),
+                  f.kind == Kind::Quantity
+                      ? fmt::format("is out of range ({:g} {} in SI)", qv.value, units::siName(f.dim))
+                      : fmt::format("is out of range ({:g})", qv.value),
                   f.rangeText());
   return qv.value;
 }
