@@ -233,7 +233,8 @@ void MpmSolver::finalize() {
     b.grad.assign(B > 1 ? 8 * 2 * nodes_ : 0, 0.0);
     b.gmin.assign(R * nodes_, kInf);
   }
-  nearPoint_.assign(B > 1 ? size() : 0, 0);
+  nearCell_.assign(B > 1 ? size() : 0, kNotNear);
+  occFresh_ = false;  // markNearBodies marks the cells from the positions
   vel_.assign(8 * B * nodes_, 0.0);
   gridClean_ = true;
   order_.resize(size());
@@ -524,71 +525,82 @@ void MpmSolver::planScatter() {
 
 // ---------------------------------------------------------------- particle to grid (eqs 1-3)
 
-// Two bodies: the bit of cell (i, j, k) in row (i, j) of body b is set when
-// body b has a point within 3 cells (occupied cells dilated by 3 along each
-// axis). A node both bodies reach lies within 1.5 cells of a point of each, so
-// the points that scatter to it are within 3 cells of the other body. A row
-// is nearW_ 64-bit words per body (k = bit), so the dilation is shifts and ORs
-// of words. One parallel pass over the points, three over the rows.
+namespace {
+// Box dilation of the occupancy bits by `reach` cells along each axis: out =
+// OR of in over the (2 reach + 1)^3 cells around; rows of rw = 2 W words (W
+// per body, bit k), n0 x n1 rows; tmp is scratch of the same size.
+void dilateCells(const std::uint64_t* in, std::uint64_t* out, std::uint64_t* tmp, std::size_t n0, std::size_t n1,
+                 std::size_t W, std::size_t reach, std::uint64_t lastMask) {
+  const std::size_t rw = 2 * W, rows = n0 * n1;
+  // Along i (in -> out), then along j (out -> tmp): OR of the rows within reach.
+  for (int d = 0; d < 2; ++d) {
+    const std::uint64_t* src = d == 0 ? in : out;
+    std::uint64_t* dst = d == 0 ? out : tmp;
+    for (std::size_t row = 0; row < rows; ++row) {
+      const std::size_t idx = d == 0 ? row / n1 : row % n1, n = d == 0 ? n0 : n1, stride = d == 0 ? n1 : 1;
+      const std::size_t lo = idx >= reach ? idx - reach : 0, hi = std::min(n - 1, idx + reach);
+      std::uint64_t* o = dst + row * rw;
+      for (std::size_t w = 0; w < rw; ++w) o[w] = 0;
+      for (std::size_t x = lo; x <= hi; ++x) {
+        const std::uint64_t* r = src + (row + x * stride - idx * stride) * rw;
+        for (std::size_t w = 0; w < rw; ++w) o[w] |= r[w];
+      }
+    }
+  }
+  // Along k (tmp -> out): bits shifted by -reach..reach within the row (across word edges).
+  for (std::size_t row = 0; row < rows; ++row)
+    for (std::size_t body = 0; body < 2; ++body) {
+      const std::uint64_t* r = tmp + row * rw + body * W;
+      std::uint64_t* o = out + row * rw + body * W;
+      for (std::size_t w = 0; w < W; ++w) {
+        const std::uint64_t x = r[w], prev = w > 0 ? r[w - 1] : 0, next = w + 1 < W ? r[w + 1] : 0;
+        std::uint64_t v = x;
+        for (unsigned s = 1; s <= reach; ++s) v |= (x << s) | (prev >> (64 - s)) | (x >> s) | (next << (64 - s));
+        o[w] = w + 1 == W ? v & lastMask : v;
+      }
+    }
+}
+}  // namespace
+
+// Two bodies: the bit of cell (i, j, k) in row (i, j) of body b is set in
+// near_ when body b has a point within 3 cells (occupied cells dilated by 3
+// along each axis). A node both bodies reach lies within 1.5 cells of a point
+// of each, so the points that scatter to it are within 3 cells of the other
+// body. near1_ (dilated by 1) marks the cells whose 27 neighbours hold a point
+// of body b: the penalty contact's candidates (a pair touches at r < d <= h).
+// A row is nearW_ 64-bit words per body (k = bit), so the dilation is shifts
+// and ORs of words: serial, the arrays are small (n0 n1 rows of a few words).
+// The occupancy comes from the previous step's g2pFinal, which marks the cell
+// of each point at its new position; a pass over the points only after
+// finalize or a failed step.
 void MpmSolver::markNearBodies() {
-  const double invh = 1.0 / cfg_.h;
-  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n0 = static_cast<std::size_t>(nn_[0]), n1 = static_cast<std::size_t>(nn_[1]),
                     n2 = static_cast<std::size_t>(nn_[2]);
-  const std::size_t np = size();
   const std::size_t W = (n2 + 63) / 64, rw = 2 * W;  // words per row (both bodies)
   nearW_ = W;
   const std::size_t rows = n0 * n1, words = rows * rw;
+  if (occ_.size() != words) {
+    occ_.assign(words, 0);
+    occFresh_ = false;
+  }
+  near1_.resize(words);
   near_.resize(words);
   nearTmp_.resize(words);
-  std::uint64_t* a = near_.data();
-  std::uint64_t* b = nearTmp_.data();
-  constexpr std::size_t reach = 3;
-  const std::uint64_t lastMask = n2 % 64 ? (std::uint64_t{1} << (n2 % 64)) - 1 : ~std::uint64_t{0};
-#pragma omp parallel num_threads(nthreads_)
-  {
-#pragma omp for schedule(static)
-    for (std::size_t w = 0; w < words; ++w) a[w] = 0;
-#pragma omp for schedule(static)
-    for (std::size_t p = 0; p < np; ++p) {
+  if (!occFresh_) {
+    const double invh = 1.0 / cfg_.h;
+    const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+    std::fill(occ_.begin(), occ_.end(), 0);
+    for (std::size_t p = 0; p < size(); ++p) {
       const std::size_t row = grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh);
       const std::size_t k = grid::cellOf((P_[p].x[2] - oz) * invh);
-      std::uint64_t* w = a + row * rw + body_[p] * W + k / 64;
-      const std::uint64_t bit = std::uint64_t{1} << (k % 64);
-      // Threads may mark the same word: an atomic OR, skipped when already set.
-      if (!(__atomic_load_n(w, __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(w, bit, __ATOMIC_RELAXED);
+      occ_[row * rw + body_[p] * W + k / 64] |= std::uint64_t{1} << (k % 64);
     }
-    // Along i, then j: OR of the rows within 3.
-    for (int d = 0; d < 2; ++d) {
-      const std::uint64_t* src = d == 0 ? a : b;
-      std::uint64_t* dst = d == 0 ? b : a;
-#pragma omp for schedule(static)
-      for (std::size_t row = 0; row < rows; ++row) {
-        const std::size_t idx = d == 0 ? row / n1 : row % n1, n = d == 0 ? n0 : n1, stride = d == 0 ? n1 : 1;
-        const std::size_t lo = idx >= reach ? idx - reach : 0, hi = std::min(n - 1, idx + reach);
-        std::uint64_t* out = dst + row * rw;
-        for (std::size_t w = 0; w < rw; ++w) out[w] = 0;
-        for (std::size_t o = lo; o <= hi; ++o) {
-          const std::uint64_t* in = src + (row + o * stride - idx * stride) * rw;
-          for (std::size_t w = 0; w < rw; ++w) out[w] |= in[w];
-        }
-      }
-    }
-    // Along k: bits shifted by -3..3 within the row (across word edges).
-#pragma omp for schedule(static)
-    for (std::size_t row = 0; row < rows; ++row)
-      for (std::size_t body = 0; body < 2; ++body) {
-        const std::uint64_t* in = a + row * rw + body * W;
-        std::uint64_t* out = b + row * rw + body * W;
-        for (std::size_t w = 0; w < W; ++w) {
-          const std::uint64_t x = in[w], prev = w > 0 ? in[w - 1] : 0, next = w + 1 < W ? in[w + 1] : 0;
-          std::uint64_t v = x;
-          for (unsigned s = 1; s <= reach; ++s) v |= (x << s) | (prev >> (64 - s)) | (x >> s) | (next << (64 - s));
-          out[w] = w + 1 == W ? v & lastMask : v;
-        }
-      }
   }
-  near_.swap(nearTmp_);
+  const std::uint64_t lastMask = n2 % 64 ? (std::uint64_t{1} << (n2 % 64)) - 1 : ~std::uint64_t{0};
+  dilateCells(occ_.data(), near1_.data(), nearTmp_.data(), n0, n1, W, 1, lastMask);
+  dilateCells(near1_.data(), near_.data(), nearTmp_.data(), n0, n1, W, 2, lastMask);  // 1 + 2 = 3 cells
+  std::fill(occ_.begin(), occ_.end(), 0);  // g2pFinal marks the new positions
+  occFresh_ = false;                       // until g2pFinal has marked them all
 }
 
 // Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
@@ -618,10 +630,11 @@ MPM_CLONES void MpmSolver::p2g() {
   Buf& B = buf_[0];
   double* __restrict rec = B.rec.data();
   double* __restrict grad = B.grad.data();  // two bodies
-  std::uint8_t* __restrict nearPoint = nearPoint_.data();  // two bodies
+  std::uint32_t* __restrict nearCell = nearCell_.data();  // two bodies
   const bool centroid = !penalty_;  // the velocity contact's gap rule reads the mass-weighted positions
   const std::uint32_t* __restrict order = order_.data();
   const std::uint64_t* nearRows = near_.data();
+  const std::uint64_t* near1Rows = near1_.data();
   const std::size_t nearW = nearW_;
   const bool gridClean = gridClean_;  // remapUpdate cleared the records it used
   gridClean_ = false;
@@ -651,7 +664,11 @@ MPM_CLONES void MpmSolver::p2g() {
       if constexpr (Grad) {
         const std::size_t row = grid::cellOf((xp[0] - ox) * invh) * n1 + grid::cellOf((xp[1] - oy) * invh);
         const std::size_t k = grid::cellOf((xp[2] - oz) * invh);
-        needG = (nearRows[(2 * row + 1 - body_[p]) * nearW + k / 64] >> (k % 64)) & 1;
+        const std::size_t w = (2 * row + 1 - body_[p]) * nearW + k / 64;
+        needG = (nearRows[w] >> (k % 64)) & 1;
+        // the penalty contact's candidates (penaltyForces): the other body in the 27 cells around
+        const bool cand = needG && ((near1Rows[w] >> (k % 64)) & 1);
+        nearCell[p] = cand ? static_cast<std::uint32_t>(row * n2 + k) : kNotNear;
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
@@ -687,7 +704,6 @@ MPM_CLONES void MpmSolver::p2g() {
             }
           }
         }
-      if constexpr (Grad) nearPoint[p] = needG;  // the penalty contact's candidates (penaltyForces)
       // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
       for (int r = 0; r < R; ++r) {
         const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
@@ -1252,6 +1268,10 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
   const bool fbar = cfg_.fbar;
   const std::uint32_t* __restrict order = order_.data();
+  // Two bodies: mark each point's cell at its new position for the next
+  // step's markNearBodies (it zeroed occ_), instead of a pass over the points there.
+  std::uint64_t* occ = cfg_.bodies > 1 && !occ_.empty() ? occ_.data() : nullptr;
+  const std::size_t occW = nearW_;
   // Same slabs as the scatter (no barrier between the two), recording each
   // slab's range of base x layers at the new positions for planScatter.
 #pragma omp parallel num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax)
@@ -1347,6 +1367,13 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
           const int l = static_cast<int>(xs[0]);  // = the floor, xs[0] >= 0
           layerLo = std::min(layerLo, l);
           layerHi = std::max(layerHi, l);
+          if (occ) {  // as markNearBodies' own pass; slabs meet at a row: atomic OR, skipped when set
+            const std::size_t row = grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh);
+            const std::size_t k = grid::cellOf((P_[p].x[2] - oz) * invh);
+            std::uint64_t* w = occ + (2 * row + body_[p]) * occW + k / 64;
+            const std::uint64_t bit = std::uint64_t{1} << (k % 64);
+            if (!(__atomic_load_n(w, __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(w, bit, __ATOMIC_RELAXED);
+          }
         }
       }
       if (cause) {
@@ -1392,6 +1419,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   }
   }
   if (bad.load()) fail(badP.load(), bad.load());
+  occFresh_ = occ != nullptr;  // every point marked its cell
   if (fbar) fbarStress(ei, vmax);
   ekOut = ek;
   eiOut = ei;

@@ -243,9 +243,18 @@ class MpmSolver {
   std::optional<SurfaceFromCentroid> surfaceEst_;  // Surface gap rule
   std::optional<PairPenalty> penalty_;  // two bodies, BodyContact::Penalty (penalty_contact.cpp)
   Vec3 nodePosition(std::size_t I) const;
-  std::vector<std::uint64_t> near_, nearTmp_;  // two bodies: per (i, j) row, per body nearW_ words, bit k = body within 3 cells
+  // Two bodies (markNearBodies): per (i, j) row, per body nearW_ words, bit k
+  // of cell (i, j, k). occ_: a point of the body in the cell (set by g2pFinal
+  // at the new positions while occFresh_, else by a pass over the points);
+  // near1_ / near_: occupied cells dilated by 1 / 3 cells.
+  std::vector<std::uint64_t> occ_, near1_, near_, nearTmp_;
   std::size_t nearW_ = 1;
-  std::vector<std::uint8_t> nearPoint_; // two bodies: per point, the other body within 3 cells of its cell (p2g)
+  bool occFresh_ = false;
+  // Two bodies: per point, its cell index (i n1 + j) n2 + k when the other
+  // body occupies one of the 27 cells around it (near1_, set by p2g: the
+  // penalty contact's candidates), else kNotNear.
+  static constexpr std::uint32_t kNotNear = ~std::uint32_t{0};
+  std::vector<std::uint32_t> nearCell_;
   std::vector<std::uint32_t> cellOf_;   // F-bar: cell of each particle
   std::vector<double> cellJ_;           // F-bar: per cell sum V0 J, sum V0
   // CFEMP (eqs 22-24): the needle surface triangulated in its own frame (tip at

@@ -223,12 +223,7 @@ void MpmSolver::penaltyEnergyAfterStep() {
 void MpmSolver::penaltyForces() {
   PairPenalty& P = *penalty_;
   const double invh = 1.0 / cfg_.h;
-  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  auto cellOf = [&](std::size_t p) {
-    return (grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh)) * n2 +
-           grid::cellOf((P_[p].x[2] - oz) * invh);
-  };
   // Cell lists of the candidates (counting sort, serial), per body and cell
   // (key body * nodes + cell), so a point scans only the other body's points.
   P.cand_.clear();
@@ -236,11 +231,11 @@ void MpmSolver::penaltyForces() {
   P.cells0_.clear();
   P.cells1_.clear();
   P.start_.assign(2 * nodes_ + 1, 0);
-  const std::uint8_t* nearPoint = nearPoint_.data();
+  const std::uint32_t* nearCell = nearCell_.data();
   for (std::size_t p = 0; p < size(); ++p) {
-    // both bodies within 3 cells of the point's cell (markNearBodies; p2g marked them)
-    if (!nearPoint[p]) continue;
-    const std::size_t c = cellOf(p);
+    // the other body in the 27 cells around the point's cell (markNearBodies; p2g set the cell)
+    if (nearCell[p] == kNotNear) continue;
+    const std::size_t c = nearCell[p];
     const std::size_t key = static_cast<std::size_t>(body_[p]) * nodes_ + c;
     P.cand_.push_back(static_cast<std::uint32_t>(p));
     P.candKey_.push_back(static_cast<std::uint32_t>(key));
@@ -274,6 +269,9 @@ void MpmSolver::penaltyForces() {
   P.box_.resize(6 * nodes_);
   double* box = P.box_.data();
   const std::size_t ncell1 = P.cells1_.size();
+  const bool bspline = cfg_.shape != Shape::Linear;
+  double* rec = buf_[0].rec.data();
+  const double* o = cfg_.origin.data();
 #pragma omp parallel num_threads(nthreads_)
   {
 #ifdef _OPENMP
@@ -377,22 +375,20 @@ void MpmSolver::penaltyForces() {
       }
     }
     // The step's own limit (after the barrier of the search): the pairs'
-    // tangent stiffness and approach at its start (PairPenalty::limit).
-#pragma omp single
-    {
-      PenaltyTally all;
-      for (const PenaltyTally& t : P.thread_) {
-        all.pairs += t.pairs;
-        all.close += t.close;
-        all.tangent = std::max(all.tangent, t.tangent);
-        all.travel = std::min(all.travel, t.travel);
-      }
-      if (!(cfg_.fixedTimeStep > 0)) dt_ = std::min(dt_, P.limit(all, cfg_.penaltyStepFactor));
+    // tangent stiffness and approach at its start (PairPenalty::limit), the
+    // same reduction on every thread (no single and its barrier).
+    PenaltyTally all;
+    for (const PenaltyTally& t : P.thread_) {
+      all.pairs += t.pairs;
+      all.close += t.close;
+      all.tangent = std::max(all.tangent, t.tangent);
+      all.travel = std::min(all.travel, t.travel);
     }
-    const double dt = dt_;  // the step's (after the barrier of the single)
-    // Field velocity of each point in a pair, once (after the barrier of the search).
+    const double dt = cfg_.fixedTimeStep > 0 ? dt0 : std::min(dt0, P.limit(all, cfg_.penaltyStepFactor));
+    // Field velocity of each point in a pair, once (after the barrier of the
+    // search); chunks spread the pairs' slots (the face cells) over the threads.
     if (mu > 0.0) {
-#pragma omp for schedule(static)
+#pragma omp for schedule(static, 16)
       for (std::size_t s = 0; s < nc; ++s)
         if (need[s]) fieldVelocity(P.items_[s], rec0, NR, &P.vfield_[3 * s]);
     }
@@ -407,13 +403,34 @@ void MpmSolver::penaltyForces() {
       }
     }
 #pragma omp barrier
-    // Sum the other threads' reactions into force_ (after the barrier of the loop).
-    if (nthreads > 1) {
-#pragma omp for schedule(static)
-      for (std::size_t s = 3 * first1; s < 3 * nc; ++s)
+    // Scatter f_I += N_Ip f_p into each point's own body (a thin shell): the
+    // body-0 slots [0, first1) touch only body 0's records, the body-1 slots
+    // only body 1's, so the last thread scatters body 1 (after adding the
+    // other threads' reactions to its slots) while thread 0 scatters body 0.
+#ifdef _OPENMP
+    const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+#else
+    const std::size_t team = 1;
+#endif
+    for (int body = 0; body < 2; ++body) {
+      if (tid != (body == 0 ? 0 : team - 1)) continue;
+      const std::size_t s0 = body == 0 ? 0 : first1, s1 = body == 0 ? first1 : nc;
+      if (body == 1)
         for (std::size_t t = 1; t < nthreads; ++t)
-          if (!P.reaction_[t].empty()) P.force_[s] += P.reaction_[t][s - 3 * first1];
+          if (!P.reaction_[t].empty())
+            for (std::size_t s = 3 * first1; s < 3 * nc; ++s) P.force_[s] += P.reaction_[t][s - 3 * first1];
+      const std::size_t off = static_cast<std::size_t>(body) * nodes_;
+      for (std::size_t a = s0; a < s1; ++a) {
+        const double* f = &P.force_[3 * a];
+        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+        const std::size_t p = P.items_[a];
+        if (bspline)
+          scatterForce<3>(P_[p].x, o, invh, f, rec, NR, off, n1, n2);
+        else
+          scatterForce<2>(P_[p].x, o, invh, f, rec, NR, off, n1, n2);
+      }
     }
+    if (tid == 0) dt_ = dt;
   }
   P.tally_ = PenaltyTally{};
   for (const PenaltyTally& t : P.thread_) {
@@ -423,25 +440,6 @@ void MpmSolver::penaltyForces() {
     P.tally_.travel = std::min(P.tally_.travel, t.travel);
     P.tally_.pairs += t.pairs;
     P.tally_.close += t.close;
-  }
-  // Scatter f_I += N_Ip f_p into each point's own body (a thin shell): the
-  // body-0 slots [0, first1) touch only body 0's records, the body-1 slots
-  // only body 1's, so two threads scatter one body each.
-  const bool bspline = cfg_.shape != Shape::Linear;
-  double* rec = buf_[0].rec.data();
-#pragma omp parallel for num_threads(std::min(nthreads_, 2)) schedule(static, 1)
-  for (int body = 0; body < 2; ++body) {
-    const std::size_t s0 = body == 0 ? 0 : first1, s1 = body == 0 ? first1 : nc;
-    const std::size_t off = static_cast<std::size_t>(body) * nodes_;
-    for (std::size_t a = s0; a < s1; ++a) {
-      const double* f = &P.force_[3 * a];
-      if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
-      const std::size_t p = P.items_[a];
-      if (bspline)
-        scatterForce<3>(P_[p].x, cfg_.origin.data(), invh, f, rec, NR, off, n1, n2);
-      else
-        scatterForce<2>(P_[p].x, cfg_.origin.data(), invh, f, rec, NR, off, n1, n2);
-    }
   }
 }
 
