@@ -478,35 +478,56 @@ bool MpmSolver::slabsDisjoint() const {
   return true;
 }
 
-// Stable counting sort of the points by the x layer of their base node (the
-// creation order, lattice order with x slowest, is kept within a layer), cut
-// into 2 slabs per thread of equal point counts. Returns whether the slabs of
-// one parity are disjoint (false for problems only a few cells long).
+// Stable counting sort of the points by the layer of their base node along
+// the slab axis (the creation order is kept within a layer), cut into 2 slabs
+// per thread of equal point counts. The axis is the one along which the
+// points span the most layers (more room for disjoint slabs, and a contact
+// face, where points do more work, is then cut across rather than falling
+// into one slab: two blocks pressed together along x are cut along y);
+// another axis is tried when its slabs of one parity are not disjoint.
+// Returns whether they are (false for problems only a few cells long).
 bool MpmSolver::sortByLayer() {
   const std::size_t np = size();
-  const double invh = 1.0 / cfg_.h, ox = cfg_.origin.x();
+  const double invh = 1.0 / cfg_.h;
   const double sh = cfg_.shape == Shape::Linear ? 0.0 : 0.5;
-  const int n0 = nn_[0];
-  const auto layer = [&](std::size_t p) {
-    return std::clamp(static_cast<int>(std::floor((P_[p].x[0] - ox) * invh - sh)), 0, n0 - 1);
+  const auto layerOf = [&](std::size_t p, int a) {
+    return std::clamp(static_cast<int>(std::floor((P_[p].x[a] - cfg_.origin[a]) * invh - sh)), 0, nn_[a] - 1);
   };
-  std::vector<std::size_t> start(static_cast<std::size_t>(n0) + 1, 0);
-  for (std::size_t p = 0; p < np; ++p) ++start[static_cast<std::size_t>(layer(p)) + 1];
-  for (int l = 0; l < n0; ++l) start[static_cast<std::size_t>(l) + 1] += start[static_cast<std::size_t>(l)];
-  order_.resize(np);
-  for (std::size_t p = 0; p < np; ++p) order_[start[static_cast<std::size_t>(layer(p))]++] = static_cast<std::uint32_t>(p);
-  const std::size_t ns = 2 * static_cast<std::size_t>(nthreads_);
-  slabStart_.resize(ns + 1);
-  slabLo_.assign(ns, std::numeric_limits<int>::max());
-  slabHi_.assign(ns, std::numeric_limits<int>::min());
-  for (std::size_t s = 0; s <= ns; ++s) slabStart_[s] = np * s / ns;
-  for (std::size_t s = 0; s < ns; ++s)
-    for (std::size_t q = slabStart_[s]; q < slabStart_[s + 1]; ++q) {
-      const int l = layer(order_[q]);
-      slabLo_[s] = std::min(slabLo_[s], l);
-      slabHi_[s] = std::max(slabHi_[s], l);
+  int span[3] = {0, 0, 0};
+  for (int a = 0; a < 3; ++a) {
+    int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
+    for (std::size_t p = 0; p < np; ++p) {
+      const int l = layerOf(p, a);
+      lo = std::min(lo, l);
+      hi = std::max(hi, l);
     }
-  return slabsDisjoint();
+    span[a] = hi - lo;
+  }
+  int axes[3] = {0, 1, 2};
+  std::stable_sort(axes, axes + 3, [&](int a, int b) { return span[a] > span[b]; });
+  const std::size_t ns = 2 * static_cast<std::size_t>(nthreads_);
+  for (const int a : axes) {
+    slabAxis_ = a;
+    const int n = nn_[a];
+    std::vector<std::size_t> start(static_cast<std::size_t>(n) + 1, 0);
+    for (std::size_t p = 0; p < np; ++p) ++start[static_cast<std::size_t>(layerOf(p, a)) + 1];
+    for (int l = 0; l < n; ++l) start[static_cast<std::size_t>(l) + 1] += start[static_cast<std::size_t>(l)];
+    order_.resize(np);
+    for (std::size_t p = 0; p < np; ++p)
+      order_[start[static_cast<std::size_t>(layerOf(p, a))]++] = static_cast<std::uint32_t>(p);
+    slabStart_.resize(ns + 1);
+    slabLo_.assign(ns, std::numeric_limits<int>::max());
+    slabHi_.assign(ns, std::numeric_limits<int>::min());
+    for (std::size_t s = 0; s <= ns; ++s) slabStart_[s] = np * s / ns;
+    for (std::size_t s = 0; s < ns; ++s)
+      for (std::size_t q = slabStart_[s]; q < slabStart_[s + 1]; ++q) {
+        const int l = layerOf(order_[q], a);
+        slabLo_[s] = std::min(slabLo_[s], l);
+        slabHi_[s] = std::max(slabHi_[s], l);
+      }
+    if (slabsDisjoint()) return true;
+  }
+  return false;
 }
 
 // Before each step's scatter: keep the slabs while their parity classes stay
@@ -1268,6 +1289,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
   const bool fbar = cfg_.fbar;
   const std::uint32_t* __restrict order = order_.data();
+  const int slabAxis = slabAxis_;
   // Two bodies: mark each point's cell at its new position for the next
   // step's markNearBodies (it zeroed occ_), instead of a pass over the points there.
   std::uint64_t* occ = cfg_.bodies > 1 && !occ_.empty() ? occ_.data() : nullptr;
@@ -1364,7 +1386,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
           if (b < 0.0 || b > lim[d]) cause = 3;
         }
         if (!cause) {
-          const int l = static_cast<int>(xs[0]);  // = the floor, xs[0] >= 0
+          const int l = static_cast<int>(xs[slabAxis]);  // = the floor, xs >= 0
           layerLo = std::min(layerLo, l);
           layerHi = std::max(layerHi, l);
           if (occ) {  // as markNearBodies' own pass; slabs meet at a row: atomic OR, skipped when set

@@ -220,14 +220,15 @@ class MpmSolver {
     std::vector<double> gmin;      // per node per rigid
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])
-  // Race-free scatter: order_ visits the points by x layer of their base
+  // Race-free scatter: order_ visits the points by the layer of their base
   // node; slab s is order_[slabStart_[s], slabStart_[s + 1]), thread t scatters
   // slab 2t, then (after a barrier) slab 2t + 1. Slabs of one parity touch
   // disjoint node layers (checked each step from the base layers g2pFinal
   // records; re-sorted when not). One slab (serial scatter) when that fails.
   std::vector<std::uint32_t> order_;
   std::vector<std::size_t> slabStart_;
-  std::vector<int> slabLo_, slabHi_;    // per slab: lowest, highest base x layer
+  std::vector<int> slabLo_, slabHi_;    // per slab: lowest, highest base layer along slabAxis_
+  int slabAxis_ = 0;                    // the axis of the layers (sortByLayer)
   bool coloured_ = false;
   bool gridClean_ = false;              // the records are all zero (remapUpdate cleared them)
   long long planAgain_ = 0;             // serial fallback: step of the next try
