@@ -38,22 +38,32 @@ inline void scatterForce(const double* x, const double* o, double invh, const do
     }
 }
 // sum_I N_I p_I / m_I over the nodes with mass of a point at x, records of
-// its body (off = body * nodes).
+// its body (off = body * nodes); per (i, j) the k sum first (tensor product).
 template <int S>
 inline void gatherVelocity(const double* x, const double* o, double invh, const double* rec, std::size_t NR,
                            std::size_t off, std::size_t n1, std::size_t n2, double* v) {
   const auto st = grid::stencil<S>(x, o[0], o[1], o[2], invh);
-  v[0] = v[1] = v[2] = 0.0;
+  double v0 = 0.0, v1 = 0.0, v2 = 0.0;
   for (int i = 0; i < S; ++i)
-    for (int j = 0; j < S; ++j)
-      for (int k = 0; k < S; ++k) {
-        const std::size_t I = (static_cast<std::size_t>(st.bx + i) * n1 + static_cast<std::size_t>(st.by + j)) * n2 +
-                              static_cast<std::size_t>(st.bz + k);
-        const double* r = rec + NR * (off + I);
+    for (int j = 0; j < S; ++j) {
+      const double* r = rec + NR * (off + (static_cast<std::size_t>(st.bx + i) * n1 + static_cast<std::size_t>(st.by + j)) * n2 +
+                                    static_cast<std::size_t>(st.bz));
+      double s0 = 0.0, s1 = 0.0, s2 = 0.0;
+      for (int k = 0; k < S; ++k, r += NR) {
         if (!(r[0] > 0.0)) continue;
-        const double wn = st.wx[i] * st.wy[j] * st.wz[k] / r[0];
-        for (int c = 0; c < 3; ++c) v[c] += wn * r[1 + c];
+        const double wk = st.wz[k] / r[0];
+        s0 += wk * r[1];
+        s1 += wk * r[2];
+        s2 += wk * r[3];
       }
+      const double wij = st.wx[i] * st.wy[j];
+      v0 += wij * s0;
+      v1 += wij * s1;
+      v2 += wij * s2;
+    }
+  v[0] = v0;
+  v[1] = v1;
+  v[2] = v2;
 }
 }  // namespace
 
