@@ -247,10 +247,11 @@ TEST(MpmPenaltyOblique, FrictionlessSpheres) {
 // the orbital angular momentum m* 2R u_t is a 5 % change of u_t, so 0.1.
 // Measured: omega R / v0 = +0.443 for both spheres (the sense of the orbit),
 // u_t' / u_t = 0.622, Jt / Jn = 0.142 (as a Coulomb coefficient of 0.14),
-// with the energy conserved (E/E0 1.0001): the point lattices' stair-step
-// surfaces interlock as they slide across each other at 30-36 deg to the
-// lattice axes (each pair pushes along its own axis, up to ~45 deg off the
-// surface normal), a conservative geometric roughness.
+// with the energy conserved (E/E0 1.0001). Likely cause (not proven): the
+// point lattices' stair-step surfaces interlock as they slide across each
+// other at 30-36 deg to the lattice axes (each pair pushes along its own
+// axis, up to ~45 deg off the surface normal), a conservative geometric
+// roughness; docs/validation/mpm.md "Oblique sphere impacts".
 TEST(MpmPenaltyOblique, DISABLED_FrictionlessSpheresDoNotSpin) {
   ObliqueRun u;
   const ObliqueImpact c = collideOblique(u);
@@ -287,7 +288,9 @@ TEST(MpmPenaltyOblique, FrictionalSpheres) {
   EXPECT_LT(c.momentum, 1e-12);
   EXPECT_LT(c.angular, 0.05);
   // 3. Tangential impulse in [0, mu Jn] (measured Jt / Jn = 0.131), in the
-  //    sense that opposes the sliding of the contact points.
+  //    sense that opposes the sliding of the contact points. (It passes, but
+  //    mu 0 gives 0.142: on these lattice spheres the tangential impulse is
+  //    set by the lattice, not by mu; DISABLED_FrictionlessSpheresDoNotSpin.)
   EXPECT_GT(c.Jt, 0.0);
   EXPECT_LT(c.Jt, (u.mu + 0.01) * c.Jn);
   // 4. Spins: both along +z (the sense of the orbit, see collideOblique),
@@ -309,7 +312,9 @@ TEST(MpmPenaltyOblique, FrictionalSpheres) {
 // --gtest_also_run_disabled_tests; docs/validation/mpm.md "Oblique sphere
 // impacts"): frictionless, so no spin; the issue's 2 % energy target; an
 // elastic rebound as head-on (e > 0.8). Cases: b = R/2 and 5R/4 (B-spline),
-// b = R with the linear shape, and R = 8 mm, b = R (34,512 points, ~1 min).
+// b = R with the linear shape, and R = 8 mm, b = R (34,512 points; the test
+// takes ~130 s under load). Measured: drift 2.17 / 1.78 / 2.33 / 4.48 %,
+// e 0.665 / 0.838 / 0.376 / 0.453, omega R / v0 0.23 / 0.64 / 0.35 / 0.42.
 TEST(MpmPenaltyOblique, DISABLED_MoreFrictionlessImpacts) {
   ObliqueRun cases[4];
   cases[0].b = 2.5e-3;
