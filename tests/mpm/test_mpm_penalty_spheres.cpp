@@ -13,54 +13,20 @@
 
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 #include "mpm_test_materials.hpp"
+#include "mpm_test_spheres.hpp"
 
 using namespace needlesim;
 using namespace needlesim::mpm;
 
 namespace {
 
+using test::addSphere;
 using test::linearMaterial;
+using test::Sums;
+using test::sums;
 
 constexpr double kE = 1e5, kNu = 0.3, kRho = 1000;  // St Venant-Kirchhoff, c_p = 11.6 m/s, M = 134.6 kPa
 constexpr double kGap = 1e-3;                        // initial gap between the surfaces, m
-
-// Fills a sphere with points on a lattice of spacing dp centred on the
-// sphere's centre (points at c + (i + 1/2) dp), keeping the points whose
-// centre lies inside; each point has the volume dp^3. Along the axes the
-// outermost points then lie at R - dp/2 (for R / dp an integer), so the
-// points' volumes (diameter dp, the penalty's contact distance) reach R at
-// the poles. Returns the number of points.
-std::size_t addSphere(MpmSolver& s, const Vec3& c, double R, double dp, int body, const Vec3& v) {
-  const int n = static_cast<int>(std::ceil(R / dp));
-  std::size_t count = 0;
-  for (int i = -n; i < n; ++i)
-    for (int j = -n; j < n; ++j)
-      for (int k = -n; k < n; ++k) {
-        const Vec3 d((i + 0.5) * dp, (j + 0.5) * dp, (k + 0.5) * dp);
-        if (d.squaredNorm() > R * R) continue;
-        s.addParticle(c + d, dp * dp * dp, 0, body, v);
-        ++count;
-      }
-  return count;
-}
-
-struct Sums {
-  Vec3 p0 = Vec3::Zero(), p1 = Vec3::Zero();  // momentum of each body, kg m/s
-  double m0 = 0, m1 = 0;                      // mass of each body, kg
-};
-Sums sums(const MpmSolver& s) {
-  Sums r;
-  for (std::size_t i = 0; i < s.size(); ++i) {
-    if (s.body(i) == 0) {
-      r.p0 += s.mass(i) * s.velocity(i);
-      r.m0 += s.mass(i);
-    } else {
-      r.p1 += s.mass(i) * s.velocity(i);
-      r.m1 += s.mass(i);
-    }
-  }
-  return r;
-}
 
 struct SphereImpact {
   double drift = 0;         // max |E - E0| / E0, E = kinetic + strain + penalty
