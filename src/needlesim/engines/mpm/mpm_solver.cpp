@@ -1326,7 +1326,7 @@ void MpmSolver::remapUpdate(bool clear) {
         if (clear)
           for (std::size_t b = 0; b < UB; ++b)
             if (mb[b] > 0) {
-              std::fill_n(&G.rec[NR * (b * nodes_ + I)], NR, 0.0);
+              std::fill_n(&G.rec[NR * (b * nodes_ + I)], 8, 0.0);  // NR = 8 (one line, as p2g)
               if (B > 1) std::fill_n(&G.grad[8 * (b * nodes_ + I)], 8, 0.0);
             }
       }
