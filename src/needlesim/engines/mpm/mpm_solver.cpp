@@ -906,7 +906,8 @@ void MpmSolver::gridUpdate() {
   double* vel = vel_.data();
   const double* dash = dashpot_.data();
   const std::uint8_t* fix = fixMask_.data();
-#pragma omp parallel num_threads(nthreads_)
+  std::size_t touchLo = rows, touchHi = 0;  // rows with rigid contact: [touchLo, touchHi)
+#pragma omp parallel num_threads(nthreads_) reduction(min : touchLo) reduction(max : touchHi)
   {
     const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
     for (std::size_t q = qa; q < qb; ++q) {
@@ -986,6 +987,10 @@ void MpmSolver::gridUpdate() {
             if (imp.squaredNorm() != 0.0) flag = 1;
           }
           active_[r * nodes_ + I] = static_cast<std::uint8_t>(flag | 2 | (part << 2));
+          if (flag) {
+            touchLo = std::min(touchLo, q);
+            touchHi = std::max(touchHi, q + 1);
+          }
         }
         const std::uint8_t mask = fix[I];
         if (mask)
@@ -996,11 +1001,11 @@ void MpmSolver::gridUpdate() {
     }
   }
   // Force on each rigid body: the impulses in node order (the same sum on any
-  // number of threads); contact nodes lie in the spans.
+  // number of threads); contact nodes lie in the spans of the rows touched.
   for (std::size_t r = 0; r < R; ++r) {
     std::array<double, 9> a{};  // total(3) shaft(3) tip(3)
     int count = 0;
-    for (std::size_t q = 0; q < rows; ++q) {
+    for (std::size_t q = touchLo; q < touchHi; ++q) {
       std::size_t h0 = n2, h1 = 0;
       for (std::size_t b = 0; b < UB; ++b) {
         const std::uint32_t* span = &rowSpan_[2 * (b * rows + q)];
