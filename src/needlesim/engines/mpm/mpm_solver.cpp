@@ -820,8 +820,96 @@ inline Vec3 rigidContact(double m, double* v, const Vec3& n, const Vec3& vr, dou
   return m * dv;
 }
 
+// Rows [first, last) of thread t of a team of T: equal shares of the work
+// whose cumulative sum over the rows is cum (cum[q]: work of the rows before q).
+inline std::pair<std::size_t, std::size_t> rowShare(const std::vector<std::uint64_t>& cum, int t, int T) {
+  const std::uint64_t W = cum.back();
+  const auto bound = [&](int u) -> std::size_t {
+    if (u <= 0) return 0;
+    if (u >= T) return cum.size() - 1;
+    const std::uint64_t target = W * static_cast<std::uint64_t>(u) / static_cast<std::uint64_t>(T);
+    return static_cast<std::size_t>(std::lower_bound(cum.begin(), cum.end(), target) - cum.begin());
+  };
+  return {bound(t), bound(t + 1)};
+}
+
+// The node kernels of the grid passes in four lanes: an AVX clone (no FMA, so
+// no contraction: the roundings of the scalar code) and a baseline one.
+#if defined(__GNUC__) && !defined(__clang__) && defined(__x86_64__) && !defined(NEEDLESIM_MPM_NO_CLONES)
+#define MPM_AVX_CLONES __attribute__((target_clones("avx", "default")))
+#else
+#define MPM_AVX_CLONES
+#endif
+
+// eq 3 (+ gravity g, dashpot d) on n consecutive nodes of one body: records r
+// (8 per node, as p2g), velocities v (8 per node), dashpots d (3 per node):
+// v_new = (p + (f + m g) dt) / (m + d dt) and v_old = p / m, the pad lanes
+// 0 / m = 0; nodes without mass get zero velocities. musl: clear the momentum
+// lanes for the remap. fix (null: applied later, after contact): fixed
+// velocity components per node.
+MPM_AVX_CLONES void eq3Nodes(double* r, double* v, const double* d, std::size_t n, double dt,
+                             const double* g, bool musl, const std::uint8_t* fix) {
+  const double z = opaqueZero();
+  const A4 grav = {g[0], g[1], g[2], z}, zero = {z, z, z, z};
+  for (std::size_t k = 0; k < n; ++k, r += 8, v += 8, d += 3) {
+    const double m = r[kM];
+    if (!(m > 0)) {
+      *reinterpret_cast<A4*>(v) = zero;
+      *reinterpret_cast<A4*>(v + 4) = zero;
+      continue;
+    }
+    const A4 p = {r[kP], r[kP + 1], r[kP + 2], z}, f = {r[kF], r[kF + 1], r[kF + 2], z};
+    const A4 dd = {d[0], d[1], d[2], z};
+    const A4 mm = {m, m, m, m};
+    *reinterpret_cast<A4*>(v + 4) = p / mm;
+    *reinterpret_cast<A4*>(v) = (p + (f + mm * grav) * dt) / (mm + dd * dt);
+    if (musl) r[kP] = r[kP + 1] = r[kP + 2] = 0.0;  // the momentum lanes take the MUSL remap (g2pRemap)
+    if (fix && fix[k])
+      for (int c = 0; c < 3; ++c)
+        if (fix[k] & (1 << c)) v[c] = 0.0;
+  }
+}
+
+// The remapped velocity v* = p / m on n consecutive nodes of one body (records
+// and velocities 8 per node; zero without mass). fix (null: applied later,
+// after contact): fixed components; clear: zero the records with mass (and
+// their gradient records when grad is not null) for the next p2g.
+MPM_AVX_CLONES void remapNodes(double* r, double* v, std::size_t n, const std::uint8_t* fix, bool clear,
+                               double* grad) {
+  const double z = opaqueZero();
+  const A4 zero = {z, z, z, z};
+  for (std::size_t k = 0; k < n; ++k, r += 8, v += 8) {
+    const double m = r[kM];
+    if (!(m > 0)) {
+      v[4] = v[5] = v[6] = 0.0;
+      continue;
+    }
+    const A4 p = {r[kP], r[kP + 1], r[kP + 2], z};
+    *reinterpret_cast<A4*>(v + 4) = p / A4{m, m, m, m};
+    if (fix && fix[k])
+      for (int c = 0; c < 3; ++c)
+        if (fix[k] & (1 << c)) v[4 + c] = 0.0;
+    if (clear) {
+      *reinterpret_cast<A4*>(r) = zero;
+      *reinterpret_cast<A4*>(r + 4) = zero;
+      if (grad) {
+        *reinterpret_cast<A4*>(grad + 8 * k) = zero;
+        *reinterpret_cast<A4*>(grad + 8 * k + 4) = zero;
+      }
+    }
+  }
+}
+
 }  // namespace
 
+// Per (i, j) row and body: find the span of nodes with mass (reading the mass
+// lanes only) and apply eq 3 there; then the node-wise contact and boundary
+// conditions on the row's hull of spans. Outside the spans only what the last
+// step's spans left is cleared: most nodes carry no mass, and their
+// velocities (zero: the gathers read them at zero weight) and contact flags
+// stay as they are. Threads take rows in equal shares of the work (a row's
+// mass lanes plus its last-step spans). The arithmetic per node is the
+// scalar one in four lanes (same operations, same roundings).
 void MpmSolver::gridUpdate() {
   const int B = cfg_.bodies;
   const std::size_t R = rigids_.size();
@@ -833,48 +921,90 @@ void MpmSolver::gridUpdate() {
   const double pairGap = pairGap_;
   const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
   const std::size_t NR = static_cast<std::size_t>(nr_);
-  const Vec3 g = cfg_.gravity;
-  for (auto& a : rforceThread_) a.fill(0.0);
-#pragma omp parallel num_threads(nthreads_)
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1, UB = static_cast<std::size_t>(B);
+  if (rowSpan_.size() != 2 * UB * rows) {  // first step: nothing set outside the (empty) spans
+    rowSpan_.assign(2 * UB * rows, 0);
+    rowSpanPrev_.assign(2 * UB * rows, 0);
+    rowWork_.assign(rows + 1, 0);
+  }
+  if (rimp_.size() != 3 * UB * R * nodes_) rimp_.assign(3 * UB * R * nodes_, 0.0);
+  rowSpan_.swap(rowSpanPrev_);
+  for (std::size_t q = 0; q < rows; ++q) {
+    std::uint64_t w = UB * n2;
+    for (std::size_t b = 0; b < UB; ++b)
+      w += 4 * (rowSpanPrev_[2 * (b * rows + q) + 1] - rowSpanPrev_[2 * (b * rows + q)]);
+    rowWork_[q + 1] = rowWork_[q] + w;
+  }
+  // Node-wise work beyond eq 3 and the fixed components: rigid or velocity contact.
+  const bool nodeWise = R > 0 || (B == 2 && !penalty_);
+  const double grav[3] = {cfg_.gravity.x(), cfg_.gravity.y(), cfg_.gravity.z()};
+  double* rec = G.rec.data();
+  double* vel = vel_.data();
+  const double* dash = dashpot_.data();
+  const std::uint8_t* fix = fixMask_.data();
+  std::size_t touchLo = rows, touchHi = 0;  // rows with rigid contact: [touchLo, touchHi)
+#pragma omp parallel num_threads(nthreads_) reduction(min : touchLo) reduction(max : touchHi)
   {
-    auto* acc = rforceThread_.data() + static_cast<std::size_t>(threadId()) * std::max<std::size_t>(R, 1);
-#pragma omp for schedule(static)
-    for (std::size_t I = 0; I < nodes_; ++I) {
-      double mb[2] = {0, 0};
-      bool any = false;
-      for (int b = 0; b < B; ++b) {
-        const std::size_t J = static_cast<std::size_t>(b) * nodes_ + I;
-        double* r = &G.rec[NR * J];
-        double* v = &vel_[8 * J];
-        const double m = r[kM];
-        mb[b] = m;
-        if (!(m > 0)) {
-          for (int c = 0; c < 8; ++c) v[c] = 0.0;
+    const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
+    for (std::size_t q = qa; q < qb; ++q) {
+      const std::size_t I0 = q * n2;
+      std::size_t h0 = n2, h1 = 0;  // hull of this step's spans
+      for (std::size_t b = 0; b < UB; ++b) {
+        const std::size_t J0 = b * nodes_ + I0;
+        const double* m = rec + NR * J0 + kM;
+        std::size_t k0 = 0, k1 = n2;
+        while (k0 < n2 && !(m[NR * k0] > 0)) ++k0;
+        if (k0 == n2) k0 = k1 = 0;
+        while (k1 > k0 && !(m[NR * (k1 - 1)] > 0)) --k1;
+        std::uint32_t* span = &rowSpan_[2 * (b * rows + q)];
+        const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
+        span[0] = static_cast<std::uint32_t>(k0);
+        span[1] = static_cast<std::uint32_t>(k1);
+        if (k1 > k0) {
+          h0 = std::min(h0, k0);
+          h1 = std::max(h1, k1);
+        }
+        // Outside the span: clear the velocities the last step's span left.
+        for (std::size_t k = prev[0]; k < std::min<std::size_t>(prev[1], k0); ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
+        for (std::size_t k = std::max<std::size_t>(prev[0], k1); k < prev[1]; ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
+        if (k1 > k0)
+          eq3Nodes(rec + NR * (J0 + k0), vel + 8 * (J0 + k0), dash + 3 * (I0 + k0), k1 - k0, dt, grav, musl,
+                   nodeWise ? nullptr : fix + I0 + k0);
+      }
+      if (!nodeWise) continue;
+      // Outside the hull: clear the contact flags the last step left and
+      // reset the gap minima p2g wrote (its support reaches nodes of zero weight).
+      for (std::size_t b = 0; b < UB; ++b) {
+        const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
+        for (std::size_t k = prev[0]; k < prev[1]; ++k)
+          if (k < h0 || k >= h1)
+            for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I0 + k] = 0;
+      }
+      for (std::size_t r = 0; r < R; ++r) {
+        double* gm = &G.gmin[r * nodes_ + I0];
+        for (std::size_t k = 0; k < n2; ++k)
+          if ((k < h0 || k >= h1) && gm[k] != kInf) gm[k] = kInf;  // reset for the next p2g
+      }
+      const int i = static_cast<int>(q / n1), j = static_cast<int>(q % n1);
+      for (std::size_t k = h0; k < h1; ++k) {
+        const std::size_t I = I0 + k;
+        double mb[2] = {0, 0};
+        bool any = false;
+        for (std::size_t b = 0; b < UB; ++b) {
+          mb[b] = rec[NR * (b * nodes_ + I) + kM];
+          any = any || mb[b] > 0;
+        }
+        for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
+        if (!any) {
+          for (std::size_t r = 0; r < R; ++r) G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g
           continue;
         }
-        any = true;
-        for (int c = 0; c < 3; ++c) {
-          const double p = r[kP + c];
-          v[4 + c] = p / m;
-          const double d = dashpot_[3 * I + c];
-          v[c] = (p + (r[kF + c] + m * g[c]) * dt) / (m + d * dt);  // eq 3 (+ gravity, dashpot)
-          if (musl) r[kP + c] = 0.0;  // the momentum lanes take the MUSL remap (g2pRemap); v_old is v[4..6]
-        }
-      }
-      for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
-      if (!any) {
-        for (std::size_t r = 0; r < R; ++r) G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g
-        continue;
-      }
-      if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
-        pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.grad[8 * I + kG],
-                    &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX], pairGap,
-                    nodePosition(I), est, cfg_.h);
-      if (R > 0) {
-        const int i = static_cast<int>(I / (static_cast<std::size_t>(nn_[1]) * nn_[2]));
-        const int j = static_cast<int>((I / static_cast<std::size_t>(nn_[2])) % static_cast<std::size_t>(nn_[1]));
-        const int k = static_cast<int>(I % static_cast<std::size_t>(nn_[2]));
-        const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, k);
+        const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, static_cast<int>(k));
+        if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
+          pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.grad[8 * I + kG],
+                      &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX],
+                      pairGap, xI, est, cfg_.h);
         for (std::size_t r = 0; r < R; ++r) {
           const double gm = G.gmin[r * nodes_ + I];
           G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g (gridUpdate is its only reader)
@@ -885,38 +1015,63 @@ void MpmSolver::gridUpdate() {
           rb.distance(xI, &n, &part);
           for (int c = 0; c < 3; ++c) rnormal_[3 * (r * nodes_ + I) + c] = n[c];
           std::uint8_t flag = 0;
-          for (int b = 0; b < B; ++b) {
+          for (std::size_t b = 0; b < UB; ++b) {
+            double* ib = &rimp_[3 * ((r * nodes_ + I) * UB + b)];  // summed below, in node order
+            std::fill_n(ib, 3, 0.0);
             if (!(mb[b] > 0)) continue;
-            const Vec3 imp = rigidContact(mb[b], &vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I)], n,
-                                          rb.velocity, rb.friction);
-            if (imp.squaredNorm() == 0.0) continue;
-            flag = 1;
-            auto& a = acc[r];
-            for (int c = 0; c < 3; ++c) {
-              a[c] -= imp[c] / dt;                 // force on the rigid body
-              a[3 * (part + 1) + c] -= imp[c] / dt;  // shaft (part 0 -> 3..5) or tip (part 1 -> 6..8)
-            }
+            const Vec3 imp = rigidContact(mb[b], &vel_[8 * (b * nodes_ + I)], n, rb.velocity, rb.friction);
+            for (int c = 0; c < 3; ++c) ib[c] = imp[c];
+            if (imp.squaredNorm() != 0.0) flag = 1;
           }
           active_[r * nodes_ + I] = static_cast<std::uint8_t>(flag | 2 | (part << 2));
+          if (flag) {
+            touchLo = std::min(touchLo, q);
+            touchHi = std::max(touchHi, q + 1);
+          }
         }
+        const std::uint8_t mask = fix[I];
+        if (mask)
+          for (std::size_t b = 0; b < UB; ++b)
+            for (int c = 0; c < 3; ++c)
+              if (mask & (1 << c)) vel_[8 * (b * nodes_ + I) + c] = 0.0;
       }
-      const std::uint8_t mask = fixMask_[I];
-      if (mask)
-        for (int b = 0; b < B; ++b)
-          for (int c = 0; c < 3; ++c)
-            if (mask & (1 << c)) vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I) + c] = 0.0;
     }
   }
+  // Force on each rigid body: the impulses in node order (the same sum on any
+  // number of threads); contact nodes lie in the spans of the rows touched.
   for (std::size_t r = 0; r < R; ++r) {
-    RigidForce f;
-    for (int t = 0; t < nthreads_; ++t) {
-      const auto& a = rforceThread_[static_cast<std::size_t>(t) * R + r];
-      f.total += Vec3(a[0], a[1], a[2]);
-      f.tip += Vec3(a[6], a[7], a[8]);   // part 1
-      f.shaft += Vec3(a[3], a[4], a[5]);  // part 0
-    }
+    std::array<double, 9> a{};  // total(3) shaft(3) tip(3)
     int count = 0;
-    for (std::size_t I = 0; I < nodes_; ++I) count += active_[r * nodes_ + I] & 1;
+    for (std::size_t q = touchLo; q < touchHi; ++q) {
+      std::size_t h0 = n2, h1 = 0;
+      for (std::size_t b = 0; b < UB; ++b) {
+        const std::uint32_t* span = &rowSpan_[2 * (b * rows + q)];
+        if (span[1] > span[0]) {
+          h0 = std::min<std::size_t>(h0, span[0]);
+          h1 = std::max<std::size_t>(h1, span[1]);
+        }
+      }
+      for (std::size_t k = h0; k < h1; ++k) {
+        const std::size_t I = q * n2 + k;
+        const std::uint8_t flag = active_[r * nodes_ + I];
+        if (!(flag & 1)) continue;
+        ++count;
+        const int part = flag >> 2;
+        for (std::size_t b = 0; b < UB; ++b) {
+          const double* ib = &rimp_[3 * ((r * nodes_ + I) * UB + b)];
+          const Vec3 imp(ib[0], ib[1], ib[2]);
+          if (imp.squaredNorm() == 0.0) continue;
+          for (int c = 0; c < 3; ++c) {
+            a[static_cast<std::size_t>(c)] -= imp[c] / dt;                   // force on the rigid body
+            a[static_cast<std::size_t>(3 * (part + 1) + c)] -= imp[c] / dt;  // shaft (part 0 -> 3..5) or tip (part 1 -> 6..8)
+          }
+        }
+      }
+    }
+    RigidForce f;
+    f.total += Vec3(a[0], a[1], a[2]);
+    f.tip += Vec3(a[6], a[7], a[8]);    // part 1
+    f.shaft += Vec3(a[3], a[4], a[5]);  // part 0
     f.contactNodes = count;
     rforce_[r] = f;
   }
@@ -1147,7 +1302,9 @@ void MpmSolver::surfaceContact(bool first) {
 }
 
 // After the momentum remap of MUSL: the same contact (at the nodes found in
-// the first update, with their normals) and boundary conditions on v*.
+// the first update, with their normals) and boundary conditions on v*. Only
+// the spans gridUpdate found: outside them the records and velocities are
+// zero and no contact flag is set.
 void MpmSolver::remapUpdate(bool clear) {
   const int B = cfg_.bodies;
   const std::size_t R = rigids_.size();
@@ -1156,42 +1313,66 @@ void MpmSolver::remapUpdate(bool clear) {
   const double pairGap = pairGap_;
   const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
   const std::size_t NR = static_cast<std::size_t>(nr_);
-#pragma omp parallel for schedule(static) num_threads(nthreads_)
-  for (std::size_t I = 0; I < nodes_; ++I) {
-    double mb[2] = {0, 0};
-    for (int b = 0; b < B; ++b) {
-      const std::size_t J = static_cast<std::size_t>(b) * nodes_ + I;
-      const double* r = &G.rec[NR * J];
-      const double m = r[kM];
-      mb[b] = m;
-      for (int c = 0; c < 3; ++c) vel_[8 * J + 4 + c] = m > 0 ? r[kP + c] / m : 0.0;
-    }
-    if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: the forces acted once, in f_I
-      pairContact(mb[0], mb[1], &vel_[8 * I + 4], &vel_[8 * (nodes_ + I) + 4], &G.grad[8 * I + kG],
-                  &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX], pairGap,
-                  nodePosition(I), est, cfg_.h);
-    for (std::size_t r = 0; r < R; ++r) {
-      if (!(active_[r * nodes_ + I] & 2)) continue;
-      const double* nn = &rnormal_[3 * (r * nodes_ + I)];
-      const Vec3 n(nn[0], nn[1], nn[2]);
-      for (int b = 0; b < B; ++b)
-        if (mb[b] > 0)
-          rigidContact(mb[b], &vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I) + 4], n, rigids_[r].velocity,
-                       rigids_[r].friction);
-    }
-    const std::uint8_t mask = fixMask_[I];
-    if (mask)
-      for (int b = 0; b < B; ++b)
-        for (int c = 0; c < 3; ++c)
-          if (mask & (1 << c)) vel_[8 * (static_cast<std::size_t>(b) * nodes_ + I) + 4 + c] = 0.0;
-    // Last use of the records this step: clear them for the next p2g while
-    // they are in cache (a record without mass holds only zeros already).
-    if (clear)
-      for (int b = 0; b < B; ++b)
-        if (mb[b] > 0) {
-          std::fill_n(&G.rec[NR * (static_cast<std::size_t>(b) * nodes_ + I)], NR, 0.0);
-          if (B > 1) std::fill_n(&G.grad[8 * (static_cast<std::size_t>(b) * nodes_ + I)], 8, 0.0);
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1, UB = static_cast<std::size_t>(B);
+  for (std::size_t q = 0; q < rows; ++q) {
+    std::uint64_t w = 1;
+    for (std::size_t b = 0; b < UB; ++b) w += rowSpan_[2 * (b * rows + q) + 1] - rowSpan_[2 * (b * rows + q)];
+    rowWork_[q + 1] = rowWork_[q] + w;
+  }
+  const bool nodeWise = R > 0 || (B == 2 && !penalty_);
+  double* rec = G.rec.data();
+  double* vel = vel_.data();
+  const std::uint8_t* fix = fixMask_.data();
+#pragma omp parallel num_threads(nthreads_)
+  {
+    const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
+    for (std::size_t q = qa; q < qb; ++q) {
+      const std::size_t I0 = q * n2;
+      std::size_t h0 = n2, h1 = 0;  // hull of the spans
+      for (std::size_t b = 0; b < UB; ++b) {
+        const std::size_t J0 = b * nodes_ + I0;
+        const std::size_t k0 = rowSpan_[2 * (b * rows + q)], k1 = rowSpan_[2 * (b * rows + q) + 1];
+        if (k1 > k0) {
+          h0 = std::min(h0, k0);
+          h1 = std::max(h1, k1);
         }
+        if (k1 > k0)  // contact first (node-wise below): the fixed components and the clearing after it
+          remapNodes(rec + NR * (J0 + k0), vel + 8 * (J0 + k0), k1 - k0, nodeWise ? nullptr : fix + I0 + k0,
+                     clear && !nodeWise, B > 1 ? &G.grad[8 * (J0 + k0)] : nullptr);
+      }
+      if (!nodeWise) continue;
+      const int i = static_cast<int>(q / n1), j = static_cast<int>(q % n1);
+      for (std::size_t k = h0; k < h1; ++k) {
+        const std::size_t I = I0 + k;
+        double mb[2] = {0, 0};
+        for (std::size_t b = 0; b < UB; ++b) mb[b] = rec[NR * (b * nodes_ + I) + kM];
+        if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: the forces acted once, in f_I
+          pairContact(mb[0], mb[1], &vel_[8 * I + 4], &vel_[8 * (nodes_ + I) + 4], &G.grad[8 * I + kG],
+                      &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX],
+                      pairGap, cfg_.origin + cfg_.h * Vec3(i, j, static_cast<int>(k)), est, cfg_.h);
+        for (std::size_t r = 0; r < R; ++r) {
+          if (!(active_[r * nodes_ + I] & 2)) continue;
+          const double* nn = &rnormal_[3 * (r * nodes_ + I)];
+          const Vec3 n(nn[0], nn[1], nn[2]);
+          for (std::size_t b = 0; b < UB; ++b)
+            if (mb[b] > 0) rigidContact(mb[b], &vel_[8 * (b * nodes_ + I) + 4], n, rigids_[r].velocity, rigids_[r].friction);
+        }
+        const std::uint8_t mask = fix[I];
+        if (mask)
+          for (std::size_t b = 0; b < UB; ++b)
+            for (int c = 0; c < 3; ++c)
+              if (mask & (1 << c)) vel_[8 * (b * nodes_ + I) + 4 + c] = 0.0;
+        // Last use of the records this step: clear them for the next p2g while
+        // they are in cache (a record without mass holds only zeros already).
+        if (clear)
+          for (std::size_t b = 0; b < UB; ++b)
+            if (mb[b] > 0) {
+              std::fill_n(&G.rec[NR * (b * nodes_ + I)], 8, 0.0);  // NR = 8 (one line, as p2g)
+              if (B > 1) std::fill_n(&G.grad[8 * (b * nodes_ + I)], 8, 0.0);
+            }
+      }
+    }
   }
   if (clear) gridClean_ = true;
 }

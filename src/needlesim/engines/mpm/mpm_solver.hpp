@@ -240,6 +240,14 @@ class MpmSolver {
   std::vector<double> rnormal_;         // per node per rigid: normal (3) used in the first update
   std::vector<RigidForce> rforce_;
   std::vector<std::array<double, 9>> rforceThread_;  // per thread per rigid: total(3) tip(3) shaft(3)
+  // Grid passes (gridUpdate, remapUpdate): per body and (i, j) row the span
+  // [k0, k1) of the nodes with mass, this step's and the last one's (outside
+  // its spans a row holds zero velocities and contact flags); the cumulative
+  // work per row for the threads' shares; per rigid, node and body the
+  // impulse of the rigid contact (force summed in node order).
+  std::vector<std::uint32_t> rowSpan_, rowSpanPrev_;  // 2 per body per row
+  std::vector<std::uint64_t> rowWork_;                // rows + 1
+  std::vector<double> rimp_;                          // 3 per rigid per node per body
   double pairGap_ = 0.0;
   std::optional<SurfaceFromCentroid> surfaceEst_;  // Surface gap rule
   std::optional<PairPenalty> penalty_;  // two bodies, BodyContact::Penalty (penalty_contact.cpp)
