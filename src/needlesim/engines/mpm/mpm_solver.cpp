@@ -244,7 +244,6 @@ void MpmSolver::finalize() {
   active_.assign(R * nodes_, 0);
   rnormal_.assign(3 * R * nodes_, 0.0);
   rforce_.assign(R, RigidForce{});
-  rforceThread_.assign(static_cast<std::size_t>(nthreads_) * std::max<std::size_t>(R, 1), {});
   if (cfg_.contactGap < 0) cfg_.contactGap = 0.5 * dp_;
   surf_.assign(R, Surface{});
   for (std::size_t r = 0; r < R; ++r)

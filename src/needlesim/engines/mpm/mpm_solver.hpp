@@ -239,7 +239,6 @@ class MpmSolver {
   std::vector<std::uint8_t> active_;    // per node: rigid contact flags of the first update
   std::vector<double> rnormal_;         // per node per rigid: normal (3) used in the first update
   std::vector<RigidForce> rforce_;
-  std::vector<std::array<double, 9>> rforceThread_;  // per thread per rigid: total(3) tip(3) shaft(3)
   // Grid passes (gridUpdate, remapUpdate): per body and (i, j) row the span
   // [k0, k1) of the nodes with mass, this step's and the last one's (outside
   // its spans a row holds zero velocities and contact flags); the cumulative
