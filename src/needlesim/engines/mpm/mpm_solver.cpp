@@ -2,6 +2,7 @@
 // contact), 25-28 (time step, mass scaling). See docs/models/mpm.md.
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 #include "needlesim/engines/mpm/stress_lanes.hpp"
+#include "needlesim/engines/mpm/support_lanes.hpp"
 
 #include <fmt/format.h>
 
@@ -617,6 +618,7 @@ MPM_CLONES void MpmSolver::p2g() {
   constexpr std::size_t NR = 8;
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const int R = static_cast<int>(rigids_.size());
   // Cheap bound for the gap search: the signed distance to a needle is at
@@ -653,7 +655,7 @@ MPM_CLONES void MpmSolver::p2g() {
     const auto [q0, q1] = slabRange(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const double m = P_[p].mass;
       const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
       const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
@@ -673,8 +675,8 @@ MPM_CLONES void MpmSolver::p2g() {
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
-          const double wij = wx[i] * wy[j];
-          const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+          const A4 wij = wx[i] * wy[j];
+          const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
           const std::size_t node = off + (static_cast<std::size_t>(bx + i) * n1 +
                                           static_cast<std::size_t>(by + j)) * n2 +
                                    static_cast<std::size_t>(bz);
@@ -684,8 +686,8 @@ MPM_CLONES void MpmSolver::p2g() {
           const A4 b1 = wij * S2;
           if (Grad && needG) {
             // gradient record: mass gradient (3), mass-weighted position (3)
-            const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
-            const A4 b2 = {z0, z0, m * wij, z0};
+            const A4 a2 = {m * gxij[0], m * gyij[0], 0.0, wij[0] * m * xp[0]};
+            const A4 b2 = {z0, z0, m * wij[0], z0};
             double* __restrict g = grad + 8 * node;
             for (int k = 0; k < S; ++k, r += NR, g += 8) {
               add(r, wz[k] * a0);
@@ -693,7 +695,7 @@ MPM_CLONES void MpmSolver::p2g() {
               add(g, wz[k] * a2 + dz[k] * b2);
             }
             if (centroid) {
-              const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
+              const A4 a3 = {wij[0] * m * xp[1], wij[0] * m * xp[2], z0, z0};
               g -= 8 * S;
               for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
             }
@@ -1179,7 +1181,7 @@ void MpmSolver::remapUpdate(bool clear) {
 template <int S>
 MPM_CLONES void MpmSolver::g2pRemap() {
   const double invh = 1.0 / cfg_.h;
-  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {cfg_.origin.x(), cfg_.origin.y(), cfg_.origin.z(), 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double flip = cfg_.flip;
@@ -1193,7 +1195,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
     const auto [q0, q1] = slabRange(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old
       for (int i = 0; i < S; ++i)
@@ -1207,7 +1209,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
             sn += wz[k] * ld(v + 8 * k);
             so += wz[k] * ld(v + 8 * k + 4);
           }
-          const double wij = wx[i] * wy[j];
+          const A4 wij = wx[i] * wy[j];
           an += wij * sn;
           ao += wij * so;
         }
@@ -1251,6 +1253,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const double flip = cfg_.flip;
   constexpr bool usl = Usl;
@@ -1288,7 +1291,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     std::size_t nready = 0;
     for (std::size_t qi = c0; qi < c1; ++qi) {
       const std::size_t p = order[qi];
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
       A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
@@ -1305,8 +1308,8 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
             sd += dz[k] * vg;
             if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
           }
-          const double wij = wx[i] * wy[j];
-          const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+          const A4 wij = wx[i] * wy[j];
+          const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
           if constexpr (usl) {
             an += wij * sw;
             ao += wij * so;
