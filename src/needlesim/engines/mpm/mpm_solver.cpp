@@ -1264,7 +1264,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   std::atomic<int> bad{0};
   std::atomic<std::size_t> badP{0};
   double ek = 0, ei = 0, vmax = 0;
-  const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
+  const double limEnd[3] = {nn_[0] - S + 1.0, nn_[1] - S + 1.0, nn_[2] - S + 1.0};  // last base node + 1
   const bool fbar = cfg_.fbar;
   const std::uint32_t* __restrict order = order_.data();
   // Same slabs as the scatter (no barrier between the two), recording each
@@ -1301,8 +1301,12 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
                                   static_cast<std::size_t>(bz);
           const double* __restrict v = vel + 8 * row;
           // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
-          A4 sw = {0, 0, 0, 0}, sd = {0, 0, 0, 0}, so = {0, 0, 0, 0};
-          for (int k = 0; k < S; ++k) {
+          // (the sums start from the k = 0 products, not from 0 + product:
+          // the same values, without an add of zero and its register copy)
+          const A4 vg0 = ld(v + go);
+          A4 sw = wz[0] * vg0, sd = dz[0] * vg0, so = {0, 0, 0, 0};
+          if constexpr (usl) so = wz[0] * ld(v + 4);
+          for (int k = 1; k < S; ++k) {
             const A4 vg = ld(v + 8 * k + go);
             sw += wz[k] * vg;
             sd += dz[k] * vg;
@@ -1339,25 +1343,23 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
         for (int c = 0; c < 3; ++c)
           Fn[3 * r + c] = P_[p].F[3 * r + c] + dt * (L[3 * r + 0] * P_[p].F[c] + L[3 * r + 1] * P_[p].F[3 + c] +
                                                    L[3 * r + 2] * P_[p].F[6 + c]);
-      Mat3 F;
-      for (int c = 0; c < 9; ++c) {
-        P_[p].F[c] = Fn[c];
-        F(c / 3, c % 3) = Fn[c];
-      }
-      const double J = F.determinant();
+      for (int c = 0; c < 9; ++c) P_[p].F[c] = Fn[c];
+      // det F by cofactors of the first row, the expression of Eigen's 3x3
+      // determinant (same bits as Mat3::determinant, without the copy into a Mat3)
+      const double J = Fn[0] * (Fn[4] * Fn[8] - Fn[5] * Fn[7]) - Fn[1] * (Fn[3] * Fn[8] - Fn[5] * Fn[6]) +
+                       Fn[2] * (Fn[3] * Fn[7] - Fn[4] * Fn[6]);
       P_[p].vol = P_[p].vol0 * J;  // the next scatter's volume
       const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
       int cause = 0;
       if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) cause = 2;
       else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
       else {
-        // Base node of the support at the new position (as weights<S>).
+        // Base node of the support at the new position (as weights<S>) in
+        // 0 .. lim: floor(xs) in 0 .. lim, i.e. 0 <= xs < lim + 1.
         const double sh = S == 2 ? 0.0 : 0.5;
         const double xs[3] = {(P_[p].x[0] - ox) * invh - sh, (P_[p].x[1] - oy) * invh - sh, (P_[p].x[2] - oz) * invh - sh};
-        for (int d = 0; d < 3; ++d) {
-          const double b = std::floor(xs[d]);
-          if (b < 0.0 || b > lim[d]) cause = 3;
-        }
+        for (int d = 0; d < 3; ++d)
+          if (!(xs[d] >= 0.0 && xs[d] < limEnd[d])) cause = 3;
         if (!cause) {
           const int l = static_cast<int>(xs[0]);  // = the floor, xs[0] >= 0
           layerLo = std::min(layerLo, l);
