@@ -1183,7 +1183,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
   const double invh = 1.0 / cfg_.h;
   const A4 O = {cfg_.origin.x(), cfg_.origin.y(), cfg_.origin.z(), 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  const std::size_t NR = static_cast<std::size_t>(nr_);
+  constexpr std::size_t NR = 8;  // = nr_; a constant, so the k offsets fold into the addresses
   const double flip = cfg_.flip;
   const double* __restrict vel = vel_.data();
   double* __restrict rec = buf_[0].rec.data();
