@@ -66,7 +66,8 @@ inline int weights(double xi, double invh, double* w, double* dw) {
 }
 
 // The support of a point: weights and derivatives along each axis and the
-// base node, for the particle passes of mpm_solver.cpp.
+// base node (the penalty contact; the particle passes of mpm_solver.cpp use
+// the same operations on vector lanes, support_lanes.hpp).
 template <int S>
 struct Stencil {
   double wx[S], wy[S], wz[S], dx[S], dy[S], dz[S];

@@ -2,6 +2,7 @@
 // contact), 25-28 (time step, mass scaling). See docs/models/mpm.md.
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 #include "needlesim/engines/mpm/stress_lanes.hpp"
+#include "needlesim/engines/mpm/support_lanes.hpp"
 
 #include <fmt/format.h>
 
@@ -623,6 +624,23 @@ void MpmSolver::markNearBodies() {
   occFresh_ = false;                       // until g2pFinal has marked them all
 }
 
+namespace {
+// Nodal gap minimum over the support of one point (eq 22) whose base node is
+// at gmin. Out of line on purpose: inlined into p2g, GCC hoists the 27 node
+// indices above the gap tests and so computes them for every point (~85
+// instructions per point-step), though only the points near a needle (a few
+// per cent) get here.
+template <int S>
+[[gnu::noinline]] void minGap(double* gmin, std::size_t sx, std::size_t sy, double gap) {
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j)
+      for (int k = 0; k < S; ++k) {
+        double& g = gmin[static_cast<std::size_t>(i) * sx + static_cast<std::size_t>(j) * sy + static_cast<std::size_t>(k)];
+        g = std::min(g, gap);
+      }
+}
+}  // namespace
+
 // Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
 // grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
 // entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
@@ -632,6 +650,7 @@ MPM_CLONES void MpmSolver::p2g() {
   constexpr std::size_t NR = 8;
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const int R = static_cast<int>(rigids_.size());
   // Cheap bound for the gap search: the signed distance to a needle is at
@@ -669,7 +688,7 @@ MPM_CLONES void MpmSolver::p2g() {
     const auto [q0, q1] = slabRange(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const double m = P_[p].mass;
       const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
       const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
@@ -693,8 +712,8 @@ MPM_CLONES void MpmSolver::p2g() {
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j) {
-          const double wij = wx[i] * wy[j];
-          const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+          const A4 wij = wx[i] * wy[j];
+          const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
           const std::size_t node = off + (static_cast<std::size_t>(bx + i) * n1 +
                                           static_cast<std::size_t>(by + j)) * n2 +
                                    static_cast<std::size_t>(bz);
@@ -704,8 +723,8 @@ MPM_CLONES void MpmSolver::p2g() {
           const A4 b1 = wij * S2;
           if (Grad && needG) {
             // gradient record: mass gradient (3), mass-weighted position (3)
-            const A4 a2 = {m * gxij, m * gyij, 0.0, wij * m * xp[0]};
-            const A4 b2 = {z0, z0, m * wij, z0};
+            const A4 a2 = {m * gxij[0], m * gyij[0], 0.0, wij[0] * m * xp[0]};
+            const A4 b2 = {z0, z0, m * wij[0], z0};
             double* __restrict g = grad + 8 * node;
             for (int k = 0; k < S; ++k, r += NR, g += 8) {
               add(r, wz[k] * a0);
@@ -713,7 +732,7 @@ MPM_CLONES void MpmSolver::p2g() {
               add(g, wz[k] * a2 + dz[k] * b2);
             }
             if (centroid) {
-              const A4 a3 = {wij * m * xp[1], wij * m * xp[2], z0, z0};
+              const A4 a3 = {wij[0] * m * xp[1], wij[0] * m * xp[2], z0, z0};
               g -= 8 * S;
               for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
             }
@@ -738,14 +757,9 @@ MPM_CLONES void MpmSolver::p2g() {
         }
         const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
         if (gap > gapReach) continue;
-        double* gmin = B.gmin.data() + static_cast<std::size_t>(r) * nodes_;
-        for (int i = 0; i < S; ++i)
-          for (int j = 0; j < S; ++j)
-            for (int k = 0; k < S; ++k) {
-              const std::size_t I = (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                    static_cast<std::size_t>(bz + k);
-              gmin[I] = std::min(gmin[I], gap);
-            }
+        minGap<S>(B.gmin.data() + static_cast<std::size_t>(r) * nodes_ +
+                      (static_cast<std::size_t>(bx) * n1 + static_cast<std::size_t>(by)) * n2 + static_cast<std::size_t>(bz),
+                  n1 * n2, n2, gap);
       }
     }
     if (colour == 0) {
@@ -1384,9 +1398,9 @@ void MpmSolver::remapUpdate(bool clear) {
 template <int S>
 MPM_CLONES void MpmSolver::g2pRemap() {
   const double invh = 1.0 / cfg_.h;
-  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {cfg_.origin.x(), cfg_.origin.y(), cfg_.origin.z(), 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  const std::size_t NR = static_cast<std::size_t>(nr_);
+  constexpr std::size_t NR = 8;  // = nr_; a constant, so the k offsets fold into the addresses
   const double flip = cfg_.flip;
   const double* __restrict vel = vel_.data();
   double* __restrict rec = buf_[0].rec.data();
@@ -1398,7 +1412,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
     const auto [q0, q1] = slabRange(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old
       for (int i = 0; i < S; ++i)
@@ -1412,7 +1426,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
             sn += wz[k] * ld(v + 8 * k);
             so += wz[k] * ld(v + 8 * k + 4);
           }
-          const double wij = wx[i] * wy[j];
+          const A4 wij = wx[i] * wy[j];
           an += wij * sn;
           ao += wij * so;
         }
@@ -1456,6 +1470,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const double flip = cfg_.flip;
   constexpr bool usl = Usl;
@@ -1466,7 +1481,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   std::atomic<int> bad{0};
   std::atomic<std::size_t> badP{0};
   double ek = 0, ei = 0, vmax = 0;
-  const int lim[3] = {nn_[0] - S, nn_[1] - S, nn_[2] - S};
+  const double limEnd[3] = {nn_[0] - S + 1.0, nn_[1] - S + 1.0, nn_[2] - S + 1.0};  // last base node + 1
   const bool fbar = cfg_.fbar;
   const std::uint32_t* __restrict order = order_.data();
   const int slabAxis = slabAxis_;
@@ -1498,7 +1513,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     std::size_t nready = 0;
     for (std::size_t qi = c0; qi < c1; ++qi) {
       const std::size_t p = order[qi];
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
+      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
       A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
@@ -1508,15 +1523,19 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
                                   static_cast<std::size_t>(bz);
           const double* __restrict v = vel + 8 * row;
           // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
-          A4 sw = {0, 0, 0, 0}, sd = {0, 0, 0, 0}, so = {0, 0, 0, 0};
-          for (int k = 0; k < S; ++k) {
+          // (the sums start from the k = 0 products, not from 0 + product:
+          // the same values, without an add of zero and its register copy)
+          const A4 vg0 = ld(v + go);
+          A4 sw = wz[0] * vg0, sd = dz[0] * vg0, so = {0, 0, 0, 0};
+          if constexpr (usl) so = wz[0] * ld(v + 4);
+          for (int k = 1; k < S; ++k) {
             const A4 vg = ld(v + 8 * k + go);
             sw += wz[k] * vg;
             sd += dz[k] * vg;
             if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
           }
-          const double wij = wx[i] * wy[j];
-          const double gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+          const A4 wij = wx[i] * wy[j];
+          const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
           if constexpr (usl) {
             an += wij * sw;
             ao += wij * so;
@@ -1546,25 +1565,23 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
         for (int c = 0; c < 3; ++c)
           Fn[3 * r + c] = P_[p].F[3 * r + c] + dt * (L[3 * r + 0] * P_[p].F[c] + L[3 * r + 1] * P_[p].F[3 + c] +
                                                    L[3 * r + 2] * P_[p].F[6 + c]);
-      Mat3 F;
-      for (int c = 0; c < 9; ++c) {
-        P_[p].F[c] = Fn[c];
-        F(c / 3, c % 3) = Fn[c];
-      }
-      const double J = F.determinant();
+      for (int c = 0; c < 9; ++c) P_[p].F[c] = Fn[c];
+      // det F by cofactors of the first row, the expression of Eigen's 3x3
+      // determinant (same bits as Mat3::determinant, without the copy into a Mat3)
+      const double J = Fn[0] * (Fn[4] * Fn[8] - Fn[5] * Fn[7]) - Fn[1] * (Fn[3] * Fn[8] - Fn[5] * Fn[6]) +
+                       Fn[2] * (Fn[3] * Fn[7] - Fn[4] * Fn[6]);
       P_[p].vol = P_[p].vol0 * J;  // the next scatter's volume
       const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
       int cause = 0;
       if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) cause = 2;
       else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
       else {
-        // Base node of the support at the new position (as weights<S>).
+        // Base node of the support at the new position (as weights<S>) in
+        // 0 .. lim: floor(xs) in 0 .. lim, i.e. 0 <= xs < lim + 1.
         const double sh = S == 2 ? 0.0 : 0.5;
         const double xs[3] = {(P_[p].x[0] - ox) * invh - sh, (P_[p].x[1] - oy) * invh - sh, (P_[p].x[2] - oz) * invh - sh};
-        for (int d = 0; d < 3; ++d) {
-          const double b = std::floor(xs[d]);
-          if (b < 0.0 || b > lim[d]) cause = 3;
-        }
+        for (int d = 0; d < 3; ++d)
+          if (!(xs[d] >= 0.0 && xs[d] < limEnd[d])) cause = 3;
         if (!cause) {
           const int l = static_cast<int>(xs[slabAxis]);  // = the floor, xs >= 0
           layerLo = std::min(layerLo, l);
