@@ -618,6 +618,36 @@ TEST(MpmParallel, ColouredScatterMatchesOneThread) {
   EXPECT_GT(d, 0.0);  // not the same sums: the test compares two different scatters
 }
 
+// The slabs follow the axis along which the points span the most layers
+// (sortByLayer): a block three cells long in x but sixteen in y is coloured
+// (cut along y) and matches one thread to round-off; with slabs along x only
+// it would scatter on one thread, as the short block below.
+TEST(MpmParallel, SlabsFollowTheLongestAxis) {
+  auto run = [](int threads, bool& coloured) {
+    MpmConfig cfg;
+    cfg.h = 1e-3;
+    cfg.cells = {10, 24, 10};
+    cfg.origin = Vec3(-3e-3, -4e-3, -3e-3);
+    cfg.threads = threads;
+    cfg.gravity = Vec3(0, -9.81, 0);
+    MpmSolver s(cfg);
+    s.addMaterial(linearMaterial(1e5, 0.3, 1000));
+    s.addBlock(Vec3(0, 0, 0), Vec3(3e-3, 16e-3, 3e-3), 0.5e-3, 0, 0, Vec3(0.3, 0.2, 0.1));
+    for (int i = 0; i < 20; ++i) s.step();
+    coloured = s.colouredScatter();
+    std::vector<double> x;
+    for (std::size_t p = 0; p < s.size(); ++p) x.push_back(s.position(p).y() + 1e-3 * s.velocity(p).x());
+    return x;
+  };
+  bool c1 = true, c2 = false;
+  const auto a = run(1, c1), b = run(2, c2);
+  EXPECT_FALSE(c1);
+  EXPECT_TRUE(c2);
+  double d = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  EXPECT_LT(d, 1e-12);
+}
+
 // A block only three cells long cannot be cut into four slabs whose parity
 // classes are disjoint: two threads then scatter on one (and still match one
 // thread to round-off) while the other passes run on both.
