@@ -277,6 +277,19 @@ TEST(MpmPenaltyContact, PairSearchMatchesBruteForce) {
   EXPECT_LT(mom[0].x(), 0.0);  // pushed apart along x
   EXPECT_GT(mom[1].x(), 0.0);
   EXPECT_LT((mom[0] + mom[1]).norm(), 1e-12 * mom[1].norm());
+  // Later steps take the cells the bodies occupy from the previous step's
+  // final pass (markNearBodies), not from a pass over the points: the search
+  // must still find every pair in contact (the deepest overlap) at the start
+  // of each step.
+  for (int step = 0; step < 3; ++step) {
+    double deepest = 0;
+    for (std::size_t p = 0; p < n; ++p)
+      for (std::size_t q = 0; q < n; ++q)
+        if (s.body(p) == 0 && s.body(q) == 1)
+          deepest = std::max(deepest, rad[p] + rad[q] - (s.position(p) - s.position(q)).norm());
+    ASSERT_GT(deepest, 0.0);
+    EXPECT_NEAR(s.step().penetration, deepest, 1e-15) << "step " << step + 2;
+  }
 }
 
 // The barrier of the pair law (penalty_contact.hpp) on one pair: two single
