@@ -38,6 +38,14 @@ using LineVector = std::vector<T, LineAllocator<T>>;
 // branchy sequence on x86-64 without AVX-512).
 inline std::size_t cellOf(double xi) { return static_cast<std::size_t>(static_cast<int>(xi)); }
 
+// The cell (i, j, k) holding a point at (xi, yi, zi) cells from the grid
+// origin, as its (i, j) row i n1 + j and k (the bit rows of
+// MpmSolver::markNearBodies, the penalty contact's cell lists).
+struct Cell {
+  std::size_t row, k;
+};
+inline Cell cellAt(double xi, double yi, double zi, std::size_t n1) { return {cellOf(xi) * n1 + cellOf(yi), cellOf(zi)}; }
+
 // Shape functions along one axis: base node index, weights and derivatives.
 // xi >= 0 inside the grid (finalize and g2pFinal check it), so truncation is
 // the floor (std::floor is a library call without SSE4.1).

@@ -48,7 +48,6 @@ inline double opaqueZero() {
 }
 // Grid record offsets and shape functions (grid_kernels.hpp).
 using grid::kM, grid::kP, grid::kF, grid::kG, grid::kX;
-using grid::weights;
 
 // Function multiversioning of the particle-grid kernels: a baseline x86-64
 // clone and an x86-64-v3 (AVX2, FMA) clone chosen at load time, so the default
@@ -58,6 +57,11 @@ using grid::weights;
 #else
 #define MPM_CLONES
 #endif
+
+// Two bodies: the word of cell c of body b in the bit rows of
+// markNearBodies (W words per body and row, both bodies in a row), and its bit.
+inline std::size_t cellWord(grid::Cell c, std::size_t b, std::size_t W) { return (2 * c.row + b) * W + c.k / 64; }
+inline std::uint64_t cellBit(grid::Cell c) { return std::uint64_t{1} << (c.k % 64); }
 
 // Software prefetch of the record of a point a few visits ahead, the cache
 // lines of mask Lines (bit l: line l of the 256-byte Point): perf showed the
@@ -627,9 +631,8 @@ void MpmSolver::markNearBodies() {
     const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
     std::fill(occ_.begin(), occ_.end(), 0);
     for (std::size_t p = 0; p < size(); ++p) {
-      const std::size_t row = grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh);
-      const std::size_t k = grid::cellOf((P_[p].x[2] - oz) * invh);
-      occ_[row * rw + body_[p] * W + k / 64] |= std::uint64_t{1} << (k % 64);
+      const grid::Cell c = grid::cellAt((P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh, n1);
+      occ_[cellWord(c, body_[p], W)] |= cellBit(c);
     }
   }
   const std::uint64_t lastMask = n2 % 64 ? (std::uint64_t{1} << (n2 % 64)) - 1 : ~std::uint64_t{0};
@@ -717,13 +720,12 @@ MPM_CLONES void MpmSolver::p2g() {
       // bodies reach, i.e. for points with the other body within 3 cells.
       bool needG = false;
       if constexpr (Grad) {
-        const std::size_t row = grid::cellOf((xp[0] - ox) * invh) * n1 + grid::cellOf((xp[1] - oy) * invh);
-        const std::size_t k = grid::cellOf((xp[2] - oz) * invh);
-        const std::size_t w = (2 * row + 1 - body_[p]) * nearW + k / 64;
-        needG = (nearRows[w] >> (k % 64)) & 1;
+        const grid::Cell c = grid::cellAt((xp[0] - ox) * invh, (xp[1] - oy) * invh, (xp[2] - oz) * invh, n1);
+        const std::size_t w = cellWord(c, 1 - body_[p], nearW);  // the other body's bits
+        needG = (nearRows[w] & cellBit(c)) != 0;
         // the penalty contact's candidates (penaltyForces): the other body in the 27 cells around
-        const bool cand = needG && ((near1Rows[w] >> (k % 64)) & 1);
-        nearCell[p] = cand ? static_cast<std::uint32_t>(row * n2 + k) : kNotNear;
+        const bool cand = needG && (near1Rows[w] & cellBit(c)) != 0;
+        nearCell[p] = cand ? static_cast<std::uint32_t>(c.row * n2 + c.k) : kNotNear;
       }
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       for (int i = 0; i < S; ++i)
@@ -1597,7 +1599,8 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
         // Base node of the support at the new position (as weights<S>) in
         // 0 .. lim: floor(xs) in 0 .. lim, i.e. 0 <= xs < lim + 1.
         const double sh = S == 2 ? 0.0 : 0.5;
-        const double xs[3] = {(P_[p].x[0] - ox) * invh - sh, (P_[p].x[1] - oy) * invh - sh, (P_[p].x[2] - oz) * invh - sh};
+        const double xc[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};  // in cells
+        const double xs[3] = {xc[0] - sh, xc[1] - sh, xc[2] - sh};
         for (int d = 0; d < 3; ++d)
           if (!(xs[d] >= 0.0 && xs[d] < limEnd[d])) cause = 3;
         if (!cause) {
@@ -1605,10 +1608,9 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
           layerLo = std::min(layerLo, l);
           layerHi = std::max(layerHi, l);
           if (occ) {  // as markNearBodies' own pass; slabs meet at a row: atomic OR, skipped when set
-            const std::size_t row = grid::cellOf((P_[p].x[0] - ox) * invh) * n1 + grid::cellOf((P_[p].x[1] - oy) * invh);
-            const std::size_t k = grid::cellOf((P_[p].x[2] - oz) * invh);
-            std::uint64_t* w = occ + (2 * row + body_[p]) * occW + k / 64;
-            const std::uint64_t bit = std::uint64_t{1} << (k % 64);
+            const grid::Cell c = grid::cellAt(xc[0], xc[1], xc[2], n1);
+            std::uint64_t* w = occ + cellWord(c, body_[p], occW);
+            const std::uint64_t bit = cellBit(c);
             if (!(__atomic_load_n(w, __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(w, bit, __ATOMIC_RELAXED);
           }
         }
