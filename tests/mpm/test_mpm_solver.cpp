@@ -11,7 +11,9 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
+#include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/stress_lanes.hpp"
+#include "needlesim/engines/mpm/support_lanes.hpp"
 #include "mpm_test_materials.hpp"
 #include "needlesim/materials/homogeneous.hpp"
 
@@ -113,6 +115,43 @@ TEST(MpmStress, LaneExpMatchesStdExp) {
   }
   EXPECT_LT(worst, 2 * std::numeric_limits<double>::epsilon());
   std::printf("exp4 worst relative error %.2e (epsilon %.2e)\n", worst, std::numeric_limits<double>::epsilon());
+}
+
+// The particle passes take a point's support from support_lanes.hpp (x, y, z
+// on vector lanes), the penalty contact and CFEMP from grid::weights: the two
+// must give the same base nodes, weights and derivatives to the bit, and both
+// the partition of unity (sum w = 1, sum dw = 0, the linear hat and the
+// quadratic B-spline), including points on cell faces and cell centres.
+template <int S>
+void checkSupport() {
+  const double h = 0.8e-3, invh = 1.0 / h;
+  const lanes::A4 o = {-3.2e-3, -2.4e-3, -1.6e-3, 0.0};
+  double worstSum = 0.0;
+  for (int i = 0; i < 2000; ++i) {
+    // positions 1.5 .. 21.5 cells from the origin: irrational offsets, exact faces (i % 10 == 0) and centres
+    const double t = 1.5 + 0.01 * i + (i % 10 == 0 ? 0.0 : 1e-3 * std::sin(i));
+    const double x[4] = {o[0] + t * h, o[1] + (t + 0.25) * h, o[2] + (t + 0.5) * h, 0.0};
+    const lanes::Support<S> s = lanes::support<S>(x, o, invh);
+    const std::size_t base[3] = {s.bx, s.by, s.bz};
+    for (int a = 0; a < 3; ++a) {
+      double w[S], dw[S];
+      const int b = grid::weights<S>((x[a] - o[a]) * invh, invh, w, dw);
+      EXPECT_EQ(static_cast<std::size_t>(b), base[a]);
+      double sw = 0.0, sd = 0.0;
+      for (int k = 0; k < S; ++k) {
+        EXPECT_EQ(s.w[k][a], w[k]) << "S " << S << " point " << i << " axis " << a << " node " << k;
+        EXPECT_EQ(s.d[k][a], dw[k]);
+        sw += w[k];
+        sd += dw[k];
+      }
+      worstSum = std::max({worstSum, std::abs(sw - 1.0), std::abs(sd) * h});
+    }
+  }
+  EXPECT_LT(worstSum, 4 * std::numeric_limits<double>::epsilon());
+}
+TEST(MpmShape, LaneSupportMatchesScalarWeights) {
+  checkSupport<2>();
+  checkSupport<3>();
 }
 
 // Seed 000 eq 27 with mass scaling: c = sqrt(M / (c_m rho)).
@@ -618,61 +657,57 @@ TEST(MpmParallel, ColouredScatterMatchesOneThread) {
   EXPECT_GT(d, 0.0);  // not the same sums: the test compares two different scatters
 }
 
+// One block [0, hi] of 0.5 mm points on a 1 mm grid moving under gravity g
+// for 20 steps on `threads`: whether the scatter was coloured, and a
+// position/velocity component of every point to compare thread counts.
+static std::vector<double> blockRun(int threads, std::array<int, 3> cells, const Vec3& origin, const Vec3& hi, const Vec3& g,
+                             bool& coloured) {
+  MpmConfig cfg;
+  cfg.h = 1e-3;
+  cfg.cells = cells;
+  cfg.origin = origin;
+  cfg.threads = threads;
+  cfg.gravity = g;
+  MpmSolver s(cfg);
+  s.addMaterial(linearMaterial(1e5, 0.3, 1000));
+  s.addBlock(Vec3(0, 0, 0), hi, 0.5e-3, 0, 0, Vec3(0.3, 0.2, 0.1));
+  for (int i = 0; i < 20; ++i) s.step();
+  coloured = s.colouredScatter();
+  std::vector<double> x;
+  for (std::size_t p = 0; p < s.size(); ++p) x.push_back(s.position(p).dot(g.normalized()) + 1e-3 * s.velocity(p).y());
+  return x;
+}
+static double largestDifference(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = 0;
+  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
+}
+
 // The slabs follow the axis along which the points span the most layers
 // (sortByLayer): a block three cells long in x but sixteen in y is coloured
 // (cut along y) and matches one thread to round-off; with slabs along x only
 // it would scatter on one thread, as the short block below.
 TEST(MpmParallel, SlabsFollowTheLongestAxis) {
-  auto run = [](int threads, bool& coloured) {
-    MpmConfig cfg;
-    cfg.h = 1e-3;
-    cfg.cells = {10, 24, 10};
-    cfg.origin = Vec3(-3e-3, -4e-3, -3e-3);
-    cfg.threads = threads;
-    cfg.gravity = Vec3(0, -9.81, 0);
-    MpmSolver s(cfg);
-    s.addMaterial(linearMaterial(1e5, 0.3, 1000));
-    s.addBlock(Vec3(0, 0, 0), Vec3(3e-3, 16e-3, 3e-3), 0.5e-3, 0, 0, Vec3(0.3, 0.2, 0.1));
-    for (int i = 0; i < 20; ++i) s.step();
-    coloured = s.colouredScatter();
-    std::vector<double> x;
-    for (std::size_t p = 0; p < s.size(); ++p) x.push_back(s.position(p).y() + 1e-3 * s.velocity(p).x());
-    return x;
-  };
   bool c1 = true, c2 = false;
+  const auto run = [&](int threads, bool& c) {
+    return blockRun(threads, {10, 24, 10}, Vec3(-3e-3, -4e-3, -3e-3), Vec3(3e-3, 16e-3, 3e-3), Vec3(0, -9.81, 0), c);
+  };
   const auto a = run(1, c1), b = run(2, c2);
   EXPECT_FALSE(c1);
   EXPECT_TRUE(c2);
-  double d = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  EXPECT_LT(d, 1e-12);
+  EXPECT_LT(largestDifference(a, b), 1e-12);
 }
 
 // A block only three cells long cannot be cut into four slabs whose parity
 // classes are disjoint: two threads then scatter on one (and still match one
 // thread to round-off) while the other passes run on both.
 TEST(MpmParallel, ShortProblemScattersOnOneThread) {
-  auto run = [](int threads, bool& coloured) {
-    MpmConfig cfg;
-    cfg.h = 1e-3;
-    cfg.cells = {10, 12, 12};
-    cfg.origin = Vec3(-3e-3, -4e-3, -4e-3);
-    cfg.threads = threads;
-    cfg.gravity = Vec3(-9.81, 0, 0);
-    MpmSolver s(cfg);
-    s.addMaterial(linearMaterial(1e5, 0.3, 1000));
-    s.addBlock(Vec3(0, 0, 0), Vec3(3e-3, 4e-3, 4e-3), 0.5e-3, 0, 0, Vec3(0.3, 0.2, 0.1));
-    for (int i = 0; i < 20; ++i) s.step();
-    coloured = s.colouredScatter();
-    std::vector<double> x;
-    for (std::size_t p = 0; p < s.size(); ++p) x.push_back(s.position(p).x() + 1e-3 * s.velocity(p).y());
-    return x;
-  };
   bool c1 = true, c2 = true;
+  const auto run = [&](int threads, bool& c) {
+    return blockRun(threads, {10, 12, 12}, Vec3(-3e-3, -4e-3, -4e-3), Vec3(3e-3, 4e-3, 4e-3), Vec3(-9.81, 0, 0), c);
+  };
   const auto a = run(1, c1), b = run(2, c2);
   EXPECT_FALSE(c1);
   EXPECT_FALSE(c2);
-  double d = 0;
-  for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
-  EXPECT_LT(d, 1e-12);
+  EXPECT_LT(largestDifference(a, b), 1e-12);
 }
