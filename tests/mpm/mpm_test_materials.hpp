@@ -14,4 +14,7 @@ inline MpmMaterial linearMaterial(double E, double nu, double rho) {
   return m;
 }
 
+// Name of a shape function for the tests' printed lines.
+inline const char* shapeName(Shape s) { return s == Shape::Linear ? "linear" : "B-spline"; }
+
 }  // namespace needlesim::mpm::test

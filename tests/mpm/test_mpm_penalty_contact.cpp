@@ -94,7 +94,6 @@ Impact collide(const Collision& u) {
   return c;
 }
 
-const char* name(Shape s) { return s == Shape::Linear ? "linear" : "B-spline"; }
 
 }  // namespace
 
@@ -109,7 +108,7 @@ TEST(MpmPenaltyContact, TwoElasticBlocksCollideEnergyDrift) {
     const Impact c = collide(u);
     std::printf("penalty collision %s (h = 1 mm, mu 0.3): max drift %.2f %%, final E/E0 %.4f, restitution %.3f, "
                 "largest overlap %.3f h, friction work %.2g E0, %lld steps\n",
-                name(sh), 100 * c.drift, c.final, c.restitution, c.penetration / 1e-3, c.frictionWork / c.e0,
+                test::shapeName(sh), 100 * c.drift, c.final, c.restitution, c.penetration / 1e-3, c.frictionWork / c.e0,
                 c.steps);
     // Measured 1.6 % (B-spline) and 1.4 % (linear). What is left is the
     // FLIP/grid error of the impact plus the half-step kinetic energy of an

@@ -116,13 +116,12 @@ SphereImpact collideSpheres(const SphereRun& u) {
   return c;
 }
 
-const char* name(Shape s) { return s == Shape::Linear ? "linear" : "B-spline"; }
 
 void print(const char* what, const SphereRun& u, const SphereImpact& c) {
   std::printf("%s %s (R %.0f mm, v 2 x %.2f m/s, kappa %.2f, mu %.1f, %zu points): max drift %.2f %%, final E/E0 "
               "%.4f, restitution %.3f, max |v_cm| %.2g v0, contact %.3f ms (%d interval(s)) vs Hertz %.3f ms "
               "(ratio %.3f), largest overlap %.3f h, friction work %.2g E0, %lld steps\n",
-              what, name(u.shape), 1e3 * u.R, u.v0, u.kappa > 0 ? u.kappa : MpmConfig{}.penaltyFactor, u.mu,
+              what, test::shapeName(u.shape), 1e3 * u.R, u.v0, u.kappa > 0 ? u.kappa : MpmConfig{}.penaltyFactor, u.mu,
               c.points, 100 * c.drift, c.final, c.restitution, c.cmVelocity / u.v0, 1e3 * c.contactTime, c.episodes,
               1e3 * c.hertz, c.contactTime / c.hertz, c.penetration / 1e-3, c.frictionWork / c.e0, c.steps);
 }
