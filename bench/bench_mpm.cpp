@@ -170,6 +170,10 @@ int main(int argc, char** argv) {
       const double np = static_cast<double>(s.size());
       std::printf("step wall time: fastest %.3f ms (%.2f M particle-steps/s), median %.3f ms (%.2f M/s)\n", ms.front(),
                   np / ms.front() * 1e-3, ms[ms.size() / 2], np / ms[ms.size() / 2] * 1e-3);
+      // the spread: deciles of the step time (ms)
+      std::printf("deciles (ms):");
+      for (int d = 1; d <= 9; ++d) std::printf(" %.2f", ms[ms.size() * static_cast<std::size_t>(d) / 10]);
+      std::printf("\n");
     }
     return 0;
   }
