@@ -12,6 +12,7 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/run_scenario.hpp"
+#include "needlesim/io/checkpoint.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
 
@@ -23,6 +24,7 @@ struct RunArgs {
   std::string out;
   bool overwrite = false;
   bool quiet = false;
+  bool resume = false;
 };
 }  // namespace
 
@@ -33,6 +35,9 @@ void registerRunCommand(CLI::App& app) {
   cmd->add_option("-o,--out", args->out, "results folder (default: output.directory, else results/<name>)");
   cmd->add_flag("--overwrite", args->overwrite, "replace an existing results folder once the new one is complete");
   cmd->add_flag("-q,--quiet", args->quiet, "no progress and no summary on the terminal");
+  cmd->add_flag("--resume", args->resume,
+                "continue an interrupted run from its checkpoint (<results folder>.checkpoint, written every "
+                "output.checkpoint_interval)");
   cmd->callback([args] {
     Scenario sc = args->file.empty() ? scenario::defaultScenario() : scenario::readFile(args->file);
     namespace fs = std::filesystem;
@@ -44,18 +49,41 @@ void registerRunCommand(CLI::App& app) {
       target = fs::path("results") / sc.name;
       explicitTarget = false;
     }
+    // The checkpoint belongs to the target as named (for the automatic one,
+    // results/<name>, whichever free -2, -3 ... name the results then get).
+    const fs::path ckFolder = io::Checkpoint::folderFor(target);
     if (!explicitTarget) target = io::freeResultsPath(target);
     else if (fs::exists(target) && !args->overwrite)
       throw InputError(SourceLocation{}, "--out", target.string(), "results folder already exists",
                        "a new folder, or --overwrite to replace it");
+    const EngineInfo* engine = findEngine(sc.model.engine);
+    const bool checkpoints = engine && engine->checkpoints && sc.output.checkpoint_interval > 0;
+    if (args->resume && !(engine && engine->checkpoints))
+      throw InputError(SourceLocation{sc.source, 0, 0}, "--resume", sc.model.engine,
+                       "this engine does not write checkpoints, so there is nothing to resume", "engine mpm");
+    if (!args->resume && checkpoints && fs::exists(ckFolder)) {
+      if (!args->overwrite)
+        throw InputError(SourceLocation{ckFolder.string(), 0, 0}, "", "",
+                         "the checkpoint of an interrupted run of this scenario is in the way",
+                         "needlesim run --resume to continue it, or --overwrite (or deleting the folder) to start afresh");
+      fs::remove_all(ckFolder);
+    }
+    io::Checkpoint checkpoint({ckFolder, io::scenarioFingerprint(sc), sc.output.checkpoint_interval, 0, args->resume,
+                               !args->quiet});
+    if (args->resume) checkpoint.check(sc.model.engine);
     if (!args->quiet)
-      fmt::print("needlesim: running '{}' ({}) with engine '{}'\n", sc.name, sc.source, sc.model.engine);
+      fmt::print("needlesim: {} '{}' ({}) with engine '{}'\n", args->resume ? "resuming" : "running", sc.name,
+                 sc.source, sc.model.engine);
     RunOptions opts;
     opts.progress = !args->quiet;
+    if (checkpoints || args->resume) opts.checkpoint = &checkpoint;
     RunOutcome outcome = runScenario(sc, target, args->overwrite, opts);
     if (!args->quiet) {
       for (const auto& r : outcome.results)
         fmt::print("  {:<24} {:>12.6g} {:<6} {}\n", r.key, r.value, r.unit == "1" ? "" : r.unit, r.meaning);
+      if (args->resume)
+        fmt::print("resumed from t = {:.6g} s (step {}) of {}\n", checkpoint.resumedTime(), checkpoint.resumedSteps(),
+                   ckFolder.string());
       fmt::print("results: {}/ (summary.json, report.html, CSV time series)\n", target.string());
     }
   });

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/core/error.hpp"
 #include "needlesim/io/html_report.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/scenario/scenario.hpp"
@@ -12,6 +13,7 @@
 namespace needlesim {
 namespace io {
 class FieldSeries;
+class Checkpoint;
 }
 
 class ResultSink {
@@ -31,6 +33,20 @@ class ResultSink {
 
 struct RunOptions {
   bool progress = true;  // show progress on a terminal
+  // Checkpoints (io/checkpoint.hpp): where to write them, how often, and
+  // whether to resume; nullptr = none (sweeps, in-memory runs). Engines that
+  // do not support them ignore it (only mpm writes checkpoints so far).
+  io::Checkpoint* checkpoint = nullptr;
+  // Test hook: the engine stops after this many steps (counted from the start
+  // of the run, not of the resumed part) by throwing RunInterrupted, as if the
+  // process had been killed there (0 = off).
+  long long stopAfterSteps = 0;
+};
+
+// Thrown by an engine at RunOptions::stopAfterSteps; nothing is committed.
+class RunInterrupted : public Error {
+ public:
+  using Error::Error;
 };
 
 using EngineFn = std::function<void(const Scenario&, ResultSink&, const RunOptions&)>;
@@ -39,6 +55,7 @@ struct EngineInfo {
   std::string name;
   std::string summary;
   EngineFn run;
+  bool checkpoints = false;  // writes checkpoints and can resume (RunOptions::checkpoint)
 };
 
 // All engines built into this binary (engines/registry.cpp).

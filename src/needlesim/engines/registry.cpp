@@ -16,7 +16,7 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", engines::runKinematic},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", engines::runEnergy},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)", engines::runBeamFoundation},
-      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", engines::runMpm},
+      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", engines::runMpm, true},
       {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", engines::runExplicit},
   };
   return list;

@@ -3,6 +3,7 @@
 #include <chrono>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/io/checkpoint.hpp"
 
 namespace needlesim {
 
@@ -23,10 +24,12 @@ RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, 
   } catch (const SolverError& e) {
     // Keep what was computed up to the failure, marked as stopped, then report.
     folder.commit(overwrite, elapsed(), e.what());
+    if (options.checkpoint) options.checkpoint->remove();  // resuming would stop at the same place
     throw SolverError(std::string(e.what()) + " (results up to this point are in " + target.string() + ")");
   }
   const double wall = elapsed();
   folder.commit(overwrite, wall);
+  if (options.checkpoint) options.checkpoint->remove();
   return RunOutcome{target, folder.results(), wall};
 }
 

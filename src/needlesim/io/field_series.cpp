@@ -4,9 +4,11 @@
 #include <hdf5.h>
 
 #include <cmath>
+#include <unistd.h>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/io/atomic_file.hpp"
+#include "needlesim/io/binary_state.hpp"
 
 namespace needlesim::io {
 namespace {
@@ -190,5 +192,93 @@ void FieldSeries::endStep() {
 
 std::size_t FieldSeries::steps() const { return impl_->steps.size(); }
 const std::filesystem::path& FieldSeries::xdmfPath() const { return impl_->xdmfpath; }
+
+void FieldSeries::saveState(BinaryWriter& w, const std::filesystem::path& h5copy) const {
+  namespace fs = std::filesystem;
+  const auto& I = *impl_;
+  if (I.open) throw Error("internal: FieldSeries::saveState inside a step");
+  H5Fflush(I.file, H5F_SCOPE_GLOBAL);
+  fs::path tmp = h5copy;
+  tmp += ".tmp." + std::to_string(::getpid());
+  std::error_code ec;
+  fs::copy_file(I.h5path, tmp, fs::copy_options::overwrite_existing, ec);
+  if (!ec) fs::rename(tmp, h5copy, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw Error("cannot copy " + I.h5path.string() + " to " + h5copy.string() + " (disk full?)");
+  }
+  w.tag("field_series");
+  w.pod(static_cast<std::int32_t>(I.dim));
+  w.pod(static_cast<std::int32_t>(I.type));
+  w.pod(static_cast<std::uint64_t>(I.npoints));
+  w.pod(static_cast<std::uint64_t>(I.ncells));
+  w.pod(static_cast<std::uint8_t>(I.meshSet));
+  w.pod(static_cast<std::uint64_t>(I.steps.size()));
+  for (const Step& st : I.steps) {
+    w.pod(st.time);
+    w.str(st.points);
+    w.pod(static_cast<std::uint64_t>(st.npoints));
+    w.pod(static_cast<std::uint64_t>(st.attrs.size()));
+    for (const Attr& a : st.attrs) {
+      w.str(a.name);
+      w.pod(static_cast<std::uint8_t>(a.cell));
+      w.pod(static_cast<std::int32_t>(a.components));
+      w.str(a.dataset);
+      w.pod(static_cast<std::uint64_t>(a.count));
+    }
+  }
+}
+
+void FieldSeries::restore(BinaryReader& r, const std::filesystem::path& h5copy) {
+  namespace fs = std::filesystem;
+  auto& I = *impl_;
+  r.tag("field_series");
+  if (r.pod<std::int32_t>() != I.dim) r.fail("its field series has another dimension than this run's");
+  const auto type = r.pod<std::int32_t>();
+  if (type < 0 || type > static_cast<std::int32_t>(CellType::Line)) r.fail("unknown cell type in its field series");
+  const auto npoints = r.pod<std::uint64_t>(), ncells = r.pod<std::uint64_t>();
+  const bool meshSet = r.pod<std::uint8_t>() != 0;
+  if (I.meshSet && (npoints != I.npoints || static_cast<CellType>(type) != I.type))
+    r.fail(fmt::format("its field series has {} points, this run {}", npoints, I.npoints));
+  const auto nsteps = r.pod<std::uint64_t>();
+  std::vector<Step> steps;
+  for (std::uint64_t k = 0; k < nsteps; ++k) {
+    Step st;
+    r.pod(st.time);
+    st.points = r.str();
+    st.npoints = static_cast<std::size_t>(r.pod<std::uint64_t>());
+    const auto na = r.pod<std::uint64_t>();
+    if (na > 1000) r.fail("a field step with an impossible number of arrays (damaged file)");
+    for (std::uint64_t a = 0; a < na; ++a) {
+      Attr at;
+      at.name = r.str();
+      at.cell = r.pod<std::uint8_t>() != 0;
+      at.components = r.pod<std::int32_t>();
+      at.dataset = r.str();
+      at.count = static_cast<std::size_t>(r.pod<std::uint64_t>());
+      st.attrs.push_back(std::move(at));
+    }
+    steps.push_back(std::move(st));
+  }
+  if (!fs::is_regular_file(h5copy))
+    throw InputError(SourceLocation{h5copy.string(), 0, 0}, "", "", "is missing (the checkpoint names it)",
+                     "the checkpoint folder as the run left it; delete the folder to start afresh");
+  if (I.file >= 0) H5Fclose(I.file);
+  I.file = -1;
+  std::error_code ec;
+  fs::copy_file(h5copy, I.h5path, fs::copy_options::overwrite_existing, ec);
+  if (ec) throw Error("cannot copy " + h5copy.string() + " to " + I.h5path.string() + ": " + ec.message());
+  I.file = H5Fopen(I.h5path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
+  if (I.file < 0)
+    throw InputError(SourceLocation{h5copy.string(), 0, 0}, "", "", "is not a readable HDF5 file (damaged)",
+                     "the checkpoint folder as the run left it; delete the folder to start afresh");
+  I.type = static_cast<CellType>(type);
+  I.npoints = static_cast<std::size_t>(npoints);
+  I.ncells = static_cast<std::size_t>(ncells);
+  I.meshSet = meshSet;
+  I.steps = std::move(steps);
+  I.open = false;
+  writeFileAtomic(I.xdmfpath, I.xdmf());
+}
 
 }  // namespace needlesim::io

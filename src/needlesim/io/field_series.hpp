@@ -10,6 +10,9 @@
 
 namespace needlesim::io {
 
+class BinaryWriter;
+class BinaryReader;
+
 enum class CellType { Points, Triangle, Quad, Tetra, Hexa, Line };
 
 class FieldSeries {
@@ -34,6 +37,13 @@ class FieldSeries {
 
   std::size_t steps() const;
   const std::filesystem::path& xdmfPath() const;
+
+  // Checkpoints (io/checkpoint.hpp): saveState writes the series so far (its
+  // steps and datasets) into `w` and a copy of the HDF5 file to `h5copy`
+  // (through a temporary file, renamed); restore continues the series from
+  // such a copy, replacing whatever this series holds, and rewrites the XDMF.
+  void saveState(BinaryWriter& w, const std::filesystem::path& h5copy) const;
+  void restore(BinaryReader& r, const std::filesystem::path& h5copy);
 
  private:
   struct Impl;

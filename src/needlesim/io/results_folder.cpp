@@ -174,6 +174,7 @@ void ResultsFolder::commit(bool replace, double wall_seconds, const std::string&
                             {"stopped_because", failure.empty() ? nlohmann::json(nullptr) : nlohmann::json(failure)},
                             {"wall_time", {{"value", wall_seconds}, {"unit", "s"}}},
                             {"results", res},
+                            {"notes", notes_},
                             {"files", files},
                             {"scenario", scenarioToJson(scenario_)}};
   writeFileAtomic(stage / "summary.json", summary.dump(2) + "\n");

@@ -505,6 +505,7 @@ Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared
   Section out = top.sub("output");
   sc.output.directory = out.text("directory");
   sc.output.interval = out.number("interval");
+  sc.output.checkpoint_interval = out.number("checkpoint_interval");
   sc.output.csv = out.boolean("csv");
   sc.output.html = out.boolean("html");
   if (sc.output.interval > 0.0 && sc.output.interval < sc.model.time_step)

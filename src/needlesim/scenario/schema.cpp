@@ -346,6 +346,9 @@ std::vector<FieldDoc> build() {
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));
   add(nonneg("output", "interval", D::Time, "0 s", "sampling interval of the time series (0 = every step)"));
+  add(nonneg("output", "checkpoint_interval", D::Time, "10 min",
+             "wall-clock time between checkpoints of a long run, written beside the results folder for `needlesim run "
+             "--resume` (0 = none; mpm only so far)"));
   add(other("output", "csv", Kind::Bool, "true", "write CSV time series"));
   add(other("output", "html", Kind::Bool, "true", "write report.html"));
 

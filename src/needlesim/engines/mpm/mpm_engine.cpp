@@ -19,6 +19,7 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
+#include "needlesim/io/checkpoint.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/io/field_series.hpp"
 
@@ -351,13 +352,81 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   auto axial = [&](const Vec3& f) { return 0.0 - f.dot(axis); };  // resisting insertion = positive
 
   MotionState ms = place(0.0);
-  forces.addRow({0.0, ms.depth, ms.velocity, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
-  energy.addRow({0.0, ms.depth, 0.0, 0.0, 0.0});
-  recordMarkers(0.0, ms.depth);
-  writeFields(0.0);
   const double outEvery = sc.output.interval;
   double nextOut = outEvery, nextField = spec.field_interval;
   double nextMarkerDepth = spec.marker_depth_step > 0 ? (std::floor(ms.depth / spec.marker_depth_step) + 1) * spec.marker_depth_step : 0.0;
+
+  // Checkpoints (io/checkpoint.hpp, docs/models/mpm.md "Checkpoints"): the
+  // engine's state between two steps (the tables so far, the accumulators of
+  // the next output row, the next output times, the markers' and the fracture
+  // tracker's records) followed by the solver's. Everything else is set up
+  // again from the scenario exactly as in the first run.
+  constexpr std::uint32_t kEngineLayout = 1;
+  io::Checkpoint* ck = options.checkpoint;
+  io::Checkpoint::Series series;
+  if (fs) series.emplace_back("particles", fs);
+  auto saveCheckpoint = [&] {
+    io::BinaryWriter w;
+    w.tag("mpm_engine");
+    w.pod(kEngineLayout);
+    for (const io::Table* t : {&forces, &energy, &markerTable, &fractureTable}) w.table(*t);
+    for (const Vec3* v : {&impTot, &impTip, &impShaft})
+      for (int d = 0; d < 3; ++d) w.pod((*v)[d]);
+    for (const double x : {impT, peak, peakDepth, lastForce, lastTip, lastShaft, dtMin, dtMax, nextOut, nextField,
+                           nextMarkerDepth})
+      w.pod(x);
+    w.pod(static_cast<std::int32_t>(contactNodes));
+    w.pod(steps);
+    std::vector<double> maxUxy;
+    for (const auto& m : markers) maxUxy.push_back(m.maxUxy);
+    w.vec(maxUxy);
+    w.vec(fracture.separated);
+    w.pod(static_cast<std::uint64_t>(fracture.total));
+    for (const double x : {fracture.onsetDepth, fracture.onsetTime, fracture.deepest, fracture.widest}) w.pod(x);
+    solver.saveState(w);
+    ck->write("mpm", w, series, solver.time(), steps);
+  };
+  auto loadCheckpoint = [&] {
+    io::BinaryReader r = ck->load("mpm", series);
+    r.tag("mpm_engine");
+    if (r.pod<std::uint32_t>() != kEngineLayout) r.fail("holds an mpm engine state of another layout (another version)");
+    io::Table* tables[] = {&forces, &energy, &markerTable, &fractureTable};
+    for (io::Table* t : tables) {
+      io::Table u = r.table();
+      bool same = u.columns().size() == t->columns().size();
+      for (std::size_t c = 0; same && c < u.columns().size(); ++c) same = u.columns()[c].name == t->columns()[c].name;
+      if (!same) r.fail("holds tables with other columns (another set-up)");
+      *t = std::move(u);
+    }
+    for (Vec3* v : {&impTot, &impTip, &impShaft})
+      for (int d = 0; d < 3; ++d) r.pod((*v)[d]);
+    for (double* x : {&impT, &peak, &peakDepth, &lastForce, &lastTip, &lastShaft, &dtMin, &dtMax, &nextOut, &nextField,
+                      &nextMarkerDepth})
+      r.pod(*x);
+    contactNodes = r.pod<std::int32_t>();
+    r.pod(steps);
+    const auto maxUxy = r.vec<double>(markers.size(), "markers");
+    for (std::size_t i = 0; i < markers.size(); ++i) markers[i].maxUxy = maxUxy[i];
+    fracture.separated = r.vec<std::uint8_t>(fracture.a.size(), "fracture pairs");
+    fracture.total = static_cast<std::size_t>(r.pod<std::uint64_t>());
+    for (double* x : {&fracture.onsetDepth, &fracture.onsetTime, &fracture.deepest, &fracture.widest}) r.pod(*x);
+    solver.loadState(r);
+    ms = motion.at(std::min(solver.time(), T));
+  };
+  std::string resumedNote;
+  if (ck && ck->resuming()) {
+    loadCheckpoint();
+    resumedNote = fmt::format(
+        "Resumed from the checkpoint at t = {:.9g} s (step {}, depth {:.4g} mm); steps before it ran in an earlier "
+        "process.",
+        ck->resumedTime(), ck->resumedSteps(), ms.depth * 1e3);
+  } else {
+    forces.addRow({0.0, ms.depth, ms.velocity, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0});
+    energy.addRow({0.0, ms.depth, 0.0, 0.0, 0.0});
+    recordMarkers(0.0, ms.depth);
+    writeFields(0.0);
+  }
+  const long long steps0 = steps;
 
   auto emit = [&](bool stopped) {
     sink.result("peak_force", peak, "N", "largest axial force on the needle (resisting insertion)");
@@ -507,10 +576,16 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
       }
       if ((steps & 31) == 0)
         progress.update(t / T, fmt::format("depth {:.2f} mm, F {:.3g} N", ms.depth * 1e3, lastForce));
+      if (ck && !last && ck->due(steps)) saveCheckpoint();
+      if (options.stopAfterSteps > 0 && steps >= options.stopAfterSteps && !last) {
+        progress.finish();
+        throw RunInterrupted(fmt::format("mpm: stopped after {} steps (test hook RunOptions::stopAfterSteps)", steps));
+      }
     }
   } catch (const SolverError&) {
     progress.finish();
     sink.note("The run stopped early (see the error); the results cover the time up to the failure.");
+    if (!resumedNote.empty()) sink.note(resumedNote);
     emit(true);
     throw;
   }
@@ -532,7 +607,8 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
       spec.cfemp ? "CFEMP particle-to-surface contact with the triangulated needle, eqs 22-24"
                  : "grid contact, eqs 14-21",
       steps, dtMin * 1e3, dtMax * 1e3, run_s, solver.threads(),
-      run_s > 0 ? static_cast<double>(steps) * static_cast<double>(np) / run_s * 1e-6 : 0.0, setup_s));
+      run_s > 0 ? static_cast<double>(steps - steps0) * static_cast<double>(np) / run_s * 1e-6 : 0.0, setup_s));
+
   if (!markers.empty()) {
     double worst = 0.0;
     for (std::size_t i = 0; i < markers.size(); ++i) {
@@ -554,6 +630,7 @@ void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
       sink.note("In-plane base rotations are not modelled by mpm: the needle only translates along its axis.");
       break;
     }
+  if (!resumedNote.empty()) sink.note(resumedNote);
   emit(false);
 }
 

@@ -18,6 +18,7 @@
 #include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/penalty_contact.hpp"
 #include "needlesim/engines/mpm/surface_estimate.hpp"
+#include "needlesim/io/binary_state.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
 
 namespace needlesim::mpm {
@@ -283,6 +284,15 @@ class MpmSolver {
   StepReport last_;
   bool finalized_ = false;
   std::size_t badParticle_ = 0;
+
+ public:
+  // Checkpoints (solver_state.cpp, docs/models/mpm.md "Checkpoints"): the
+  // state that carries from one step to the next, so that a solver set up
+  // the same way (same materials, particles, rigids, config and thread
+  // count) and finalized continues bit for bit. loadState throws InputError
+  // naming the file when the state belongs to another set-up.
+  void saveState(io::BinaryWriter& w) const;
+  void loadState(io::BinaryReader& r);
 };
 
 }  // namespace needlesim::mpm
