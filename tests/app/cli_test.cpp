@@ -131,3 +131,34 @@ TEST(Cli, EveryShippedExampleAndStudyPassesCheck) {
   EXPECT_EQ(bad.code, 2);
   EXPECT_NE(bad.out.find("1 of 2 files"), std::string::npos) << bad.out;
 }
+
+// needlesim run --resume (io/checkpoint.hpp): every refusal is an input error
+// (exit code 2) naming the file; the bit-identical resume itself is tested in
+// tests/mpm/test_mpm_checkpoint.cpp.
+TEST(Cli, ResumeRefusalsExitWithCode2AndNameTheFile) {
+  auto lumped = runCli("run " + example("gelatin_18G_3mms.yaml") + " --quiet --resume --out " + scratch("lumped").string());
+  EXPECT_EQ(lumped.code, 2) << lumped.out;
+  EXPECT_NE(lumped.out.find("does not write checkpoints"), std::string::npos) << lumped.out;
+
+  const fs::path out = scratch("mpm_resume");
+  const std::string run = "run " + example("mpm/quick_needle_block.yaml") + " --quiet --out " + out.string();
+  const fs::path ck = out.string() + ".checkpoint";
+  fs::remove_all(ck);
+  auto none = runCli(run + " --resume");
+  EXPECT_EQ(none.code, 2) << none.out;
+  EXPECT_NE(none.out.find((ck / "state.bin").string()), std::string::npos) << none.out;
+  EXPECT_NE(none.out.find("no checkpoint to resume"), std::string::npos) << none.out;
+
+  fs::create_directories(ck);
+  std::ofstream(ck / "state.bin") << "NSSTATE\n\x03";  // cut short after the magic
+  auto damaged = runCli(run + " --resume");
+  EXPECT_EQ(damaged.code, 2) << damaged.out;
+  EXPECT_NE(damaged.out.find("state.bin: truncated"), std::string::npos) << damaged.out;
+  // A fresh run does not silently discard the checkpoint of an interrupted one.
+  auto fresh = runCli(run);
+  EXPECT_EQ(fresh.code, 2) << fresh.out;
+  EXPECT_NE(fresh.out.find("--resume"), std::string::npos) << fresh.out;
+  EXPECT_TRUE(fs::exists(ck / "state.bin"));
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(ck);
+}
