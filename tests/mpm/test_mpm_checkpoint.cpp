@@ -5,6 +5,7 @@
 // scenario, a damaged one or a missing one is refused with an error naming
 // the file; the checkpoint folder is removed once the results are committed.
 #include <gtest/gtest.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <cstring>
@@ -58,7 +59,8 @@ std::string quickScenario(int threads, const std::string& depth = "2 mm") {
 
 struct Dir {
   fs::path path;
-  explicit Dir(const std::string& name) : path(fs::temp_directory_path() / ("needlesim_ckpt_" + name)) {
+  explicit Dir(const std::string& name)
+      : path(fs::temp_directory_path() / ("needlesim_ckpt_" + std::to_string(::getpid()) + "_" + name)) {
     fs::remove_all(path);
     fs::create_directories(path);
   }
@@ -114,12 +116,26 @@ void resumedRunIsIdentical(int threads, const std::string& depth) {
   interruptedRun(sc, res, every, 2 * every - 1);  // the frames and rows after the checkpoint are lost
   EXPECT_FALSE(fs::exists(res));
   ASSERT_TRUE(fs::exists(io::Checkpoint::folderFor(res) / "state.bin"));
+  {
+    // Resumed, checkpointed again and killed again: a checkpoint of a resumed run resumes too.
+    io::Checkpoint again(settings(sc, res, every, true));
+    RunOptions o = plain;
+    o.checkpoint = &again;
+    o.stopAfterSteps = 2 * every + 5;
+    EXPECT_THROW(runScenario(sc, res, false, o), RunInterrupted);
+    EXPECT_EQ(again.written(), 1);
+  }
+  // What a crash in the middle of the next checkpoint leaves: a half copy of
+  // the fields and a half-written temporary state file beside the good ones.
+  const fs::path folder = io::Checkpoint::folderFor(res);
+  spit(folder / "particles.99.h5", "half an HDF5 file");
+  spit(folder / "state.bin.tmp.12345", slurp(folder / "state.bin").substr(0, 100));
 
   io::Checkpoint ck(settings(sc, res, 0, true));
   RunOptions o = plain;
   o.checkpoint = &ck;
   runScenario(sc, res, false, o);
-  EXPECT_EQ(ck.resumedSteps(), every);
+  EXPECT_EQ(ck.resumedSteps(), 2 * every);
   EXPECT_FALSE(fs::exists(io::Checkpoint::folderFor(res))) << "the checkpoint outlived the committed results";
 
   // Every CSV byte for byte (full precision), every key result bit for bit.
