@@ -78,6 +78,7 @@ void registerRunCommand(CLI::App& app) {
     opts.progress = !args->quiet;
     if (checkpoints || args->resume) opts.checkpoint = &checkpoint;
     RunOutcome outcome = runScenario(sc, target, args->overwrite, opts);
+    if (args->resume) io::removeAbandonedStages(target);  // what the killed run had staged
     if (!args->quiet) {
       for (const auto& r : outcome.results)
         fmt::print("  {:<24} {:>12.6g} {:<6} {}\n", r.key, r.value, r.unit == "1" ? "" : r.unit, r.meaning);

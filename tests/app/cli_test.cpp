@@ -11,6 +11,8 @@
 #include <string>
 #include <sys/wait.h>
 
+#include "needlesim/io/checkpoint.hpp"
+
 namespace fs = std::filesystem;
 
 namespace {
@@ -161,4 +163,31 @@ TEST(Cli, ResumeRefusalsExitWithCode2AndNameTheFile) {
   EXPECT_TRUE(fs::exists(ck / "state.bin"));
   EXPECT_FALSE(fs::exists(out));
   fs::remove_all(ck);
+}
+
+TEST(Cli, AbandonedStagingFoldersOfDeadRunsAreFound) {
+  const fs::path dir = scratch("stages");
+  fs::create_directories(dir);
+  const pid_t child = fork();  // a process that has ended: its pid is free
+  if (child == 0) _exit(0);
+  ASSERT_GT(child, 0);
+  waitpid(child, nullptr, 0);
+  const std::string dead = std::to_string(child);
+  const pid_t zombie = fork();  // ended but not collected yet (a killed run before init reaps it)
+  if (zombie == 0) _exit(0);
+  ASSERT_GT(zombie, 0);
+  usleep(200000);
+  fs::create_directories(dir / (".res-3.partial-" + std::to_string(zombie)));
+  for (const std::string n : {".res.partial-" + dead, ".res-2.partial-" + dead, ".res.partial-" + std::to_string(::getpid()),
+                              ".other.partial-" + dead, ".res-x.partial-" + dead})
+    fs::create_directories(dir / n);
+  EXPECT_EQ(needlesim::io::removeAbandonedStages(dir / "res"), 3);
+  waitpid(zombie, nullptr, 0);
+  EXPECT_FALSE(fs::exists(dir / (".res-3.partial-" + std::to_string(zombie))));
+  EXPECT_FALSE(fs::exists(dir / (".res.partial-" + dead)));
+  EXPECT_FALSE(fs::exists(dir / (".res-2.partial-" + dead)));
+  EXPECT_TRUE(fs::exists(dir / (".res.partial-" + std::to_string(::getpid()))));  // a live process
+  EXPECT_TRUE(fs::exists(dir / (".other.partial-" + dead)));                     // another target
+  EXPECT_TRUE(fs::exists(dir / (".res-x.partial-" + dead)));
+  fs::remove_all(dir);
 }

@@ -3,9 +3,14 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cerrno>
+#include <csignal>
 #include <cstdio>
 #include <fstream>
 #include <iterator>
+
+#include <signal.h>
+#include <unistd.h>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
@@ -115,6 +120,43 @@ BinaryReader Checkpoint::load(std::string_view engine, const Series& fields) {
 void Checkpoint::remove() {
   std::error_code ec;
   fs::remove_all(s_.folder, ec);
+}
+
+namespace {
+// Whether process `p` still runs: it exists and is not a zombie (a killed
+// process stays one until its parent, or init, collects it).
+bool processRuns(pid_t p) {
+  if (::kill(p, 0) == -1 && errno == ESRCH) return false;
+  std::ifstream stat("/proc/" + std::to_string(p) + "/stat");
+  std::string line;
+  if (!std::getline(stat, line)) return true;  // cannot tell: keep its folder
+  const auto close = line.rfind(')');
+  return !(close != std::string::npos && close + 2 < line.size() && (line[close + 2] == 'Z' || line[close + 2] == 'X'));
+}
+}  // namespace
+
+int removeAbandonedStages(const fs::path& target) {
+  fs::path t = target.has_filename() ? target : target.parent_path();
+  const fs::path parent = t.has_parent_path() ? t.parent_path() : fs::path(".");
+  const std::string base = "." + t.filename().string();
+  int removed = 0;
+  std::error_code ec;
+  for (const auto& e : fs::directory_iterator(parent, ec)) {
+    const std::string n = e.path().filename().string();
+    const auto at = n.rfind(".partial-");
+    if (n.rfind(base, 0) != 0 || at == std::string::npos || at < base.size()) continue;
+    // Between the name and ".partial-": nothing, or "-<digits>" (the automatic -2, -3 ...).
+    const std::string mid = n.substr(base.size(), at - base.size());
+    if (!mid.empty() && (mid[0] != '-' || mid.size() < 2 || mid.find_first_not_of("0123456789", 1) != std::string::npos))
+      continue;
+    const std::string pid = n.substr(at + 9);
+    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
+    const auto p = static_cast<pid_t>(std::stol(pid));
+    if (p == ::getpid() || processRuns(p)) continue;
+    fs::remove_all(e.path(), ec);
+    if (!ec) ++removed;
+  }
+  return removed;
 }
 
 std::string scenarioFingerprint(const Scenario& sc) {

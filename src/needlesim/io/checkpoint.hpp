@@ -79,6 +79,12 @@ class Checkpoint {
   long long resumedSteps_ = 0;
 };
 
+// The staging folders (.<name>.partial-<pid>, results_folder.hpp) that runs
+// into `target` left when they were killed: those of <target>'s name or of
+// <name>-2, -3 ... whose process no longer exists. Deleted by `needlesim run
+// --resume` once the resumed run is committed; returns how many.
+int removeAbandonedStages(const std::filesystem::path& target);
+
 // Identifies a scenario for --resume: FNV-1a 64 (hex) of its canonical JSON
 // (scenarioToJson without the file path) and of the text of its file
 // (sc.source, when it is a readable file: it holds the engine settings the
