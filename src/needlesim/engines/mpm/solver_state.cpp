@@ -86,8 +86,9 @@ void MpmSolver::loadState(io::BinaryReader& r) {
   const auto threads = r.pod<std::int32_t>();
   if (threads != nthreads_)
     r.fail(fmt::format("was written by a run on {} thread(s), this one has {}: the scatter order and so the last "
-                       "bits of every sum depend on it; run with model.mpm.threads: {} (or OMP_NUM_THREADS={})",
-                       threads, nthreads_, threads, threads));
+                       "bits of every sum depend on it; resume with OMP_NUM_THREADS={} (model.mpm.threads: 0 takes "
+                       "all cores; editing the scenario would make the checkpoint another scenario's)",
+                       threads, nthreads_, threads));
   if (r.vec<std::uint8_t>(size(), "body indices") != body_) r.fail("assigns the points to other bodies (another set-up)");
   if (r.vec<std::uint8_t>(size(), "material indices") != mat_) r.fail("assigns the points other materials (another set-up)");
   r.tag("particles");
