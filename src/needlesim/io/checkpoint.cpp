@@ -138,7 +138,8 @@ bool processRuns(pid_t p) {
 int removeAbandonedStages(const fs::path& target) {
   fs::path t = target.has_filename() ? target : target.parent_path();
   const fs::path parent = t.has_parent_path() ? t.parent_path() : fs::path(".");
-  const std::string base = "." + t.filename().string();
+  std::string base(1, '.');  // (not "." + string: GCC 12's -Wrestrict false positive on that operator+)
+  base += t.filename().string();
   int removed = 0;
   std::error_code ec;
   for (const auto& e : fs::directory_iterator(parent, ec)) {
