@@ -36,7 +36,11 @@ enum class PairGapRule { Centroid, Surface };
 // impulse of eqs 15-18 (perfectly plastic at the contact nodes); Penalty = a
 // penalty between overlapping material points of the two bodies that stores
 // and returns the energy (penalty_contact.hpp).
-enum class BodyContact { Velocity, Penalty };
+// Density = a conservative penalty on the smoothed volume fraction of the
+// other body (density_contact.hpp): central pair forces whose sum follows the
+// smoothed surface normal, so point lattices sliding across each other do not
+// interlock (the default).
+enum class BodyContact { Velocity, Penalty, Density };
 enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 
 // A tissue material as the solver uses it: the law plus the data of a fast path.
@@ -92,9 +96,9 @@ struct MpmConfig {
   PairGapRule pairGapRule = PairGapRule::Surface;
   double pairGapFactor = 1.0;      // Centroid rule: scales the centroid-separation gap of two deformable bodies
   double pairGapTolerance = 0.0;   // Surface rule: contact when the estimated surfaces are closer than this, cells
-  BodyContact bodyContact = BodyContact::Penalty;  // two deformable bodies (the rigid and CFEMP contacts are unaffected)
-  double penaltyFactor = 0.2;      // Penalty: kappa, pair stiffness kappa M d_p (M: largest P-wave modulus)
-  double penaltyStepFactor = 0.15; // Penalty: while in contact dt <= this / omega, omega^2 = k / m_r of a pair (0: off)
+  BodyContact bodyContact = BodyContact::Density;  // two deformable bodies (the rigid and CFEMP contacts are unaffected)
+  double penaltyFactor = 0.2;      // Penalty, Density: kappa, pair stiffness kappa M d_p (M: largest P-wave modulus)
+  double penaltyStepFactor = 0.15; // Penalty, Density: while in contact dt <= this / omega, omega^2 = k / m_r of a pair (0: off)
   int threads = 0;                 // 0 = OpenMP default
   bool fbar = false;               // anti-locking: stress at F-bar with the cell-averaged det F
 };
@@ -156,6 +160,10 @@ class MpmSolver {
   const MpmConfig& config() const { return cfg_; }
   int threads() const { return nthreads_; }
   bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
+  // Tests: the two-body contact forces (pair penalty or density law, without
+  // friction) on every point at the current positions, and the contact energy
+  // there (J); the solver's state is unchanged (penalty_contact.cpp).
+  double contactForces(std::vector<Vec3>& force);
 
  private:
   void checkIds(int material, int body) const;
@@ -168,6 +176,10 @@ class MpmSolver {
   void gridUpdate();
   void penaltyForces();           // penalty_contact.cpp
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
+  void scatterContact(std::size_t tid);  // penalty_contact.cpp
+  void densityForces();           // density_contact.cpp
+  void densityEnergyAfterStep();  // density_contact.cpp
+  bool surfaceNormal(const double* x, double* m) const;  // density_contact.cpp
   double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
                       const double* vp, const double* vq, double* f) const;  // penalty_contact.cpp
   void fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const;  // penalty_contact.cpp
