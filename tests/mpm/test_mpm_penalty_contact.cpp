@@ -207,6 +207,7 @@ TEST(MpmPenaltyContact, PairSearchMatchesBruteForce) {
   cfg.bodies = 2;
   cfg.friction = 0.3;
   cfg.threads = 1;
+  cfg.bodyContact = BodyContact::Penalty;  // the pair law (the density law: test_mpm_density_contact.cpp)
   // A short step (pair omega dt ~ 0.06 at the deepest overlap): the first step
   // has no pair step limit yet, and the barrier's force at 0.65 d would throw
   // the pairs apart within a default step (nothing left to compare).
@@ -316,6 +317,10 @@ PairBounce bouncePair(double alpha) {
   cfg.bodies = 2;
   cfg.threads = 1;
   cfg.penaltyStepFactor = alpha;
+  // The pair law: the density law sees no contact between two lone points
+  // (one point's phi, V W(r) <= 0.12, stays below the touching value 0.25 of
+  // a lattice half-space; docs/models/mpm.md).
+  cfg.bodyContact = BodyContact::Penalty;
   MpmSolver s(cfg);
   const double E = 1e5, nu = 0.3, rho = 1000, d = 0.5e-3;
   s.addMaterial(linearMaterial(E, nu, rho));
@@ -359,4 +364,39 @@ TEST(MpmPenaltyContact, BarrierStopsAFastPairShortOfTheCentre) {
   EXPECT_NEAR(b.deepest, 0.635, 0.01);
   EXPECT_NEAR(b.restitution, 1.0, 0.5 * std::abs(a.restitution - 1.0));
   EXPECT_LT(b.drift, 0.5 * a.drift);
+}
+
+// The density law (BodyContact::Density, density_contact.hpp) on the block
+// impacts: the 2 % energy target with friction, no friction work
+// head-on, the overlap well inside a spacing (0.5 h; measured 0.223 h
+// B-spline / 0.187 h linear: the rims and corners of a face, where the other
+// body's phi is lower, go deeper than with the pair law's 0.15 h), and
+// energy kept when the blocks also slide (measured drift 0.25 %). Not
+// asserted, its known limit (docs/models/mpm.md "Density contact"): without
+// friction the sliding speed GROWS to 1.103 m/s (pair penalty 1.027) for
+// kernel supports of 2, 2.5 and 3 spacings alike, so the Coulomb check of
+// FrictionRemovesEnergyOnlyWhileSliding gives dv_t / (mu dv_n) = 0.71.
+TEST(MpmPenaltyContact, DensityLawOnTheBlockImpacts) {
+  for (Shape sh : {Shape::BSpline2, Shape::Linear}) {
+    Collision u;
+    u.shape = sh;
+    u.mu = 0.3;
+    u.contact = BodyContact::Density;
+    const Impact c = collide(u);
+    std::printf("density law collision %s (h = 1 mm, mu 0.3): max drift %.2f %%, final E/E0 %.4f, restitution %.3f, "
+                "largest overlap %.3f h, friction work %.2g E0, %lld steps\n",
+                test::shapeName(sh), 100 * c.drift, c.final, c.restitution, c.penetration / 1e-3, c.frictionWork / c.e0,
+                c.steps);
+    EXPECT_LT(c.drift, 0.02);  // measured 1.74 % (B-spline), 1.14 % (linear)
+    EXPECT_LT(c.penetration, 0.25e-3);
+    EXPECT_LT(c.frictionWork, 1e-6 * c.e0);
+  }
+  Collision u;
+  u.vt = 0.5;
+  u.contact = BodyContact::Density;
+  const Impact f0 = collide(u);
+  std::printf("density law, sliding blocks, mu 0: final E/E0 %.4f drift %.2f %% sliding %.3f m/s (1 m/s before)\n",
+              f0.final, 100 * f0.drift, f0.tangential);
+  EXPECT_LT(f0.drift, 0.02);
+  EXPECT_LT(f0.frictionWork, 1e-6 * f0.e0);
 }

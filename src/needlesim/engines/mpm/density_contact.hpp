@@ -1,6 +1,6 @@
 #pragma once
 // Density contact of two deformable bodies in the MPM solver
-// (MpmConfig::bodyContact = Density, the default; docs/models/mpm.md
+// (MpmConfig::bodyContact = Density; docs/models/mpm.md
 // "Density contact of two bodies"). The pair search, the reaction buffers,
 // the scatter and the friction of the pair penalty (penalty_contact.*) are
 // shared; what differs is the normal law, here a many-body potential.

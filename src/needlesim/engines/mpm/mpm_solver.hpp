@@ -39,7 +39,8 @@ enum class PairGapRule { Centroid, Surface };
 // Density = a conservative penalty on the smoothed volume fraction of the
 // other body (density_contact.hpp): central pair forces whose sum follows the
 // smoothed surface normal, so point lattices sliding across each other do not
-// interlock (the default).
+// interlock (not the default yet: frictionless sliding blocks gain 10 % of
+// their sliding speed; docs/models/mpm.md).
 enum class BodyContact { Velocity, Penalty, Density };
 enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 
@@ -96,7 +97,7 @@ struct MpmConfig {
   PairGapRule pairGapRule = PairGapRule::Surface;
   double pairGapFactor = 1.0;      // Centroid rule: scales the centroid-separation gap of two deformable bodies
   double pairGapTolerance = 0.0;   // Surface rule: contact when the estimated surfaces are closer than this, cells
-  BodyContact bodyContact = BodyContact::Density;  // two deformable bodies (the rigid and CFEMP contacts are unaffected)
+  BodyContact bodyContact = BodyContact::Penalty;  // two deformable bodies (the rigid and CFEMP contacts are unaffected)
   double penaltyFactor = 0.2;      // Penalty, Density: kappa, pair stiffness kappa M d_p (M: largest P-wave modulus)
   double penaltyStepFactor = 0.15; // Penalty, Density: while in contact dt <= this / omega, omega^2 = k / m_r of a pair (0: off)
   int threads = 0;                 // 0 = OpenMP default
@@ -157,6 +158,7 @@ class MpmSolver {
   int body(std::size_t p) const { return body_[p]; }
   double particleSpacing() const { return dp_; }
   void setVelocity(std::size_t p, const Vec3& v) { P_[p].v[0] = v.x(); P_[p].v[1] = v.y(); P_[p].v[2] = v.z(); }
+  void setPosition(std::size_t p, const Vec3& x) { P_[p].x[0] = x.x(); P_[p].x[1] = x.y(); P_[p].x[2] = x.z(); }  // tests (contactForces)
   const MpmConfig& config() const { return cfg_; }
   int threads() const { return nthreads_; }
   bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
