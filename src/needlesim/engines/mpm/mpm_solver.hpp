@@ -39,8 +39,8 @@ enum class PairGapRule { Centroid, Surface };
 // Density = a conservative penalty on the smoothed volume fraction of the
 // other body (density_contact.hpp): central pair forces whose sum follows the
 // smoothed surface normal, so point lattices sliding across each other do not
-// interlock (not the default yet: frictionless sliding blocks gain 10 % of
-// their sliding speed; docs/models/mpm.md).
+// interlock (not the default yet: ~2x the cost of the pair penalty in the
+// two-block benchmark; docs/models/mpm.md).
 enum class BodyContact { Velocity, Penalty, Density };
 enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 
