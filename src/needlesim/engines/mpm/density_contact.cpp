@@ -25,6 +25,7 @@ namespace needlesim::mpm {
 
 namespace {
 constexpr double kSupport = 3.0;  // kernel support H in point spacings
+constexpr double kInf = std::numeric_limits<double>::infinity();
 }  // namespace
 
 WendlandC2::WendlandC2(double support) : H(support), c(21.0 / (2.0 * std::numbers::pi * support * support * support)) {}
@@ -187,7 +188,28 @@ void MpmSolver::densityForces() {
       const std::size_t c0 = P.cells0_[ic];
       std::uint32_t lo[343], hi[343];
       const double* bb[343];
-      const int nb = P.nearCells(c0, reach, nodes_, n1, n2, lim, lo, hi, bb);
+      int nb = P.nearCells(c0, reach, nodes_, n1, n2, lim, lo, hi, bb);
+      // Bounding box of c0's points; keep the body-1 cells whose box is within H of it.
+      double b0[6] = {kInf, kInf, kInf, -kInf, -kInf, -kInf};
+      for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp)
+        for (int d = 0; d < 3; ++d) {
+          b0[d] = std::min(b0[d], P_[P.items_[sp]].x[d]);
+          b0[3 + d] = std::max(b0[3 + d], P_[P.items_[sp]].x[d]);
+        }
+      int kept = 0;
+      for (int b = 0; b < nb; ++b) {
+        double g2 = 0.0;  // squared distance of the two boxes
+        for (int d = 0; d < 3; ++d) {
+          const double g = std::max({0.0, bb[b][d] - b0[3 + d], b0[d] - bb[b][3 + d]});
+          g2 += g * g;
+        }
+        if (!(g2 < H2)) continue;
+        lo[kept] = lo[b];
+        hi[kept] = hi[b];
+        bb[kept] = bb[b];
+        ++kept;
+      }
+      nb = kept;
       for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
         const std::size_t p = P.items_[sp];
         const double* xp = P_[p].x;
@@ -196,9 +218,11 @@ void MpmSolver::densityForces() {
         double* ap = &D.acc[8 * sp];
         for (int b = 0; b < nb; ++b) {
           const double* bx = bb[b];
-          if (xp[0] < bx[0] - H || xp[0] > bx[3] + H || xp[1] < bx[1] - H || xp[1] > bx[4] + H || xp[2] < bx[2] - H ||
-              xp[2] > bx[5] + H)
-            continue;
+          // squared distance of p to the cell's box: beyond H no pair there
+          const double gx = std::max({0.0, bx[0] - xp[0], xp[0] - bx[3]});
+          const double gy = std::max({0.0, bx[1] - xp[1], xp[1] - bx[4]});
+          const double gz = std::max({0.0, bx[2] - xp[2], xp[2] - bx[5]});
+          if (!(gx * gx + gy * gy + gz * gz < H2)) continue;
           for (std::uint32_t sq = lo[b]; sq < hi[b]; ++sq) {
             const std::size_t q = P.items_[sq];
             const double dx = xp[0] - P_[q].x[0], dy = xp[1] - P_[q].x[1], dz = xp[2] - P_[q].x[2];
