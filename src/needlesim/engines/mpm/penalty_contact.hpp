@@ -61,7 +61,10 @@ struct PenaltyTally {
 };
 
 // Scratch and parameters of the pair search; the forces are computed and
-// scattered by MpmSolver::penaltyForces (penalty_contact.cpp).
+// scattered by MpmSolver::penaltyForces (penalty_contact.cpp), or by
+// MpmSolver::densityForces when the density law is set (density_contact.cpp),
+// which shares the binning, the search's cell lists, the reaction buffers,
+// the tally, the step limit and the scatter.
 class PairPenalty {
  public:
   // stiffness k (N/m per pair), the radius of each point's volume (half its
