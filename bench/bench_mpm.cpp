@@ -73,7 +73,7 @@ void BM_MpmNeedle(benchmark::State& st) {
 // between them, mu 0.3: the default penalty contact of penalty_contact.hpp;
 // the velocity contact of eqs 14-21 before it) pressed together while
 // sliding: 2 x 25,600 = 51,200 points.
-MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads) {
+MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads, BodyContact law = MpmConfig{}.bodyContact) {
   const double h = 0.8e-3, dp = 0.4e-3, a = 16e-3, b = 6.4e-3;
   MpmConfig cfg;
   cfg.h = h;
@@ -82,6 +82,7 @@ MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads) {
   cfg.threads = threads;
   cfg.bodies = 2;
   cfg.friction = 0.3;
+  cfg.bodyContact = law;
   cfg.origin = Vec3(-4 * h, -4 * h, -4 * h);
   cfg.cells = {static_cast<int>(2 * b / h) + 12, static_cast<int>(a / h) + 8, static_cast<int>(a / h) + 8};
   cfg.massScaling = 1e4;
@@ -132,7 +133,7 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks] [--threads T]`: N steps of the
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density]] [--threads T]`: N steps of the
 // problem (1 thread unless told) without the benchmark harness, for instruction counts
 // under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread);
 // prints the fastest and the median step wall time (docs/performance.md).
@@ -141,6 +142,7 @@ int main(int argc, char** argv) {
   Shape shape = Shape::BSpline2;
   Update update = Update::MUSL;
   bool twoBlocks = false;
+  BodyContact law = MpmConfig{}.bodyContact;
   int threads = 1;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
@@ -148,10 +150,11 @@ int main(int argc, char** argv) {
     if (a == "--linear") shape = Shape::Linear;
     if (a == "--usl") update = Update::USL;
     if (a == "--two-blocks") twoBlocks = true;
+    if (a == "--density") law = BodyContact::Density;  // two blocks with the density contact (density_contact.hpp)
     if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
   }
   if (steps >= 0) {
-    MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads) : makeNeedleProblem(shape, update, threads);
+    MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads, law) : makeNeedleProblem(shape, update, threads);
     // Wall time of each step: the fastest and the median (on a shared machine
     // the fastest steps are those that found the cores free).
     std::vector<double> ms;

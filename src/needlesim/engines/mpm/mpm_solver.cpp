@@ -276,9 +276,10 @@ void MpmSolver::finalize() {
     surfaceEst_.emplace(cfg_.shape != Shape::Linear);
     pairGap_ = cfg_.pairGapTolerance * cfg_.h;
   }
-  // Penalty contact of two bodies (penalty_contact.hpp): pair stiffness kappa M d_p.
+  // Penalty or density contact of two bodies (penalty_contact.hpp,
+  // density_contact.hpp): stiffness kappa M d_p.
   penalty_.reset();
-  if (B > 1 && cfg_.bodyContact == BodyContact::Penalty) {
+  if (B > 1 && cfg_.bodyContact != BodyContact::Velocity) {
     double M = 0.0;
     for (const MpmMaterial& m : mats_) {
       double K, mu;
@@ -297,7 +298,10 @@ void MpmSolver::finalize() {
       throw Error(fmt::format("mpm: the penalty contact needs particle spacings of at most the grid spacing ({:.3g} mm "
                               "> {:.3g} mm); refine the particles or use the velocity contact",
                               2e3 * rmax, 1e3 * cfg_.h));
+    std::optional<DensityLaw> law;
+    if (cfg_.bodyContact == BodyContact::Density) law.emplace(makeDensityLaw(radius, body_, dp_, cfg_.h));
     penalty_.emplace(cfg_.penaltyFactor * M * dp_, std::move(radius), 0.5 * mmin, nthreads_);
+    if (law) penalty_->useDensity(std::move(*law));
   }
 
   // Boundary conditions on the nodes on or beyond each face of the box.
@@ -607,7 +611,8 @@ void dilateCells(const std::uint64_t* in, std::uint64_t* out, std::uint64_t* tmp
 // along each axis). A node both bodies reach lies within 1.5 cells of a point
 // of each, so the points that scatter to it are within 3 cells of the other
 // body. near1_ (dilated by 1) marks the cells whose 27 neighbours hold a point
-// of body b: the penalty contact's candidates (a pair touches at r < d <= h).
+// of body b: the penalty contact's candidates (a pair touches at r < d <= h);
+// the density law's kernel reaches H <= 3 h, dilated by its reach (1 to 3).
 // A row is nearW_ 64-bit words per body (k = bit), so the dilation is shifts
 // and ORs of words: serial, the arrays are small (n0 n1 rows of a few words).
 // The occupancy comes from the previous step's g2pFinal, which marks the cell
@@ -636,8 +641,9 @@ void MpmSolver::markNearBodies() {
     }
   }
   const std::uint64_t lastMask = n2 % 64 ? (std::uint64_t{1} << (n2 % 64)) - 1 : ~std::uint64_t{0};
-  dilateCells(occ_.data(), near1_.data(), nearTmp_.data(), n0, n1, W, 1, lastMask);
-  dilateCells(near1_.data(), near_.data(), nearTmp_.data(), n0, n1, W, 2, lastMask);  // 1 + 2 = 3 cells
+  const std::size_t reach = penalty_ ? static_cast<std::size_t>(penalty_->reach()) : 1;  // 1 to 3 (density law)
+  dilateCells(occ_.data(), near1_.data(), nearTmp_.data(), n0, n1, W, reach, lastMask);
+  dilateCells(near1_.data(), near_.data(), nearTmp_.data(), n0, n1, W, 3 - reach, lastMask);  // 3 cells in all
   std::fill(occ_.begin(), occ_.end(), 0);  // g2pFinal marks the new positions
   occFresh_ = false;                       // until g2pFinal has marked them all
 }

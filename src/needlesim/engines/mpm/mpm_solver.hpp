@@ -37,7 +37,12 @@ enum class PairGapRule { Centroid, Surface };
 // impulse of eqs 15-18 (perfectly plastic at the contact nodes); Penalty = a
 // penalty between overlapping material points of the two bodies that stores
 // and returns the energy (penalty_contact.hpp).
-enum class BodyContact { Velocity, Penalty };
+// Density = a conservative penalty on the smoothed volume fraction of the
+// other body (density_contact.hpp): central pair forces whose sum follows the
+// smoothed surface normal, so point lattices sliding across each other do not
+// interlock (not the default yet: ~2x the cost of the pair penalty in the
+// two-block benchmark; docs/models/mpm.md).
+enum class BodyContact { Velocity, Penalty, Density };
 enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 
 // A tissue material as the solver uses it: the law plus the data of a fast path.
@@ -94,8 +99,8 @@ struct MpmConfig {
   double pairGapFactor = 1.0;      // Centroid rule: scales the centroid-separation gap of two deformable bodies
   double pairGapTolerance = 0.0;   // Surface rule: contact when the estimated surfaces are closer than this, cells
   BodyContact bodyContact = BodyContact::Penalty;  // two deformable bodies (the rigid and CFEMP contacts are unaffected)
-  double penaltyFactor = 0.2;      // Penalty: kappa, pair stiffness kappa M d_p (M: largest P-wave modulus)
-  double penaltyStepFactor = 0.15; // Penalty: while in contact dt <= this / omega, omega^2 = k / m_r of a pair (0: off)
+  double penaltyFactor = 0.2;      // Penalty, Density: kappa, pair stiffness kappa M d_p (M: largest P-wave modulus)
+  double penaltyStepFactor = 0.15; // Penalty, Density: while in contact dt <= this / omega, omega^2 = k / m_r of a pair (0: off)
   int threads = 0;                 // 0 = OpenMP default
   bool fbar = false;               // anti-locking: stress at F-bar with the cell-averaged det F
 };
@@ -154,9 +159,14 @@ class MpmSolver {
   int body(std::size_t p) const { return body_[p]; }
   double particleSpacing() const { return dp_; }
   void setVelocity(std::size_t p, const Vec3& v) { P_[p].v[0] = v.x(); P_[p].v[1] = v.y(); P_[p].v[2] = v.z(); }
+  void setPosition(std::size_t p, const Vec3& x) { P_[p].x[0] = x.x(); P_[p].x[1] = x.y(); P_[p].x[2] = x.z(); }  // tests (contactForces)
   const MpmConfig& config() const { return cfg_; }
   int threads() const { return nthreads_; }
   bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
+  // Tests: the two-body contact forces (pair penalty or density law, without
+  // friction) on every point at the current positions, and the contact energy
+  // there (J); the solver's state is unchanged (penalty_contact.cpp).
+  double contactForces(std::vector<Vec3>& force);
 
  private:
   void checkIds(int material, int body) const;
@@ -169,6 +179,10 @@ class MpmSolver {
   void gridUpdate();
   void penaltyForces();           // penalty_contact.cpp
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
+  void scatterContact(std::size_t tid);  // penalty_contact.cpp
+  void densityForces();           // density_contact.cpp
+  void densityEnergyAfterStep();  // density_contact.cpp
+  bool surfaceNormal(const double* x, double* m) const;  // density_contact.cpp
   double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
                       const double* vp, const double* vq, double* f) const;  // penalty_contact.cpp
   void fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const;  // penalty_contact.cpp

@@ -158,6 +158,125 @@ void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, 
     gatherVelocity<2>(P_[p].x, o, invh, rec, NR, off, n1, n2, v);
 }
 
+void PairPenalty::bin(const std::uint32_t* nearCell, const std::uint8_t* body, std::size_t n, std::size_t nodes) {
+  cand_.clear();
+  candKey_.clear();
+  cells0_.clear();
+  cells1_.clear();
+  start_.assign(2 * nodes + 1, 0);
+  for (std::size_t p = 0; p < n; ++p) {
+    // the other body in the cells around the point's cell (markNearBodies; p2g set the cell)
+    if (nearCell[p] == ~std::uint32_t{0}) continue;
+    const std::size_t c = nearCell[p];
+    const std::size_t key = static_cast<std::size_t>(body[p]) * nodes + c;
+    cand_.push_back(static_cast<std::uint32_t>(p));
+    candKey_.push_back(static_cast<std::uint32_t>(key));
+    if (start_[key + 1]++ == 0) (key < nodes ? cells0_ : cells1_).push_back(static_cast<std::uint32_t>(c));
+  }
+  for (std::size_t c = 0; c < 2 * nodes; ++c) start_[c + 1] += start_[c];
+  const std::size_t nc = cand_.size();
+  items_.resize(nc);
+  cursor_.assign(start_.begin(), start_.end() - 1);
+  for (std::size_t a = 0; a < nc; ++a) items_[cursor_[candKey_[a]]++] = cand_[a];
+  first1_ = start_[nodes];
+  box_.resize(6 * nodes);
+}
+
+// Bounding box of the points of each body-1 cell with candidates (inside a
+// parallel region: the cells are shared out by an orphaned omp for).
+void PairPenalty::cellBoxes(const double* x, std::size_t stride, std::size_t nodes) {
+  const std::size_t ncell1 = cells1_.size();
+#pragma omp for schedule(static)
+  for (std::size_t ic = 0; ic < ncell1; ++ic) {
+    const std::size_t c = cells1_[ic];
+    double* bx = box_.data() + 6 * c;
+    for (int d = 0; d < 3; ++d) {
+      bx[d] = std::numeric_limits<double>::infinity();
+      bx[3 + d] = -std::numeric_limits<double>::infinity();
+    }
+    for (std::uint32_t s = start_[nodes + c]; s < start_[nodes + c + 1]; ++s)
+      for (int d = 0; d < 3; ++d) {
+        const double v = x[stride * items_[s] + static_cast<std::size_t>(d)];
+        bx[d] = std::min(bx[d], v);
+        bx[3 + d] = std::max(bx[3 + d], v);
+      }
+  }
+}
+
+int PairPenalty::nearCells(std::size_t c0, int reach, std::size_t nodes, std::size_t n1, std::size_t n2,
+                           const long long* lim, std::uint32_t* lo, std::uint32_t* hi, const double** bb) const {
+  const long long ci[3] = {static_cast<long long>(c0 / (n1 * n2)), static_cast<long long>((c0 / n2) % n1),
+                           static_cast<long long>(c0 % n2)};
+  const long long R = reach;
+  int nb = 0;
+  for (long long i = std::max(0LL, ci[0] - R); i <= std::min(lim[0] - 1, ci[0] + R); ++i)
+    for (long long j = std::max(0LL, ci[1] - R); j <= std::min(lim[1] - 1, ci[1] + R); ++j)
+      for (long long kk = std::max(0LL, ci[2] - R); kk <= std::min(lim[2] - 1, ci[2] + R); ++kk) {
+        const std::size_t c = nodes + (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
+                              static_cast<std::size_t>(kk);
+        if (start_[c] == start_[c + 1]) continue;
+        lo[nb] = start_[c];
+        hi[nb] = start_[c + 1];
+        bb[nb] = box_.data() + 6 * (c - nodes);
+        ++nb;
+      }
+  return nb;
+}
+
+// Totals of the threads' tallies (sums, largest, smallest; the same order on every thread).
+PenaltyTally PairPenalty::sum() const {
+  PenaltyTally all;
+  for (const PenaltyTally& t : thread_) {
+    all.energy += t.energy;
+    all.penetration = std::max(all.penetration, t.penetration);
+    all.tangent = std::max(all.tangent, t.tangent);
+    all.travel = std::min(all.travel, t.travel);
+    all.pairs += t.pairs;
+    all.close += t.close;
+  }
+  return all;
+}
+
+// Scatter f_I += N_Ip f_p of the slots' contact forces (force_; body-1
+// reactions of threads t > 0 in reaction_[t]) into each point's own body (a
+// thin shell), inside the parallel region after the forces' barrier: the
+// body-0 slots [0, first1) touch only body 0's records, the body-1 slots only
+// body 1's, so the last thread scatters body 1 (after adding the other
+// threads' reactions to its slots) while thread 0 scatters body 0.
+void MpmSolver::scatterContact(std::size_t tid) {
+  PairPenalty& P = *penalty_;
+  const double invh = 1.0 / cfg_.h;
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t NR = static_cast<std::size_t>(nr_);
+  const std::size_t nc = P.cand_.size(), first1 = P.first1_, nthreads = P.thread_.size();
+  const bool bspline = cfg_.shape != Shape::Linear;
+  double* rec = buf_[0].rec.data();
+  const double* o = cfg_.origin.data();
+#ifdef _OPENMP
+  const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
+#else
+  const std::size_t team = 1;
+#endif
+  for (int body = 0; body < 2; ++body) {
+    if (tid != (body == 0 ? 0 : team - 1)) continue;
+    const std::size_t s0 = body == 0 ? 0 : first1, s1 = body == 0 ? first1 : nc;
+    if (body == 1)
+      for (std::size_t t = 1; t < nthreads; ++t)
+        if (!P.reaction_[t].empty())
+          for (std::size_t s = 3 * first1; s < 3 * nc; ++s) P.force_[s] += P.reaction_[t][s - 3 * first1];
+    const std::size_t off = static_cast<std::size_t>(body) * nodes_;
+    for (std::size_t a = s0; a < s1; ++a) {
+      const double* f = &P.force_[3 * a];
+      if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
+      const std::size_t p = P.items_[a];
+      if (bspline)
+        scatterForce<3>(P_[p].x, o, invh, f, rec, NR, off, n1, n2);
+      else
+        scatterForce<2>(P_[p].x, o, invh, f, rec, NR, off, n1, n2);
+    }
+  }
+}
+
 double PairPenalty::frictionWork() const {
   double w = 0.0;
   for (std::size_t t = 0; t < friction_.size(); t += 8) w += friction_[t];
@@ -203,6 +322,7 @@ double PairPenalty::pairEnergy(double delta, double d) const {
 // start; a pair that came into contact during the step holds O((v dt)^2).
 void MpmSolver::penaltyEnergyAfterStep() {
   PairPenalty& P = *penalty_;
+  if (P.density()) return densityEnergyAfterStep();
   double e = 0.0, kt = 0.0;
   for (const auto& list : P.pairs_)
     for (const auto& pq : list) {
@@ -232,35 +352,14 @@ void MpmSolver::penaltyEnergyAfterStep() {
 // those of a search from both sides up to the order of the sums.
 void MpmSolver::penaltyForces() {
   PairPenalty& P = *penalty_;
-  const double invh = 1.0 / cfg_.h;
+  if (P.density()) return densityForces();  // the density law (density_contact.cpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   // Cell lists of the candidates (counting sort, serial), per body and cell
   // (key body * nodes + cell), so a point scans only the other body's points.
-  P.cand_.clear();
-  P.candKey_.clear();
-  P.cells0_.clear();
-  P.cells1_.clear();
-  P.start_.assign(2 * nodes_ + 1, 0);
-  const std::uint32_t* nearCell = nearCell_.data();
-  for (std::size_t p = 0; p < size(); ++p) {
-    // the other body in the 27 cells around the point's cell (markNearBodies; p2g set the cell)
-    if (nearCell[p] == kNotNear) continue;
-    const std::size_t c = nearCell[p];
-    const std::size_t key = static_cast<std::size_t>(body_[p]) * nodes_ + c;
-    P.cand_.push_back(static_cast<std::uint32_t>(p));
-    P.candKey_.push_back(static_cast<std::uint32_t>(key));
-    if (P.start_[key + 1]++ == 0) (key < nodes_ ? P.cells0_ : P.cells1_).push_back(static_cast<std::uint32_t>(c));
-  }
-  for (std::size_t c = 0; c < 2 * nodes_; ++c) P.start_[c + 1] += P.start_[c];
+  P.bin(nearCell_.data(), body_.data(), size(), nodes_);
   const std::size_t nc = P.cand_.size();
-  P.items_.resize(nc);
-  {
-    std::vector<std::uint32_t>& fill = P.cursor_;
-    fill.assign(P.start_.begin(), P.start_.end() - 1);
-    for (std::size_t a = 0; a < nc; ++a) P.items_[fill[P.candKey_[a]]++] = P.cand_[a];
-  }
   // Body-1 items follow all body-0 items: slots [first1, nc).
-  const std::size_t first1 = P.start_[nodes_];
+  const std::size_t first1 = P.first1_;
   const std::size_t nthreads = P.thread_.size();
   P.force_.assign(3 * nc, 0.0);
   P.reaction_.resize(nthreads);
@@ -276,12 +375,6 @@ void MpmSolver::penaltyForces() {
   const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
   const std::size_t ncell = P.cells0_.size();
   for (auto& r : P.reaction_) r.clear();  // a thread that does not run this step adds nothing
-  P.box_.resize(6 * nodes_);
-  double* box = P.box_.data();
-  const std::size_t ncell1 = P.cells1_.size();
-  const bool bspline = cfg_.shape != Shape::Linear;
-  double* rec = buf_[0].rec.data();
-  const double* o = cfg_.origin.data();
 #pragma omp parallel num_threads(nthreads_)
   {
 #ifdef _OPENMP
@@ -297,20 +390,7 @@ void MpmSolver::penaltyForces() {
     Contacts.clear();
     // Bounding boxes of the body-1 cells: a body-0 point skips a cell farther
     // than 1.5 (r_p + r_max) along an axis (no pair there passes the distance test).
-#pragma omp for schedule(static)
-    for (std::size_t ic = 0; ic < ncell1; ++ic) {
-      const std::size_t c = P.cells1_[ic];
-      double* bx = box + 6 * c;
-      for (int d = 0; d < 3; ++d) {
-        bx[d] = std::numeric_limits<double>::infinity();
-        bx[3 + d] = -std::numeric_limits<double>::infinity();
-      }
-      for (std::uint32_t s = P.start_[nodes_ + c]; s < P.start_[nodes_ + c + 1]; ++s)
-        for (int d = 0; d < 3; ++d) {
-          bx[d] = std::min(bx[d], P_[P.items_[s]].x[d]);
-          bx[3 + d] = std::max(bx[3 + d], P_[P.items_[s]].x[d]);
-        }
-    }
+    P.cellBoxes(P_[0].x, sizeof(Point) / sizeof(double), nodes_);
     // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
     // (slot s at react[3 (s - reactFrom)]).
     double* react = P.force_.data();
@@ -323,23 +403,10 @@ void MpmSolver::penaltyForces() {
 #pragma omp for schedule(static)
     for (std::size_t ic = 0; ic < ncell; ++ic) {
       const std::size_t c0 = P.cells0_[ic];
-      const long long ci[3] = {static_cast<long long>(c0 / (n1 * n2)), static_cast<long long>((c0 / n2) % n1),
-                               static_cast<long long>(c0 % n2)};
       // The occupied body-1 cells among the 27 around c0 (slot ranges).
       std::uint32_t lo[27], hi[27];
       const double* bb[27];
-      int nb = 0;
-      for (long long i = std::max(0LL, ci[0] - 1); i <= std::min(lim[0] - 1, ci[0] + 1); ++i)
-        for (long long j = std::max(0LL, ci[1] - 1); j <= std::min(lim[1] - 1, ci[1] + 1); ++j)
-          for (long long kk = std::max(0LL, ci[2] - 1); kk <= std::min(lim[2] - 1, ci[2] + 1); ++kk) {
-            const std::size_t c = nodes_ + (static_cast<std::size_t>(i) * n1 + static_cast<std::size_t>(j)) * n2 +
-                                  static_cast<std::size_t>(kk);
-            if (P.start_[c] == P.start_[c + 1]) continue;
-            lo[nb] = P.start_[c];
-            hi[nb] = P.start_[c + 1];
-            bb[nb] = box + 6 * (c - nodes_);
-            ++nb;
-          }
+      const int nb = P.nearCells(c0, 1, nodes_, n1, n2, lim, lo, hi, bb);
       if (nb == 0) continue;
       for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
         const std::size_t p = P.items_[sp];
@@ -387,13 +454,7 @@ void MpmSolver::penaltyForces() {
     // The step's own limit (after the barrier of the search): the pairs'
     // tangent stiffness and approach at its start (PairPenalty::limit), the
     // same reduction on every thread (no single and its barrier).
-    PenaltyTally all;
-    for (const PenaltyTally& t : P.thread_) {
-      all.pairs += t.pairs;
-      all.close += t.close;
-      all.tangent = std::max(all.tangent, t.tangent);
-      all.travel = std::min(all.travel, t.travel);
-    }
+    const PenaltyTally all = P.sum();
     const double dt = cfg_.fixedTimeStep > 0 ? dt0 : std::min(dt0, P.limit(all, cfg_.penaltyStepFactor));
     // Field velocity of each point in a pair, once (after the barrier of the
     // search); chunks spread the pairs' slots (the face cells) over the threads.
@@ -413,44 +474,42 @@ void MpmSolver::penaltyForces() {
       }
     }
 #pragma omp barrier
-    // Scatter f_I += N_Ip f_p into each point's own body (a thin shell): the
-    // body-0 slots [0, first1) touch only body 0's records, the body-1 slots
-    // only body 1's, so the last thread scatters body 1 (after adding the
-    // other threads' reactions to its slots) while thread 0 scatters body 0.
-#ifdef _OPENMP
-    const std::size_t team = static_cast<std::size_t>(omp_get_num_threads());
-#else
-    const std::size_t team = 1;
-#endif
-    for (int body = 0; body < 2; ++body) {
-      if (tid != (body == 0 ? 0 : team - 1)) continue;
-      const std::size_t s0 = body == 0 ? 0 : first1, s1 = body == 0 ? first1 : nc;
-      if (body == 1)
-        for (std::size_t t = 1; t < nthreads; ++t)
-          if (!P.reaction_[t].empty())
-            for (std::size_t s = 3 * first1; s < 3 * nc; ++s) P.force_[s] += P.reaction_[t][s - 3 * first1];
-      const std::size_t off = static_cast<std::size_t>(body) * nodes_;
-      for (std::size_t a = s0; a < s1; ++a) {
-        const double* f = &P.force_[3 * a];
-        if (f[0] == 0.0 && f[1] == 0.0 && f[2] == 0.0) continue;
-        const std::size_t p = P.items_[a];
-        if (bspline)
-          scatterForce<3>(P_[p].x, o, invh, f, rec, NR, off, n1, n2);
-        else
-          scatterForce<2>(P_[p].x, o, invh, f, rec, NR, off, n1, n2);
-      }
-    }
+    scatterContact(tid);
     if (tid == 0) dt_ = dt;
   }
-  P.tally_ = PenaltyTally{};
-  for (const PenaltyTally& t : P.thread_) {
-    P.tally_.energy += t.energy;
-    P.tally_.penetration = std::max(P.tally_.penetration, t.penetration);
-    P.tally_.tangent = std::max(P.tally_.tangent, t.tangent);
-    P.tally_.travel = std::min(P.tally_.travel, t.travel);
-    P.tally_.pairs += t.pairs;
-    P.tally_.close += t.close;
+  P.tally_ = P.sum();
+}
+
+// Tests: the contact forces of either law without friction at the current
+// positions (every point a candidate, so the search misses no pair), and the
+// stored energy there. The grid records it scattered into are cleared by the
+// next p2g; the friction coefficient, step and tally are restored.
+double MpmSolver::contactForces(std::vector<Vec3>& force) {
+  if (!finalized_) finalize();
+  force.assign(size(), Vec3::Zero());
+  if (!penalty_) return 0.0;
+  const double invh = 1.0 / cfg_.h;
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  nearCell_.resize(size());
+  for (std::size_t p = 0; p < size(); ++p) {
+    const grid::Cell c = grid::cellAt((P_[p].x[0] - cfg_.origin.x()) * invh, (P_[p].x[1] - cfg_.origin.y()) * invh,
+                                      (P_[p].x[2] - cfg_.origin.z()) * invh, n1);
+    nearCell_[p] = static_cast<std::uint32_t>(c.row * n2 + c.k);
   }
+  const double mu = cfg_.friction, dt = dt_ > 0.0 ? dt_ : stableTimeStep();
+  const PenaltyTally tally = penalty_->tally_;
+  cfg_.friction = 0.0;
+  dt_ = dt;
+  penaltyForces();
+  gridClean_ = false;
+  PairPenalty& P = *penalty_;
+  for (std::size_t s = 0; s < P.cand_.size(); ++s)
+    force[P.items_[s]] += Vec3(P.force_[3 * s], P.force_[3 * s + 1], P.force_[3 * s + 2]);
+  const double e = P.tally_.energy;
+  cfg_.friction = mu;
+  dt_ = dt;
+  P.tally_ = tally;
+  return e;
 }
 
 }  // namespace needlesim::mpm

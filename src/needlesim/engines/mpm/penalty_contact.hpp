@@ -42,7 +42,11 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
+#include <optional>
+#include <utility>
 #include <vector>
+
+#include "needlesim/engines/mpm/density_contact.hpp"
 
 namespace needlesim::mpm {
 
@@ -57,7 +61,10 @@ struct PenaltyTally {
 };
 
 // Scratch and parameters of the pair search; the forces are computed and
-// scattered by MpmSolver::penaltyForces (penalty_contact.cpp).
+// scattered by MpmSolver::penaltyForces (penalty_contact.cpp), or by
+// MpmSolver::densityForces when the density law is set (density_contact.cpp),
+// which shares the binning, the search's cell lists, the reaction buffers,
+// the tally, the step limit and the scatter.
 class PairPenalty {
  public:
   // stiffness k (N/m per pair), the radius of each point's volume (half its
@@ -83,6 +90,12 @@ class PairPenalty {
   double pairEnergy(double delta, double d) const;
   double frictionWork() const;  // J, kinetic energy friction removed since resetFriction
   void resetFriction();
+  // The normal law: the pair law above, or the density law (density_contact.hpp).
+  void useDensity(DensityLaw law) { density_.emplace(std::move(law)); }
+  bool density() const { return density_.has_value(); }
+  // Cells the pair search looks around a point's cell (MpmSolver::markNearBodies
+  // marks the candidates within as many cells of the other body).
+  int reach() const { return density_ ? density_->reach : 1; }
 
  private:
   friend class MpmSolver;
@@ -114,6 +127,17 @@ class PairPenalty {
   std::vector<std::vector<std::array<std::uint32_t, 2>>> pairs_;  // per thread: pairs in contact (p of body 0)
   std::vector<double> friction_;                     // per thread (stride 8): friction work
   PenaltyTally tally_;
+  std::optional<DensityLaw> density_;
+  std::size_t first1_ = 0;  // slots [first1_, cand_.size()) hold body 1
+  // Shared by both laws: the candidates (nearCell[p] != ~0: p's cell) binned
+  // per body and cell (serial counting sort into start_, items_, cells0_,
+  // cells1_); the occupied body-1 cells within `reach` cells of the body-0
+  // cell c0 (slot ranges lo, hi and their boxes bb; returns how many).
+  void bin(const std::uint32_t* nearCell, const std::uint8_t* body, std::size_t n, std::size_t nodes);
+  PenaltyTally sum() const;  // totals of the threads' tallies
+  void cellBoxes(const double* x, std::size_t stride, std::size_t nodes);  // positions x[stride p + d]
+  int nearCells(std::size_t c0, int reach, std::size_t nodes, std::size_t n1, std::size_t n2, const long long* lim,
+                std::uint32_t* lo, std::uint32_t* hi, const double** bb) const;
 };
 
 }  // namespace needlesim::mpm
