@@ -272,14 +272,14 @@ void roundTrip(const std::function<MpmSolver()>& make, int k, int n, const std::
 // apart, two-body penalty contact with friction: in contact from about step
 // 30 (1 ms). Longest along y, so the scatter order (sorted by y layers) is
 // not the creation order (x-major): a lost slab order shows.
-MpmSolver twoBlocks(int threads) {
+MpmSolver twoBlocks(int threads, BodyContact law = BodyContact::Penalty) {
   MpmConfig cfg;
   cfg.h = 1e-3;
   cfg.origin = Vec3(-3e-3, -3e-3, -3e-3);
   cfg.cells = {15, 16, 10};
   cfg.bodies = 2;
   cfg.friction = 0.3;
-  cfg.bodyContact = BodyContact::Penalty;
+  cfg.bodyContact = law;
   cfg.threads = threads;
   MpmSolver s(cfg);
   s.addMaterial(test::linearMaterial(1e5, 0.3, 1000));
@@ -327,6 +327,12 @@ TEST(MpmCheckpoint, SolverStateRoundTripTwoBodyPenalty) {
 
 TEST(MpmCheckpoint, SolverStateRoundTripTwoBodyPenaltyTwoThreads) {
   roundTrip([] { return twoBlocks(2); }, 45, 20);
+}
+
+// The density contact (density_contact.hpp): its set-up (thresholds) comes
+// from finalize, its step limit from the saved tally.
+TEST(MpmCheckpoint, SolverStateRoundTripTwoBodyDensity) {
+  roundTrip([] { return twoBlocks(2, BodyContact::Density); }, 45, 20);
 }
 
 TEST(MpmCheckpoint, SolverStateRoundTripRigidNeedle) {
