@@ -18,7 +18,7 @@
 namespace needlesim::mpm {
 
 namespace {
-using grid::kF, grid::kG;  // force lanes of a grid record, mass-gradient lanes of a gradient record (grid_kernels.hpp)
+using grid::kF;  // force lanes of a grid record (grid_kernels.hpp)
 // f_I += N_Ip f (force lanes) at the nodes of a point at x in the records of
 // its body (off = body * nodes), S = 3 (B-spline) or 2 (linear).
 template <int S>
@@ -85,50 +85,23 @@ PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double re
 
 // Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
 // on p); returns the pair's friction work over the step (J). The normal
-// is that of the bodies' surfaces, from the two mass gradients at the node
-// nearest the pair (as the velocity contact, eqs 14-21), not the pair axis n:
+// is that of the bodies' surfaces, from the two mass gradients interpolated
+// at the pair's midpoint (as the velocity contact, eqs 14-21), not the pair axis n:
 // on two lattices sliding past each other the pair axis tilts by up to
 // 30 deg and the friction along it fell to half of mu times the normal
 // impulse. Sticking force m_r |v_t| / dt of the pair (eq 19), limited by mu
 // times the pair force's component along that normal (eqs 20-21).
 double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
                                const double* vp, const double* vq, double* f) const {
-  const double invh = 1.0 / cfg_.h;
-  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  const double* grad = buf_[0].grad.data();
   // Mass gradients of both bodies interpolated (trilinear) at the pair's
-  // midpoint: a single node beside the interface would see the two bodies at
-  // different depths, and the normal would tilt at the edges of the face.
-  const double xm[3] = {(0.5 * (P_[p].x[0] + P_[q].x[0]) - cfg_.origin.x()) * invh,
-                        (0.5 * (P_[p].x[1] + P_[q].x[1]) - cfg_.origin.y()) * invh,
-                        (0.5 * (P_[p].x[2] + P_[q].x[2]) - cfg_.origin.z()) * invh};
-  int b[3];
-  double t[3];
-  for (int d = 0; d < 3; ++d) {
-    b[d] = static_cast<int>(xm[d]);
-    t[d] = xm[d] - b[d];
-  }
-  double g0[3] = {0, 0, 0}, g1[3] = {0, 0, 0};
-  for (int i = 0; i < 2; ++i)
-    for (int j = 0; j < 2; ++j)
-      for (int k = 0; k < 2; ++k) {
-        const double w = (i ? t[0] : 1 - t[0]) * (j ? t[1] : 1 - t[1]) * (k ? t[2] : 1 - t[2]);
-        const std::size_t I = (static_cast<std::size_t>(b[0] + i) * n1 + static_cast<std::size_t>(b[1] + j)) * n2 +
-                              static_cast<std::size_t>(b[2] + k);
-        for (int c = 0; c < 3; ++c) {
-          g0[c] += w * grad[8 * I + kG + c];
-          g1[c] += w * grad[8 * (nodes_ + I) + kG + c];
-        }
-      }
-  const double a0 = std::sqrt(g0[0] * g0[0] + g0[1] * g0[1] + g0[2] * g0[2]);
-  const double a1 = std::sqrt(g1[0] * g1[0] + g1[1] * g1[1] + g1[2] * g1[2]);
-  if (!(a0 > 0) || !(a1 > 0)) return 0.0;
-  // Surface normal oriented from q's body to p's (as n).
-  const double sgn = body_[p] == 0 ? -1.0 : 1.0;
-  double m[3] = {g0[0] / a0 - g1[0] / a1, g0[1] / a0 - g1[1] / a1, g0[2] / a0 - g1[2] / a1};
-  const double mm = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
-  if (!(mm > 0)) return 0.0;
-  for (double& c : m) c *= sgn / mm;
+  // midpoint (surfaceNormal): a single node beside the interface would see the
+  // two bodies at different depths, and the normal would tilt at the edges of the face.
+  const double mid[3] = {0.5 * (P_[p].x[0] + P_[q].x[0]), 0.5 * (P_[p].x[1] + P_[q].x[1]),
+                         0.5 * (P_[p].x[2] + P_[q].x[2])};
+  double m[3];
+  if (!surfaceNormal(mid, m)) return 0.0;
+  if (body_[p] == 0)  // oriented from q's body to p's (as n)
+    for (double& c : m) c = -c;
   const double fN = fn * (n[0] * m[0] + n[1] * m[1] + n[2] * m[2]);
   if (!(fN > 0.0)) return 0.0;
   // Sliding velocity from each point's own body field on the grid, sum N v_I
