@@ -176,13 +176,7 @@ void MpmSolver::densityForces() {
     auto& Pairs = D.pairs[tid];
     Pairs.clear();
     P.cellBoxes(P_[0].x, sizeof(Point) / sizeof(double), nodes_);
-    double* racc = D.acc.data();  // body-1 slot s at racc[8 (s - from)]
-    std::size_t from = 0;
-    if (tid > 0) {
-      D.react[tid].assign(8 * (nc - first1), 0.0);
-      racc = D.react[tid].data();
-      from = first1;
-    }
+    const auto [racc, from] = reactionSink(D.acc.data(), D.react[tid], 8, tid, first1, nc);  // slot s at racc[8 (s - from)]
     // Sweep 1: phi, grad phi, Hessian bound, rate and pair count at both points of each pair within H.
 #pragma omp for schedule(static)
     for (std::size_t ic = 0; ic < ncell; ++ic) {
@@ -307,13 +301,7 @@ void MpmSolver::densityForces() {
         }
       // The normal load of each point, from all its pairs and from those within
       // the contact distance (the friction's pairs; reactions as in sweep 1).
-      double* rl = D.load.data();
-      std::size_t lfrom = 0;
-      if (tid > 0) {
-        D.react[tid].assign(2 * (nc - first1), 0.0);
-        rl = D.react[tid].data();
-        lfrom = first1;
-      }
+      const auto [rl, lfrom] = reactionSink(D.load.data(), D.react[tid], 2, tid, first1, nc);
       for (const DensityLaw::Pair& C : Pairs) {
         const double ap = D.a[C.sp], aq = D.a[C.sq];
         if (ap == 0.0 && aq == 0.0) continue;
@@ -337,13 +325,7 @@ void MpmSolver::densityForces() {
           }
     }
     // Sweep 2: the central pair forces f_p = (a_q V_p + a_p V_q) (-W'(r)/r) (x_p - x_q) and the friction.
-    double* react = P.force_.data();
-    std::size_t reactFrom = 0;
-    if (tid > 0) {
-      P.reaction_[tid].assign(3 * (nc - first1), 0.0);
-      react = P.reaction_[tid].data();
-      reactFrom = first1;
-    }
+    const auto [react, reactFrom] = reactionSink(P.force_.data(), P.reaction_[tid], 3, tid, first1, nc);
     for (const DensityLaw::Pair& C : Pairs) {
       const double ap = D.a[C.sp], aq = D.a[C.sq];
       if (ap == 0.0 && aq == 0.0) continue;

@@ -366,13 +366,7 @@ void MpmSolver::penaltyForces() {
     P.cellBoxes(P_[0].x, sizeof(Point) / sizeof(double), nodes_);
     // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
     // (slot s at react[3 (s - reactFrom)]).
-    double* react = P.force_.data();
-    std::size_t reactFrom = 0;
-    if (tid > 0) {
-      P.reaction_[tid].assign(3 * (nc - first1), 0.0);
-      react = P.reaction_[tid].data();
-      reactFrom = first1;
-    }
+    const auto [react, reactFrom] = reactionSink(P.force_.data(), P.reaction_[tid], 3, tid, first1, nc);
 #pragma omp for schedule(static)
     for (std::size_t ic = 0; ic < ncell; ++ic) {
       const std::size_t c0 = P.cells0_[ic];

@@ -65,6 +65,21 @@ struct PenaltyTally {
 // MpmSolver::densityForces when the density law is set (density_contact.cpp),
 // which shares the binning, the search's cell lists, the reaction buffers,
 // the tally, the step limit and the scatter.
+// Where thread `tid` adds the values (`width` per slot) it computes for the
+// body-1 slots [first1, nc) of the other threads' pairs: thread 0 straight
+// into `own` (indexed by slot), the others into their own `buffer`, zeroed,
+// indexed from first1 (slot s at base[width (s - from)]); summed after a barrier.
+struct ReactionSink {
+  double* base;
+  std::size_t from;
+};
+inline ReactionSink reactionSink(double* own, std::vector<double>& buffer, std::size_t width, std::size_t tid,
+                                 std::size_t first1, std::size_t nc) {
+  if (tid == 0) return {own, 0};
+  buffer.assign(width * (nc - first1), 0.0);
+  return {buffer.data(), first1};
+}
+
 class PairPenalty {
  public:
   // stiffness k (N/m per pair), the radius of each point's volume (half its
