@@ -255,7 +255,7 @@ TEST(MpmPenaltyOblique, FrictionlessSpheres) {
 // above: 5 % of L0 = m R v0 put into the two spins (I = 0.4 m R^2 each) is
 // omega R / v0 = 0.06, so 0.1; the same 5 % of the orbital angular momentum
 // m* 2R u_t is a 5 % change of u_t, so 0.1.
-// Density law (default): omega R / v0 = +0.016, u_t' / u_t = 0.976, Jt / Jn
+// Density law (option): omega R / v0 = +0.016, u_t' / u_t = 0.976, Jt / Jn
 // = 0.009 (kernel support 2 spacings: 0.29, 0.754, 0.095; 2.5 spacings:
 // 0.092, 0.912, 0.035). The pair penalty fails it, a regression fact kept
 // here: its two point lattices interlock as they slide across each other at

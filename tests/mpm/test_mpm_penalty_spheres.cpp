@@ -217,7 +217,7 @@ TEST(MpmPenaltySpheres, DefaultPenaltyHoldsAMildImpact) {
 // - pair penalty: the barrier acts on each pair's distance, so the deepest
 //   pair stays within half a spacing, d_p / 2 = 0.25 h. Measured: overlap
 //   0.226 h, drift 1.02 %, e 0.871, contact 0.901 of Hertz's 4.47 ms;
-// - density law (default): the barrier acts on the smoothed overlap delta =
+// - density law (option): the barrier acts on the smoothed overlap delta =
 //   (phi - phi*) / s, which a lattice pressed flat reaches at about the same
 //   pair overlap (delta = 1.17 x the pair overlap at a whole spacing, H = 3
 //   d_p), but at a curved contact the deepest single pair (the pole) goes

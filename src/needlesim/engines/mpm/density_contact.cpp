@@ -354,19 +354,9 @@ void MpmSolver::densityForces() {
         const double fN = mm > 0.0 ? scale * (fp[0] * m[0] + fp[1] * m[1] + fp[2] * m[2]) / mm : 0.0;
         if (fN > 0.0) {
           for (double& x : m) x /= mm;
-          const double* vp = &P.vfield_[3 * C.sp];
-          const double* vq = &P.vfield_[3 * C.sq];
-          double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};
-          const double vn = vt[0] * m[0] + vt[1] * m[1] + vt[2] * m[2];
-          for (int k = 0; k < 3; ++k) vt[k] -= vn * m[k];
-          const double st = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-          if (st > 0.0) {
-            const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
-            const double share = 1.0 / std::max(D.acc[8 * C.sp + 7], D.acc[8 * C.sq + 7]);
-            const double ft = std::min(mu * fN, share * mr * st / dt);
-            for (int k = 0; k < 3; ++k) fp[k] -= ft * vt[k] / st;
-            Wf += ft * st * dt;
-          }
+          const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
+          const double share = 1.0 / std::max(D.acc[8 * C.sp + 7], D.acc[8 * C.sq + 7]);
+          Wf += coulombPair(m, fN, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], share * mr, mu, dt, fp);
         }
       }
       for (int k = 0; k < 3; ++k) {

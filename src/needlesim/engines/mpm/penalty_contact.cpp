@@ -108,15 +108,8 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   // at the point (the particle velocities carry the FLIP noise of the impact
   // in all directions; a field read at a node off the interface sees the
   // other depth's lateral expansion): vp, vq from fieldVelocity.
-  double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};
-  const double vn = vt[0] * m[0] + vt[1] * m[1] + vt[2] * m[2];
-  for (int c = 0; c < 3; ++c) vt[c] -= vn * m[c];
-  const double st = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-  if (!(st > 0.0)) return 0.0;
   const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
-  const double ft = std::min(mu * fN, mr * st / dt);
-  for (int c = 0; c < 3; ++c) f[c] -= ft * vt[c] / st;
-  return ft * st * dt;
+  return coulombPair(m, fN, vp, vq, mr, mu, dt, f);
 }
 
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.

@@ -38,7 +38,9 @@
 // time step resolves the pair oscillator at the largest tangent stiffness
 // df/ddelta = k (G/r)^6 (1 + 6 delta / r) of the step (stepLimit): the step
 // shrinks with the gap r, so a pair cannot cross r = 0 in one step.
+#include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 #include <limits>
@@ -78,6 +80,22 @@ inline ReactionSink reactionSink(double* own, std::vector<double>& buffer, std::
   if (tid == 0) return {own, 0};
   buffer.assign(width * (nc - first1), 0.0);
   return {buffer.data(), first1};
+}
+
+// Coulomb friction of a pair (seed 000 eqs 19-21), added to f (the force on
+// p): the sliding velocity vp - vq of the two grid fields with its component
+// along the unit normal m removed, the sticking force mr |v_t| / dt limited by
+// mu fN; returns the friction work over the step (J). Used by both laws.
+inline double coulombPair(const double* m, double fN, const double* vp, const double* vq, double mr, double mu,
+                          double dt, double* f) {
+  double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};
+  const double vn = vt[0] * m[0] + vt[1] * m[1] + vt[2] * m[2];
+  for (int c = 0; c < 3; ++c) vt[c] -= vn * m[c];
+  const double st = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
+  if (!(st > 0.0)) return 0.0;
+  const double ft = std::min(mu * fN, mr * st / dt);
+  for (int c = 0; c < 3; ++c) f[c] -= ft * vt[c] / st;
+  return ft * st * dt;
 }
 
 class PairPenalty {
