@@ -201,3 +201,37 @@ TEST(Schema, DocsReferenceIsUpToDate) {
       << "docs/scenario-format.md is out of date: regenerate its Reference part with "
          "`needlesim schema --markdown`";
 }
+
+TEST(ScenarioReader, ReadsInclusionsInTheTissueFrame) {
+  const std::string y = replaced(kBase, "  friction: {C_p: 3.791 N/m, b_p: 285.053 N s/m^2}\n",
+                                 "  friction: {C_p: 3.791 N/m, b_p: 285.053 N s/m^2, coefficient: 0.2}\n"
+                                 "  inclusions:\n"
+                                 "    - {name: tumour, depth: 30 mm, lateral: -5 mm, elevation: 2 mm, radius: 6 mm,\n"
+                                 "       material: {law: linear, E: 90 kPa, nu: 0.45}, target: true}\n"
+                                 "    - {shape: cylinder, depth: 20 mm, lateral: 20 mm, radius: 2 mm, interface: sliding,\n"
+                                 "       interface_friction: 0.1, material: {law: linear, E: 10 kPa, nu: 0.45}}\n");
+  Scenario s = scenario::readText(y, "case.yaml");
+  ASSERT_EQ(s.tissue.inclusions.size(), 2u);
+  const auto& t = s.tissue.inclusions[0];
+  EXPECT_EQ(t.name, "tumour");
+  EXPECT_DOUBLE_EQ(t.x, 0.03);
+  EXPECT_DOUBLE_EQ(t.y, -0.005);
+  EXPECT_DOUBLE_EQ(t.z, 0.002);
+  EXPECT_DOUBLE_EQ(t.radius, 0.006);
+  EXPECT_TRUE(t.target);
+  EXPECT_FALSE(t.sliding);
+  EXPECT_DOUBLE_EQ(t.friction_coefficient, 0.2);  // the surrounding layer's
+  EXPECT_DOUBLE_EQ(t.material.param("E"), 90e3);
+  const auto& v = s.tissue.inclusions[1];
+  EXPECT_EQ(v.name, "inclusion2");
+  EXPECT_EQ(v.shape, InclusionSpec::Shape::Cylinder);
+  EXPECT_TRUE(v.sliding);
+  EXPECT_DOUBLE_EQ(v.interface_friction, 0.1);
+}
+
+TEST(ScenarioReader, RefusesAnInclusionOutsideTheBlock) {
+  expectError(replaced(kBase, "  cutting:", "  inclusions:\n    - {depth: 50 mm, radius: 10 mm, material: {law: linear, E: 90 kPa, nu: 0.45}}\n  cutting:"),
+              {"case.yaml:", "tissue.inclusions[0].radius", "outside the 55 x 120 x 80 mm block"});
+  expectError(replaced(kBase, "  cutting:", "  inclusions:\n    - {depth: 20 mm, radius: 1 mm, interface_friction: 0.2, material: {law: linear, E: 90 kPa, nu: 0.45}}\n  cutting:"),
+              {"interface_friction", "sliding inclusion only"});
+}

@@ -147,6 +147,39 @@ LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockL
   return L;
 }
 
+InclusionSpec readInclusion(Section& s, std::size_t index, const TissueSpec& T) {
+  InclusionSpec I;
+  I.name = s.text("name");
+  if (I.name.empty()) I.name = fmt::format("inclusion{}", index + 1);
+  I.shape = s.choice("shape") == "cylinder" ? InclusionSpec::Shape::Cylinder : InclusionSpec::Shape::Sphere;
+  I.x = s.number("depth");
+  I.y = s.number("lateral");
+  I.z = s.number("elevation");
+  I.radius = s.number("radius");
+  if (I.shape == InclusionSpec::Shape::Cylinder && s.has("elevation"))
+    throw s.error("elevation", "", "has no meaning for a cylinder (its axis runs through the block's height)",
+                  "elevation for a sphere only");
+  const bool inside = I.x - I.radius >= 0.0 && I.x + I.radius <= T.length &&
+                      std::abs(I.y) + I.radius <= 0.5 * T.width &&
+                      (I.shape == InclusionSpec::Shape::Cylinder || std::abs(I.z) + I.radius <= 0.5 * T.height);
+  if (!inside)
+    throw s.error("radius", fmt::format("{:g} mm", I.radius * 1e3),
+                  fmt::format("puts the inclusion (centre at depth {:g} mm, lateral {:g} mm, elevation {:g} mm) "
+                              "outside the {:g} x {:g} x {:g} mm block",
+                              I.x * 1e3, I.y * 1e3, I.z * 1e3, T.length * 1e3, T.width * 1e3, T.height * 1e3),
+                  "an inclusion inside the block");
+  I.material = readMaterial(s, "material");
+  const auto& around = T.layers[T.layerAt(I.x)];
+  I.friction_coefficient = s.optNumber("friction").value_or(around.friction.coefficient);
+  I.toughness = s.optNumber("toughness").value_or(around.toughness);
+  I.target = s.boolean("target");
+  I.sliding = s.choice("interface") == "sliding";
+  I.interface_friction = s.number("interface_friction");
+  if (!I.sliding && s.has("interface_friction"))
+    throw s.error("interface_friction", "", "applies to a sliding inclusion only", "interface: sliding");
+  return I;
+}
+
 TissueSpec readTissue(Section& t) {
   TissueSpec T;
   Section b = t.sub("block");
@@ -171,6 +204,11 @@ TissueSpec readTissue(Section& t) {
       throw t.error("layers", fmt::format("{:g} mm in all", sum * 1e3),
                     fmt::format("the layer thicknesses must add up to block.length ({:g} mm)", T.length * 1e3),
                     "thicknesses that sum to block.length");
+  }
+  auto inclusions = t.list("inclusions");
+  for (std::size_t i = 0; i < inclusions.size(); ++i) {
+    Section l = t.element(inclusions[i], "inclusions", i);
+    T.inclusions.push_back(readInclusion(l, i, T));
   }
   return T;
 }

@@ -5,6 +5,13 @@
 
 namespace needlesim {
 
+std::size_t TissueSpec::layerAt(double x) const {
+  double end = 0.0;
+  for (std::size_t i = 0; i + 1 < layers.size(); ++i)
+    if (x <= (end += layers[i].thickness)) return i;
+  return layers.empty() ? 0 : layers.size() - 1;
+}
+
 double Scenario::maxDepth() const {
   double d = insertion.start_depth;
   for (const auto& s : insertion.segments)

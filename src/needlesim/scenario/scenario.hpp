@@ -32,11 +32,32 @@ struct LayerSpec {
   double toughness = 0.0;              // J/m^2, rupture toughness G_c; 0 = not given
 };
 
+// A body embedded in the block (a tumour to target, a vessel to avoid), bonded to
+// the tissue around it or sliding against it as a separate body. Position in the tissue frame (needle/insertion_frame.hpp):
+// depth x from the entry face, y across the width from the block's centre line,
+// z across the height from the block's mid-plane.
+struct InclusionSpec {
+  enum class Shape { Sphere, Cylinder };  // cylinder: axis along z through the whole height
+  std::string name;
+  Shape shape = Shape::Sphere;
+  double x = 0.0, y = 0.0, z = 0.0;  // m, centre
+  double radius = 0.0;               // m
+  materials::MaterialSpec material;
+  double friction_coefficient = 0.0;  // Coulomb coefficient of needle contact inside it
+  double toughness = 0.0;             // J/m^2, 0 = not given
+  bool target = false;                // the needle aims at it: its displacement is the targeting error
+  bool sliding = false;               // separate body in contact with the tissue (false: bonded)
+  double interface_friction = 0.0;    // Coulomb coefficient between a sliding inclusion and the tissue
+};
+
 struct TissueSpec {
   double length = 0.0;  // m, block extent along the insertion axis (entry face to exit face)
   double width = 0.0;   // m
   double height = 0.0;  // m
   std::vector<LayerSpec> layers;  // stacked from the entry face; thicknesses sum to length
+  std::vector<InclusionSpec> inclusions;
+  // Index of the layer at depth x from the entry face (the last one beyond the block).
+  std::size_t layerAt(double x) const;
 };
 
 enum class TipType { Bevel, Conical, Blunt };

@@ -73,6 +73,9 @@ std::vector<FieldDoc> build() {
             "layers from the entry face inwards; omit for one layer and write the layer's fields "
             "(material, puncture, cutting, friction, interaction) directly under tissue",
             false, "layer"));
+  add(other("tissue", "inclusions", Kind::List, "",
+            "bodies embedded in the block and bonded to it (a tumour to target, a vessel): engines mpm and explicit",
+            false, "inclusion"));
   add(positive("block", "length", D::Length, "", "extent along the insertion axis (entry face to exit face)", true));
   add(positive("block", "width", D::Length, "", "extent across the insertion axis, in the insertion plane", true));
   add(positive("block", "height", D::Length, "", "extent out of the insertion plane", true));
@@ -85,6 +88,26 @@ std::vector<FieldDoc> build() {
   add(other("layer", "cutting", Kind::Section, "force: 0 N", "cutting at the tip", false, "cutting"));
   add(other("layer", "friction", Kind::Section, "all zero", "friction along the shaft", false, "friction"));
   add(other("layer", "interaction", Kind::Section, "", "needle-tissue interaction parameters", false, "interaction"));
+
+  // --- inclusion (tissue frame, docs/models/frame.md)
+  add(other("inclusion", "name", Kind::String, "inclusion<i>", "label in results"));
+  add(other("inclusion", "shape", Kind::Choice, "sphere",
+            "sphere, or cylinder (a vessel: axis out of the insertion plane, through the block's height)", false, {},
+            {"sphere", "cylinder"}));
+  add(q("inclusion", "depth", D::Length, "", 0.0, kInf, false, false, "centre: depth x from the entry face", true));
+  add(q("inclusion", "lateral", D::Length, "0 mm", -kInf, kInf, false, false,
+        "centre: y across the width from the block's centre line (+ = the side a tilted needle goes to)"));
+  add(q("inclusion", "elevation", D::Length, "0 mm", -kInf, kInf, false, false,
+        "centre: z across the height from the block's mid-plane (sphere only)"));
+  add(positive("inclusion", "radius", D::Length, "", "radius", true));
+  add(other("inclusion", "material", Kind::MaterialRef, "", "a library name or a material section", true, "material"));
+  add(nonneg("inclusion", "friction", D::None, "the surrounding layer's", "Coulomb coefficient of needle contact inside it"));
+  add(nonneg("inclusion", "toughness", D::ForcePerLength, "", "rupture toughness G_c inside it"));
+  add(other("inclusion", "interface", Kind::Choice, "bonded",
+            "bonded (shares the tissue's material points or nodes) or sliding (a separate body in frictional "
+            "contact with the tissue: mpm only)", false, {}, {"bonded", "sliding"}));
+  add(nonneg("inclusion", "interface_friction", D::None, "0", "Coulomb coefficient between a sliding inclusion and the tissue"));
+  add(other("inclusion", "target", Kind::Bool, "false", "the needle aims at it: its displacement is the targeting error"));
 
   // --- material
   add(other("material", "base", Kind::String, "", "start from a library material and override the fields given"));
