@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <numbers>
 #include <string>
@@ -234,4 +235,31 @@ TEST(ScenarioReader, RefusesAnInclusionOutsideTheBlock) {
               {"case.yaml:", "tissue.inclusions[0].radius", "outside the 55 x 120 x 80 mm block"});
   expectError(replaced(kBase, "  cutting:", "  inclusions:\n    - {depth: 20 mm, radius: 1 mm, interface_friction: 0.2, material: {law: linear, E: 90 kPa, nu: 0.45}}\n  cutting:"),
               {"interface_friction", "sliding inclusion only"});
+}
+
+// The scenario as understood (Scenario::understood) is a scenario in the input's
+// own schema: reading it again understands every shipped example the same way.
+TEST(ScenarioReader, TheScenarioAsUnderstoodReadsBackToItself) {
+  int n = 0;
+  for (const auto& e : std::filesystem::recursive_directory_iterator(std::string(NEEDLESIM_SOURCE_DIR) + "/examples")) {
+    if (e.path().extension() != ".yaml" || e.path().parent_path().filename() == "studies") continue;
+    const Scenario first = scenario::readFile(e.path());
+    ASSERT_FALSE(first.understood.empty()) << e.path();
+    const Scenario again = scenario::readText(first.understood, e.path().string() + " (as understood)");
+    EXPECT_EQ(first.understood, again.understood) << e.path();
+    EXPECT_EQ(first.tissue.layers.size(), again.tissue.layers.size());
+    EXPECT_EQ(first.totalDuration(), again.totalDuration()) << e.path();
+    ++n;
+  }
+  EXPECT_GT(n, 15);
+}
+
+TEST(ScenarioReader, EveryQuantityUnitReadsBack) {
+  // The record writes quantities as "<SI value> <siName>": every unit of the schema must parse.
+  for (const auto& f : scenario::schema())
+    if (f.kind == scenario::Kind::Quantity) {
+      const auto q = units::parse("0.1 " + units::siName(f.dim));
+      EXPECT_TRUE(q.dim == f.dim) << f.section << "." << f.key << ": " << units::siName(f.dim);
+      EXPECT_DOUBLE_EQ(q.value, 0.1) << f.section << "." << f.key;
+    }
 }

@@ -161,9 +161,7 @@ int removeAbandonedStages(const fs::path& target) {
 }
 
 std::string scenarioFingerprint(const Scenario& sc) {
-  nlohmann::json j = scenarioToJson(sc);
-  j.erase("source");
-  std::uint64_t h = fnv1a64(j.dump());
+  std::uint64_t h = fnv1a64(sc.understood);
   std::error_code ec;
   if (!sc.source.empty() && fs::is_regular_file(sc.source, ec)) {
     std::ifstream in(sc.source, std::ios::binary);

@@ -85,10 +85,10 @@ class Checkpoint {
 // --resume` once the resumed run is committed; returns how many.
 int removeAbandonedStages(const std::filesystem::path& target);
 
-// Identifies a scenario for --resume: FNV-1a 64 (hex) of its canonical JSON
-// (scenarioToJson without the file path) and of the text of its file
-// (sc.source, when it is a readable file: it holds the engine settings the
-// JSON does not). Any edit to the file, comments included, changes it.
+// Identifies a scenario for --resume: FNV-1a 64 (hex) of the scenario as
+// understood (Scenario::understood, every field) and of the text of its file
+// (sc.source, when it is a readable file). Any edit to the file, comments
+// included, changes it.
 std::string scenarioFingerprint(const Scenario& sc);
 
 }  // namespace needlesim::io

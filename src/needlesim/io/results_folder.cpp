@@ -13,7 +13,6 @@ namespace needlesim::io {
 namespace fs = std::filesystem;
 
 namespace {
-nlohmann::json qty(double v, const char* unit) { return {{"value", v}, {"unit", unit}}; }
 
 nlohmann::json safeNumber(double v) {
   if (std::isfinite(v)) return v;
@@ -22,84 +21,8 @@ nlohmann::json safeNumber(double v) {
 }  // namespace
 
 nlohmann::json scenarioToJson(const Scenario& sc) {
-  using nlohmann::json;
-  json layers = json::array();
-  for (const auto& L : sc.tissue.layers) {
-    json params = json::object();
-    for (const auto& [k, v] : L.material.params) params[k] = v;
-    json prony = json::array();
-    for (const auto& t : L.material.prony) prony.push_back({{"g", t.g}, {"tau", qty(t.tau, "s")}});
-    const auto& f = L.friction;
-    layers.push_back({{"name", L.name},
-                      {"thickness", qty(L.thickness, "m")},
-                      {"material",
-                       {{"name", L.material.name},
-                        {"law", L.material.law},
-                        {"parameters_SI", params},
-                        {"density", qty(L.material.density, "kg/m^3")},
-                        {"prony", prony}}},
-                      {"puncture_force", L.puncture_force >= 0 ? qty(L.puncture_force, "N") : json(nullptr)},
-                      {"puncture_depth", L.puncture_force < 0 ? qty(-L.puncture_force, "m") : json(nullptr)},
-                      {"cutting_force", qty(L.cutting_force, "N")},
-                      {"friction",
-                       {{"C_p", qty(f.C_p, "N/m")},
-                        {"b_p", qty(f.b_p, "N s/m^2")},
-                        {"C_n", qty(f.C_n, "N/m")},
-                        {"b_n", qty(f.b_n, "N s/m^2")},
-                        {"D_p", qty(f.D_p, "N/m")},
-                        {"D_n", qty(f.D_n, "N/m")},
-                        {"static_band", qty(f.static_band, "m/s")},
-                        {"coefficient", f.coefficient}}},
-                      {"interaction_stiffness", qty(L.interaction_stiffness, "N/m^2")},
-                      {"toughness", qty(L.toughness, "J/m^2")}});
-  }
-  json segments = json::array();
-  for (const auto& s : sc.insertion.segments) {
-    switch (s.kind) {
-      case MotionSegment::Kind::Insert:
-        segments.push_back({{"insert", {{"to", qty(s.to_depth, "m")}, {"speed", qty(s.speed, "m/s")},
-                                        {"spin_rate", qty(s.rate, "rad/s")}, {"duty_cycle", s.duty_cycle}}}});
-        break;
-      case MotionSegment::Kind::Retract:
-        segments.push_back({{"retract", {{"to", qty(s.to_depth, "m")}, {"speed", qty(s.speed, "m/s")}}}});
-        break;
-      case MotionSegment::Kind::Pause:
-        segments.push_back({{"pause", {{"duration", qty(s.duration, "s")}}}});
-        break;
-      case MotionSegment::Kind::Rotate:
-        segments.push_back({{"rotate", {{"by", qty(s.angle, "rad")}, {"rate", qty(s.rate, "rad/s")},
-                                        {"axis", s.axial ? "axial" : "in-plane"}}}});
-        break;
-    }
-  }
-  const auto& n = sc.needle;
-  return {{"name", sc.name},
-          {"description", sc.description},
-          {"source", sc.source},
-          {"tissue",
-           {{"block", {{"length", qty(sc.tissue.length, "m")}, {"width", qty(sc.tissue.width, "m")},
-                       {"height", qty(sc.tissue.height, "m")}}},
-            {"layers", layers}}},
-          {"needle",
-           {{"outer_diameter", qty(n.outer_diameter, "m")},
-            {"inner_diameter", qty(n.inner_diameter, "m")},
-            {"length", qty(n.length, "m")},
-            {"bevel_angle", qty(n.bevel_angle, "rad")},
-            {"tip", n.tip == TipType::Bevel ? "bevel" : n.tip == TipType::Conical ? "conical" : "blunt"},
-            {"youngs_modulus", qty(n.youngs_modulus, "Pa")},
-            {"poisson", n.poisson},
-            {"density", qty(n.density, "kg/m^3")}}},
-          {"insertion",
-           {{"entry_angle", qty(sc.insertion.entry_angle, "rad")},
-            {"entry_offset", qty(sc.insertion.entry_offset, "m")},
-            {"start_depth", qty(sc.insertion.start_depth, "m")},
-            {"bevel_orientation", qty(sc.insertion.bevel_orientation, "rad")},
-            {"profile", segments}}},
-          {"model",
-           {{"engine", sc.model.engine},
-            {"time_step", qty(sc.model.time_step, "s")},
-            {"lumped", {{"relaxation_time", qty(sc.model.lumped.relaxation_time, "s")}}}}},
-          {"output", {{"interval", qty(sc.output.interval, "s")}, {"csv", sc.output.csv}, {"html", sc.output.html}}}};
+  if (sc.understood.empty()) return nullptr;  // built in code: no scenario document exists
+  return nlohmann::json::parse(sc.understood);
 }
 
 fs::path freeResultsPath(const fs::path& base) {
@@ -176,6 +99,7 @@ void ResultsFolder::commit(bool replace, double wall_seconds, const std::string&
                             {"results", res},
                             {"notes", notes_},
                             {"files", files},
+                            {"scenario_source", scenario_.source},
                             {"scenario", scenarioToJson(scenario_)}};
   writeFileAtomic(stage / "summary.json", summary.dump(2) + "\n");
 

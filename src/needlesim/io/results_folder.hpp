@@ -58,7 +58,9 @@ class ResultsFolder : public ResultSink {
 // results/<name>, or results/<name>-2, -3, ... if taken.
 std::filesystem::path freeResultsPath(const std::filesystem::path& base);
 
-// The scenario as understood, in SI with the unit of every value named.
+// The scenario as understood (Scenario::understood): every field in the scenario
+// file's schema, quantities in SI with their unit; `needlesim run summary.json`
+// reads it again. null for a Scenario built in code.
 nlohmann::json scenarioToJson(const Scenario& scenario);
 
 }  // namespace needlesim::io

@@ -33,6 +33,7 @@ MaterialSpec readMaterial(Section& parent, const std::string& key) {
     if (it == lib.end())
       throw parent.error(key, n.Scalar(), "is not a material of the built-in library",
                          libraryNames() + ", or a section with 'law' and its parameters");
+    parent.remember(key, n.Scalar());
     return it->second;
   }
   Section m = parent.sub(key);
@@ -294,8 +295,31 @@ InsertionSpec readInsertion(Section& s, const NeedleSpec& needle) {
   return I;
 }
 
+Scenario readSections(Section top, const std::string& source);
+
+// Data files named in a scenario, relative to the scenario file: the record keeps them
+// absolute so that a scenario re-read from its summary.json finds the same files.
+void absoluteDataPaths(nlohmann::json& record, const std::string& source) {
+  if (source.empty() || source[0] == '<') return;
+  const std::filesystem::path base = std::filesystem::absolute(std::filesystem::path(source)).parent_path();
+  for (const char* at : {"/model/mpm/measured_force", "/model/mpm/measured_markers", "/model/explicit/mesh",
+                         "/model/explicit/cohesive/path_file"}) {
+    const nlohmann::json::json_pointer ptr(at);
+    if (!record.contains(ptr) || !record[ptr].is_string()) continue;
+    const std::filesystem::path p(record[ptr].get<std::string>());
+    if (!p.empty() && p.is_relative()) record[ptr] = (base / p).lexically_normal().string();
+  }
+}
+
 Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared_ptr<const std::string> file) {
-  Section top(root, "scenario", "", file);
+  auto record = std::make_shared<nlohmann::json>(nlohmann::json::object());
+  Scenario sc = readSections(Section(root, "scenario", "", file, record), source);
+  absoluteDataPaths(*record, source);
+  sc.understood = record->dump();
+  return sc;
+}
+
+Scenario readSections(Section top, const std::string& source) {
   Scenario sc;
   sc.source = source;
   sc.name = top.text("name");
@@ -571,6 +595,8 @@ Scenario readText(std::string_view yaml, const std::string& source_name) {
   if (!root || root.IsNull())
     throw InputError(SourceLocation{source_name, 0, 0}, "", "", "is empty",
                      "a scenario with tissue, needle and insertion sections");
+  // A results folder's summary.json: its "scenario" is the scenario as understood (docs/results.md).
+  if (root.IsMap() && root["scenario"] && root["scenario"].IsMap() && root["results"]) root = root["scenario"];
   try {
     return readRoot(root, source_name, file);
   } catch (const YAML::Exception& e) {

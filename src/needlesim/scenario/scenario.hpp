@@ -250,6 +250,10 @@ struct Scenario {
   std::string name = "scenario";
   std::string description;
   std::string source;  // file it came from, or "<built-in default>"
+  // Every field as the reader understood it (given or default), as JSON in the
+  // scenario file's own schema with SI quantities: summary.json's "scenario",
+  // readable again as a scenario. Empty for a Scenario built in code.
+  std::string understood;
   TissueSpec tissue;
   NeedleSpec needle;
   InsertionSpec insertion;

@@ -8,8 +8,12 @@
 namespace needlesim::scenario {
 
 Section::Section(YAML::Node node, std::string type, std::string path,
-                 std::shared_ptr<const std::string> file)
-    : node_(std::move(node)), type_(std::move(type)), path_(std::move(path)), file_(std::move(file)) {
+                 std::shared_ptr<const std::string> file, Record record)
+    : node_(std::move(node)),
+      type_(std::move(type)),
+      path_(std::move(path)),
+      file_(std::move(file)),
+      record_(std::move(record)) {
   if (!node_.IsMap()) {
     std::string what = node_.IsScalar() ? node_.Scalar() : (node_.IsSequence() ? "a list" : "nothing");
     throw errorAt(node_, path_.empty() ? "(top level)" : path_, what, "must be a section of 'key: value' lines",
@@ -31,6 +35,30 @@ SourceLocation Section::location(const YAML::Node& at) const {
 
 std::string Section::fieldPath(const std::string& key) const {
   return path_.empty() ? key : path_ + "." + key;
+}
+
+namespace {
+// "tissue.layers[0].material" + "E" -> /tissue/layers/0/material/E
+nlohmann::json::json_pointer pointerOf(const std::string& path, const std::string& key) {
+  std::string p;
+  for (char c : path) {
+    if (c == '.' || c == '[') p += '/';
+    else if (c != ']') p += c;
+  }
+  return nlohmann::json::json_pointer((path.empty() ? "" : "/" + p) + "/" + key);
+}
+}  // namespace
+
+void Section::remember(const std::string& key, nlohmann::json value) const {
+  if (record_) (*record_)[pointerOf(path_, key)] = std::move(value);
+}
+
+void Section::rememberNumber(const std::string& key, const FieldDoc& f, double value) const {
+  if (!record_) return;
+  if (f.kind == Kind::Quantity)
+    remember(key, fmt::format("{} {}", value, units::siName(f.dim)));  // shortest text that reads back exactly
+  else
+    remember(key, value);
 }
 
 InputError Section::errorAt(const YAML::Node& at, const std::string& field, const std::string& value,
@@ -98,6 +126,7 @@ std::optional<double> Section::optNumber(const std::string& key) {
     if (f.default_text.empty()) return std::nullopt;
     try {
       units::Quantity d = units::parse(f.default_text);
+      rememberNumber(key, f, d.value);
       return d.value;
     } catch (const std::invalid_argument&) {
       return std::nullopt;
@@ -130,6 +159,7 @@ std::optional<double> Section::optNumber(const std::string& key) {
                       ? fmt::format("is out of range ({:g} {} in SI)", qv.value, units::siName(f.dim))
                       : fmt::format("is out of range ({:g})", qv.value),
                   f.rangeText());
+  rememberNumber(key, f, qv.value);
   return qv.value;
 }
 
@@ -144,6 +174,7 @@ units::Quantity Section::lengthOrGauge(const std::string& key) {
   if (qv.gauge) {
     if (qv.value != std::floor(qv.value) || !units::gaugeSize(static_cast<int>(qv.value)))
       throw errorAt(n, fieldPath(key), n.Scalar(), "is not a known needle gauge", "10 G to 34 G");
+    remember(key, n.Scalar());
     return qv;
   }
   if (qv.dim == units::dim::None)
@@ -151,6 +182,7 @@ units::Quantity Section::lengthOrGauge(const std::string& key) {
   if (!(qv.dim == units::dim::Length))
     throw errorAt(n, fieldPath(key), n.Scalar(), "has the wrong unit", "a length (m, mm) or a gauge (G)");
   if (!f.inRange(qv.value)) throw errorAt(n, fieldPath(key), n.Scalar(), "is out of range", f.rangeText());
+  rememberNumber(key, f, qv.value);
   return qv;
 }
 
@@ -163,6 +195,7 @@ std::string Section::text(const std::string& key) {
     return {};
   }
   if (!n.IsScalar()) throw errorAt(n, fieldPath(key), scalarOf(n), "must be text", "text");
+  remember(key, n.Scalar());
   return n.Scalar();
 }
 
@@ -172,11 +205,15 @@ std::string Section::choice(const std::string& key) {
   YAML::Node n = node_[key];
   if (!n || n.IsNull()) {
     if (f.required) throw errorAt(node_, fieldPath(key), "", "is required but missing", f.rangeText());
+    remember(key, f.default_text);
     return f.default_text;
   }
   if (!n.IsScalar()) throw errorAt(n, fieldPath(key), scalarOf(n), "must be one word", f.rangeText());
   for (const auto& c : f.choices)
-    if (c == n.Scalar()) return c;
+    if (c == n.Scalar()) {
+      remember(key, c);
+      return c;
+    }
   throw errorAt(n, fieldPath(key), n.Scalar(), "is not a known choice", f.rangeText());
 }
 
@@ -184,11 +221,17 @@ bool Section::boolean(const std::string& key) {
   const FieldDoc& f = field(type_, key);
   used_.insert(key);
   YAML::Node n = node_[key];
-  if (!n || n.IsNull()) return f.default_text == "true";
+  if (!n || n.IsNull()) {
+    remember(key, f.default_text == "true");
+    return f.default_text == "true";
+  }
   if (n.IsScalar()) {
     const std::string& s = n.Scalar();
-    if (s == "true" || s == "yes" || s == "on") return true;
-    if (s == "false" || s == "no" || s == "off") return false;
+    const bool yes = s == "true" || s == "yes" || s == "on", no = s == "false" || s == "no" || s == "off";
+    if (yes || no) {
+      remember(key, yes);
+      return yes;
+    }
   }
   throw errorAt(n, fieldPath(key), scalarOf(n), "is not a boolean", "true or false");
 }
@@ -199,12 +242,12 @@ Section Section::sub(const std::string& key) {
   YAML::Node n = node_[key];
   if (!n || n.IsNull()) {
     if (f.required) throw errorAt(node_, fieldPath(key), "", "is required but missing", "a section '" + f.child + "'");
-    return Section(YAML::Node(YAML::NodeType::Map), f.child, fieldPath(key), file_);
+    return Section(YAML::Node(YAML::NodeType::Map), f.child, fieldPath(key), file_, record_);
   }
   if (!n.IsMap())
     throw errorAt(n, fieldPath(key), scalarOf(n), "must be a section of 'key: value' lines",
                   "the fields of '" + f.child + "' (see needlesim schema)");
-  return Section(n, f.child, fieldPath(key), file_);
+  return Section(n, f.child, fieldPath(key), file_, record_);
 }
 
 std::vector<YAML::Node> Section::list(const std::string& key) {
@@ -225,7 +268,7 @@ std::vector<YAML::Node> Section::list(const std::string& key) {
 
 Section Section::element(const YAML::Node& node, const std::string& key, std::size_t index) {
   const FieldDoc& f = field(type_, key);
-  return Section(node, f.child, fmt::format("{}[{}]", fieldPath(key), index), file_);
+  return Section(node, f.child, fmt::format("{}[{}]", fieldPath(key), index), file_, record_);
 }
 
 void Section::checkKeys() const {

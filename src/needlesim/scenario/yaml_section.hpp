@@ -1,7 +1,11 @@
 #pragma once
 // A YAML mapping being read against the schema: each getter consults the
 // FieldDoc of (section type, key) for unit, default and range, and done()
-// rejects keys that the schema does not know. Internal to the reader.
+// rejects keys that the schema does not know. Every value a getter returns
+// (given or default) is also written into the Record, so the scenario as
+// understood is one document in the input's own schema, quantities in SI with
+// their unit (summary.json, docs/results.md). Internal to the reader.
+#include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
 #include <memory>
@@ -17,7 +21,9 @@ namespace needlesim::scenario {
 
 class Section {
  public:
-  Section(YAML::Node node, std::string type, std::string path, std::shared_ptr<const std::string> file);
+  using Record = std::shared_ptr<nlohmann::json>;
+  Section(YAML::Node node, std::string type, std::string path, std::shared_ptr<const std::string> file,
+          Record record = nullptr);
 
   const std::string& type() const { return type_; }
   const std::string& path() const { return path_; }
@@ -45,15 +51,20 @@ class Section {
   InputError errorAt(const YAML::Node& at, const std::string& field, const std::string& value,
                      const std::string& problem, const std::string& allowed) const;
   SourceLocation location(const YAML::Node& at) const;
+  // Writes the value read for `key` into the record at this section's path
+  // (for values the reader takes from raw(), such as a library material name).
+  void remember(const std::string& key, nlohmann::json value) const;
   std::string fieldPath(const std::string& key) const;
 
  private:
   units::Quantity parseQuantity(const std::string& key, const FieldDoc& f, const YAML::Node& n,
                                 const std::string& text);
+  void rememberNumber(const std::string& key, const FieldDoc& f, double value) const;
   YAML::Node node_;
   std::string type_;
   std::string path_;
   std::shared_ptr<const std::string> file_;
+  Record record_;
   mutable std::set<std::string> used_;
 };
 
