@@ -213,3 +213,24 @@ TEST(Cli, AbandonedStagingFoldersOfDeadRunsAreFound) {
   EXPECT_TRUE(fs::exists(dir / (".res-x.partial-" + dead)));
   fs::remove_all(dir);
 }
+
+// Engines that do not model embedded bodies refuse a scenario with inclusions in
+// check and run alike, naming the field and the engines that can.
+TEST(Cli, AnEngineWithoutInclusionsRefusesThemInCheckAndRun) {
+  fs::path dir = scratch("inclusion");
+  fs::create_directories(dir);
+  std::ifstream in(example("gelatin_18G_3mms.yaml"));
+  std::string yaml((std::istreambuf_iterator<char>(in)), {});
+  const std::string at = "tissue:\n";
+  const auto pos = yaml.find(at);
+  ASSERT_NE(pos, std::string::npos);
+  yaml.insert(pos + at.size(), "  inclusions:\n    - {name: tumour, depth: 20 mm, radius: 4 mm, material: {law: linear, E: 90 kPa, nu: 0.45}}\n");
+  std::ofstream(dir / "with_tumour.yaml") << yaml;
+  for (const char* cmd : {"check ", "run --quiet "}) {
+    auto r = runCli(cmd + (dir / "with_tumour.yaml").string());
+    EXPECT_EQ(r.code, 2) << r.out;
+    EXPECT_NE(r.out.find("tissue.inclusions"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("engine lumped does not model"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("mpm"), std::string::npos) << r.out;
+  }
+}

@@ -72,8 +72,8 @@ TEST(SteeringEngines, KinematicRadiusIsOneOverKappaFromTheScenario) {
   EXPECT_NEAR(s.at("radius_whole"), r, 1e-9);
   for (const char* k : {"radius_0_50mm", "radius_50_100mm", "radius_100_150mm"}) EXPECT_NEAR(s.at(k), r, 1e-9) << k;
   EXPECT_NEAR(s.at("tip_y"), -r * (1 - std::cos(L / r)), 1e-12);  // towards the bevel (-y)
-  EXPECT_NEAR(s.at("tip_z"), r * std::sin(L / r), 1e-12);
-  EXPECT_NEAR(s.at("tip_x"), 0.0, 1e-15);
+  EXPECT_NEAR(s.at("tip_x"), r * std::sin(L / r), 1e-12);
+  EXPECT_NEAR(s.at("tip_z"), 0.0, 1e-15);
   ASSERT_TRUE(s.tables.count("tip_path") && s.tables.count("needle_shapes"));
   EXPECT_EQ(s.tables.at("tip_path").rows(), 151u);
   EXPECT_GE(s.plots, 3);
@@ -86,7 +86,7 @@ TEST(SteeringEngines, KinematicFlipInTheProfileGivesTheSCurve) {
   const MemorySink s = run(scenarioText("kinematic", prof, "curvature: 4 1/m"));
   const double r = 0.25, th = 0.075 / r;
   EXPECT_NEAR(s.at("tip_y"), -2 * r * (1 - std::cos(th)), 1e-12);
-  EXPECT_NEAR(s.at("tip_z"), 2 * r * std::sin(th), 1e-12);
+  EXPECT_NEAR(s.at("tip_x"), 2 * r * std::sin(th), 1e-12);
 }
 
 TEST(SteeringEngines, KinematicDutyCyclingFromSpinRateAndDutyCycle) {
@@ -128,9 +128,9 @@ TEST(SteeringEngines, BeamFoundationTipLoadChoice) {
   // the edge loads of eq 25 are sub-mN for a 0.54 mm needle: a much straighter path
   EXPECT_LT(std::abs(edges.at("tip_Q")), 2e-3);
   EXPECT_GT(edges.at("radius_whole"), 5 * roller.at("radius_whole"));
-  // a planar case stays exactly planar (a dangling Eigen expression once made x drift and blow up)
-  EXPECT_EQ(edges.at("tip_x"), 0.0);
-  EXPECT_EQ(roller.at("tip_x"), 0.0);
+  // a planar case stays exactly planar (a dangling Eigen expression once made it drift and blow up)
+  EXPECT_EQ(edges.at("tip_z"), 0.0);
+  EXPECT_EQ(roller.at("tip_z"), 0.0);
 }
 
 TEST(SteeringEngines, SymmetricTipGoesStraightInEveryEngine) {
@@ -148,7 +148,7 @@ TEST(SteeringEngines, EnergyRunsTheSection4ModelAndSteersTowardsTheBevel) {
   EXPECT_GT(s.at("increments"), 10);
   // the tip ends on a circular arc of 150 mm: chord 2 rho sin(L / (2 rho))
   const double rho = s.at("radius_whole");
-  EXPECT_NEAR(std::hypot(s.at("tip_z"), s.at("tip_y")), 2 * rho * std::sin(0.15 / (2 * rho)), 1.5e-3);
+  EXPECT_NEAR(std::hypot(s.at("tip_x"), s.at("tip_y")), 2 * rho * std::sin(0.15 / (2 * rho)), 1.5e-3);
   EXPECT_TRUE(s.tables.count("increments"));
   // the same numbers as the library run of Table 2 (gel C, 0.54 mm)
   const auto& c = steering::table2Cases()[8];
@@ -216,4 +216,43 @@ TEST(SteeringEngines, ExamplesRun) {
     ++n;
   }
   EXPECT_GE(n, 5);
+}
+
+// The paths are reported in the shared tissue frame (needle/insertion_frame.hpp): the
+// entry offset and angle place the path, and a bevel turned a quarter turn steers out
+// of the insertion plane towards -z (the bevel face looks to +z, the tissue pushes the tip back).
+TEST(SteeringEngines, KinematicPathsLieInTheSharedFrame) {
+  auto withInsertion = [&](const std::string& extra) {
+    std::string t = scenarioText("kinematic", straight150, "curvature: 4 1/m");
+    const auto at = t.find("insertion:\n");
+    return t.insert(at + 11, extra);
+  };
+  const MemorySink tilted = run(withInsertion("  entry_angle: 60 deg\n  entry_offset: 5 mm\n"));
+  const MemorySink normal = run(scenarioText("kinematic", straight150, "curvature: 4 1/m"));
+  // the 90 deg path rotated by 30 deg towards +y about the entry point, moved by the offset
+  const double c = std::cos(pi / 6), s = std::sin(pi / 6);
+  const double x = normal.at("tip_x"), y = normal.at("tip_y");
+  EXPECT_NEAR(tilted.at("tip_x"), c * x - s * y, 1e-12);
+  EXPECT_NEAR(tilted.at("tip_y"), 5e-3 + s * x + c * y, 1e-12);
+  const MemorySink quarter = run(withInsertion("  bevel_orientation: 90 deg\n"));
+  EXPECT_NEAR(quarter.at("tip_z"), normal.at("tip_y"), 1e-12);  // -z by as much as bevel 0 goes to -y
+  EXPECT_NEAR(quarter.at("tip_y"), 0.0, 1e-12);
+}
+
+TEST(SteeringEngines, RefuseLayeredTissueNamingTheField) {
+  std::string t = scenarioText("kinematic", straight150, "curvature: 4 1/m");
+  const std::string from = "  material: {law: neo-hookean, C10: 7.55 kPa, nu: 0.45}\n"
+                           "  interaction: {K_T: 12.61 kN/m^2, toughness: 46.8 kN/m}\n";
+  t.replace(t.find(from), from.size(),
+            "  layers:\n"
+            "    - {thickness: 100 mm, material: {law: neo-hookean, C10: 7.55 kPa, nu: 0.45}}\n"
+            "    - {thickness: 100 mm, material: {law: neo-hookean, C10: 15 kPa, nu: 0.45}}\n");
+  try {
+    run(t);
+    ADD_FAILURE() << "two layers accepted";
+  } catch (const InputError& e) {
+    const std::string m = e.what();
+    EXPECT_NE(m.find("tissue.layers"), std::string::npos) << m;
+    EXPECT_NE(m.find("kinematic"), std::string::npos) << m;
+  }
 }

@@ -56,10 +56,15 @@ struct EngineInfo {
   std::string summary;
   EngineFn run;
   bool checkpoints = false;  // writes checkpoints and can resume (RunOptions::checkpoint)
+  bool inclusions = false;   // models tissue.inclusions (else a scenario with them is refused)
 };
 
 // All engines built into this binary (engines/registry.cpp).
 const std::vector<EngineInfo>& engineRegistry();
 const EngineInfo* findEngine(const std::string& name);
+// The scenario's engine, after checking that it models everything the scenario
+// asks for: InputError (naming the file, the field and the engines that can) for an
+// unknown engine or a tissue feature it does not model. Used by run and check.
+const EngineInfo& engineFor(const Scenario& scenario);
 
 }  // namespace needlesim

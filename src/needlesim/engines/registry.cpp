@@ -16,8 +16,10 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", engines::runKinematic},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", engines::runEnergy},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)", engines::runBeamFoundation},
-      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", engines::runMpm, true},
-      {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", engines::runExplicit},
+      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", engines::runMpm, true,
+       true},
+      {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", engines::runExplicit,
+       false, true},
   };
   return list;
 }
@@ -26,6 +28,25 @@ const EngineInfo* findEngine(const std::string& name) {
   const auto& l = engineRegistry();
   auto it = std::find_if(l.begin(), l.end(), [&](const EngineInfo& e) { return e.name == name; });
   return it == l.end() ? nullptr : &*it;
+}
+
+const EngineInfo& engineFor(const Scenario& sc) {
+  const EngineInfo* engine = findEngine(sc.model.engine);
+  auto names = [](bool (*accepts)(const EngineInfo&)) {
+    std::string s;
+    for (const auto& e : engineRegistry())
+      if (accepts(e)) s += (s.empty() ? "" : ", ") + e.name;
+    return s;
+  };
+  if (!engine)
+    throw InputError(SourceLocation{sc.source, 0, 0}, "model.engine", sc.model.engine,
+                     "is reserved for an engine that this build does not have yet",
+                     names([](const EngineInfo&) { return true; }));
+  if (!sc.tissue.inclusions.empty() && !engine->inclusions)
+    throw InputError(SourceLocation{sc.source, 0, 0}, "tissue.inclusions", sc.tissue.inclusions.front().name,
+                     "engine " + engine->name + " does not model bodies embedded in the tissue",
+                     "no inclusions, or engine " + names([](const EngineInfo& e) { return e.inclusions; }));
+  return *engine;
 }
 
 }  // namespace needlesim

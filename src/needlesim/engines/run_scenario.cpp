@@ -9,13 +9,7 @@ namespace needlesim {
 
 RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, bool overwrite,
                        const RunOptions& options) {
-  const EngineInfo* engine = findEngine(sc.model.engine);
-  if (!engine) {
-    std::string names;
-    for (const auto& e : engineRegistry()) names += (names.empty() ? "" : ", ") + e.name;
-    throw InputError(SourceLocation{sc.source, 0, 0}, "model.engine", sc.model.engine,
-                     "is reserved for an engine that this build does not have yet", names);
-  }
+  const EngineInfo* engine = &engineFor(sc);
   io::ResultsFolder folder(sc, target);
   auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
@@ -40,10 +34,7 @@ RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, 
 namespace needlesim {
 
 MemorySink runInMemory(const Scenario& sc, const RunOptions& options) {
-  const EngineInfo* engine = findEngine(sc.model.engine);
-  if (!engine)
-    throw InputError(SourceLocation{sc.source, 0, 0}, "model.engine", sc.model.engine,
-                     "is reserved for an engine that this build does not have yet", "see needlesim schema");
+  const EngineInfo* engine = &engineFor(sc);
   MemorySink sink;
   engine->run(sc, sink, options);
   return sink;

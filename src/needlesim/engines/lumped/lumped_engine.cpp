@@ -7,6 +7,8 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
+#include "needlesim/needle/insertion_frame.hpp"
+#include "needlesim/results/forces_table.hpp"
 
 namespace needlesim::engines {
 
@@ -18,16 +20,15 @@ void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   const long long every =
       outputStride(sc.output.interval, dt);
 
-  io::Table table({{"time", "s"},
-                   {"depth", "m"},
-                   {"velocity", "m/s"},
-                   {"force_total", "N"},
-                   {"force_stiffness", "N"},
-                   {"force_cutting", "N"},
-                   {"force_friction", "N"},
-                   {"contact_length", "m"},
-                   {"phase", "1"},
-                   {"layer", "1"}});
+  // The lumped model is axial (seed 003 section 3.2): force_lateral is 0 by construction and
+  // the tip runs along the straight axis of the shared frame.
+  const auto frame = needle::InsertionFrame::fromInsertion(sc.insertion);
+  results::ForcesTable table(false, {{"force_stiffness", "N"},
+                                     {"force_cutting", "N"},
+                                     {"force_friction", "N"},
+                                     {"contact_length", "m"},
+                                     {"phase", "1"},
+                                     {"layer", "1"}});
   table.reserve(static_cast<std::size_t>(steps / every + 2));
   Progress progress("lumped", options.progress);
 
@@ -52,9 +53,12 @@ void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
       exitForce = lastInside;
     }
     if (m.depth < blockEnd) lastInside = f.total();
-    if (k % every == 0 || k == steps)
-      table.addRow({t, m.depth, m.velocity, f.total(), f.stiffness, f.cutting, f.friction, f.contact_length,
-                    static_cast<double>(f.phase), static_cast<double>(f.layer)});
+    if (k % every == 0 || k == steps) {
+      const auto tip = frame.onAxis(m.depth);
+      table.add({t, m.depth, m.velocity, f.total(), 0.0, tip.x(), tip.y(), tip.z()},
+                {f.stiffness, f.cutting, f.friction, f.contact_length, static_cast<double>(f.phase),
+                 static_cast<double>(f.layer)});
+    }
     if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(steps + 1));
   }
   progress.finish();
@@ -73,11 +77,12 @@ void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   }
 
   // Plots: force against depth and time, split into components.
-  auto depth = table.column("depth");
-  auto time = table.column("time");
+  const io::Table& forces = table.table();
+  auto depth = forces.column("depth");
+  auto time = forces.column("time");
   for (double& d : depth) d *= 1e3;
   auto comp = [&](const std::string& col, const std::string& label, const std::vector<double>& x, bool dashed) {
-    return io::PlotSeries{label, x, table.column(col), false, dashed};
+    return io::PlotSeries{label, x, forces.column(col), false, dashed};
   };
   io::Plot byDepth{"Insertion force against tip depth", "tip depth [mm]", "force on the needle base [N]", {}};
   io::Plot byTime{"Insertion force against time", "time [s]", "force on the needle base [N]", {}};
@@ -93,7 +98,7 @@ void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   sink.note("Lumped force model of seed 003 section 3.2: pre-puncture stiffness (eq 3.16), constant cutting "
             "(eq 3.24) and modified Karnopp friction along the length in contact (eq 3.23 with the per-length "
             "coefficients of eq 5.1). Interpretations: docs/models/lumped-force.md.");
-  sink.table("forces", std::move(table));
+  sink.table("forces", table.release());
 }
 
 }  // namespace needlesim::engines

@@ -38,33 +38,45 @@ struct Shape {
   std::vector<Vec3> nodes;
 };
 
-// Common report: tip path, shapes, radii over the three 50 mm sections and the whole path
-// (seed 002 section 5.1, Table 2), tip loads, dimensional analysis, plots.
-void report(const SteeringInputs& in, const std::string& engine,
-            const std::vector<Vec3>& path, const std::vector<Shape>& shapes, ResultSink& sink) {
+// A point of the model frame in the tissue frame (SteeringInputs::frame).
+Vec3 inTissue(const needle::InsertionFrame& f, const Vec3& p) {
+  return f.entry + p.z() * f.axial + p.y() * f.lateral - p.x() * f.outOfPlane;
+}
+
+// tip_path.csv and needle_shapes.csv in the tissue frame (docs/results.md).
+void pathTables(const SteeringInputs& in, const std::vector<Vec3>& path, const std::vector<Shape>& shapes,
+                ResultSink& sink) {
   const std::vector<double> s = arcLengths(path);
-  io::Table tip({{"insertion", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}, {"lateral", "m"}, {"bevel_angle", "rad"}});
+  io::Table tip({{"insertion", "m"}, {"tip_x", "m"}, {"tip_y", "m"}, {"tip_z", "m"}, {"tip_deflection", "m"},
+                 {"bevel_angle", "rad"}});
   tip.reserve(path.size());
-  for (std::size_t i = 0; i < path.size(); ++i)
-    tip.addRow({s[i], path[i].x(), path[i].y(), path[i].z(), std::hypot(path[i].x(), path[i].y()),
-                bevelAngleAt(in.plan, s[i])});
+  for (std::size_t i = 0; i < path.size(); ++i) {
+    const Vec3 p = inTissue(in.frame, path[i]);
+    tip.addRow({s[i], p.x(), p.y(), p.z(), std::hypot(path[i].x(), path[i].y()), bevelAngleAt(in.plan, s[i])});
+  }
   io::Table shp({{"snapshot", "1"}, {"inserted_length", "m"}, {"s", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}});
   for (std::size_t k = 0; k < shapes.size(); ++k) {
     const auto ss = arcLengths(shapes[k].nodes);
     for (std::size_t j = 0; j < shapes[k].nodes.size(); ++j) {
-      const Vec3& p = shapes[k].nodes[j];
+      const Vec3 p = inTissue(in.frame, shapes[k].nodes[j]);
       shp.addRow({static_cast<double>(k + 1), shapes[k].inserted, ss[j], p.x(), p.y(), p.z()});
     }
   }
+  sink.table("tip_path", std::move(tip));
+  sink.table("needle_shapes", std::move(shp));
+}
 
-  const Vec3 end = path.back();
+// Final tip and the radii over the three 50 mm sections and the whole path (seed 002
+// section 5.1, Table 2).
+void pathResults(const SteeringInputs& in, const std::vector<Vec3>& path, ResultSink& sink) {
+  const std::vector<double> s = arcLengths(path);
+  const Vec3 end = path.back(), tip = inTissue(in.frame, end);
   sink.result("final_deflection", std::hypot(end.x(), end.y()), "m",
               "tip distance from the entry axis at the end of the insertion");
-  sink.result("tip_y", end.y(), "m", "final tip position in the insertion plane (bevel 0 steers to -y)");
-  sink.result("tip_x", end.x(), "m", "final tip position out of the insertion plane");
-  sink.result("tip_z", end.z(), "m", "final tip depth along the entry axis");
+  sink.result("tip_x", tip.x(), "m", "final tip depth from the entry face (tissue frame)");
+  sink.result("tip_y", tip.y(), "m", "final tip position across the width, in the insertion plane (bevel 0 steers to -y)");
+  sink.result("tip_z", tip.z(), "m", "final tip position out of the insertion plane");
   sink.result("inserted_length", s.back(), "m", "length of the tip path");
-  // seed 002 section 5.1: circles fitted over three 50 mm sections and the whole path
   const steering::SectionRadii r = steering::sectionRadii(path, 0.05);
   const char* names[3] = {"radius_0_50mm", "radius_50_100mm", "radius_100_150mm"};
   bool all = true;
@@ -80,8 +92,11 @@ void report(const SteeringInputs& in, const std::string& engine,
     sink.result("radius_whole", r.whole, "m", "radius of curvature fitted over the whole path (rho_exp of Table 2)");
   sink.result("curvature_whole", std::isfinite(r.whole) ? 1.0 / r.whole : 0.0, "1/m",
               "1 / radius_whole (0 for a straight path)");
+}
 
-  // tip loads (seed 002 eqs 24-26) and the roller reaction of section 4
+// Tip loads (seed 002 eqs 24-26), the roller reaction of section 4 and the dimensional
+// analysis (seed 002 eqs 1-3, seed 004 eqs 1-3).
+void loadResults(const SteeringInputs& in, const std::vector<Vec3>& path, ResultSink& sink) {
   sink.result("tip_P", in.tip.P, "N", "axial tip load, seed 002 eq 24");
   sink.result("tip_Q", in.tip.Q, "N", "transverse tip load from the bevel edges, seed 002 eq 25 (- = towards the sharp side)");
   sink.result("tip_M", in.tip.M, "N m", "tip moment, seed 002 eq 26");
@@ -90,56 +105,68 @@ void report(const SteeringInputs& in, const std::string& engine,
                                                           : "interaction stiffness (tissue interaction.K_T)");
   sink.result("EI", in.section.EI(), "N m^2", "needle flexural rigidity");
   sink.result("beta", in.beta, "rad", "cut angle beta = beta_over_alpha * bevel angle");
-
-  // dimensional analysis (seed 002 eqs 1-3, seed 004 eqs 1-3)
-  if (in.Gc > 0 && in.C10 > 0) {
-    needle::DimensionalInput d{in.section.youngs_modulus, in.section.secondMoment(), in.alpha, in.C10, in.Gc,
-                               in.mu, in.P_input, s.back(), std::isfinite(r.whole) ? r.whole : 0.0};
-    const needle::DimensionalGroups g = needle::dimensionalGroups(d);
-    sink.result("rho0", g.rho0, "m", "length scale Gc^2/(E C10 I^1/4), seed 002 eq 3");
-    if (std::isfinite(r.whole)) sink.result("Pi1", g.Pi1, "1", "rho/rho0, seed 002 eq 2");
-    sink.result("Pi2", g.Pi2, "1", "P_input E C10 I^1/4 / Gc^3, seed 002 eq 2");
-    sink.result("Pi3", g.Pi3, "1", "alpha E C10 I^1/2 / Gc^2, seed 002 eq 2");
-    sink.result("Pi4", g.Pi4, "1", "mu E C10 I^1/2 / Gc^2, seed 002 eq 2");
-    sink.result("length_s004", g.s004_length, "m", "E Gc / C10^2, seed 004 eq 3");
-    sink.result("Pi2_s004", g.s004_Pi2, "1", "I C10^5 / (E Gc^4), seed 004 eq 2");
-    sink.result("Pi3_s004", g.s004_Pi3, "1", "u C10^2 / (E Gc), u = inserted length, seed 004 eq 2");
-  } else {
+  if (!(in.Gc > 0 && in.C10 > 0)) {
     sink.note("No rupture toughness given (tissue interaction.toughness): the Pi groups and rho_0 of seed 002 "
               "eqs 1-3 are not reported.");
+    return;
   }
+  const steering::SectionRadii r = steering::sectionRadii(path, 0.05);
+  const double length = arcLengths(path).back();
+  needle::DimensionalInput d{in.section.youngs_modulus, in.section.secondMoment(), in.alpha, in.C10, in.Gc,
+                             in.mu, in.P_input, length, std::isfinite(r.whole) ? r.whole : 0.0};
+  const needle::DimensionalGroups g = needle::dimensionalGroups(d);
+  sink.result("rho0", g.rho0, "m", "length scale Gc^2/(E C10 I^1/4), seed 002 eq 3");
+  if (std::isfinite(r.whole)) sink.result("Pi1", g.Pi1, "1", "rho/rho0, seed 002 eq 2");
+  sink.result("Pi2", g.Pi2, "1", "P_input E C10 I^1/4 / Gc^3, seed 002 eq 2");
+  sink.result("Pi3", g.Pi3, "1", "alpha E C10 I^1/2 / Gc^2, seed 002 eq 2");
+  sink.result("Pi4", g.Pi4, "1", "mu E C10 I^1/2 / Gc^2, seed 002 eq 2");
+  sink.result("length_s004", g.s004_length, "m", "E Gc / C10^2, seed 004 eq 3");
+  sink.result("Pi2_s004", g.s004_Pi2, "1", "I C10^5 / (E Gc^4), seed 004 eq 2");
+  sink.result("Pi3_s004", g.s004_Pi3, "1", "u C10^2 / (E Gc), u = inserted length, seed 004 eq 2");
+}
 
-  // plots (mm)
-  std::vector<double> zmm, ymm, xmm, lat;
+// Plots in mm, tissue frame: the tip path (depth x against y and z), the deflection from
+// the entry axis, and the needle shapes.
+void pathPlots(const SteeringInputs& in, const std::string& engine, const std::vector<Vec3>& path,
+               const std::vector<Shape>& shapes, ResultSink& sink) {
+  std::vector<double> xmm, ymm, zmm, lat;
   bool outOfPlane = false;
-  for (const Vec3& p : path) {
-    zmm.push_back(p.z() * 1e3);
-    ymm.push_back(p.y() * 1e3);
+  for (const Vec3& q : path) {
+    const Vec3 p = inTissue(in.frame, q);
     xmm.push_back(p.x() * 1e3);
-    lat.push_back(std::hypot(p.x(), p.y()) * 1e3);
-    outOfPlane = outOfPlane || std::abs(p.x()) > 1e-9;
+    ymm.push_back(p.y() * 1e3);
+    zmm.push_back(p.z() * 1e3);
+    lat.push_back(std::hypot(q.x(), q.y()) * 1e3);
+    outOfPlane = outOfPlane || std::abs(q.x()) > 1e-9;
   }
-  io::Plot pathPlot{"Tip path (" + engine + ")", "depth z [mm]", "tip position [mm]", {}};
-  pathPlot.series.push_back({"y (insertion plane)", zmm, ymm, false, false});
-  if (outOfPlane) pathPlot.series.push_back({"x (out of plane)", zmm, xmm, false, true});
+  io::Plot pathPlot{"Tip path (" + engine + ")", "depth x [mm]", "tip position [mm]", {}};
+  pathPlot.series.push_back({"y (insertion plane)", xmm, ymm, false, false});
+  if (outOfPlane) pathPlot.series.push_back({"z (out of plane)", xmm, zmm, false, true});
   sink.plot(std::move(pathPlot));
-  sink.plot(io::Plot{"Deflection against depth", "depth z [mm]", "distance from the entry axis [mm]",
-                     {{"lateral deflection", zmm, lat, false, false}}});
-  if (!shapes.empty()) {
-    io::Plot sp{"Needle shapes along the insertion", "depth z [mm]", "y [mm]", {}};
-    for (const Shape& sh : shapes) {
-      io::PlotSeries ser{fmt::format("{:.0f} mm inserted", sh.inserted * 1e3), {}, {}, false, false};
-      for (const Vec3& p : sh.nodes) {
-        ser.x.push_back(p.z() * 1e3);
-        ser.y.push_back(p.y() * 1e3);
-      }
-      sp.series.push_back(std::move(ser));
+  sink.plot(io::Plot{"Deflection against depth", "depth x [mm]", "distance from the entry axis [mm]",
+                     {{"lateral deflection", xmm, lat, false, false}}});
+  if (shapes.empty()) return;
+  io::Plot sp{"Needle shapes along the insertion", "depth x [mm]", "y [mm]", {}};
+  for (const Shape& sh : shapes) {
+    io::PlotSeries ser{fmt::format("{:.0f} mm inserted", sh.inserted * 1e3), {}, {}, false, false};
+    for (const Vec3& q : sh.nodes) {
+      const Vec3 p = inTissue(in.frame, q);
+      ser.x.push_back(p.x() * 1e3);
+      ser.y.push_back(p.y() * 1e3);
     }
-    sink.plot(std::move(sp));
+    sp.series.push_back(std::move(ser));
   }
+  sink.plot(std::move(sp));
+}
+
+// Common report of the three steering engines.
+void report(const SteeringInputs& in, const std::string& engine, const std::vector<Vec3>& path,
+            const std::vector<Shape>& shapes, ResultSink& sink) {
+  pathResults(in, path, sink);
+  loadResults(in, path, sink);
+  pathPlots(in, engine, path, shapes, sink);
   for (const auto& n : in.notes) sink.note(n);
-  sink.table("tip_path", std::move(tip));
-  sink.table("needle_shapes", std::move(shp));
+  pathTables(in, path, shapes, sink);
 }
 
 // Inserted lengths at which the needle shape is recorded.
@@ -183,9 +210,12 @@ SteeringInputs steeringInputs(const Scenario& sc) {
   in.beta = bevel ? st.beta_over_alpha * in.alpha : 0.0;
   if (!bevel) in.notes.push_back("Symmetric (conical or blunt) tip: no tip asymmetry, so the needle goes straight.");
 
-  const LayerSpec& L = sc.tissue.layers.front();
   if (sc.tissue.layers.size() > 1)
-    in.notes.push_back(fmt::format("The steering engines use the first layer ({}) for the whole path.", L.name));
+    throw inputError(sc, "tissue.layers", fmt::format("{} layers", sc.tissue.layers.size()),
+                     "engine " + sc.model.engine + " models one homogeneous tissue (seed 002)",
+                     "one layer, or engine realtime2d, explicit or mpm for layered tissue");
+  const LayerSpec& L = sc.tissue.layers.front();
+  in.frame = needle::InsertionFrame::fromInsertion(sc.insertion);
   const auto mod = materials::smallStrainModuli(L.material);
   in.C10 = mod.shear / 2;  // neo-Hookean: mu = 2 C10
   in.E_T = mod.youngs();

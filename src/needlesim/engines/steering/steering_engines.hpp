@@ -12,6 +12,7 @@
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/steering/kinematic.hpp"
 #include "needlesim/needle/bevel_tip.hpp"
+#include "needlesim/needle/insertion_frame.hpp"
 #include "needlesim/needle/section.hpp"
 
 namespace needlesim::engines {
@@ -39,6 +40,10 @@ struct SteeringInputs {
   double start = 0.0;        // m, depth of the tip when steering starts (straight before)
   double insertion = 0.0;    // m, inserted length the plan covers
   std::vector<steering::Control> plan;  // rotations, spinning, duty cycling per inserted length
+  // The shared frame (needle/insertion_frame.hpp). The models work in their own frame
+  // (z along the entry axis, y in the insertion plane, x out of it; bevel 0 steers to -y)
+  // and report in the tissue frame: entry + z axial + y lateral - x outOfPlane.
+  needle::InsertionFrame frame;
   std::vector<std::string> notes;
 };
 
