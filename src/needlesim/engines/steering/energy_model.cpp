@@ -188,8 +188,8 @@ double energyDeflection(const Eigen::Vector4d& c, double l, double x) {
   return v;
 }
 
-EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>* path,
-                            double record_every, std::vector<EnergyIncrement>* incs) {
+namespace {
+void checkParams(const EnergyParams& p) {
   if (!(p.diameter > 0 && p.E > 0 && p.K_T > 0 && p.P_input > 0))
     throw std::invalid_argument("energy model needs diameter, E, K_T and P_input > 0");
   if (!(p.alpha > 0 && p.alpha < std::numbers::pi / 2) || p.beta_ratio < 0 || p.beta_ratio > 1)
@@ -203,6 +203,12 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
 
   if (p.frame == EnergyFrame::PathWindow && !(p.window > 0 && p.window_elements >= 1))
     throw std::invalid_argument("energy model path window needs window > 0 and window_elements >= 1");
+}
+}  // namespace
+
+EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>* path,
+                            double record_every, std::vector<EnergyIncrement>* incs) {
+  checkParams(p);
 
   const needle::Section sec{p.E, p.diameter, p.inner_diameter};
   const double EI = sec.EI(), EA = sec.EA(), A = sec.area();

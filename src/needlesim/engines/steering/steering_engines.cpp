@@ -198,24 +198,15 @@ double bevelAngleAt(const std::vector<Control>& plan, double s) {
   return a;
 }
 
-SteeringInputs steeringInputs(const Scenario& sc) {
-  SteeringInputs in;
-  const NeedleSpec& nd = sc.needle;
-  const SteeringModelSpec& st = sc.model.steering;
-  in.section = needle::Section{nd.youngs_modulus, nd.outer_diameter, nd.inner_diameter};
-  in.alpha = nd.bevel_angle;
-  if (!(in.alpha < pi / 2))
-    throw inputError(sc, "needle.bevel_angle", "90 deg", "leaves no bevel for the steering engines", "< 90 deg");
-  const bool bevel = nd.tip == TipType::Bevel;
-  in.beta = bevel ? st.beta_over_alpha * in.alpha : 0.0;
-  if (!bevel) in.notes.push_back("Symmetric (conical or blunt) tip: no tip asymmetry, so the needle goes straight.");
+namespace {
 
+// Tissue properties of the one layer the steering models take (seed 002 eq 13 for K_T).
+void tissueInputs(const Scenario& sc, SteeringInputs& in) {
   if (sc.tissue.layers.size() > 1)
     throw inputError(sc, "tissue.layers", fmt::format("{} layers", sc.tissue.layers.size()),
                      "engine " + sc.model.engine + " models one homogeneous tissue (seed 002)",
                      "one layer, or engine realtime2d, explicit or mpm for layered tissue");
   const LayerSpec& L = sc.tissue.layers.front();
-  in.frame = needle::InsertionFrame::fromInsertion(sc.insertion);
   const auto mod = materials::smallStrainModuli(L.material);
   in.C10 = mod.shear / 2;  // neo-Hookean: mu = 2 C10
   in.E_T = mod.youngs();
@@ -231,10 +222,13 @@ SteeringInputs steeringInputs(const Scenario& sc) {
   }
   in.Gc = L.toughness;
   in.mu = L.friction.coefficient;
-  in.P_input = st.input_force;
+}
 
-  // Tip loads: eqs 24-26 at beta; the section-4 roller reaction -P_input/tan(beta)
-  in.tip = needle::bevelTipLoads({in.K_T, nd.outer_diameter, in.alpha, in.beta, in.P_input});
+// Tip loads: eqs 24-26 at beta; the section-4 roller reaction -P_input/tan(beta).
+void tipLoadInputs(const Scenario& sc, bool bevel, SteeringInputs& in) {
+  const SteeringModelSpec& st = sc.model.steering;
+  in.P_input = st.input_force;
+  in.tip = needle::bevelTipLoads({in.K_T, sc.needle.outer_diameter, in.alpha, in.beta, in.P_input});
   in.roller_Q = in.beta > 0 ? -in.P_input / std::tan(in.beta) : 0.0;
   if (!bevel) {
     in.Q = in.M = 0.0;
@@ -249,49 +243,50 @@ SteeringInputs steeringInputs(const Scenario& sc) {
     in.P = in.tip.P;
   }
   in.kappa_bof = steering::beamFoundationSteadyCurvature(in.section.EI(), in.K_T, in.Q, in.M);
+}
 
-  // Insertion plan per inserted length inside the tissue. Rotations act before the next
-  // insertion; a retraction followed by re-insertion follows the channel already cut.
+// The control of one insert segment: the rotation pending before it, spinning or duty cycling.
+Control insertControl(const Scenario& sc, std::size_t i, double length, double& pending) {
+  const MotionSegment& m = sc.insertion.segments[i];
+  Control c;
+  c.rotate = pending;
+  pending = 0.0;
+  c.length = length;
+  if (m.duty_cycle > 0) {
+    if (!(m.rate > 0))
+      throw inputError(sc, fmt::format("insertion.profile[{}].insert.spin_rate", i), "0",
+                       "duty cycling needs a spin rate", "> 0 deg/s");
+    // one full turn per cycle at spin_rate during duty_cycle of the cycle's time
+    c.duty_cycle = m.duty_cycle;
+    c.cycle_length = m.speed * 2 * pi / (m.rate * m.duty_cycle);
+  } else {
+    c.spin = m.rate / m.speed;  // rad per metre of insertion
+  }
+  return c;
+}
+
+// Insertion plan per inserted length inside the tissue. Rotations act before the next
+// insertion; a retraction followed by re-insertion follows the channel already cut.
+void planInputs(const Scenario& sc, SteeringInputs& in) {
   in.start = std::max(0.0, sc.insertion.start_depth);
   double depth = sc.insertion.start_depth, deepest = in.start, pending = sc.insertion.bevel_orientation;
   bool retracted = false;
   for (std::size_t i = 0; i < sc.insertion.segments.size(); ++i) {
     const MotionSegment& m = sc.insertion.segments[i];
-    switch (m.kind) {
-      case MotionSegment::Kind::Rotate:
-        if (!m.axial)
-          throw inputError(sc, fmt::format("insertion.profile[{}].rotate.axis", i), "in-plane",
-                           "is not supported by the steering engines (the base is held by the support sheath)",
-                           "axial");
-        pending += m.angle;
-        break;
-      case MotionSegment::Kind::Pause: break;
-      case MotionSegment::Kind::Retract:
-        retracted = true;
-        depth = m.to_depth;
-        break;
-      case MotionSegment::Kind::Insert: {
-        const double from = std::max(depth, deepest);
-        depth = m.to_depth;
-        if (m.to_depth <= from) break;
-        Control c;
-        c.rotate = pending;
-        pending = 0.0;
-        c.length = m.to_depth - from;
-        if (m.duty_cycle > 0) {
-          if (!(m.rate > 0))
-            throw inputError(sc, fmt::format("insertion.profile[{}].insert.spin_rate", i), "0",
-                             "duty cycling needs a spin rate", "> 0 deg/s");
-          // one full turn per cycle at spin_rate during duty_cycle of the cycle's time
-          c.duty_cycle = m.duty_cycle;
-          c.cycle_length = m.speed * 2 * pi / (m.rate * m.duty_cycle);
-        } else {
-          c.spin = m.rate / m.speed;  // rad per metre of insertion
-        }
-        in.plan.push_back(c);
-        deepest = m.to_depth;
-        break;
-      }
+    if (m.kind == MotionSegment::Kind::Rotate) {
+      if (!m.axial)
+        throw inputError(sc, fmt::format("insertion.profile[{}].rotate.axis", i), "in-plane",
+                         "is not supported by the steering engines (the base is held by the support sheath)", "axial");
+      pending += m.angle;
+    } else if (m.kind == MotionSegment::Kind::Retract) {
+      retracted = true;
+      depth = m.to_depth;
+    } else if (m.kind == MotionSegment::Kind::Insert) {
+      const double from = std::max(depth, deepest);
+      depth = m.to_depth;
+      if (m.to_depth <= from) continue;
+      in.plan.push_back(insertControl(sc, i, m.to_depth - from, pending));
+      deepest = m.to_depth;
     }
   }
   if (retracted)
@@ -300,6 +295,25 @@ SteeringInputs steeringInputs(const Scenario& sc) {
   if (sc.insertion.start_depth > 0)
     in.notes.push_back("The tip starts inside the tissue: the first start_depth of the path is taken as straight.");
   in.insertion = deepest - in.start;
+}
+
+}  // namespace
+
+SteeringInputs steeringInputs(const Scenario& sc) {
+  SteeringInputs in;
+  const NeedleSpec& nd = sc.needle;
+  const SteeringModelSpec& st = sc.model.steering;
+  in.section = needle::Section{nd.youngs_modulus, nd.outer_diameter, nd.inner_diameter};
+  in.alpha = nd.bevel_angle;
+  if (!(in.alpha < pi / 2))
+    throw inputError(sc, "needle.bevel_angle", "90 deg", "leaves no bevel for the steering engines", "< 90 deg");
+  const bool bevel = nd.tip == TipType::Bevel;
+  in.beta = bevel ? st.beta_over_alpha * in.alpha : 0.0;
+  if (!bevel) in.notes.push_back("Symmetric (conical or blunt) tip: no tip asymmetry, so the needle goes straight.");
+  in.frame = needle::InsertionFrame::fromInsertion(sc.insertion);
+  tissueInputs(sc, in);
+  tipLoadInputs(sc, bevel, in);
+  planInputs(sc, in);
   if (!(in.insertion > 0))
     throw inputError(sc, "insertion.profile", "", "never inserts the tip into the tissue", "an insert to a depth > 0");
   if (!(st.increment < in.insertion))
