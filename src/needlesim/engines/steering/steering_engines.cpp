@@ -26,6 +26,16 @@ InputError inputError(const Scenario& sc, const std::string& field, const std::s
   return InputError(SourceLocation{sc.source, 0, 0}, field, value, problem, allowed);
 }
 
+struct Result {
+  const char* key;
+  double value;
+  const char* unit;
+  const char* meaning;
+};
+void report(ResultSink& sink, std::initializer_list<Result> results) {
+  for (const Result& r : results) sink.result(r.key, r.value, r.unit, r.meaning);
+}
+
 // Cumulative arc length of a polyline.
 std::vector<double> arcLengths(const std::vector<Vec3>& p) {
   std::vector<double> s(p.size(), 0.0);
@@ -115,14 +125,14 @@ void loadResults(const SteeringInputs& in, const std::vector<Vec3>& path, Result
   needle::DimensionalInput d{in.section.youngs_modulus, in.section.secondMoment(), in.alpha, in.C10, in.Gc,
                              in.mu, in.P_input, length, std::isfinite(r.whole) ? r.whole : 0.0};
   const needle::DimensionalGroups g = needle::dimensionalGroups(d);
-  sink.result("rho0", g.rho0, "m", "length scale Gc^2/(E C10 I^1/4), seed 002 eq 3");
   if (std::isfinite(r.whole)) sink.result("Pi1", g.Pi1, "1", "rho/rho0, seed 002 eq 2");
-  sink.result("Pi2", g.Pi2, "1", "P_input E C10 I^1/4 / Gc^3, seed 002 eq 2");
-  sink.result("Pi3", g.Pi3, "1", "alpha E C10 I^1/2 / Gc^2, seed 002 eq 2");
-  sink.result("Pi4", g.Pi4, "1", "mu E C10 I^1/2 / Gc^2, seed 002 eq 2");
-  sink.result("length_s004", g.s004_length, "m", "E Gc / C10^2, seed 004 eq 3");
-  sink.result("Pi2_s004", g.s004_Pi2, "1", "I C10^5 / (E Gc^4), seed 004 eq 2");
-  sink.result("Pi3_s004", g.s004_Pi3, "1", "u C10^2 / (E Gc), u = inserted length, seed 004 eq 2");
+  report(sink, {{"rho0", g.rho0, "m", "length scale Gc^2/(E C10 I^1/4), seed 002 eq 3"},
+                {"Pi2", g.Pi2, "1", "P_input E C10 I^1/4 / Gc^3, seed 002 eq 2"},
+                {"Pi3", g.Pi3, "1", "alpha E C10 I^1/2 / Gc^2, seed 002 eq 2"},
+                {"Pi4", g.Pi4, "1", "mu E C10 I^1/2 / Gc^2, seed 002 eq 2"},
+                {"length_s004", g.s004_length, "m", "E Gc / C10^2, seed 004 eq 3"},
+                {"Pi2_s004", g.s004_Pi2, "1", "I C10^5 / (E Gc^4), seed 004 eq 2"},
+                {"Pi3_s004", g.s004_Pi3, "1", "u C10^2 / (E Gc), u = inserted length, seed 004 eq 2"}});
 }
 
 // Plots in mm, tissue frame: the tip path (depth x against y and z), the deflection from
@@ -473,15 +483,15 @@ void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
       const auto& e = incs[i];
       it.addRow({e.length, e.tip_v, e.phi, e.P, e.Q, e.H, e.V});
     }
-  sink.result("increments", r.increments, "1", "insertion increments (set by P_input, seed 002 Fig 21)");
-  sink.result("W_input", r.W_input, "J", "work of the input force (eq 41, choice 1)");
-  sink.result("W_Q", r.W_Q, "J", "work of the released transverse tip loads (eq 42)");
-  sink.result("W_P", r.W_P, "J", "work of the released axial tip loads (eq 43)");
-  sink.result("W_R", r.W_R, "J", "rupture work a G_f u (eq 44, choices 5, 10)");
-  sink.result("W_friction", r.W_friction, "J", "input work dissipated by friction (Fig 23, choice 7)");
-  sink.result("cut_share", r.cut_share, "1", "share of the push that cuts sideways, 1 - a G_f / P_eff (choice 10)");
-  sink.result("U_B", r.U_B, "J", "bending energy of the increments (eq 35)");
-  sink.result("U_T", r.U_T, "J", "needle-tissue interaction energy (eq 40)");
+  report(sink, {{"increments", static_cast<double>(r.increments), "1", "insertion increments (set by P_input, seed 002 Fig 21)"},
+                {"W_input", r.W_input, "J", "work of the input force (eq 41, choice 1)"},
+                {"W_Q", r.W_Q, "J", "work of the released transverse tip loads (eq 42)"},
+                {"W_P", r.W_P, "J", "work of the released axial tip loads (eq 43)"},
+                {"W_R", r.W_R, "J", "rupture work a G_f u (eq 44, choices 5, 10)"},
+                {"W_friction", r.W_friction, "J", "input work dissipated by friction (Fig 23, choice 7)"},
+                {"cut_share", r.cut_share, "1", "share of the push that cuts sideways, 1 - a G_f / P_eff (choice 10)"},
+                {"U_B", r.U_B, "J", "bending energy of the increments (eq 35)"},
+                {"U_T", r.U_T, "J", "needle-tissue interaction energy (eq 40)"}});
   if (r.U_C > 0) sink.result("U_C", r.U_C, "J", "tissue compression energy at the end (eq 39)");
   if (r.capped)
     sink.note(fmt::format("Some increments hit max_step ({:g} mm): the roller was (nearly) parallel to the axis.",
