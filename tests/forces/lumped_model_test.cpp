@@ -5,7 +5,6 @@
 #include <cmath>
 #include <numbers>
 
-#include "needlesim/forces/karnopp.hpp"
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 
@@ -103,27 +102,6 @@ TEST(LumpedForceModel, AveragedFrictionMissesSlowSpeedAsThePaperImplies) {
   LumpedForceModel m(t, needle18G(), std::numbers::pi / 2);
   double F = forceBefore(m, straight(0.07, 2.5e-3), 0.055, 4e-3);
   EXPECT_GT(std::abs(F - 0.244) / 0.244, 0.15);
-}
-
-TEST(Karnopp, BranchesOfEq323) {
-  FrictionSpec f = friction(3.0, 300.0, 2e-4);  // D = 3.03 N/m
-  // Sliding forward: C_p + b_p v.
-  EXPECT_DOUBLE_EQ(forces::karnoppPerLength(f, 3e-3, 0.0), 3.0 + 300.0 * 3e-3);
-  // Sliding backward: C_n sgn(v) + b_n v, negative.
-  EXPECT_DOUBLE_EQ(forces::karnoppPerLength(f, -3e-3, 0.0), -3.0 - 300.0 * 3e-3);
-  // Static band: follows the applied force inside the limits ...
-  EXPECT_DOUBLE_EQ(forces::karnoppPerLength(f, 0.0, 1.5), 1.5);
-  EXPECT_DOUBLE_EQ(forces::karnoppPerLength(f, 0.0, -2.0), -2.0);
-  // ... and saturates at the static limits.
-  EXPECT_DOUBLE_EQ(forces::karnoppPerLength(f, 0.0, 10.0), f.D_p);
-  EXPECT_DOUBLE_EQ(forces::karnoppPerLength(f, 0.0, -10.0), -f.D_n);
-}
-
-TEST(Karnopp, ContinuousAtTheBandEdgesWhenStaticLimitMatchesDynamic) {
-  FrictionSpec f = friction(3.0, 300.0, 2e-4);
-  const double h = f.static_band / 2, eps = 1e-12;
-  EXPECT_NEAR(forces::karnoppPerLength(f, h - eps, 1e9), forces::karnoppPerLength(f, h, 0.0), 1e-9);
-  EXPECT_NEAR(forces::karnoppPerLength(f, -h + eps, -1e9), forces::karnoppPerLength(f, -h, 0.0), 1e-9);
 }
 
 TEST(LumpedForceModel, PunctureAtTheThresholdOfEq316ThenForceDrops) {

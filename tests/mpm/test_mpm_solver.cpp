@@ -12,7 +12,6 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 #include "needlesim/engines/mpm/grid_kernels.hpp"
-#include "needlesim/engines/mpm/stress_lanes.hpp"
 #include "needlesim/engines/mpm/support_lanes.hpp"
 #include "mpm_test_materials.hpp"
 #include "needlesim/materials/homogeneous.hpp"
@@ -70,52 +69,8 @@ TEST(MpmStress, FastPathsMatchMaterialsLibrary) {
     }
 }
 
-// The four-lane stress of the hot loop (stress_lanes.hpp) must give each
-// lane the stress of its own point alone (evaluateStress, one point in all
-// lanes) and agree with the materials library, including lanes whose det F
-// leaves the Taylor branch of J^(-1/3) and an idle lane that repeats another point.
-TEST(MpmStress, LanesMatchScalarStress) {
-  Mat3 F;
-  F << 1.12, 0.07, -0.03, 0.02, 0.91, 0.05, -0.04, 0.01, 1.03;
-  const double J0 = F.determinant();
-  MpmMaterial nh;
-  nh.law.kind = materials::LawKind::NeoHookean;
-  nh.law.C10 = 3.6e3;
-  nh.law.bulk = 1e5;
-  for (const MpmMaterial& m : {fungMaterial(5e3, 2.5, 2e5, 1000), nh})
-    for (const auto& Js : {std::array<double, 4>{1.0004, 0.97, 1.03, 1.0}, std::array<double, 4>{0.6, 1.0004, 1.8, 1.8}}) {
-      lanes::A4 Fl[9], sig[6], W, wave;
-      Mat3 Fs[4];
-      for (int l = 0; l < 4; ++l) Fs[l] = std::cbrt(Js[l] / J0) * F;
-      for (int c = 0; c < 9; ++c) Fl[c] = lanes::A4{Fs[0](c / 3, c % 3), Fs[1](c / 3, c % 3), Fs[2](c / 3, c % 3), Fs[3](c / 3, c % 3)};
-      lanes::hyperelasticStress4(m, 10.0, Fl, sig, W, wave);
-      for (int l = 0; l < 4; ++l) {
-        double Wr, cr;
-        const Mat3 ref = evaluateStress(m, Fs[l], 10.0, Wr, cr);
-        Mat3 got;
-        got << sig[0][l], sig[3][l], sig[5][l], sig[3][l], sig[1][l], sig[4][l], sig[5][l], sig[4][l], sig[2][l];
-        EXPECT_LT((got - ref).norm(), 1e-13 * ref.norm()) << materials::lawName(m.law.kind) << " J " << Js[l];
-        EXPECT_NEAR(W[l], Wr, 1e-13 * std::abs(Wr)) << materials::lawName(m.law.kind) << " J " << Js[l];
-        EXPECT_NEAR(wave[l], cr, 1e-14 * cr);
-        const auto lib = materials::evaluate(m.law, Fs[l], false);
-        EXPECT_LT((got - lib.sigma).norm(), 1e-10 * lib.sigma.norm()) << materials::lawName(m.law.kind) << " J " << Js[l];
-        EXPECT_NEAR(W[l], lib.energy, 1e-10 * std::abs(lib.energy)) << materials::lawName(m.law.kind) << " J " << Js[l];
-      }
-    }
-}
-
-// exp on lanes against std::exp, within 2 ulp over the range the stress uses.
-TEST(MpmStress, LaneExpMatchesStdExp) {
-  double worst = 0.0;
-  for (int i = 0; i <= 4000; ++i) {
-    const double x = -700.0 + 0.35 * i + 1e-3 * std::sin(i);
-    const lanes::A4 e = lanes::exp4(lanes::A4{x, -x, 1e-3 * x, 1e-9 * x});
-    const double ref[4] = {std::exp(x), std::exp(-x), std::exp(1e-3 * x), std::exp(1e-9 * x)};
-    for (int l = 0; l < 4; ++l) worst = std::max(worst, std::abs(e[l] - ref[l]) / ref[l]);
-  }
-  EXPECT_LT(worst, 2 * std::numeric_limits<double>::epsilon());
-  std::printf("exp4 worst relative error %.2e (epsilon %.2e)\n", worst, std::numeric_limits<double>::epsilon());
-}
+// The four-lane stress of the hot loop and its exp: materials/stress_lanes.hpp,
+// tested in tests/materials (StressLanes.*).
 
 // The particle passes take a point's support from support_lanes.hpp (x, y, z
 // on vector lanes), the penalty contact and CFEMP from grid::weights: the two

@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "needlesim/forces/karnopp.hpp"
+#include "needlesim/contact/karnopp.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::forces {
@@ -101,7 +101,7 @@ ForceBreakdown LumpedForceModel::step(double depth, double velocity, double dt) 
       continue;
     }
     l.held *= decay;
-    double f = karnoppPerLength(l.friction, velocity, l.held);
+    double f = contact::karnoppPerLength(l.friction, velocity, l.held);
     l.held = f;  // while sliding, the tissue carries the dynamic friction; sticking keeps it
     out.friction += f * len;
     out.contact_length += len;

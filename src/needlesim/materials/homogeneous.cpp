@@ -36,6 +36,11 @@ double uniaxialNominalIncompressible(const Hyperelastic& m, double lambda) {
   return pathEnergy(m, I1, I2, h).g[0];
 }
 
+double uniaxialNominalIncompressible(const MaterialSpec& spec, double lambda) {
+  if (spec.law == "linear") return spec.param("E") * (lambda - 1.0);
+  return uniaxialNominalIncompressible(Hyperelastic::fromSpec(spec), lambda);
+}
+
 double uniaxialCauchyIncompressible(const Hyperelastic& m, double lambda) {
   return lambda * uniaxialNominalIncompressible(m, lambda);
 }

@@ -19,6 +19,10 @@ double uniaxialCauchyIncompressible(const Hyperelastic& law, double lambda);
 double uniaxialNominalIncompressible(const Hyperelastic& law, double lambda);
 double equibiaxialCauchyIncompressible(const Hyperelastic& law, double lambda);
 double simpleShearIncompressible(const Hyperelastic& law, double gamma);
+// The nominal stress of a layer's law given as a spec, incompressible uniaxial:
+// the exact response above for a hyperelastic law, E (lambda - 1) for
+// "linear" (small strain, as the stress-strain fits read it).
+double uniaxialNominalIncompressible(const MaterialSpec& spec, double lambda);
 
 // Compressible uniaxial stress: the lateral stretch t is solved so that the
 // lateral Cauchy stress vanishes (F = diag(lambda, t, t)).

@@ -51,7 +51,7 @@ std::string lawName(LawKind kind) {
 
 double Hyperelastic::initialShear() const {
   switch (kind) {
-    case LawKind::Linear: return E / (2.0 * (1.0 + nu));
+    case LawKind::Linear: return lame(E, nu).mu;
     case LawKind::NeoHookean:
     case LawKind::Yeoh: return 2.0 * C10;
     case LawKind::MooneyRivlin: return 2.0 * (C10 + C01);
@@ -63,6 +63,14 @@ double Hyperelastic::initialShear() const {
     case LawKind::Fung: return mu;
   }
   return 0.0;
+}
+
+double Hyperelastic::initialBulk() const { return kind == LawKind::Linear ? bulkModulus(E, nu) : bulk; }
+
+Lame Hyperelastic::initialLame() const {
+  if (kind == LawKind::Linear) return lame(E, nu);
+  const double mu0 = initialShear();
+  return {bulk - 2.0 / 3.0 * mu0, mu0};
 }
 
 void Hyperelastic::validate() const {
@@ -155,7 +163,7 @@ Hyperelastic Hyperelastic::fromSpec(const MaterialSpec& spec) {
       double nu = spec.paramOr("nu", 0.49);
       if (!(nu > -1.0 && nu < 0.5)) bad(spec.law, "nu", nu, "-1 < nu < 0.5 (up to 0.499 for near-incompressible tissue)");
       double mu0 = h.initialShear();
-      h.bulk = 2.0 * mu0 * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
+      h.bulk = bulkFromShear(mu0, nu);
     }
   }
   h.validate();

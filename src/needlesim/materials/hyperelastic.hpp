@@ -11,6 +11,7 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/materials/elastic_moduli.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::materials {
@@ -36,6 +37,9 @@ struct Hyperelastic {
 
   static Hyperelastic fromSpec(const MaterialSpec& spec);  // validates; throws Error
   double initialShear() const;                             // mu0, Pa
+  double initialBulk() const;                              // K0, Pa: E / (3 (1 - 2 nu)) for linear, else bulk
+  // Small-strain Lame constants: lame(E, nu) for linear, else (K - 2/3 mu0, mu0).
+  Lame initialLame() const;
   // Checks that parameters are finite and stable; throws Error naming the parameter.
   void validate() const;
 };

@@ -46,8 +46,7 @@ T totalEnergy(const Hyperelastic& m, const T& J, const T& I1, const T& I2, const
   if (m.kind == LawKind::Linear) {
     // St Venant-Kirchhoff: W = lambda/2 (tr E)^2 + mu E:E, E = (C - I)/2; equals
     // linear elasticity at small strain.
-    double lam = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));
-    double mu = m.E / (2.0 * (1.0 + m.nu));
+    const auto [lam, mu] = lame(m.E, m.nu);
     T trE = 0.5 * (I1 - 3.0);
     T EE = 0.25 * (I1 * I1 - 2.0 * I2 - 2.0 * I1 + 3.0);
     return 0.5 * lam * (trE * trE) + mu * EE;

@@ -3,6 +3,7 @@
 #include <stdexcept>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/materials/elastic_moduli.hpp"
 
 namespace needlesim::materials {
 
@@ -62,17 +63,15 @@ const std::vector<LawParam>& lawParams(const std::string& law) {
   return it->second;
 }
 
-double SmallStrainModuli::youngs() const { return 9.0 * bulk * shear / (3.0 * bulk + shear); }
-double SmallStrainModuli::poisson() const {
-  return (3.0 * bulk - 2.0 * shear) / (2.0 * (3.0 * bulk + shear));
-}
+double SmallStrainModuli::youngs() const { return youngPoisson(bulk, shear).E; }
+double SmallStrainModuli::poisson() const { return youngPoisson(bulk, shear).nu; }
 
 SmallStrainModuli smallStrainModuli(const MaterialSpec& m) {
   SmallStrainModuli s;
   if (m.law == "linear") {
     double E = m.param("E"), nu = m.param("nu");
-    s.shear = E / (2.0 * (1.0 + nu));
-    s.bulk = E / (3.0 * (1.0 - 2.0 * nu));
+    s.shear = lame(E, nu).mu;
+    s.bulk = bulkModulus(E, nu);
     return s;
   }
   if (m.law == "neo-hookean" || m.law == "yeoh") {
@@ -93,7 +92,7 @@ SmallStrainModuli smallStrainModuli(const MaterialSpec& m) {
     s.bulk = m.param("K");
   } else {
     double nu = m.paramOr("nu", 0.49);
-    s.bulk = 2.0 * s.shear * (1.0 + nu) / (3.0 * (1.0 - 2.0 * nu));
+    s.bulk = bulkFromShear(s.shear, nu);
   }
   return s;
 }

@@ -19,6 +19,9 @@
 
 #include "needlesim/engines/explicit/solver.hpp"
 
+#include "needlesim/contact/coulomb.hpp"
+#include "needlesim/contact/penalty.hpp"
+
 namespace needlesim::explicit_fe {
 
 using Eigen::Vector3d;
@@ -38,7 +41,7 @@ void ExplicitSolver::recordNormalContact(int n, int body, const Vector3d& normal
 
 double ExplicitSolver::contactStiffness(int node) const {
   const double dtPen = opt_.cfl * dtStable_;
-  return dtPen > 0 ? opt_.contactPenalty * mass_[node] / (dtPen * dtPen) : 0.0;
+  return dtPen > 0 ? contact::massPenalty(opt_.contactPenalty, mass_[node], dtPen) : 0.0;
 }
 
 void ExplicitSolver::addNormalContact(int node, const Vector3d& normal, double depth, const Vector3d& vb) {
@@ -46,8 +49,9 @@ void ExplicitSolver::addNormalContact(int node, const Vector3d& normal, double d
   const double k = contactStiffness(node);
   const Vector3d nrm = normal.normalized();
   recordNormalContact(node, 1, nrm, k, depth, vb);
-  for (int i = 0; i < dim_; ++i) fcon_[static_cast<std::size_t>(node) * dim_ + i] += k * depth * nrm[i];
-  extContactForce_ -= k * depth * nrm;
+  const double fn = contact::penaltyForce(k, depth);
+  for (int i = 0; i < dim_; ++i) fcon_[static_cast<std::size_t>(node) * dim_ + i] += fn * nrm[i];
+  extContactForce_ -= fn * nrm;
 }
 
 void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
@@ -65,7 +69,7 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
     // cohesive seam lips keep the explicit penalty the wedge model was built with (solver.cpp)
     // (the sleeve's lips take the implicit correction: they must hold t_c >> E, cohesive_sleeve.hpp)
     if (sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0) {
-      contactFnApplied_[n] = k * contactDepth_[n];
+      contactFnApplied_[n] = contact::penaltyForce(k, contactDepth_[n]);
       continue;
     }
     const double* nrm = &contactNrm_[static_cast<std::size_t>(n) * 3];
@@ -83,7 +87,7 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
       }
       vn0 += (v - vb[i]) * nrm[i];
     }
-    const double f0 = k * contactDepth_[n];
+    const double f0 = contact::penaltyForce(k, contactDepth_[n]);
     double df = -k * dt * vn0 / (1.0 + k * dt * dtAvg * nFree2 / m);
     df = std::max(df, -f0);  // the total normal force stays compressive
     contactFnApplied_[n] = f0 + df;
@@ -95,7 +99,8 @@ void ExplicitSolver::normalContactCorrection(double dt, double dtAvg) {
       double* t = body == 0 ? &needleFt_[static_cast<std::size_t>(n) * 3] : &planeFt_[body - 2][static_cast<std::size_t>(n) * 3];
       const double tn = std::sqrt(t[0] * t[0] + t[1] * t[1] + t[2] * t[2]), lim = contactMu_[n] * (f0 + df);
       // slipping (at the cone of k g^n) or beyond the new cone: onto the cone of the applied force
-      if (tn > lim || (tn > 0 && tn >= contactMu_[n] * f0 * (1 - 1e-9))) {
+      // (a slipping node stays on the cone: contact/coulomb.hpp's slip branch, limit / |t|, also where it grows)
+      if (tn > lim || contact::coulombSlips(tn, contactMu_[n] * f0, 1e-9)) {
         const double sc = lim / tn;
         for (int i = 0; i < d; ++i) fcon_[static_cast<std::size_t>(n) * d + i] += (sc - 1.0) * t[i];
         if (body == 0)  // the needle's friction on the body (energy bookkeeping, solver.cpp)

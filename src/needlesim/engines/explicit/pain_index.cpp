@@ -4,7 +4,7 @@
 #include <cmath>
 
 #include "needlesim/core/error.hpp"
-#include "needlesim/fit/hyperelastic_fit.hpp"
+#include "needlesim/materials/homogeneous.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -14,7 +14,7 @@ double needleAnnulusArea(double outerDiameter, double innerDiameter) {
 }
 
 double painBasicStress(const materials::MaterialSpec& spec, double strain) {
-  return std::abs(fit::uniaxialModel(spec, 1.0 - strain, fit::StressMeasure::Nominal));
+  return std::abs(materials::uniaxialNominalIncompressible(spec, 1.0 - strain));
 }
 
 PainIndex painIndex(const std::vector<double>& time, const std::vector<double>& force, double area,

@@ -10,7 +10,10 @@
 #include <limits>
 #include <sstream>
 
+#include "needlesim/contact/coulomb.hpp"
+#include "needlesim/contact/penalty.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/materials/fast_stress.hpp"
 #include "needlesim/engines/explicit/cohesive_wedge.hpp"
 
 namespace needlesim::explicit_fe {
@@ -41,39 +44,6 @@ constexpr double kHexH[4][8] = {{1, 1, -1, -1, -1, -1, 1, 1},
                                 {1, -1, 1, -1, 1, -1, 1, -1},
                                 {-1, 1, -1, 1, 1, -1, 1, -1}};
 constexpr double kQuadH[4] = {1, -1, 1, -1};
-
-double lameLambda(const Material& m) {
-  if (m.law.kind == materials::LawKind::Linear)
-    return m.law.E * m.law.nu / ((1 + m.law.nu) * (1 - 2 * m.law.nu));
-  return m.law.bulk - 2.0 / 3.0 * m.law.initialShear();
-}
-
-// Second Piola-Kirchhoff stress and energy density. Neo-Hooke and St Venant-
-// Kirchhoff ("linear") are evaluated inline (the same formulas as
-// materials/hyperelastic.cpp, checked against it in tests/explicit); every
-// other law goes through materials::evaluate.
-inline void pk2(const Material& m, const Matrix3d& F, double J, Matrix3d& S, double& W) {
-  using materials::LawKind;
-  if (m.law.kind == LawKind::NeoHookean) {
-    // W = C10 (I1bar - 3) + K/2 (J - 1)^2
-    const Matrix3d C = F.transpose() * F;
-    const Matrix3d Ci = C.inverse();
-    const double I1 = C.trace(), Jm23 = std::cbrt(1.0 / (J * J));
-    S = 2.0 * m.law.C10 * Jm23 * (Matrix3d::Identity() - (I1 / 3.0) * Ci) + m.law.bulk * (J - 1.0) * J * Ci;
-    W = m.law.C10 * (Jm23 * I1 - 3.0) + 0.5 * m.law.bulk * (J - 1.0) * (J - 1.0);
-  } else if (m.law.kind == LawKind::Linear) {
-    // W = lambda/2 (tr E)^2 + mu E:E
-    const double mu = m.law.E / (2 * (1 + m.law.nu)), lam = m.law.E * m.law.nu / ((1 + m.law.nu) * (1 - 2 * m.law.nu));
-    const Matrix3d E = 0.5 * (F.transpose() * F - Matrix3d::Identity());
-    const double tr = E.trace();
-    S = lam * tr * Matrix3d::Identity() + 2 * mu * E;
-    W = 0.5 * lam * tr * tr + mu * (E.array() * E.array()).sum();
-  } else {
-    auto st = materials::evaluate(m.law, F, false);
-    S = st.S;
-    W = st.energy;
-  }
-}
 
 inline Voigt toVoigt(const Matrix3d& S) {
   Voigt v;
@@ -131,13 +101,12 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   spk2_.assign(static_cast<std::size_t>(nel_) * 6, 0.0);
 
   for (auto& m : mats_) {
-    double mu = m.law.kind == materials::LawKind::Linear ? m.law.E / (2 * (1 + m.law.nu)) : m.law.initialShear();
-    double lam = lameLambda(m);
+    const auto [lam, mu] = m.law.initialLame();
     matWaveModulus_.push_back(lam + 2 * mu);
     double K = lam + 2.0 / 3.0 * mu;
     matBulk_.push_back(K);
     // bending modulus of the hourglass stiffness: plane-strain E' (2D) or E (3D); -> 4 mu, 3 mu as nu -> 1/2
-    matShear_.push_back(dim_ == 2 ? 4 * mu * (lam + mu) / (lam + 2 * mu) : 9 * K * mu / (3 * K + mu));
+    matShear_.push_back(dim_ == 2 ? 4 * mu * (lam + mu) / (lam + 2 * mu) : materials::youngPoisson(K, mu).E);
   }
 
   minSize_ = std::numeric_limits<double>::infinity();
@@ -400,7 +369,7 @@ void ExplicitSolver::internalForces(double dtStep) {
     }
     Matrix3d S;
     double W;
-    pk2(mat, F, J, S, W);
+    materials::fastPk2(mat.law, F, J, S, W);  // neo-Hooke and linear inline (materials/fast_stress.hpp)
     if (!mat.prony.terms.empty()) {
       S = fromVoigt(materials::pronyUpdate(mat.prony, prony_[e], toVoigt(S), dtStep));
     }
@@ -523,8 +492,7 @@ void ExplicitSolver::contactForces(double dtStep) {
   // the step of the first evaluation (a conservative penalty, docs/models/cohesive.md).
   if (dtPenFixed_ == 0.0) dtPenFixed_ = opt_.cfl * dtStable_;
   const double dtPen = opt_.fixedContactStiffness ? dtPenFixed_ : opt_.cfl * dtStable_;
-  const double pen = opt_.contactPenalty / (dtPen * dtPen);
-  const double penStick = std::min(opt_.contactPenalty, opt_.stickPenalty) / (dtPen * dtPen);
+  const double stick = std::min(opt_.contactPenalty, opt_.stickPenalty);  // stick spring: k = stick m / dtPen^2
   for (std::size_t p = 0; p < planes_.size(); ++p) {
     RigidPlane& pl = planes_[p];
     std::vector<double>& ftH = planeFt_[p];
@@ -542,18 +510,15 @@ void ExplicitSolver::contactForces(double dtStep) {
         ft[0] = ft[1] = ft[2] = 0;
         continue;
       }
-      const double k = pen * mass_[n];
-      const double fn = -k * gap;
+      const double k = contact::massPenalty(opt_.contactPenalty, mass_[n], dtPen);
+      const double fn = contact::penaltyForce(k, -gap);
       Vector3d f = fn * pl.normal;
       recordNormalContact(n, 2 + static_cast<int>(p), pl.normal, k, -gap, pl.velocity, pl.friction);
       if (pl.friction > 0) {
-        Vector3d vr = v - pl.velocity;
-        Vector3d vt = vr - vr.dot(pl.normal) * pl.normal;
-        Vector3d t(ft[0], ft[1], ft[2]);
-        t -= t.dot(pl.normal) * pl.normal;
-        t -= penStick * mass_[n] * dtStep * vt;  // elastic stick predictor (slip increment over the step)
-        double lim = pl.friction * fn, tn = t.norm();
-        if (tn > lim) t *= lim / tn;  // return map onto the Coulomb cone
+        // elastic stick predictor, return map onto the Coulomb cone (contact/coulomb.hpp)
+        const Vector3d t = contact::stickSpringFriction(Vector3d(ft[0], ft[1], ft[2]), pl.normal, v - pl.velocity,
+                                                        contact::massPenalty(stick, mass_[n], dtPen) * dtStep,
+                                                        pl.friction * fn);
         ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
         f += t;
       }
@@ -633,14 +598,15 @@ void ExplicitSolver::contactForces(double dtStep) {
     const bool seamLip = sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0;  // sleeve: full penalty
     const double lipPen = opt_.contactPenalty <= 1.0 ? opt_.contactPenalty : opt_.lipPenalty;
     // (an explicit lip penalty stays below 4 - (2 cfl)^2 = 0.76 m/dt^2 at cfl 0.9: kLipPenaltyMax)
-    double k = seamLip ? episodeStiffness(n, lipPen / (dtPen * dtPen) * mass_[n],
-                                                std::max(kLipPenaltyMax, lipPen) / (dtPen * dtPen) * mass_[n])
-                             : episodeStiffness(n, pen * mass_[n], std::numeric_limits<double>::infinity());
+    double k = seamLip ? episodeStiffness(n, contact::massPenalty(lipPen, mass_[n], dtPen),
+                                          contact::massPenalty(std::max(kLipPenaltyMax, lipPen), mass_[n], dtPen))
+                       : episodeStiffness(n, contact::massPenalty(opt_.contactPenalty, mass_[n], dtPen),
+                                          std::numeric_limits<double>::infinity());
     // sleeve lips (implicit contact, any k is stable): at least 10x the pair's cohesive spring K A, so the wall
     // holds t_c with a gap of delta_0 / 10 instead of storing (and releasing at failure) a large penalty energy
     if (sleeveRadius_ > 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0)
       k = std::max(k, 10.0 * coh_.front().law(cohPairOf_[n]).stiffness * coh_.front().tributaryLength(cohPairOf_[n]));
-    const double fn = k * hit.depth;
+    const double fn = contact::penaltyForce(k, hit.depth);
     Vector3d f = fn * hit.normal;
     const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
     recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
@@ -649,20 +615,15 @@ void ExplicitSolver::contactForces(double dtStep) {
     contactWedge_[n] = wedgeAxial;
     contactTip_[n] = hit.face == needle::NeedleFace::Tip;
     if (mu > 0) {
-      Vector3d vr = v - vb;
-      Vector3d vt = vr - vr.dot(hit.normal) * hit.normal;
-      Vector3d t(ft[0], ft[1], ft[2]);
-      t -= t.dot(hit.normal) * hit.normal;
-      t -= penStick * mass_[n] * dtStep * vt;
-      double lim = mu * fn, tn = t.norm();
-      if (tn > lim) t *= lim / tn;
+      const Vector3d t = contact::stickSpringFriction(Vector3d(ft[0], ft[1], ft[2]), hit.normal, v - vb,
+                                                      contact::massPenalty(stick, mass_[n], dtPen) * dtStep, mu * fn);
       ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
       f += t;
       for (int i = 0; i < d; ++i) fconFriction_[static_cast<std::size_t>(n) * d + i] = t[i];
     } else {
       ft[0] = ft[1] = ft[2] = 0;
     }
-    ePen += 0.5 * k * hit.depth * hit.depth;
+    ePen += contact::penaltyEnergy(k, hit.depth);
     for (int i = 0; i < d; ++i) {
       fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
       fconNeedle_[static_cast<std::size_t>(n) * d + i] = f[i];

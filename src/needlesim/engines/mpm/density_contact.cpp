@@ -13,6 +13,7 @@
 #include <limits>
 #include <numbers>
 
+#include "needlesim/contact/coulomb.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
@@ -356,7 +357,7 @@ void MpmSolver::densityForces() {
           for (double& x : m) x /= mm;
           const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
           const double share = 1.0 / std::max(D.acc[8 * C.sp + 7], D.acc[8 * C.sq + 7]);
-          Wf += coulombPair(m, fN, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], share * mr, mu, dt, fp);
+          Wf += contact::coulombPair(m, fN, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], share * mr, mu, dt, fp);
         }
       }
       for (int k = 0; k < 3; ++k) {

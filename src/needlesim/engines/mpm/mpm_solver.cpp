@@ -1,7 +1,6 @@
 // Explicit MPM core: seed 000 eqs 1-4 (mapping and update), 14-21 (grid
 // contact), 25-28 (time step, mass scaling). See docs/models/mpm.md.
 #include "needlesim/engines/mpm/mpm_solver.hpp"
-#include "needlesim/engines/mpm/stress_lanes.hpp"
 #include "needlesim/engines/mpm/support_lanes.hpp"
 
 #include <fmt/format.h>
@@ -14,7 +13,9 @@
 #include <numbers>
 #include <tuple>
 
+#include "needlesim/contact/coulomb.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/materials/fast_stress.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
 #include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/penalty_contact.hpp"
@@ -31,7 +32,7 @@ constexpr double kInf = std::numeric_limits<double>::infinity();
 // Four lanes of a grid record as a GCC vector: two SSE2 operations in the
 // baseline x86-64 build, one AVX2/FMA operation in the x86-64-v3 clones of the
 // hot kernels (NEEDLESIM_MPM_CLONES). Unaligned, may alias double.
-using lanes::A4;  // stress_lanes.hpp
+using lanes::A4;  // materials/stress_lanes.hpp
 // Always inlined, also at -O0: a call would pass A4 by the baseline ABI
 // (memory) from an AVX2 clone that expects it in a register.
 [[gnu::always_inline]] inline A4 ld(const double* p) { return *reinterpret_cast<const A4*>(p); }
@@ -92,13 +93,6 @@ inline int teamSize() {
 #else
   return 1;
 #endif
-}
-
-// Initial bulk and shear moduli of a law (St Venant-Kirchhoff from E, nu).
-void initialModuli(const materials::Hyperelastic& L, double& K, double& mu) {
-  const bool lin = L.kind == materials::LawKind::Linear;
-  mu = lin ? L.E / (2 * (1 + L.nu)) : L.initialShear();
-  K = lin ? L.E / (3 * (1 - 2 * L.nu)) : L.bulk;
 }
 
 }  // namespace
@@ -282,9 +276,7 @@ void MpmSolver::finalize() {
   if (B > 1 && cfg_.bodyContact != BodyContact::Velocity) {
     double M = 0.0;
     for (const MpmMaterial& m : mats_) {
-      double K, mu;
-      initialModuli(m.law, K, mu);
-      M = std::max(M, K + 4.0 / 3.0 * mu);
+      M = std::max(M, m.law.initialBulk() + 4.0 / 3.0 * m.law.initialShear());
     }
     double mmin = P_.empty() ? 0.0 : kInf;
     for (const Point& q : P_) mmin = std::min(mmin, q.mass);
@@ -312,8 +304,7 @@ void MpmSolver::finalize() {
   double rho = 0, cp = 0, cs = 0;
   if (m0) {
     rho = m0->density * cfg_.massScaling;
-    double K, mu;
-    initialModuli(m0->law, K, mu);
+    const double K = m0->law.initialBulk(), mu = m0->law.initialShear();
     cp = std::sqrt((K + 4.0 / 3.0 * mu) / rho);
     cs = std::sqrt(mu / rho);
   }
@@ -387,12 +378,12 @@ double MpmSolver::stableTimeStep() const { return maxSpeed_ > 0 ? cfg_.h / maxSp
 // tangent shear modulus of the law).
 MPM_CLONES Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massScaling, double& W, double& wave) {
   const auto& L = m.law;
-  if (lanes::hasLanes(m)) {
-    // Fung-Demiray and neo-Hookean: the closed form of stress_lanes.hpp (seed
-    // 000 eqs 8-13), one point in all four lanes.
-    lanes::A4 Fl[9], sl[6], W4, wave4;
-    for (int c = 0; c < 9; ++c) Fl[c] = lanes::A4{} + F(c / 3, c % 3);
-    lanes::hyperelasticStress4(m, massScaling, Fl, sl, W4, wave4);
+  if (materials::lanes::hasLanes(L)) {
+    // Fung-Demiray and neo-Hookean: the closed form of materials/stress_lanes.hpp
+    // (seed 000 eqs 8-13), one point in all four lanes.
+    A4 Fl[9], sl[6], W4, wave4;
+    for (int c = 0; c < 9; ++c) Fl[c] = A4{} + F(c / 3, c % 3);
+    materials::lanes::hyperelasticStress4(L, m.density * massScaling, Fl, sl, W4, wave4);
     W = W4[0];
     wave = wave4[0];
     Mat3 sigma;
@@ -404,17 +395,13 @@ MPM_CLONES Mat3 evaluateStress(const MpmMaterial& m, const Mat3& F, double massS
   double muc = 0.0, K = 0.0;
   using materials::LawKind;
   if (L.kind == LawKind::Linear) {
-    // St Venant-Kirchhoff, as the library's "linear" law.
-    const double lam = L.E * L.nu / ((1 + L.nu) * (1 - 2 * L.nu));
-    const double mu = L.E / (2 * (1 + L.nu));
-    Mat3 E = 0.5 * (F.transpose() * F - Mat3::Identity());
-    const double trE = E.trace();
-    Mat3 S = 2.0 * mu * E;
-    S.diagonal().array() += lam * trE;
+    // St Venant-Kirchhoff, the library's "linear" law (materials/fast_stress.hpp).
+    const materials::Lame l = materials::lame(L.E, L.nu);
+    Mat3 S;
+    materials::stVenantKirchhoffPk2(l, F, S, W);
     sigma = F * S * F.transpose() / J;
-    W = 0.5 * lam * trE * trE + mu * E.squaredNorm();
-    muc = mu;
-    K = lam + 2.0 / 3.0 * mu;
+    muc = l.mu;
+    K = l.lambda + 2.0 / 3.0 * l.mu;
   } else {
     materials::Stress3 s = materials::evaluate(L, F, false);
     sigma = s.sigma;
@@ -836,7 +823,7 @@ inline void pairContact(double m0, double m1, double* v0, double* v1, const doub
   Vec3 rt = rel - vn * n;
   const double st = mr * rt.norm();             // eq 19 times dt
   const double lim = mu * mr * vn;              // eq 20 times dt
-  if (st > 0) dp -= (std::min(st, lim) / st) * mr * rt;  // eq 21
+  if (st > 0) dp -= contact::coulombScale(st, lim) * mr * rt;  // eq 21
   for (int c = 0; c < 3; ++c) {
     v0[c] += dp[c] / m0;
     v1[c] -= dp[c] / m1;
@@ -852,7 +839,7 @@ inline Vec3 rigidContact(double m, double* v, const Vec3& n, const Vec3& vr, dou
   Vec3 dv = vn * n;                    // eq 15
   const Vec3 rt = rel - vn * n;
   const double st = rt.norm();
-  if (st > 0) dv += (std::min(st, mu * vn) / st) * rt;  // eqs 19-21
+  if (st > 0) dv += contact::coulombScale(st, mu * vn) * rt;  // eqs 19-21
   for (int c = 0; c < 3; ++c) v[c] += dv[c];
   return m * dv;
 }
@@ -1308,7 +1295,7 @@ void MpmSolver::surfaceContact(bool first) {
       Vec3 dp = -mp * vn * pr.n;  // eq 23 times dt (m_c -> infinity)
       const Vec3 rt = rel - vn * pr.n;
       const double st = rt.norm();
-      if (st > 0) dp -= (std::min(st, -rb.friction * vn) / st) * mp * rt;  // Coulomb, as eqs 19-21
+      if (st > 0) dp -= contact::coulombScale(st, -rb.friction * vn) * mp * rt;  // Coulomb, as eqs 19-21
       for (int i = 0; i < S; ++i)
         for (int j = 0; j < S; ++j)
           for (int k = 0; k < S; ++k) {
@@ -1530,7 +1517,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   }
   int layerLo = std::numeric_limits<int>::max(), layerHi = std::numeric_limits<int>::min();
   // Chunks of points: the kinematics of the chunk, then its stresses, four
-  // points of one material at a time on vector lanes (stress_lanes.hpp).
+  // points of one material at a time on vector lanes (materials/stress_lanes.hpp).
   constexpr std::size_t kChunk = 32;
   for (std::size_t c0 = q0; c0 < q1; c0 += kChunk) {
     const std::size_t c1 = std::min(c0 + kChunk, q1);
@@ -1632,7 +1619,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     for (std::size_t r = 0; r < nready;) {
       const std::size_t p0 = ready[r];
       const MpmMaterial& mat = mats_[mat_[p0]];
-      if (!lanes::hasLanes(mat)) {
+      if (!materials::lanes::hasLanes(mat.law)) {
         double W, c;
         stress(p0, defGrad(p0), W, c);
         const Point& q = P_[p0];
@@ -1647,7 +1634,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
       for (int l = n; l < 4; ++l) g[l] = g[n - 1];  // idle lanes repeat the last point
       A4 Fl[9] = {}, sl[6] = {}, W = {}, wave = {};
       for (int c = 0; c < 9; ++c) Fl[c] = A4{P_[g[0]].F[c], P_[g[1]].F[c], P_[g[2]].F[c], P_[g[3]].F[c]};
-      lanes::hyperelasticStress4(mat, cfg_.massScaling, Fl, sl, W, wave);
+      materials::lanes::hyperelasticStress4(mat.law, mat.density * cfg_.massScaling, Fl, sl, W, wave);
       for (int l = 0; l < n; ++l) {
         Point& q = P_[g[l]];
         for (int c = 0; c < 6; ++c) q.sig[c] = sl[c][l];

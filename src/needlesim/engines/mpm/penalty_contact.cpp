@@ -8,6 +8,8 @@
 #include <limits>
 #include <utility>
 
+#include "needlesim/contact/coulomb.hpp"
+#include "needlesim/contact/penalty.hpp"
 #include "needlesim/engines/mpm/grid_kernels.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 
@@ -109,7 +111,7 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   // in all directions; a field read at a node off the interface sees the
   // other depth's lateral expansion): vp, vq from fieldVelocity.
   const double mr = P_[p].mass * P_[q].mass / (P_[p].mass + P_[q].mass);
-  return coulombPair(m, fN, vp, vq, mr, mu, dt, f);
+  return contact::coulombPair(m, fN, vp, vq, mr, mu, dt, f);
 }
 
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
@@ -251,37 +253,10 @@ double PairPenalty::frictionWork() const {
 
 void PairPenalty::resetFriction() { std::fill(friction_.begin(), friction_.end(), 0.0); }
 
-// The pair law (penalty_contact.hpp): linear up to the onset delta_s = a d,
-// beyond it the barrier f = k delta (G / r)^m, G = d - delta_s, r = d - delta.
-namespace {
-constexpr double kOnset = 0.3;  // a: the barrier starts at 0.3 d (the block impact stays below it)
-constexpr double kPower = 6.0;  // m: f(d/2) = 3.8 k d, a face pressure 3.8 kappa M held at half a spacing
-}  // namespace
-
-double PairPenalty::pairForce(double delta, double d) const {
-  const double s = kOnset * d;
-  if (delta <= s) return k_ * delta;
-  const double G = d - s, r = d - delta;
-  return k_ * delta * std::pow(G / r, kPower);
-}
-
-double PairPenalty::pairTangent(double delta, double d) const {
-  const double s = kOnset * d;
-  if (delta <= s) return k_;
-  const double G = d - s, r = d - delta, m = kPower;
-  return k_ * std::pow(G / r, m) * (1.0 + m * delta / r);
-}
-
-// U = 1/2 k delta_s^2 + k G^m int_{delta_s}^{delta} y (d - y)^-m dy
-//   = 1/2 k delta_s^2 + k [d G (rho^(m-1) - 1) / (m-1) - G^2 (rho^(m-2) - 1) / (m-2)],
-// rho = G / r (m > 2; expm1/log1p keep the small-overlap differences exact).
-double PairPenalty::pairEnergy(double delta, double d) const {
-  const double s = kOnset * d;
-  if (delta <= s) return 0.5 * k_ * delta * delta;
-  const double G = d - s, r = d - delta, m = kPower;
-  const double l = std::log1p((delta - s) / r);  // log rho
-  return k_ * (0.5 * s * s + d * G * std::expm1((m - 1) * l) / (m - 1) - G * G * std::expm1((m - 2) * l) / (m - 2));
-}
+// The pair law (penalty_contact.hpp, contact/penalty.hpp).
+double PairPenalty::pairForce(double delta, double d) const { return contact::pairPenaltyForce(k_, delta, d); }
+double PairPenalty::pairTangent(double delta, double d) const { return contact::pairPenaltyTangent(k_, delta, d); }
+double PairPenalty::pairEnergy(double delta, double d) const { return contact::pairPenaltyEnergy(k_, delta, d); }
 
 // Stored energy at the positions after the step (the strain energy of the
 // report is also that of the step's end) over the pairs in contact at its

@@ -31,7 +31,8 @@
 // the points' grid velocities: the stored energy is returned (energy
 // balance: kinetic + strain + penalty).
 // Friction on a pair: f_t = -min(mu f_n, m_r |v_t| / dt) v_t / |v_t| (the
-// sticking force of the pair's reduced mass, eq 19, limited by eq 20), with
+// sticking force of the pair's reduced mass, eq 19, limited by eq 20;
+// contact::coulombPair; the pair law: contact/penalty.hpp), with
 // f_n the pair force along the bodies' surface normal (mass gradients at the
 // pair's midpoint) and v_t the sliding velocity of the two grid fields at the
 // two points; it works only while the faces slide. While pairs touch, the
@@ -80,22 +81,6 @@ inline ReactionSink reactionSink(double* own, std::vector<double>& buffer, std::
   if (tid == 0) return {own, 0};
   buffer.assign(width * (nc - first1), 0.0);
   return {buffer.data(), first1};
-}
-
-// Coulomb friction of a pair (seed 000 eqs 19-21), added to f (the force on
-// p): the sliding velocity vp - vq of the two grid fields with its component
-// along the unit normal m removed, the sticking force mr |v_t| / dt limited by
-// mu fN; returns the friction work over the step (J). Used by both laws.
-inline double coulombPair(const double* m, double fN, const double* vp, const double* vq, double mr, double mu,
-                          double dt, double* f) {
-  double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};
-  const double vn = vt[0] * m[0] + vt[1] * m[1] + vt[2] * m[2];
-  for (int c = 0; c < 3; ++c) vt[c] -= vn * m[c];
-  const double st = std::sqrt(vt[0] * vt[0] + vt[1] * vt[1] + vt[2] * vt[2]);
-  if (!(st > 0.0)) return 0.0;
-  const double ft = std::min(mu * fN, mr * st / dt);
-  for (int c = 0; c < 3; ++c) f[c] -= ft * vt[c] / st;
-  return ft * st * dt;
 }
 
 class PairPenalty {

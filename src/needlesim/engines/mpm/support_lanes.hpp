@@ -10,9 +10,12 @@
 
 #include <cstddef>
 
-#include "needlesim/engines/mpm/stress_lanes.hpp"  // lanes::A4, lanes::I4
+#include "needlesim/materials/stress_lanes.hpp"  // materials::lanes::A4, I4
 
 namespace needlesim::mpm::lanes {
+
+using materials::lanes::A4;
+using materials::lanes::I4;
 
 typedef int I4x32 __attribute__((vector_size(16)));
 

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/materials/elastic_moduli.hpp"
 
 namespace needlesim::realtime2d {
 
@@ -42,8 +43,7 @@ Eigen::Matrix<double, 3, 8> strainDisplacement(const Eigen::Matrix<double, 2, 4>
 Eigen::Matrix3d elasticity(const ElasticMaterial& m) {
   if (!(m.E > 0.0) || !(m.nu > -1.0 && m.nu < 0.5))
     throw SolverError("realtime2d: need E > 0 and -1 < nu < 0.5 for linear elastic tissue");
-  const double mu = m.E / (2.0 * (1.0 + m.nu));                        // eq 3.11
-  double lambda = m.E * m.nu / ((1.0 + m.nu) * (1.0 - 2.0 * m.nu));    // eq 3.10
+  auto [lambda, mu] = materials::lame(m.E, m.nu);  // eqs 3.10-3.11
   if (!m.plane_strain) lambda = 2.0 * lambda * mu / (lambda + 2.0 * mu);
   Eigen::Matrix3d D;
   D << lambda + 2 * mu, lambda, 0, lambda, lambda + 2 * mu, 0, 0, 0, mu;  // eq 3.9

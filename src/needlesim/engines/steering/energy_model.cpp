@@ -7,6 +7,7 @@
 
 #include <Eigen/Dense>
 
+#include "needlesim/materials/elastic_moduli.hpp"
 #include "needlesim/needle/beam_element.hpp"
 #include "needlesim/needle/section.hpp"
 
@@ -174,7 +175,7 @@ EnergyResult runWindow(const EnergyParams& p, double EI, double EA, double A, do
     nodes.push_back({l, X, Y, th});
   }
   if (p.medium_volume > 0 && p.E_T > 0)  // eq 39 (reporting only)
-    r.U_C = p.E_T * (A * l) * (A * l) / (3 * p.medium_volume * (1 - 2 * p.nu_T));
+    r.U_C = materials::bulkModulus(p.E_T, p.nu_T) * (A * l) * (A * l) / p.medium_volume;  // K = E_T / (3 (1 - 2 nu_T))
   r.final_deflection = Y;
   r.final_length = l;
   return r;
@@ -290,7 +291,7 @@ EnergyResult runEnergyModel(const EnergyParams& p, std::vector<Eigen::Vector3d>*
     }
   }
   if (p.medium_volume > 0 && p.E_T > 0)  // eq 39 at the final length (reporting only)
-    r.U_C = p.E_T * (A * l_old) * (A * l_old) / (3 * p.medium_volume * (1 - 2 * p.nu_T));
+    r.U_C = materials::bulkModulus(p.E_T, p.nu_T) * (A * l_old) * (A * l_old) / p.medium_volume;  // K = E_T / (3 (1 - 2 nu_T))
   r.final_deflection = c(2);
   r.final_length = l_old;
   r.cut_share = chi;

@@ -1,20 +1,19 @@
 // Four material points at a time: the decoupled Fung-Demiray and neo-Hookean
-// stresses of MpmSolver's fast path (seed 000 eqs 8-13, the form of
-// evaluateStress in mpm_solver.cpp) on GCC vector lanes, so the exp, square
-// root, division and J^(-1/3) chains of four points overlap. Included by
-// mpm_solver.cpp only; the lane functions are always inlined, so they take
-// the instruction set of the kernel clone that calls them.
-// Lanes agree with the scalar evaluateStress to a few ulp
-// (MpmStress.LanesMatchScalarStress).
+// Cauchy stresses of the MPM stress update (seed 000 eqs 8-13; the same laws
+// as law_energy.hpp) on GCC vector lanes, so the exp, square root, division
+// and J^(-1/3) chains of four points overlap. The lane functions are always
+// inlined, so they take the instruction set of the kernel clone that calls
+// them (mpm/mpm_solver.cpp). Checked against the library's energy and stress
+// and lane by lane (tests/materials, StressLanes.*).
 #pragma once
 
 #include <cmath>
 #include <cstdint>
 #include <cstring>
 
-#include "needlesim/engines/mpm/mpm_solver.hpp"
+#include "needlesim/materials/hyperelastic.hpp"
 
-namespace needlesim::mpm::lanes {
+namespace needlesim::materials::lanes {
 
 #pragma GCC diagnostic ignored "-Wpsabi"  // lane helpers are inlined into each clone
 typedef double A4 __attribute__((vector_size(32), aligned(8), may_alias));
@@ -84,11 +83,12 @@ inline double invCbrt(double J) {
 }
 
 // Cauchy stress (Voigt 11 22 33 12 23 13), energy per reference volume W and
-// the dilatational wave speed (eq 27) of four points of one Fung-Demiray or
-// neo-Hookean material, from the rows of F (F[3 r + c] = F_rc, lane = point).
-[[gnu::always_inline]] inline void hyperelasticStress4(const MpmMaterial& m, double massScaling, const A4 (&F)[9], A4 (&sig)[6], A4& W,
-                                A4& wave) {
-  const auto& L = m.law;
+// the dilatational wave speed sqrt((K + 4/3 mu_t) / rho) (seed 000 eq 27, mu_t
+// the current tangent shear modulus, rho = rho0 / J) of four points of one
+// Fung-Demiray or neo-Hookean law L, from the rows of F (F[3 r + c] = F_rc,
+// lane = point); rho0 the reference density (MPM: times the mass scaling).
+[[gnu::always_inline]] inline void hyperelasticStress4(const Hyperelastic& L, double rho0, const A4 (&F)[9],
+                                                       A4 (&sig)[6], A4& W, A4& wave) {
   const A4 J = F[0] * (F[4] * F[8] - F[5] * F[7]) - F[1] * (F[3] * F[8] - F[5] * F[6]) +
                F[2] * (F[3] * F[7] - F[4] * F[6]);
   const A4 b00 = F[0] * F[0] + F[1] * F[1] + F[2] * F[2], b11 = F[3] * F[3] + F[4] * F[4] + F[5] * F[5],
@@ -99,7 +99,7 @@ inline double invCbrt(double J) {
   const A4 trb = b00 + b11 + b22;
   const A4 I1b = Jm23 * trb;
   A4 W1, muc;
-  if (L.kind == materials::LawKind::Fung) {
+  if (L.kind == LawKind::Fung) {
     const A4 x = L.gamma * (I1b - 3.0);
     bool inRange = true;
     for (int l = 0; l < 4; ++l) inRange = inRange && std::abs(x[l]) <= 700.0;
@@ -126,14 +126,12 @@ inline double invCbrt(double J) {
   sig[3] = c * b01;
   sig[4] = c * b12;
   sig[5] = c * b02;
-  const A4 rho = m.density * massScaling / J;
+  const A4 rho = rho0 / J;
   const A4 w2 = (K + 4.0 / 3.0 * muc) / rho;
   wave = A4{std::sqrt(w2[0]), std::sqrt(w2[1]), std::sqrt(w2[2]), std::sqrt(w2[3])};
 }
 
-// Whether a material takes the lane path.
-inline bool hasLanes(const MpmMaterial& m) {
-  return m.law.kind == materials::LawKind::Fung || m.law.kind == materials::LawKind::NeoHookean;
-}
+// Whether a law takes the lane path.
+inline bool hasLanes(const Hyperelastic& L) { return L.kind == LawKind::Fung || L.kind == LawKind::NeoHookean; }
 
-}  // namespace needlesim::mpm::lanes
+}  // namespace needlesim::materials::lanes
