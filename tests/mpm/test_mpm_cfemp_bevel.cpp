@@ -44,7 +44,7 @@ RigidForce forceFromOnePoint(double ahead, double radial) {
   n.radius = R;
   n.length = 5e-3;
   n.axis = Vec3::UnitX();
-  n.bevelDir = Vec3::UnitY();
+  n.bevelSide = -Vec3::UnitY();  // heel at -R y
   n.point = Vec3::Zero();
   n.velocity = Vec3(0.01, 0, 0);
   n.surfaceContact = true;

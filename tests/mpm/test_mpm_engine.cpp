@@ -13,6 +13,7 @@
 #include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/engines/mpm/mpm_engine.hpp"
 #include "needlesim/io/csv_reader.hpp"
+#include "needlesim/scenario/measured_data.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
@@ -181,15 +182,15 @@ TEST(MpmEngine, MarkerErrorsAgainstMeasuredMarkers) {
 TEST(MpmEngine, MarkerErrorsInterpolateInDepth) {
   const std::vector<double> depth{0.0, 1e-3, 2e-3, 3e-3};
   const std::vector<mpm::MarkerTrack> sim{{"a", {0.0, 0.1e-3, 0.2e-3, 0.3e-3}, {0, 0, 0, 0}}};
-  const io::CsvData csv = io::parseCsv("depth [mm],A_ux [um],a_uy [mm]\n1.5,170,0\n2.5,250,0\n", "m.csv");
-  const auto rows = mpm::compareMarkers(csv, depth, sim);
+  const std::vector<MpmMarkerSpec> markers{{"a", 0, 0, 0}};
+  const auto measured = [&](const char* text) { return scenario::measuredMarkersFrom(io::parseCsv(text, "m.csv"), markers); };
+  const auto rows = mpm::compareMarkers(measured("depth [mm],A_ux [um],a_uy [mm]\n1.5,170,0\n2.5,250,0\n"), depth, sim);
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_NEAR(rows[0].rmax, 0.02e-3, 1e-15);  // simulated 0.15 mm at 1.5 mm
   EXPECT_NEAR(rows[1].rmean, 0.0, 1e-15);
   // A marker with only one of its columns, or none of the simulated markers.
-  EXPECT_THROW(mpm::compareMarkers(io::parseCsv("depth [mm],a_ux [mm]\n1,0\n", "m.csv"), depth, sim), InputError);
-  EXPECT_THROW(mpm::compareMarkers(io::parseCsv("depth [mm],b_ux [mm],b_uy [mm]\n1,0,0\n", "m.csv"), depth, sim),
-               InputError);
+  EXPECT_THROW(measured("depth [mm],a_ux [mm]\n1,0\n"), InputError);
+  EXPECT_THROW(measured("depth [mm],b_ux [mm],b_uy [mm]\n1,0,0\n"), InputError);
 }
 
 // model.mpm.anti_locking: fbar reaches the solver (named in the run note) and,

@@ -122,12 +122,12 @@ double RigidBody::distance(const Vec3& x, Vec3* n, int* part) const {
   }
   const Vec3& e = axis;
   // Axis point level with the tip: the tip itself, or R off the sharp point of a bevel.
-  const Vec3 c = tip == Tip::Bevel ? Vec3(point - radius * bevelDir) : point;
+  const Vec3 c = tip == Tip::Bevel ? Vec3(point + radius * bevelSide) : point;
   const Vec3 rel = x - c;
   const double s = -rel.dot(e);  // distance behind the tip plane along the axis
   Vec3 rv = rel + s * e;         // radial vector
   double r = rv.norm();
-  Vec3 er = r > 1e-14 ? Vec3(rv / r) : bevelDir;
+  Vec3 er = r > 1e-14 ? Vec3(rv / r) : bevelSide;
   const double dCyl = r - radius;
   double dTip;
   Vec3 nTip;
@@ -144,7 +144,7 @@ double RigidBody::distance(const Vec3& x, Vec3* n, int* part) const {
       break;
     }
     case Tip::Bevel: {
-      nTip = std::sin(tipAngle) * e - std::cos(tipAngle) * bevelDir;  // face of the bevel
+      nTip = std::sin(tipAngle) * e + std::cos(tipAngle) * bevelSide;  // face of the bevel
       dTip = (x - point).dot(nTip);
       break;
     }
@@ -228,6 +228,14 @@ std::size_t MpmSolver::addParticle(const Vec3& x, double volume, int material, i
   return size() - 1;
 }
 
+void MpmSolver::reassign(std::size_t p, int material, int body) {
+  checkIds(material, body);
+  if (finalized_) throw Error("mpm: a point changes material or body only before finalize");
+  P_[p].mass = mats_[static_cast<std::size_t>(material)].density * P_[p].vol0 * cfg_.massScaling;
+  body_[p] = static_cast<std::uint8_t>(body);
+  mat_[p] = static_cast<std::uint8_t>(material);
+}
+
 void MpmSolver::pushParticle(const Vec3& x, const Vec3& v, double mass, double volume, int material, int body) {
   Point q{};
   for (int d = 0; d < 3; ++d) {
@@ -252,6 +260,13 @@ void MpmSolver::finalize() {
     b.rec.assign(static_cast<std::size_t>(nr_) * B * nodes_, 0.0);
     b.grad.assign(B > 1 ? 8 * 2 * nodes_ : 0, 0.0);
     b.gmin.assign(R * nodes_, kInf);
+  }
+  materialFriction_.clear();
+  if (std::any_of(mats_.begin(), mats_.end(), [](const MpmMaterial& m) { return m.rigidFriction >= 0.0; })) {
+    for (const MpmMaterial& m : mats_) materialFriction_.push_back(m.rigidFriction);
+    buf_[0].gmat.assign(R * nodes_, 0);
+    for (const RigidBody& r : rigids_)
+      if (r.surfaceContact) throw Error("mpm: the CFEMP contact takes the rigid body's friction, not the materials'");
   }
   nearCell_.assign(B > 1 ? size() : 0, kNotNear);
   occFresh_ = false;  // markNearBodies marks the cells from the positions
@@ -359,6 +374,14 @@ void MpmSolver::finalize() {
     maxSpeed_ = std::max(maxSpeed_, c + velocity(p).norm());
   }
   finalized_ = true;
+}
+
+// The node's material (gmat) is the one p2g recorded this step: read only at
+// nodes whose gap minimum it lowered (gridUpdate, remapUpdate of that step).
+double MpmSolver::rigidFriction(std::size_t r, std::size_t I) const {
+  if (materialFriction_.empty()) return rigids_[r].friction;
+  const double mu = materialFriction_[buf_[0].gmat[r * nodes_ + I]];
+  return mu >= 0.0 ? mu : rigids_[r].friction;
 }
 
 Vec3 MpmSolver::nodePosition(std::size_t I) const {
@@ -654,13 +677,18 @@ namespace {
 // indices above the gap tests and so computes them for every point (~85
 // instructions per point-step), though only the points near a needle (a few
 // per cent) get here.
+// gmat (null when every material takes the rigid body's friction): the
+// material of the point of the smallest gap at each node, the first at a tie.
 template <int S>
-[[gnu::noinline]] void minGap(double* gmin, std::size_t sx, std::size_t sy, double gap) {
+[[gnu::noinline]] void minGap(double* gmin, std::uint8_t* gmat, std::size_t sx, std::size_t sy, double gap,
+                              std::uint8_t material) {
   for (int i = 0; i < S; ++i)
     for (int j = 0; j < S; ++j)
       for (int k = 0; k < S; ++k) {
-        double& g = gmin[static_cast<std::size_t>(i) * sx + static_cast<std::size_t>(j) * sy + static_cast<std::size_t>(k)];
-        g = std::min(g, gap);
+        const std::size_t o = static_cast<std::size_t>(i) * sx + static_cast<std::size_t>(j) * sy + static_cast<std::size_t>(k);
+        if (!(gap < gmin[o])) continue;
+        gmin[o] = gap;
+        if (gmat) gmat[o] = material;
       }
 }
 }  // namespace
@@ -686,7 +714,7 @@ MPM_CLONES void MpmSolver::p2g() {
     const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
     Axis& A = ax[static_cast<std::size_t>(r)];
     A.needle = rb.kind == RigidBody::Kind::Needle && !rb.surfaceContact;
-    A.c = rb.tip == RigidBody::Tip::Bevel ? Vec3(rb.point - rb.radius * rb.bevelDir) : rb.point;
+    A.c = rb.tip == RigidBody::Tip::Bevel ? Vec3(rb.point + rb.radius * rb.bevelSide) : rb.point;
     A.e = rb.axis;
     A.rmax2 = (rb.radius + gapReach) * (rb.radius + gapReach);
   }
@@ -781,9 +809,10 @@ MPM_CLONES void MpmSolver::p2g() {
         }
         const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
         if (gap > gapReach) continue;
-        minGap<S>(B.gmin.data() + static_cast<std::size_t>(r) * nodes_ +
-                      (static_cast<std::size_t>(bx) * n1 + static_cast<std::size_t>(by)) * n2 + static_cast<std::size_t>(bz),
-                  n1 * n2, n2, gap);
+        const std::size_t base = static_cast<std::size_t>(r) * nodes_ +
+                                 (static_cast<std::size_t>(bx) * n1 + static_cast<std::size_t>(by)) * n2 +
+                                 static_cast<std::size_t>(bz);
+        minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
       }
     }
     if (colour == 0) {
@@ -1056,7 +1085,7 @@ void MpmSolver::gridUpdate() {
             double* ib = &rimp_[3 * ((r * nodes_ + I) * UB + b)];  // summed below, in node order
             std::fill_n(ib, 3, 0.0);
             if (!(mb[b] > 0)) continue;
-            const Vec3 imp = rigidContact(mb[b], &vel_[8 * (b * nodes_ + I)], n, rb.velocity, rb.friction);
+            const Vec3 imp = rigidContact(mb[b], &vel_[8 * (b * nodes_ + I)], n, rb.velocity, rigidFriction(r, I));
             for (int c = 0; c < 3; ++c) ib[c] = imp[c];
             if (imp.squaredNorm() != 0.0) flag = 1;
           }
@@ -1223,7 +1252,7 @@ void MpmSolver::surfaceContact(bool first) {
     const RigidBody& rb = rigids_[r];
     if (!rb.surfaceContact) continue;
     const Surface& Sf = surf_[r];
-    const Vec3 e = rb.axis, ys = -rb.bevelDir, zs = e.cross(ys);
+    const Vec3 e = rb.axis, ys = rb.bevelSide, zs = e.cross(ys);
     if (first) {
       pairs_.clear();
       const double limit = 0.5 * rb.elementSize + cfg_.contactGap;  // eq 22: (d_e + d_p)/2
@@ -1393,7 +1422,7 @@ void MpmSolver::remapUpdate(bool clear) {
           const double* nn = &rnormal_[3 * (r * nodes_ + I)];
           const Vec3 n(nn[0], nn[1], nn[2]);
           for (std::size_t b = 0; b < UB; ++b)
-            if (mb[b] > 0) rigidContact(mb[b], &vel_[8 * (b * nodes_ + I) + 4], n, rigids_[r].velocity, rigids_[r].friction);
+            if (mb[b] > 0) rigidContact(mb[b], &vel_[8 * (b * nodes_ + I) + 4], n, rigids_[r].velocity, rigidFriction(r, I));
         }
         const std::uint8_t mask = fix[I];
         if (mask)

@@ -49,6 +49,9 @@ enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 struct MpmMaterial {
   materials::Hyperelastic law;
   double density = 1000.0;  // kg/m^3, before mass scaling
+  // Coulomb coefficient of the grid contact with a rigid body where this
+  // material's point is nearest to it (eq 20); < 0: the rigid body's own.
+  double rigidFriction = -1.0;
   static MpmMaterial fromSpec(const materials::MaterialSpec& spec);
 };
 
@@ -65,7 +68,9 @@ struct RigidBody {
   Vec3 point = Vec3::Zero();    // plane: a point on it; needle: the tip point
   Vec3 normal = Vec3::UnitZ();  // plane: outward normal (out of the rigid half-space)
   Vec3 axis = Vec3::UnitX();    // needle: unit insertion direction (base -> tip)
-  Vec3 bevelDir = Vec3::UnitY();  // needle, bevel tip: unit radial direction of the sharp point
+  // needle, bevel tip: the side the bevel face looks to (needle::NeedleShape's
+  // bevelSide): the heel on +bevelSide, the sharp point at -radius bevelSide.
+  Vec3 bevelSide = Vec3::UnitY();
   double radius = 0.0;          // needle radius, m
   double tipAngle = 0.35;       // rad: cone half-angle / bevel angle to the axis
   Vec3 velocity = Vec3::Zero(); // m/s
@@ -137,6 +142,9 @@ class MpmSolver {
   // the particle spacing as addBlock's does); returns its index. For shapes
   // other than boxes (spheres, imported point clouds).
   std::size_t addParticle(const Vec3& x, double volume, int material, int body, const Vec3& velocity = Vec3::Zero());
+  // Before finalize: moves point p to another material (its mass follows the
+  // density) and body.
+  void reassign(std::size_t p, int material, int body);
   // Call once after adding everything (sizes scratch; no allocation afterwards).
   void finalize();
 
@@ -233,6 +241,7 @@ class MpmSolver {
     grid::LineVector<double> rec;   // nr_ per node per body (64-byte aligned records)
     grid::LineVector<double> grad;  // two bodies: 8 per node per body (grid::kG; grid::kX velocity contact only)
     std::vector<double> gmin;      // per node per rigid
+    std::vector<std::uint8_t> gmat;  // per node per rigid: material of the point of the smallest gap (materialFriction_)
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])
   // Race-free scatter: order_ visits the points by the layer of their base
@@ -254,6 +263,10 @@ class MpmSolver {
   std::vector<std::uint8_t> active_;    // per node: rigid contact flags of the first update
   std::vector<double> rnormal_;         // per node per rigid: normal (3) used in the first update
   std::vector<RigidForce> rforce_;
+  // Per material its rigidFriction; empty when no material sets one (every
+  // contact node then uses the rigid body's coefficient).
+  std::vector<double> materialFriction_;
+  double rigidFriction(std::size_t r, std::size_t I) const;
   // Grid passes (gridUpdate, remapUpdate): per body and (i, j) row the span
   // [k0, k1) of the nodes with mass, this step's and the last one's (outside
   // its spans a row holds zero velocities and contact flags); the cumulative
