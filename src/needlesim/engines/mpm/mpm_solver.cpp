@@ -121,8 +121,7 @@ double RigidBody::distance(const Vec3& x, Vec3* n, int* part) const {
     return (x - point).dot(normal);
   }
   const Vec3& e = axis;
-  // Axis point level with the tip: the tip itself, or R off the sharp point of a bevel.
-  const Vec3 c = tip == Tip::Bevel ? Vec3(point + radius * bevelSide) : point;
+  const Vec3 c = axisPoint();
   const Vec3 rel = x - c;
   const double s = -rel.dot(e);  // distance behind the tip plane along the axis
   Vec3 rv = rel + s * e;         // radial vector
@@ -714,7 +713,7 @@ MPM_CLONES void MpmSolver::p2g() {
     const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
     Axis& A = ax[static_cast<std::size_t>(r)];
     A.needle = rb.kind == RigidBody::Kind::Needle && !rb.surfaceContact;
-    A.c = rb.tip == RigidBody::Tip::Bevel ? Vec3(rb.point + rb.radius * rb.bevelSide) : rb.point;
+    A.c = rb.axisPoint();
     A.e = rb.axis;
     A.rmax2 = (rb.radius + gapReach) * (rb.radius + gapReach);
   }
@@ -1253,11 +1252,12 @@ void MpmSolver::surfaceContact(bool first) {
     if (!rb.surfaceContact) continue;
     const Surface& Sf = surf_[r];
     const Vec3 e = rb.axis, ys = rb.bevelSide, zs = e.cross(ys);
+    const Vec3 c0 = rb.axisPoint();  // the surface's origin (buildSurface)
     if (first) {
       pairs_.clear();
       const double limit = 0.5 * rb.elementSize + cfg_.contactGap;  // eq 22: (d_e + d_p)/2
       for (std::size_t p = 0; p < size(); ++p) {
-        const Vec3 q(P_[p].x[0] - rb.point.x(), P_[p].x[1] - rb.point.y(), P_[p].x[2] - rb.point.z());
+        const Vec3 q(P_[p].x[0] - c0.x(), P_[p].x[1] - c0.y(), P_[p].x[2] - c0.z());
         const Vec3 xl(q.dot(e), q.dot(ys), q.dot(zs));
         int c[3];
         bool in = true;

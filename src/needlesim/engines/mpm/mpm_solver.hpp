@@ -81,6 +81,8 @@ struct RigidBody {
   // Signed distance (negative inside), the outward unit normal at the nearest
   // face, and which part is nearest (0 shaft or plane, 1 tip).
   double distance(const Vec3& x, Vec3* n, int* part) const;
+  // Needle: the axis point level with the tip (`point`, or R off a bevel's sharp point).
+  Vec3 axisPoint() const { return tip == Tip::Bevel ? Vec3(point + radius * bevelSide) : point; }
 };
 
 struct MpmConfig {
