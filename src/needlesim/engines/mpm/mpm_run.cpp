@@ -33,6 +33,13 @@ std::vector<io::Column> engineForceColumns() {
   return {{"force_tip", "N"}, {"force_shaft", "N"}, {"contact_nodes", "1"}, {"time_step", "s"}};
 }
 
+// energy.csv; with a sliding inclusion also the energy stored in the two bodies' pair contact.
+std::vector<io::Column> energyColumns(int bodies) {
+  std::vector<io::Column> c{{"time", "s"}, {"depth", "m"}, {"kinetic", "J"}, {"internal", "J"}, {"ke_ie_ratio", "1"}};
+  if (bodies > 1) c.push_back({"contact", "J"});
+  return c;
+}
+
 Vec3 meanPosition(const MpmSolver& s, const std::vector<std::size_t>& points) {
   Vec3 sum = Vec3::Zero();
   for (const std::size_t p : points) sum += s.position(p);
@@ -83,7 +90,7 @@ MpmRun::MpmRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
       motion_(sc.insertion),
       duration_(motion_.duration()),
       forces_(false, engineForceColumns()),
-      energy_({{"time", "s"}, {"depth", "m"}, {"kinetic", "J"}, {"internal", "J"}, {"ke_ie_ratio", "1"}}),
+      energy_(energyColumns(setup_.config.bodies)),
       markers_(spec_.markers, solver_, setup_.entry),
       fields_(spec_.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr, solver_),
       inclusions_(sc.tissue.inclusions, setup_.frame) {
@@ -116,7 +123,9 @@ void MpmRun::startFresh() {
   f.tip_y = tip.y();
   f.tip_z = tip.z();
   forces_.add(f, {0.0, 0.0, 0.0, 0.0});
-  energy_.addRow({0.0, ms_.depth, 0.0, 0.0, 0.0});
+  std::vector<double> zero(energy_.columns().size(), 0.0);
+  zero[1] = ms_.depth;
+  energy_.addRow(zero);
   markers_.record(solver_, 0.0, ms_.depth);
   recordInclusions(0.0);
   fields_.write(solver_, 0.0);
@@ -147,7 +156,9 @@ void MpmRun::recordRow(double t, const mpm::StepReport& rep) {
   const results::NeedleForces f{t,         ms_.depth, ms_.velocity, sum_.lastForce, setup_.frame.lateralOf(F),
                                 tip.x(),   tip.y(),   tip.z()};
   forces_.add(f, {sum_.lastTip, sum_.lastShaft, static_cast<double>(imp_.contactNodes), rep.dt});
-  energy_.addRow({t, ms_.depth, rep.kinetic, rep.internal, rep.internal > 0 ? rep.kinetic / rep.internal : 0.0});
+  std::vector<double> e{t, ms_.depth, rep.kinetic, rep.internal, rep.internal > 0 ? rep.kinetic / rep.internal : 0.0};
+  if (setup_.config.bodies > 1) e.push_back(rep.contact);
+  energy_.addRow(e);
   imp_ = Impulses{};
   fracture_.check(solver_, t, ms_.depth);
   if (spec_.marker_depth_step <= 0.0) markers_.record(solver_, t, ms_.depth);
