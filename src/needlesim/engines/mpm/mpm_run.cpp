@@ -145,9 +145,9 @@ void MpmRun::recordInclusions(double t) {
 void MpmRun::recordRow(double t, const mpm::StepReport& rep) {
   const Vec3 F = imp_.total / imp_.time, Ftip = imp_.tip / imp_.time, Fsh = imp_.shaft / imp_.time;
   const Vec3& axial = setup_.frame.axial;
-  sum_.lastForce = -F.dot(axial);
-  sum_.lastTip = -Ftip.dot(axial);
-  sum_.lastShaft = -Fsh.dot(axial);
+  sum_.lastForce = 0.0 - F.dot(axial);  // 0 - x: no -0 in the table
+  sum_.lastTip = 0.0 - Ftip.dot(axial);
+  sum_.lastShaft = 0.0 - Fsh.dot(axial);
   if (sum_.lastForce > sum_.peak) {
     sum_.peak = sum_.lastForce;
     sum_.peakDepth = ms_.depth;
