@@ -181,12 +181,18 @@ class MpmSolver {
  private:
   void checkIds(int material, int body) const;
   void pushParticle(const Vec3& x, const Vec3& v, double mass, double volume, int material, int body);
+  void setUpPairContact();   // finalize
+  void setUpBoundaries();    // finalize
+  void checkInitialState();  // finalize
   template <int S, bool Grad> void p2g();
   template <int S> void g2pRemap();
   template <int S> void surfaceContact(bool first);
+  void findSurfacePairs(std::size_t r);  // surfaceContact
   void buildSurface(std::size_t r);
   template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
   void gridUpdate();
+  void sumRigidForces(std::size_t touchLo, std::size_t touchHi);  // gridUpdate
+  bool rigidContactAt(std::size_t r, std::size_t I, const Vec3& xI, const double* mb);  // gridUpdate
   void penaltyForces();           // penalty_contact.cpp
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
   void scatterContact(std::size_t tid);  // penalty_contact.cpp
