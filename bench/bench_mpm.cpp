@@ -46,6 +46,7 @@ MpmSolver makeNeedleProblem(Shape shape, Update update, int threads) {
   n.tip = RigidBody::Tip::Bevel;
   n.radius = 0.44e-3;
   n.tipAngle = 20 * std::numbers::pi / 180;
+  n.bevelSide = -Vec3::UnitY();     // the sharp point on the +y wall, the axis on y = 0
   n.point = Vec3(2e-3, 0.44e-3, 0);  // tip 2 mm inside: frictional contact along the shaft
   n.velocity = Vec3(6e-3, 0, 0);
   n.friction = 0.255;

@@ -99,11 +99,15 @@ double result(const nlohmann::json& summary, const std::string& key) {
   return summary.at("results").at(key).at("value").get<double>();
 }
 
-// Uninterrupted vs interrupted after 2/3 of the steps (checkpoint at 1/3) and resumed.
-void resumedRunIsIdentical(int threads, const std::string& depth) {
-  Dir dir("resume_" + std::to_string(threads));
+// Uninterrupted vs interrupted after 2/3 of the steps (checkpoint at 1/3) and
+// resumed; `inclusions`: a tissue.inclusions list added to the scenario.
+void resumedRunIsIdentical(int threads, const std::string& depth, const std::string& inclusions = "") {
+  Dir dir("resume_" + std::to_string(threads) + (inclusions.empty() ? "" : "_inclusions"));
   const fs::path file = dir.path / "quick.yaml";
-  spit(file, quickScenario(threads, depth));
+  std::string text = quickScenario(threads, depth);
+  if (!inclusions.empty())
+    text = replaced(text, "  friction: {coefficient: 0.255}\n", "  friction: {coefficient: 0.255}\n  inclusions:\n" + inclusions);
+  spit(file, text);
   const Scenario sc = scenario::readFile(file);
   RunOptions plain;
   plain.progress = false;
@@ -174,6 +178,16 @@ TEST(MpmCheckpoint, ResumedRunIsBitIdenticalOneThread) { resumedRunIsIdentical(1
 // Two threads: the coloured scatter's slab order is part of the state (a
 // shorter insertion: two threads on 2304 points mostly wait at barriers).
 TEST(MpmCheckpoint, ResumedRunIsBitIdenticalTwoThreads) { resumedRunIsIdentical(2, "0.3 mm"); }
+
+// A sliding target in the needle's path (a second body in pair contact, its
+// motion in inclusions.csv) and a bonded sphere with another needle friction.
+TEST(MpmCheckpoint, ResumedRunWithInclusionsIsBitIdentical) {
+  resumedRunIsIdentical(1, "2 mm",
+                        "    - {name: target, depth: 3 mm, radius: 1 mm, interface: sliding, interface_friction: 0.2,\n"
+                        "       target: true, material: {law: fung, mu: 30 kPa, gamma: 1.0, nu: 0.45}}\n"
+                        "    - {name: bonded, depth: 5 mm, lateral: 1.5 mm, radius: 1 mm, friction: 0.5,\n"
+                        "       material: {law: fung, mu: 30 kPa, gamma: 1.0, nu: 0.45}}\n");
+}
 
 TEST(MpmCheckpoint, RefusesAnotherScenarioAndDamagedFiles) {
   Dir dir("refuse");

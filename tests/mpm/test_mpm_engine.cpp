@@ -13,60 +13,13 @@
 #include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/engines/mpm/mpm_engine.hpp"
 #include "needlesim/io/csv_reader.hpp"
+#include "needlesim/scenario/measured_data.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "mpm_test_scenario.hpp"
 
 using namespace needlesim;
+using namespace needlesim::mpm_test;
 
-namespace {
-
-// A 6 x 4 x 4 mm Fung block, 1 mm grid, 0.5 mm points (768), a blunt 1 mm
-// needle from 0.5 mm outside to 3 mm deep: contact starts at depth 0.
-std::string smallScenario(const std::string& extra = "", const std::string& tip = "blunt") {
-  return R"(
-name: mpm_engine_test
-tissue:
-  block: {length: 6 mm, width: 4 mm, height: 4 mm}
-  material: {law: fung, mu: 10 kPa, gamma: 1.0, nu: 0.45, density: 1000 kg/m^3}
-  friction: {coefficient: 0.255}
-needle:
-  outer_diameter: 1 mm
-  length: 40 mm
-  tip: )" + tip + R"(
-insertion:
-  start_depth: -0.5 mm
-  profile:
-    - insert: {to: 3 mm, speed: 6 mm/s}
-model:
-  engine: mpm
-  mpm:
-    grid_spacing: 1 mm
-    particle_spacing: 0.5 mm
-    mass_scaling: 1e4
-    threads: 1
-    faces: {exit: fixed, y_min: roller, y_max: roller, z_min: roller, z_max: roller}
-)" + extra + R"(
-output:
-  interval: 10 ms
-)";
-}
-
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  const auto i = s.find(from);
-  EXPECT_NE(i, std::string::npos) << from;
-  if (i != std::string::npos) s.replace(i, from.size(), to);
-  return s;
-}
-
-MemorySink runText(const std::string& yaml) {
-  const Scenario sc = scenario::readText(yaml, "mpm_engine_test.yaml");
-  MemorySink sink;
-  const EngineInfo* e = findEngine("mpm");
-  EXPECT_NE(e, nullptr);
-  if (e) e->run(sc, sink, RunOptions{false});
-  return sink;
-}
-
-}  // namespace
 
 // No force while the needle is outside the block; the blunt face meets the
 // material at depth 0 (the entry face) and the force then rises with depth.
@@ -181,15 +134,15 @@ TEST(MpmEngine, MarkerErrorsAgainstMeasuredMarkers) {
 TEST(MpmEngine, MarkerErrorsInterpolateInDepth) {
   const std::vector<double> depth{0.0, 1e-3, 2e-3, 3e-3};
   const std::vector<mpm::MarkerTrack> sim{{"a", {0.0, 0.1e-3, 0.2e-3, 0.3e-3}, {0, 0, 0, 0}}};
-  const io::CsvData csv = io::parseCsv("depth [mm],A_ux [um],a_uy [mm]\n1.5,170,0\n2.5,250,0\n", "m.csv");
-  const auto rows = mpm::compareMarkers(csv, depth, sim);
+  const std::vector<MpmMarkerSpec> markers{{"a", 0, 0, 0}};
+  const auto measured = [&](const char* text) { return scenario::measuredMarkersFrom(io::parseCsv(text, "m.csv"), markers); };
+  const auto rows = mpm::compareMarkers(measured("depth [mm],A_ux [um],a_uy [mm]\n1.5,170,0\n2.5,250,0\n"), depth, sim);
   ASSERT_EQ(rows.size(), 2u);
   EXPECT_NEAR(rows[0].rmax, 0.02e-3, 1e-15);  // simulated 0.15 mm at 1.5 mm
   EXPECT_NEAR(rows[1].rmean, 0.0, 1e-15);
   // A marker with only one of its columns, or none of the simulated markers.
-  EXPECT_THROW(mpm::compareMarkers(io::parseCsv("depth [mm],a_ux [mm]\n1,0\n", "m.csv"), depth, sim), InputError);
-  EXPECT_THROW(mpm::compareMarkers(io::parseCsv("depth [mm],b_ux [mm],b_uy [mm]\n1,0,0\n", "m.csv"), depth, sim),
-               InputError);
+  EXPECT_THROW(measured("depth [mm],a_ux [mm]\n1,0\n"), InputError);
+  EXPECT_THROW(measured("depth [mm],b_ux [mm],b_uy [mm]\n1,0,0\n"), InputError);
 }
 
 // model.mpm.anti_locking: fbar reaches the solver (named in the run note) and,

@@ -146,9 +146,10 @@ TEST(MpmRigid, NeedleDistanceAndNormals) {
   EXPECT_NEAR(d, 0, 1e-15);
   EXPECT_NEAR(nrm.x(), std::sin(b), 1e-12);
   EXPECT_NEAR(nrm.y(), std::cos(b), 1e-12);
-  // Bevel: the sharp point on the wall, the face facing -bevelDir and forward.
+  // Bevel: the sharp point on the wall at -R bevelSide, the face looking to
+  // +bevelSide and forward (bevelSide -y: sharp point at +R y).
   n.tip = RigidBody::Tip::Bevel;
-  n.bevelDir = Vec3::UnitY();
+  n.bevelSide = -Vec3::UnitY();
   n.point = Vec3(0, 0.5e-3, 0);
   d = n.distance(Vec3(-1e-3, 0.5e-3 - 1e-3 * std::tan(b), 0), &nrm, &part);
   EXPECT_NEAR(d, 0, 1e-15);

@@ -12,6 +12,7 @@
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/scenario/cohesive_path_reader.hpp"
+#include "needlesim/scenario/measured_data.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 
@@ -485,15 +486,15 @@ Scenario readSections(Section top, const std::string& source) {
       }
       if (!std::filesystem::exists(p))
         throw mpmSec.error(field, f, "does not exist (paths are relative to the scenario file)", allowed);
-      io::readCsv(p);  // an empty or malformed file is refused by `check` too (InputError naming file and line)
       return p.string();
     };
-    m.measured_force = measuredFile("measured_force", "a CSV file with columns 'depth [mm]' and 'force [N]'");
-    m.measured_markers = measuredFile("measured_markers",
-                                      "a CSV file with 'depth [mm]' and per marker '<name>_ux [mm]', '<name>_uy [mm]'");
-    if (!m.measured_markers.empty() && m.markers.empty())
-      throw mpmSec.error("measured_markers", m.measured_markers, "has nothing to compare with",
+    m.measured_force.path = measuredFile("measured_force", "a CSV file with columns 'depth [mm]' and 'force [N]'");
+    m.measured_markers.path = measuredFile(
+        "measured_markers", "a CSV file with 'depth [mm]' and per marker '<name>_ux [mm]', '<name>_uy [mm]'");
+    if (!m.measured_markers.path.empty() && m.markers.empty())
+      throw mpmSec.error("measured_markers", m.measured_markers.path, "has nothing to compare with",
                          "model.mpm.markers naming the measured markers");
+    loadMeasuredData(m);  // InputError naming the file, line or column
   }
 
   Section exs = model.sub("explicit");

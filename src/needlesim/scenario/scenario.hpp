@@ -153,6 +153,25 @@ struct MpmMarkerSpec {
 };
 
 // 3D material point method engine (seed 000; docs/models/mpm.md).
+// A measured force-depth curve (model.mpm.measured_force, seed 000 eq 35),
+// read from its CSV when the scenario is read (scenario/measured_data.hpp).
+struct MeasuredCurve {
+  std::string path;                  // resolved against the scenario file, "" = none
+  std::vector<double> depth, force;  // m, N
+};
+
+// Measured marker displacements (model.mpm.measured_markers, seed 000 eq 37):
+// per marker of model.mpm.markers that the file measures, ux and uy at each depth.
+struct MeasuredMarkers {
+  struct Track {
+    std::string name;              // as in model.mpm.markers
+    std::vector<double> ux, uy;    // m, one per depth
+  };
+  std::string path;                // resolved against the scenario file, "" = none
+  std::vector<double> depth;       // m
+  std::vector<Track> markers;
+};
+
 struct MpmModelSpec {
   double grid_spacing = 0.8e-3;      // m, background grid h
   double particle_spacing = 0.4e-3;  // m
@@ -172,8 +191,8 @@ struct MpmModelSpec {
   double field_interval = 0.5;       // s, particle fields for ParaView (0 = none)
   double marker_depth_step = 0.0;    // m, marker rows each time the tip advances this far (0 = output interval)
   std::vector<MpmMarkerSpec> markers;
-  std::string measured_force;        // CSV path (resolved against the scenario file), "" = none
-  std::string measured_markers;      // CSV path: depth and <name>_ux, <name>_uy per marker (eq 37), "" = none
+  MeasuredCurve measured_force;      // CSV: depth and force
+  MeasuredMarkers measured_markers;  // CSV: depth and <name>_ux, <name>_uy per marker (eq 37)
 };
 
 // Explicit large-deformation FE (engines/explicit, docs/models/explicit.md).

@@ -1,8 +1,7 @@
 #pragma once
-// Marker errors of seed 000 eqs 36-37 against markers measured by the user.
-// The measured CSV is wide: a depth column ('depth [mm]') and, per marker,
-// '<name>_ux' and '<name>_uy' columns with length units (marker names as in
-// model.mpm.markers, any case). At each measured depth inside the simulated
+// Marker errors of seed 000 eqs 36-37 against markers measured by the user
+// (model.mpm.measured_markers, read with the scenario: scenario/measured_data.hpp).
+// At each measured depth inside the simulated
 // (advancing) depths the simulated displacements are interpolated linearly in
 // depth; eq 36 gives u_xy = sqrt(ux^2 + uy^2) and eq 37 the largest and the
 // mean |u_xy,exp - u_xy,sim| over the markers, and the same per component
@@ -10,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "needlesim/io/csv_reader.hpp"
+#include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim::mpm {
 
@@ -29,9 +28,12 @@ struct MarkerErrorRow {
   int markers = 0;                        // markers measured at this depth
 };
 
-// Throws InputError (file, header line, what is allowed) when the CSV has no
-// depth column or no column pair of any simulated marker.
-std::vector<MarkerErrorRow> compareMarkers(const io::CsvData& measured, const std::vector<double>& simDepth,
+// The advancing part of a simulated run: the rows up to the first maximum
+// depth (a repeated depth keeps its last row); their depths go to `depth`.
+std::vector<std::size_t> advancingRows(const std::vector<double>& simDepth, std::vector<double>& depth);
+
+// The measured markers are matched to the simulated ones by name.
+std::vector<MarkerErrorRow> compareMarkers(const MeasuredMarkers& measured, const std::vector<double>& simDepth,
                                            const std::vector<MarkerTrack>& sim);
 
 }  // namespace needlesim::mpm

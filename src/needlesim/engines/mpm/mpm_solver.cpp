@@ -115,13 +115,12 @@ double RigidBody::distance(const Vec3& x, Vec3* n, int* part) const {
     return (x - point).dot(normal);
   }
   const Vec3& e = axis;
-  // Axis point level with the tip: the tip itself, or R off the sharp point of a bevel.
-  const Vec3 c = tip == Tip::Bevel ? Vec3(point - radius * bevelDir) : point;
+  const Vec3 c = axisPoint();
   const Vec3 rel = x - c;
   const double s = -rel.dot(e);  // distance behind the tip plane along the axis
   Vec3 rv = rel + s * e;         // radial vector
   double r = rv.norm();
-  Vec3 er = r > 1e-14 ? Vec3(rv / r) : bevelDir;
+  Vec3 er = r > 1e-14 ? Vec3(rv / r) : bevelSide;
   const double dCyl = r - radius;
   double dTip;
   Vec3 nTip;
@@ -138,7 +137,7 @@ double RigidBody::distance(const Vec3& x, Vec3* n, int* part) const {
       break;
     }
     case Tip::Bevel: {
-      nTip = std::sin(tipAngle) * e - std::cos(tipAngle) * bevelDir;  // face of the bevel
+      nTip = std::sin(tipAngle) * e + std::cos(tipAngle) * bevelSide;  // face of the bevel
       dTip = (x - point).dot(nTip);
       break;
     }
@@ -222,6 +221,14 @@ std::size_t MpmSolver::addParticle(const Vec3& x, double volume, int material, i
   return size() - 1;
 }
 
+void MpmSolver::reassign(std::size_t p, int material, int body) {
+  checkIds(material, body);
+  if (finalized_) throw Error("mpm: a point changes material or body only before finalize");
+  P_[p].mass = mats_[static_cast<std::size_t>(material)].density * P_[p].vol0 * cfg_.massScaling;
+  body_[p] = static_cast<std::uint8_t>(body);
+  mat_[p] = static_cast<std::uint8_t>(material);
+}
+
 void MpmSolver::pushParticle(const Vec3& x, const Vec3& v, double mass, double volume, int material, int body) {
   Point q{};
   for (int d = 0; d < 3; ++d) {
@@ -247,6 +254,13 @@ void MpmSolver::finalize() {
     b.grad.assign(B > 1 ? 8 * 2 * nodes_ : 0, 0.0);
     b.gmin.assign(R * nodes_, kInf);
   }
+  materialFriction_.clear();
+  if (std::any_of(mats_.begin(), mats_.end(), [](const MpmMaterial& m) { return m.rigidFriction >= 0.0; })) {
+    for (const MpmMaterial& m : mats_) materialFriction_.push_back(m.rigidFriction);
+    buf_[0].gmat.assign(R * nodes_, 0);
+    for (const RigidBody& r : rigids_)
+      if (r.surfaceContact) throw Error("mpm: the CFEMP contact takes the rigid body's friction, not the materials'");
+  }
   nearCell_.assign(B > 1 ? size() : 0, kNotNear);
   occFresh_ = false;  // markNearBodies marks the cells from the positions
   vel_.assign(8 * B * nodes_, 0.0);
@@ -270,8 +284,16 @@ void MpmSolver::finalize() {
     surfaceEst_.emplace(cfg_.shape != Shape::Linear);
     pairGap_ = cfg_.pairGapTolerance * cfg_.h;
   }
-  // Penalty or density contact of two bodies (penalty_contact.hpp,
-  // density_contact.hpp): stiffness kappa M d_p.
+  setUpPairContact();
+  setUpBoundaries();
+  checkInitialState();
+  finalized_ = true;
+}
+
+// Penalty or density contact of two bodies (penalty_contact.hpp,
+// density_contact.hpp): stiffness kappa M d_p.
+void MpmSolver::setUpPairContact() {
+  const int B = cfg_.bodies;
   penalty_.reset();
   if (B > 1 && cfg_.bodyContact != BodyContact::Velocity) {
     double M = 0.0;
@@ -296,7 +318,10 @@ void MpmSolver::finalize() {
     if (law) penalty_->useDensity(std::move(*law));
   }
 
-  // Boundary conditions on the nodes on or beyond each face of the box.
+}
+
+// Boundary conditions on the nodes on or beyond each face of the box.
+void MpmSolver::setUpBoundaries() {
   fixMask_.assign(nodes_, 0);
   dashpot_.assign(3 * nodes_, 0.0);
   const double tol = 1e-6 * cfg_.h;
@@ -334,7 +359,10 @@ void MpmSolver::finalize() {
         }
       }
 
-  // Check every particle lies inside the grid, and the initial wave speed.
+}
+
+// Every particle lies inside the grid; the initial wave speed.
+void MpmSolver::checkInitialState() {
   maxSpeed_ = 0.0;
   const int S = cfg_.shape == Shape::Linear ? 2 : 3;
   const double invh = 1.0 / cfg_.h;
@@ -349,7 +377,14 @@ void MpmSolver::finalize() {
     stress(p, defGrad(p), W, c);
     maxSpeed_ = std::max(maxSpeed_, c + velocity(p).norm());
   }
-  finalized_ = true;
+}
+
+// The node's material (gmat) is the one p2g recorded this step: read only at
+// nodes whose gap minimum it lowered (gridUpdate, remapUpdate of that step).
+double MpmSolver::rigidFriction(std::size_t r, std::size_t I) const {
+  if (materialFriction_.empty()) return rigids_[r].friction;
+  const double mu = materialFriction_[buf_[0].gmat[r * nodes_ + I]];
+  return mu >= 0.0 ? mu : rigids_[r].friction;
 }
 
 Vec3 MpmSolver::nodePosition(std::size_t I) const {
@@ -641,13 +676,18 @@ namespace {
 // indices above the gap tests and so computes them for every point (~85
 // instructions per point-step), though only the points near a needle (a few
 // per cent) get here.
+// gmat (null when every material takes the rigid body's friction): the
+// material of the point of the smallest gap at each node, the first at a tie.
 template <int S>
-[[gnu::noinline]] void minGap(double* gmin, std::size_t sx, std::size_t sy, double gap) {
+[[gnu::noinline]] void minGap(double* gmin, std::uint8_t* gmat, std::size_t sx, std::size_t sy, double gap,
+                              std::uint8_t material) {
   for (int i = 0; i < S; ++i)
     for (int j = 0; j < S; ++j)
       for (int k = 0; k < S; ++k) {
-        double& g = gmin[static_cast<std::size_t>(i) * sx + static_cast<std::size_t>(j) * sy + static_cast<std::size_t>(k)];
-        g = std::min(g, gap);
+        const std::size_t o = static_cast<std::size_t>(i) * sx + static_cast<std::size_t>(j) * sy + static_cast<std::size_t>(k);
+        if (!(gap < gmin[o])) continue;
+        gmin[o] = gap;
+        if (gmat) gmat[o] = material;
       }
 }
 }  // namespace
@@ -673,7 +713,7 @@ MPM_CLONES void MpmSolver::p2g() {
     const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
     Axis& A = ax[static_cast<std::size_t>(r)];
     A.needle = rb.kind == RigidBody::Kind::Needle && !rb.surfaceContact;
-    A.c = rb.tip == RigidBody::Tip::Bevel ? Vec3(rb.point - rb.radius * rb.bevelDir) : rb.point;
+    A.c = rb.axisPoint();
     A.e = rb.axis;
     A.rmax2 = (rb.radius + gapReach) * (rb.radius + gapReach);
   }
@@ -768,9 +808,10 @@ MPM_CLONES void MpmSolver::p2g() {
         }
         const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
         if (gap > gapReach) continue;
-        minGap<S>(B.gmin.data() + static_cast<std::size_t>(r) * nodes_ +
-                      (static_cast<std::size_t>(bx) * n1 + static_cast<std::size_t>(by)) * n2 + static_cast<std::size_t>(bz),
-                  n1 * n2, n2, gap);
+        const std::size_t base = static_cast<std::size_t>(r) * nodes_ +
+                                 (static_cast<std::size_t>(bx) * n1 + static_cast<std::size_t>(by)) * n2 +
+                                 static_cast<std::size_t>(bz);
+        minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
       }
     }
     if (colour == 0) {
@@ -926,6 +967,30 @@ MPM_AVX_CLONES void remapNodes(double* r, double* v, std::size_t n, const std::u
 
 }  // namespace
 
+// Rigid r's contact (eqs 14-21) at node I (position xI, body masses mb) within
+// the eq 22 gap: the impulse per body (summed by sumRigidForces in node order),
+// the normal for the MUSL remap, the flags; returns whether it acted.
+[[gnu::always_inline]] inline bool MpmSolver::rigidContactAt(std::size_t r, std::size_t I, const Vec3& xI,
+                                                            const double* mb) {
+  const std::size_t UB = static_cast<std::size_t>(cfg_.bodies);
+  const RigidBody& rb = rigids_[r];
+  Vec3 n;
+  int part = 0;
+  rb.distance(xI, &n, &part);
+  for (int c = 0; c < 3; ++c) rnormal_[3 * (r * nodes_ + I) + c] = n[c];
+  std::uint8_t flag = 0;
+  for (std::size_t b = 0; b < UB; ++b) {
+    double* ib = &rimp_[3 * ((r * nodes_ + I) * UB + b)];
+    std::fill_n(ib, 3, 0.0);
+    if (!(mb[b] > 0)) continue;
+    const Vec3 imp = rigidContact(mb[b], &vel_[8 * (b * nodes_ + I)], n, rb.velocity, rigidFriction(r, I));
+    for (int c = 0; c < 3; ++c) ib[c] = imp[c];
+    if (imp.squaredNorm() != 0.0) flag = 1;
+  }
+  active_[r * nodes_ + I] = static_cast<std::uint8_t>(flag | 2 | (part << 2));
+  return flag != 0;
+}
+
 // Per (i, j) row and body: find the span of nodes with mass (reading the mass
 // lanes only) and apply eq 3 there; then the node-wise contact and boundary
 // conditions on the row's hull of spans. Outside the spans only what the last
@@ -1033,22 +1098,7 @@ void MpmSolver::gridUpdate() {
           const double gm = G.gmin[r * nodes_ + I];
           G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g (gridUpdate is its only reader)
           if (!(gm < gap)) continue;  // eq 22: no particle touches the body here
-          const RigidBody& rb = rigids_[r];
-          Vec3 n;
-          int part = 0;
-          rb.distance(xI, &n, &part);
-          for (int c = 0; c < 3; ++c) rnormal_[3 * (r * nodes_ + I) + c] = n[c];
-          std::uint8_t flag = 0;
-          for (std::size_t b = 0; b < UB; ++b) {
-            double* ib = &rimp_[3 * ((r * nodes_ + I) * UB + b)];  // summed below, in node order
-            std::fill_n(ib, 3, 0.0);
-            if (!(mb[b] > 0)) continue;
-            const Vec3 imp = rigidContact(mb[b], &vel_[8 * (b * nodes_ + I)], n, rb.velocity, rb.friction);
-            for (int c = 0; c < 3; ++c) ib[c] = imp[c];
-            if (imp.squaredNorm() != 0.0) flag = 1;
-          }
-          active_[r * nodes_ + I] = static_cast<std::uint8_t>(flag | 2 | (part << 2));
-          if (flag) {
+          if (rigidContactAt(r, I, xI, mb)) {
             touchLo = std::min(touchLo, q);
             touchHi = std::max(touchHi, q + 1);
           }
@@ -1061,8 +1111,15 @@ void MpmSolver::gridUpdate() {
       }
     }
   }
-  // Force on each rigid body: the impulses in node order (the same sum on any
-  // number of threads); contact nodes lie in the spans of the rows touched.
+  sumRigidForces(touchLo, touchHi);
+}
+
+// Force on each rigid body: the impulses in node order (the same sum on any
+// number of threads); contact nodes lie in the spans of the rows [touchLo, touchHi).
+void MpmSolver::sumRigidForces(std::size_t touchLo, std::size_t touchHi) {
+  const std::size_t R = rigids_.size(), UB = static_cast<std::size_t>(cfg_.bodies);
+  const std::size_t n2 = static_cast<std::size_t>(nn_[2]), rows = static_cast<std::size_t>(nn_[0]) * nn_[1];
+  const double dt = dt_;
   for (std::size_t r = 0; r < R; ++r) {
     std::array<double, 9> a{};  // total(3) shaft(3) tip(3)
     int count = 0;
@@ -1186,6 +1243,69 @@ void MpmSolver::buildSurface(std::size_t r) {
   for (const auto& l : lists) S.items.insert(S.items.end(), l.begin(), l.end());
 }
 
+// CFEMP pairs of rigid r (eq 22): the particles within the gap of the
+// needle's nearest facet, with that facet's normal and part.
+void MpmSolver::findSurfacePairs(std::size_t r) {
+  const RigidBody& rb = rigids_[r];
+  const Surface& Sf = surf_[r];
+  const Vec3 e = rb.axis, ys = rb.bevelSide, zs = e.cross(ys);
+  const Vec3 c0 = rb.axisPoint();  // the surface's origin (buildSurface)
+  pairs_.clear();
+  const double limit = 0.5 * rb.elementSize + cfg_.contactGap;  // eq 22: (d_e + d_p)/2
+  for (std::size_t p = 0; p < size(); ++p) {
+    const Vec3 q(P_[p].x[0] - c0.x(), P_[p].x[1] - c0.y(), P_[p].x[2] - c0.z());
+    const Vec3 xl(q.dot(e), q.dot(ys), q.dot(zs));
+    int c[3];
+    bool in = true;
+    for (int d = 0; d < 3 && in; ++d) {
+      const double u = (xl[d] - Sf.lo[d]) / Sf.cell;
+      in = u >= 0 && u < Sf.dim[d];
+      c[d] = in ? static_cast<int>(u) : 0;
+    }
+    if (!in) continue;
+    const std::size_t bkt = (static_cast<std::size_t>(c[0]) * Sf.dim[1] + c[1]) * Sf.dim[2] + c[2];
+    // Nearest facet; the gap is the distance, signed by the facet that
+    // sees the particle most from outside (at a shared edge or vertex; the
+    // needle is convex): the normal component alone put particles ahead
+    // of a sharp apex in contact far too early. At a tie between a tip
+    // facet and a wall facet (the bevel rim, its sharp point) the facet
+    // that will sweep the particle gives the normal: a wall facet for a
+    // particle outside the cylinder radius (the wall passes it), a tip
+    // facet inside it (the tip face pushes it aside). Picking the tip
+    // facet for every particle ahead of the sharp point pushed points
+    // lying outside the radius across the needle's path, so the tissue
+    // was driven ahead of the bevel instead of parting.
+    const bool outside = xl.y() * xl.y() + xl.z() * xl.z() >= rb.radius * rb.radius;
+    double best = kInf, signDot = -kInf, bestDot = -kInf;
+    int bt = -1, bestRank = -1;
+    for (int it = Sf.start[bkt]; it < Sf.start[bkt + 1]; ++it) {
+      const int t = Sf.items[static_cast<std::size_t>(it)];
+      const Vec3 xc = closestOnTriangle(xl, Sf.a[t], Sf.b[t], Sf.c[t]);  // foot of the perpendicular
+      const double d2 = (xl - xc).squaredNorm();
+      const double dot = (xl - xc).dot(Sf.n[t]);
+      const int rank = outside && Sf.tip[static_cast<std::size_t>(t)] ? 0 : 1;  // the sweeping facet first
+      const double tol = 1e-9 * best + 1e-24;
+      if (d2 < best - tol) {
+        best = d2;
+        signDot = dot;
+      } else if (d2 <= best + tol) {
+        best = std::min(best, d2);
+        signDot = std::max(signDot, dot);
+        if (rank < bestRank || (rank == bestRank && dot <= bestDot)) continue;
+      } else {
+        continue;
+      }
+      bt = t;
+      bestRank = rank;
+      bestDot = dot;
+    }
+    const double gap = std::copysign(std::sqrt(best), signDot);
+    if (bt < 0 || !(gap < limit)) continue;
+    const Vec3& nl = Sf.n[static_cast<std::size_t>(bt)];
+    pairs_.push_back({p, Vec3(nl.x() * e + nl.y() * ys + nl.z() * zs), Sf.tip[static_cast<std::size_t>(bt)] != 0});
+  }
+}
+
 // Particle-to-surface contact (seed 000 eqs 22-24) for the rigid needle with
 // prescribed motion (m_c -> infinity in eq 23): a particle whose gap to the
 // nearest facet is below (d_e + d_p)/2 (eq 22) and that approaches it gets the
@@ -1209,64 +1329,7 @@ void MpmSolver::surfaceContact(bool first) {
   for (std::size_t r = 0; r < R; ++r) {
     const RigidBody& rb = rigids_[r];
     if (!rb.surfaceContact) continue;
-    const Surface& Sf = surf_[r];
-    const Vec3 e = rb.axis, ys = -rb.bevelDir, zs = e.cross(ys);
-    if (first) {
-      pairs_.clear();
-      const double limit = 0.5 * rb.elementSize + cfg_.contactGap;  // eq 22: (d_e + d_p)/2
-      for (std::size_t p = 0; p < size(); ++p) {
-        const Vec3 q(P_[p].x[0] - rb.point.x(), P_[p].x[1] - rb.point.y(), P_[p].x[2] - rb.point.z());
-        const Vec3 xl(q.dot(e), q.dot(ys), q.dot(zs));
-        int c[3];
-        bool in = true;
-        for (int d = 0; d < 3 && in; ++d) {
-          const double u = (xl[d] - Sf.lo[d]) / Sf.cell;
-          in = u >= 0 && u < Sf.dim[d];
-          c[d] = in ? static_cast<int>(u) : 0;
-        }
-        if (!in) continue;
-        const std::size_t bkt = (static_cast<std::size_t>(c[0]) * Sf.dim[1] + c[1]) * Sf.dim[2] + c[2];
-        // Nearest facet; the gap is the distance, signed by the facet that
-        // sees the particle most from outside (at a shared edge or vertex; the
-        // needle is convex): the normal component alone put particles ahead
-        // of a sharp apex in contact far too early. At a tie between a tip
-        // facet and a wall facet (the bevel rim, its sharp point) the facet
-        // that will sweep the particle gives the normal: a wall facet for a
-        // particle outside the cylinder radius (the wall passes it), a tip
-        // facet inside it (the tip face pushes it aside). Picking the tip
-        // facet for every particle ahead of the sharp point pushed points
-        // lying outside the radius across the needle's path, so the tissue
-        // was driven ahead of the bevel instead of parting.
-        const bool outside = xl.y() * xl.y() + xl.z() * xl.z() >= rb.radius * rb.radius;
-        double best = kInf, signDot = -kInf, bestDot = -kInf;
-        int bt = -1, bestRank = -1;
-        for (int it = Sf.start[bkt]; it < Sf.start[bkt + 1]; ++it) {
-          const int t = Sf.items[static_cast<std::size_t>(it)];
-          const Vec3 xc = closestOnTriangle(xl, Sf.a[t], Sf.b[t], Sf.c[t]);  // foot of the perpendicular
-          const double d2 = (xl - xc).squaredNorm();
-          const double dot = (xl - xc).dot(Sf.n[t]);
-          const int rank = outside && Sf.tip[static_cast<std::size_t>(t)] ? 0 : 1;  // the sweeping facet first
-          const double tol = 1e-9 * best + 1e-24;
-          if (d2 < best - tol) {
-            best = d2;
-            signDot = dot;
-          } else if (d2 <= best + tol) {
-            best = std::min(best, d2);
-            signDot = std::max(signDot, dot);
-            if (rank < bestRank || (rank == bestRank && dot <= bestDot)) continue;
-          } else {
-            continue;
-          }
-          bt = t;
-          bestRank = rank;
-          bestDot = dot;
-        }
-        const double gap = std::copysign(std::sqrt(best), signDot);
-        if (bt < 0 || !(gap < limit)) continue;
-        const Vec3& nl = Sf.n[static_cast<std::size_t>(bt)];
-        pairs_.push_back({p, Vec3(nl.x() * e + nl.y() * ys + nl.z() * zs), Sf.tip[static_cast<std::size_t>(bt)] != 0});
-      }
-    }
+    if (first) findSurfacePairs(r);
     Vec3 ftot = Vec3::Zero(), ftip = Vec3::Zero(), fsh = Vec3::Zero();
     int count = 0;
     for (const SurfacePair& pr : pairs_) {
@@ -1380,7 +1443,7 @@ void MpmSolver::remapUpdate(bool clear) {
           const double* nn = &rnormal_[3 * (r * nodes_ + I)];
           const Vec3 n(nn[0], nn[1], nn[2]);
           for (std::size_t b = 0; b < UB; ++b)
-            if (mb[b] > 0) rigidContact(mb[b], &vel_[8 * (b * nodes_ + I) + 4], n, rigids_[r].velocity, rigids_[r].friction);
+            if (mb[b] > 0) rigidContact(mb[b], &vel_[8 * (b * nodes_ + I) + 4], n, rigids_[r].velocity, rigidFriction(r, I));
         }
         const std::uint8_t mask = fix[I];
         if (mask)

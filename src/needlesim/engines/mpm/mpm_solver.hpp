@@ -49,6 +49,9 @@ enum class FaceBC { Free, Fixed, Roller, NonReflecting };
 struct MpmMaterial {
   materials::Hyperelastic law;
   double density = 1000.0;  // kg/m^3, before mass scaling
+  // Coulomb coefficient of the grid contact with a rigid body where this
+  // material's point is nearest to it (eq 20); < 0: the rigid body's own.
+  double rigidFriction = -1.0;
   static MpmMaterial fromSpec(const materials::MaterialSpec& spec);
 };
 
@@ -65,7 +68,9 @@ struct RigidBody {
   Vec3 point = Vec3::Zero();    // plane: a point on it; needle: the tip point
   Vec3 normal = Vec3::UnitZ();  // plane: outward normal (out of the rigid half-space)
   Vec3 axis = Vec3::UnitX();    // needle: unit insertion direction (base -> tip)
-  Vec3 bevelDir = Vec3::UnitY();  // needle, bevel tip: unit radial direction of the sharp point
+  // needle, bevel tip: the side the bevel face looks to (needle::NeedleShape's
+  // bevelSide): the heel on +bevelSide, the sharp point at -radius bevelSide.
+  Vec3 bevelSide = Vec3::UnitY();
   double radius = 0.0;          // needle radius, m
   double tipAngle = 0.35;       // rad: cone half-angle / bevel angle to the axis
   Vec3 velocity = Vec3::Zero(); // m/s
@@ -76,6 +81,8 @@ struct RigidBody {
   // Signed distance (negative inside), the outward unit normal at the nearest
   // face, and which part is nearest (0 shaft or plane, 1 tip).
   double distance(const Vec3& x, Vec3* n, int* part) const;
+  // Needle: the axis point level with the tip (`point`, or R off a bevel's sharp point).
+  Vec3 axisPoint() const { return tip == Tip::Bevel ? Vec3(point + radius * bevelSide) : point; }
 };
 
 struct MpmConfig {
@@ -137,6 +144,9 @@ class MpmSolver {
   // the particle spacing as addBlock's does); returns its index. For shapes
   // other than boxes (spheres, imported point clouds).
   std::size_t addParticle(const Vec3& x, double volume, int material, int body, const Vec3& velocity = Vec3::Zero());
+  // Before finalize: moves point p to another material (its mass follows the
+  // density) and body.
+  void reassign(std::size_t p, int material, int body);
   // Call once after adding everything (sizes scratch; no allocation afterwards).
   void finalize();
 
@@ -171,12 +181,18 @@ class MpmSolver {
  private:
   void checkIds(int material, int body) const;
   void pushParticle(const Vec3& x, const Vec3& v, double mass, double volume, int material, int body);
+  void setUpPairContact();   // finalize
+  void setUpBoundaries();    // finalize
+  void checkInitialState();  // finalize
   template <int S, bool Grad> void p2g();
   template <int S> void g2pRemap();
   template <int S> void surfaceContact(bool first);
+  void findSurfacePairs(std::size_t r);  // surfaceContact
   void buildSurface(std::size_t r);
   template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
   void gridUpdate();
+  void sumRigidForces(std::size_t touchLo, std::size_t touchHi);  // gridUpdate
+  bool rigidContactAt(std::size_t r, std::size_t I, const Vec3& xI, const double* mb);  // gridUpdate
   void penaltyForces();           // penalty_contact.cpp
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
   void scatterContact(std::size_t tid);  // penalty_contact.cpp
@@ -233,6 +249,7 @@ class MpmSolver {
     grid::LineVector<double> rec;   // nr_ per node per body (64-byte aligned records)
     grid::LineVector<double> grad;  // two bodies: 8 per node per body (grid::kG; grid::kX velocity contact only)
     std::vector<double> gmin;      // per node per rigid
+    std::vector<std::uint8_t> gmat;  // per node per rigid: material of the point of the smallest gap (materialFriction_)
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])
   // Race-free scatter: order_ visits the points by the layer of their base
@@ -254,6 +271,10 @@ class MpmSolver {
   std::vector<std::uint8_t> active_;    // per node: rigid contact flags of the first update
   std::vector<double> rnormal_;         // per node per rigid: normal (3) used in the first update
   std::vector<RigidForce> rforce_;
+  // Per material its rigidFriction; empty when no material sets one (every
+  // contact node then uses the rigid body's coefficient).
+  std::vector<double> materialFriction_;
+  double rigidFriction(std::size_t r, std::size_t I) const;
   // Grid passes (gridUpdate, remapUpdate): per body and (i, j) row the span
   // [k0, k1) of the nodes with mass, this step's and the last one's (outside
   // its spans a row holds zero velocities and contact flags); the cumulative

@@ -45,7 +45,7 @@ void MpmSolver::saveState(io::BinaryWriter& w) const {
   w.tag("rigids");
   for (std::size_t r = 0; r < rigids_.size(); ++r) {
     const RigidBody& b = rigids_[r];
-    for (const Vec3* v : {&b.point, &b.normal, &b.axis, &b.bevelDir, &b.velocity}) putVec(w, *v);
+    for (const Vec3* v : {&b.point, &b.normal, &b.axis, &b.bevelSide, &b.velocity}) putVec(w, *v);
     const RigidForce& f = rforce_[r];
     for (const Vec3* v : {&f.total, &f.tip, &f.shaft}) putVec(w, *v);
     w.pod(static_cast<std::int32_t>(f.contactNodes));
@@ -107,7 +107,7 @@ void MpmSolver::loadState(io::BinaryReader& r) {
   std::vector<RigidForce> rforce(rigids_.size());
   for (std::size_t i = 0; i < rigids.size(); ++i) {
     RigidBody& b = rigids[i];
-    for (Vec3* v : {&b.point, &b.normal, &b.axis, &b.bevelDir, &b.velocity}) *v = getVec(r);
+    for (Vec3* v : {&b.point, &b.normal, &b.axis, &b.bevelSide, &b.velocity}) *v = getVec(r);
     RigidForce& f = rforce[i];
     for (Vec3* v : {&f.total, &f.tip, &f.shaft}) *v = getVec(r);
     f.contactNodes = r.pod<std::int32_t>();

@@ -1,0 +1,90 @@
+#pragma once
+// What the mpm engine records besides the forces: markers that follow
+// material points (eq 36), the numerical fracture (section 3.4), the particle
+// fields for ParaView and the force error against a measured curve (eq 35).
+#include <cmath>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "needlesim/engines/engine.hpp"
+#include "needlesim/engines/mpm/mpm_solver.hpp"
+#include "needlesim/io/field_series.hpp"
+#include "needlesim/io/table.hpp"
+#include "needlesim/scenario/scenario.hpp"
+
+namespace needlesim::engines::mpm_outputs {
+
+using mpm::MpmSolver;
+using mpm::Vec3;
+
+// Markers (model.mpm.markers): each follows the material point nearest to its
+// position (given from the entry point). markers.csv: ux, uy, uz and the
+// in-plane u_xy of eq 36 per marker.
+class MarkerSet {
+ public:
+  MarkerSet(const std::vector<MpmMarkerSpec>& specs, const MpmSolver& solver, const Vec3& entry);
+  bool empty() const { return markers_.empty(); }
+  void record(const MpmSolver& solver, double t, double depth);
+  io::Table& table() { return table_; }
+  std::vector<double> largest() const;  // the largest u_xy of each marker so far
+  void setLargest(const std::vector<double>& uxy);
+  // Final and largest u_xy per marker, and how far the farthest follows its point from its position.
+  void results(const MpmSolver& solver, ResultSink& sink) const;
+  std::vector<std::string> names() const;
+
+ private:
+  struct Marker {
+    std::string name;
+    std::size_t particle = 0;
+    Vec3 x0 = Vec3::Zero();
+    double maxUxy = 0.0;
+  };
+  std::vector<Marker> markers_;
+  double farthest_ = 0.0;  // m, largest distance of a marker's point from its given position
+  io::Table table_;
+};
+
+// Numerical fracture (seed 000 section 3.4): pairs of initially neighbouring
+// material points (lattice neighbours, distance <= 1.05 spacing) that end up in
+// non-adjacent grid cells or more than 1.5 grid cells apart no longer interact
+// through the grid: the tissue has separated between them. Each pair is
+// reported once, when it first separates, at the position along the needle
+// path of its initial midpoint (docs/models/mpm.md).
+struct FractureTracker {
+  std::vector<std::uint32_t> a, b;  // neighbouring pairs
+  std::vector<std::uint8_t> separated;
+  std::vector<double> pathDepth, radial;  // initial midpoint: along the path from the entry point, distance from it
+  std::size_t total = 0;
+  double onsetDepth = NAN, onsetTime = NAN, deepest = NAN, widest = 0.0;
+  io::Table table{{{"time", "s"}, {"tip_depth", "m"}, {"path_depth", "m"}, {"new_pairs", "1"}, {"total_pairs", "1"}}};
+
+  void init(const MpmSolver& s, const Vec3& entry, const Vec3& axis);
+  // Marks newly separated pairs; adds one row per grid-cell bin of the path.
+  void check(const MpmSolver& s, double t, double tipDepth);
+  void results(ResultSink& sink) const;
+};
+
+// The particle series for ParaView: displacement and von Mises stress.
+class ParticleFields {
+ public:
+  ParticleFields(io::FieldSeries* series, const MpmSolver& solver);
+  io::FieldSeries* series() const { return fs_; }
+  void write(const MpmSolver& solver, double t);
+
+ private:
+  io::FieldSeries* fs_;
+  std::vector<double> x0_, pts_, disp_, vm_;
+};
+
+// Seed 000 eq 35 against a measured force-depth curve: the simulated force
+// interpolated at each measured depth inside the simulated (first, advancing)
+// range of depths.
+struct ForceError {
+  double rmse = 0.0, mae = 0.0;
+  std::size_t n = 0;
+};
+ForceError compareForce(const MeasuredCurve& measured, const std::vector<double>& simDepth,
+                        const std::vector<double>& simForce);
+
+}  // namespace needlesim::engines::mpm_outputs
