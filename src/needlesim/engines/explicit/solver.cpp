@@ -642,7 +642,7 @@ void ExplicitSolver::contactForces(double dtStep) {
       k = std::max(k, 10.0 * coh_.front().law(cohPairOf_[n]).stiffness * coh_.front().tributaryLength(cohPairOf_[n]));
     const double fn = k * hit.depth;
     Vector3d f = fn * hit.normal;
-    const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
+    const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.wallFriction(n);
     recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
     if (nd.path)
       for (int i = 0; i < 3; ++i) contactAxis_[static_cast<std::size_t>(n) * 3 + i] = pose.axis[i];

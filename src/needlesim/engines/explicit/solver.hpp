@@ -112,6 +112,8 @@ struct RigidNeedle {
   double spinRate = 0.0;         // rad/s about pose.axis (needle_motion.hpp; 3D)
   double frictionWall = 0.0;     // Coulomb coefficient on the walls (seed 001: 0.3)
   double frictionTip = 0.0;      // on the tip surface (seed 001: frictionless)
+  std::vector<double> frictionWallNode;  // per tissue node: its layer's or inclusion's (empty = frictionWall)
+  double wallFriction(int node) const { return frictionWallNode.empty() ? frictionWall : frictionWallNode[node]; }
   // loads applied in the last step (the normal part evaluated at its end, contact_normal.cpp)
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // reaction on the needle (from the tissue)
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // about the base centre
