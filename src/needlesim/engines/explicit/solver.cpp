@@ -89,7 +89,7 @@ inline Matrix3d fromVoigt(const Voigt& v) {
 // Flanagan-Belytschko hourglass forces of one element added to fe (gamma: nhg x NPE shape vectors, K the
 // DIM x DIM stiffness); returns the hourglass energy, sets hs to the largest zig-zag amplitude / size.
 template <int NPE, int DIM>
-inline double hourglassForces(const double* K, const double* gamma, int nhg, const double (&ue)[NPE][DIM],
+[[gnu::always_inline]] inline double hourglassForces(const double* K, const double* gamma, int nhg, const double (&ue)[NPE][DIM],
                               double sumG, double* fe, double& hs) {
   double ehg = 0.0;
   for (int m = 0; m < nhg; ++m) {
