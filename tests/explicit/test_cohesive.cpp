@@ -11,6 +11,7 @@
 #include "needlesim/engines/explicit/cohesive.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "engine_tables.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
@@ -363,8 +364,7 @@ TEST(CohesiveInsertion, ForceAboveNodeReleaseAndDissipationBoundedByGc) {
   MemorySink rel = runInMemory(scenario::readText(yaml(false), "<release>"));
   MemorySink coh = runInMemory(scenario::readText(yaml(true), "<cohesive>"));
   auto mean = [](const MemorySink& m) {
-    const auto& t = m.tables.at("explicit");
-    auto d = t.column("needle displacement"), f = t.column("force");
+    auto d = explicit_test::needleDisplacement(m), f = explicit_test::column(m, "forces", "force_total");
     double s = 0;
     int n = 0;
     for (std::size_t i = 0; i < d.size(); ++i)
@@ -394,8 +394,7 @@ TEST(CohesiveInsertion, ForceAboveNodeReleaseAndDissipationBoundedByGc) {
 // partly damaged pairs in the process zone ahead (bounded by G_c x one element x thickness).
 TEST(CohesiveInsertion, PointWedgesPairsOpenAndDissipationMatchesGc) {
   MemorySink coh = runInMemory(scenario::readText(insertionYaml(true), "<cohesive>"));
-  const auto& t = coh.tables.at("explicit");
-  const auto d = t.column("needle displacement"), L = t.column("cracked length");
+  const auto d = explicit_test::needleDisplacement(coh), L = explicit_test::column(coh, "seam", "cracked_length");
   const double h = 0.5e-3, thick = 2e-3, Gc = 10.0;
   // cracked length against depth: non-decreasing, and at 2 mm less than at 4 mm by about 2 mm
   double L2 = -1, dPrev = -1;

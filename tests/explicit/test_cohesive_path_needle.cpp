@@ -56,8 +56,8 @@ model:
 double res(const MemorySink& m, const char* k) { return m.results.at(k).value; }
 MemorySink run(const std::string& text) { return runInMemory(scenario::readText(text, "<path>")); }
 // mean of a CSV column over the rows with depth in [d0, d1]
-double meanOver(const MemorySink& m, const char* col, double d0, double d1) {
-  const auto& t = m.tables.at("explicit");
+double meanOver(const MemorySink& m, const char* table, const char* col, double d0, double d1) {
+  const auto& t = m.tables.at(table);
   const auto depth = t.column("depth"), v = t.column(col);
   double s = 0;
   int n = 0;
@@ -74,11 +74,12 @@ std::string arc(double radiusMm) { return "      path: arc\n      path_radius: "
 TEST(PathNeedle, StraightPathGivenAsPointsEqualsTheDefaultRun) {
   MemorySink s = run(yaml("", 3e-3));
   MemorySink p = run(yaml("      path: points\n      path_points: [{x: 0 mm, y: 0 mm}, {x: 10 mm, y: 0 mm}]\n", 3e-3));
-  const auto& ts = s.tables.at("explicit");
-  const auto& tp = p.tables.at("explicit");
-  for (const char* col : {"depth", "force", "lateral force", "tip force", "cohesive dissipation", "needle work",
-                          "friction dissipation", "needle energy balance"}) {
-    const auto a = ts.column(col), b = tp.column(col);
+  const std::pair<const char*, const char*> columns[] = {
+      {"forces", "depth"},           {"forces", "force_total"},          {"forces", "force_lateral"},
+      {"forces", "force_tip"},       {"seam", "cohesive_dissipation"},   {"energy", "needle_work"},
+      {"energy", "friction_dissipation"}, {"energy", "needle_energy_balance"}};
+  for (const auto& [table, col] : columns) {
+    const auto a = s.tables.at(table).column(col), b = p.tables.at(table).column(col);
     ASSERT_EQ(a.size(), b.size()) << col;
     double scale = 1e-300, diff = 0;
     for (std::size_t i = 0; i < a.size(); ++i) scale = std::max(scale, std::abs(a[i])), diff = std::max(diff, std::abs(a[i] - b[i]));
@@ -146,16 +147,17 @@ TEST_F(PathNeedleArc, OpensTheTissueAlongTheArc) {
 }
 
 // The tissue bent around the curved shaft pushes back towards the centre of curvature: the lateral force on
-// the needle (tip frame, + towards the bevel side = +y) rises above the straight needle's for the arc
+// the needle (along the tip's lateral, + towards the bevel side = +y at the entry) rises above the straight needle's for the arc
 // curving towards +y and falls below it for the arc curving towards -y, i.e. the needle pushes the tissue
 // towards the outside of the curve.
 TEST_F(PathNeedleArc, LateralForcePushesTheTissueTowardsTheOutside) {
-  const double f0 = meanOver(*straight_, "lateral force", 2e-3, 6e-3), fu = meanOver(*up_, "lateral force", 2e-3, 6e-3),
-               fd = meanOver(*down_, "lateral force", 2e-3, 6e-3);
+  const double f0 = meanOver(*straight_, "forces", "force_lateral", 2e-3, 6e-3),
+               fu = meanOver(*up_, "forces", "force_lateral", 2e-3, 6e-3),
+               fd = meanOver(*down_, "forces", "force_lateral", 2e-3, 6e-3);
   std::printf("mean lateral force on the needle 2-6 mm: straight %.4g N, arc +y %.4g N, arc -y %.4g N; axial %.4g / "
               "%.4g / %.4g N\n",
-              f0, fu, fd, meanOver(*straight_, "force", 2e-3, 6e-3), meanOver(*up_, "force", 2e-3, 6e-3),
-              meanOver(*down_, "force", 2e-3, 6e-3));
+              f0, fu, fd, meanOver(*straight_, "forces", "force_total", 2e-3, 6e-3),
+              meanOver(*up_, "forces", "force_total", 2e-3, 6e-3), meanOver(*down_, "forces", "force_total", 2e-3, 6e-3));
   EXPECT_GT(fu - f0, 0.1 * std::abs(f0));
   EXPECT_LT(fd - f0, -0.1 * std::abs(f0));
 }

@@ -14,6 +14,7 @@
 #include "needlesim/engines/explicit/mesh_sleeve.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "engine_tables.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
@@ -252,8 +253,8 @@ TEST(CohesiveSleeveInsertion, LongFullCircumferenceCutsAtGcTimesSleevePerimeter)
   MemorySink r = runInMemory(scenario::readText(y, "<sleeve45>"));
   const double Gc = 550, R = 1.385e-3, ri = 1.08e-3, rs = 0.5 * (R + ri);
   const double dF = 2 * Gc / 5.5e6 / (2 * std::tan(needle::kLipRampAngle)), dFull = (R + rs) + dF;
-  const io::Table& t = r.tables.at("explicit");
-  const auto depth = t.column("depth"), W = t.column("needle work"), D = t.column("cohesive dissipation");
+  const auto depth = explicit_test::column(r, "energy", "depth"), W = explicit_test::column(r, "energy", "needle_work"),
+             D = explicit_test::column(r, "seam", "cohesive_dissipation");
   auto rate = [&](const std::vector<double>& e, double a, double b) {  // d e / d depth between the samples at a, b
     std::size_t i = 0, j = 0;
     while (i + 1 < depth.size() && depth[i] < a - 1e-9) ++i;

@@ -80,8 +80,9 @@ struct Insertion {
 
 Insertion run(const std::string& E, const std::string& model) {
   MemorySink s = runInMemory(scenario::readText(yaml(E, model), "<deformable>"));
-  const auto& t = s.tables.at("explicit");
-  Insertion r{t.column("depth"), t.column("force"), t.column("lateral force"), t.column("tip deflection")};
+  const auto& t = s.tables.at("forces");
+  Insertion r{t.column("depth"), t.column("force_total"), t.column("force_lateral"), {}};
+  if (model == "beam") r.deflection = t.column("tip_deflection");  // a flexible needle's column
   r.needleWork = s.results.at("needle_work").value;
   if (model == "beam") r.finalDeflection = s.results.at("final_tip_deflection").value;
   return r;
@@ -164,9 +165,10 @@ model:
 output: {interval: 5 ms}
 )";
   MemorySink s = runInMemory(scenario::readText(text, "<deformable indentation>"));
-  const auto& t = s.tables.at("explicit");
-  const double w = t.column("tip deflection").back(), wBeam = t.column("beam tip deflection").back();
-  const double P = t.column("lateral force").back();  // along the bevel side, N
+  const auto& t = s.tables.at("forces");
+  // along the insertion frame's lateral: the beam bends in each plane under that plane's loads
+  const double w = t.column("tip_deflection").back(), wBeam = t.column("beam_tip_deflection").back();
+  const double P = t.column("force_lateral").back();  // N
   const double EI = 1e9 * M_PI * std::pow(2e-3, 4) / 64, L = 20e-3, wTip = P * L * L * L / (3 * EI);
   std::printf("3D hold: applied %.5g um, beam solution %.5g um, P L^3/3EI %.5g um (P = %.4g N)\n", w * 1e6,
               wBeam * 1e6, wTip * 1e6, P);

@@ -65,46 +65,18 @@ TEST(ExplicitMesh, StructuredBlocksHaveExactVolume) {
   EXPECT_NEAR(vol, 2.0, 1e-12);
 }
 
-TEST(ExplicitMesh, ReadsGmsh41Ascii) {
-  auto path = std::filesystem::temp_directory_path() / "needlesim_explicit_two_quads.msh";
-  std::ofstream(path) << R"($MeshFormat
-4.1 0 8
-$EndMeshFormat
-$Entities
-0 0 1 0
-1 0 0 0 2 1 0 1 7 0
-$EndEntities
-$Nodes
-1 6 1 6
-2 1 0 6
-1
-2
-3
-4
-5
-6
-0 0 0
-1 0 0
-2 0 0
-0 1 0
-1 1 0
-2 1 0
-$EndNodes
-$Elements
-1 2 1 2
-2 1 3 2
-1 1 2 5 4
-2 2 5 6 3
-$EndElements
-)";
-  Mesh m = readGmsh(path.string());
-  EXPECT_EQ(m.dim, 2);
+TEST(ExplicitMesh, ImportedMeshTagsBecomeRegionsInIncreasingOrder) {
+  mesh::VolumeMesh v;
+  v.dim = 2;
+  v.element = "quad4";
+  v.X = {0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1};
+  v.conn = {0, 1, 4, 3, 1, 2, 5, 4};
+  v.tag = {12, 7};
+  const Mesh m = fromVolumeMesh(v);
   EXPECT_EQ(m.type, ElementType::Quad4);
   EXPECT_EQ(m.elements(), 2);
   EXPECT_EQ(m.nodes(), 6);
-  EXPECT_DOUBLE_EQ(m.coord(5, 0), 2.0);
-  EXPECT_EQ(m.region[1], 0);
-  std::filesystem::remove(path);
+  EXPECT_EQ(m.region, (std::vector<int>{1, 0}));
 }
 
 namespace {

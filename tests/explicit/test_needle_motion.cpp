@@ -2,7 +2,7 @@
 // frictionless, no pre-cut) indents a block 1.5 mm past the surface. The bevel face presses the
 // surface on one side of the axis, so the tissue pushes the needle sideways. Rotating the needle
 // 180 deg about its axis (profile `rotate`, before it touches the tissue) mirrors the geometry
-// about the plane through the axis, so the lateral force in the entry frame changes sign and
+// about the plane through the axis, so the lateral force (insertion frame) changes sign and
 // equals that of a needle set up with bevel_orientation 180 deg; the axial force is unchanged.
 // A needle rotated while pressed into the tissue with friction feels a torque about its axis
 // opposing the rotation, bounded by mu x normal force x outer radius (Coulomb).
@@ -55,9 +55,9 @@ struct Out {
 
 Out run(const std::string& bevel, const std::string& profile, const std::string& tipFriction = "0") {
   MemorySink s = runInMemory(scenario::readText(yaml(bevel, profile, tipFriction), "<rotation>"));
-  const auto& t = s.tables.at("explicit");
-  return {t.column("force").back(), t.column("entry-frame lateral force").back(),
-          s.results.at("peak_axial_torque").value, t.column("bevel orientation").back()};
+  const auto& t = s.tables.at("forces");
+  return {t.column("force_total").back(), t.column("force_lateral").back(), s.results.at("peak_axial_torque").value,
+          t.column("bevel_orientation").back()};
 }
 
 }  // namespace
@@ -74,6 +74,10 @@ TEST(ExplicitNeedleRotation, BevelRotated180MirrorsLateralForce) {
               "profile: axial %.5g, lateral %.5g (bevel %.4f rad), bevel 180 after a pause: axial %.5g, lateral %.5g\n",
               a.axial, a.lateral, c.axial, c.lateral, b.axial, b.lateral, b.bevel, cw.axial, cw.lateral);
   ASSERT_GT(std::abs(a.lateral), 0.05 * a.axial);  // the bevel does push sideways
+  // the tissue pushes the tip away from the bevel face (needle/insertion_frame.hpp): at bevel 0 the face
+  // looks to +lateral, so the lateral force is < 0; at 180 deg it looks to -lateral, > 0
+  EXPECT_LT(a.lateral, 0.0);
+  EXPECT_GT(c.lateral, 0.0);
   // bevel 180 is the mirror image (the mesh is symmetric about the plane through the axis)
   EXPECT_NEAR(c.lateral, -a.lateral, 1e-6 * std::abs(a.lateral));
   EXPECT_NEAR(c.axial, a.axial, 1e-6 * a.axial);
@@ -88,8 +92,8 @@ TEST(ExplicitNeedleRotation, BevelRotated180MirrorsLateralForce) {
 TEST(ExplicitNeedleRotation, RotationInContactFeelsOpposingTorque) {
   const std::string prof = "    - insert: {to: 1.5 mm, speed: 20 mm/s}\n    - rotate: {by: 30 deg, rate: 600 deg/s}\n";
   MemorySink s = runInMemory(scenario::readText(yaml("0 deg", prof, "0.3"), "<torque>"));
-  const auto& t = s.tables.at("explicit");
-  const auto tq = t.column("axial torque"), f = t.column("force"), bev = t.column("bevel orientation");
+  const auto& t = s.tables.at("forces");
+  const auto tq = t.column("axial_torque"), f = t.column("force_total"), bev = t.column("bevel_orientation");
   const double torque = tq.back(), R = 1e-3, mu = 0.3;
   // Coulomb bound: |T| <= mu sum(fn) R; sum(fn) >= the axial force (frictionless part on the faces)
   std::printf("rotation in contact: torque %.4g N m, axial force %.4g N, bevel %.3f rad, peak torque %.4g\n", torque,

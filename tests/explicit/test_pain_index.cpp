@@ -7,6 +7,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/explicit/pain_index.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "engine_tables.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
@@ -62,7 +63,7 @@ model:
 output: {interval: 10 ms}
 )";
   MemorySink m = runInMemory(scenario::readText(yaml, "<pdi>"));
-  const auto f = m.tables.at("explicit").column("force");
+  const auto f = explicit_test::column(m, "forces", "force_total");
   double peak = 0;
   for (double v : f) peak = std::max(peak, v);
   ASSERT_GT(peak, 0.0);  // the needle met the tissue

@@ -8,6 +8,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "engine_tables.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/materials/homogeneous.hpp"
 
@@ -428,9 +429,8 @@ output: {interval: 10 ms}
 )";
   Scenario sc = scenario::readText(yaml, "<quad_insertion>");
   MemorySink out = runInMemory(sc);  // throws SolverError (the old hourglass stop) on failure
-  const auto& t = out.tables.at("explicit");
-  auto disp = t.column("needle displacement"), f = t.column("force"), hg = t.column("hourglass energy"),
-       se = t.column("strain energy");
+  auto disp = explicit_test::needleDisplacement(out), f = explicit_test::column(out, "forces", "force_total"),
+       hg = explicit_test::column(out, "energy", "hourglass"), se = explicit_test::column(out, "energy", "strain");
   ASSERT_GT(disp.back(), 10e-3);
   double fmean = 0;
   int n = 0;

@@ -24,8 +24,8 @@ needle::InsertionFrame frameAt(double angleDeg, double bevelDeg = 0.0, double of
 
 TEST(InsertionFrame, NormalInsertionRunsAlongDepthWithLateralOnPlusY) {
   const auto f = frameAt(90.0, 0.0, 2e-3);
-  EXPECT_NEAR((f.axial - Vector3d::UnitX()).norm(), 0.0, 1e-15);
-  EXPECT_NEAR((f.lateral - Vector3d::UnitY()).norm(), 0.0, 1e-15);
+  EXPECT_EQ(f.axial, Vector3d::UnitX());  // exactly: no round-off of cos(90 deg)
+  EXPECT_EQ(f.lateral, Vector3d::UnitY());
   EXPECT_NEAR((f.outOfPlane - Vector3d::UnitZ()).norm(), 0.0, 1e-15);
   EXPECT_NEAR((f.onAxis(0.01) - Vector3d(0.01, 2e-3, 0.0)).norm(), 0.0, 1e-15);
 }

@@ -4,12 +4,18 @@
 
 namespace needlesim::needle {
 
+namespace {
+// cos and sin without the round-off of a right angle: a normal insertion runs exactly along x,
+// so that mesh nodes and material points on the needle's plane lie on it, not 1e-17 to one side.
+double exact(double v) { return std::abs(v) < 1e-15 ? 0.0 : v; }
+}  // namespace
+
 InsertionFrame InsertionFrame::fromInsertion(const InsertionSpec& insertion) {
   InsertionFrame f;
-  const double th = insertion.entry_angle;
+  const double th = insertion.entry_angle, c = exact(std::cos(th)), s = exact(std::sin(th));
   f.entry = Eigen::Vector3d(0.0, insertion.entry_offset, 0.0);
-  f.axial = Eigen::Vector3d(std::sin(th), std::cos(th), 0.0);
-  f.lateral = Eigen::Vector3d(-std::cos(th), std::sin(th), 0.0);
+  f.axial = Eigen::Vector3d(s, c, 0.0);
+  f.lateral = Eigen::Vector3d(-c, s, 0.0);
   f.outOfPlane = Eigen::Vector3d::UnitZ();
   f.bevelOrientation = insertion.bevel_orientation;
   return f;

@@ -13,6 +13,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/scenario/cohesive_path_reader.hpp"
 #include "needlesim/scenario/measured_data.hpp"
+#include "needlesim/scenario/mesh_file.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 
@@ -503,6 +504,7 @@ Scenario readSections(Section top, const std::string& source) {
     x.dimension = exs.choice("dimension") == "3d" ? 3 : 2;
     if (exs.has("element")) x.element = exs.choice("element");
     x.mesh = exs.text("mesh");
+    x.imported_mesh = readMeshFile(x.mesh, source);
     x.element_size = exs.number("element_size");
     x.max_element_size = exs.number("max_element_size");
     x.core_width = exs.number("core_width");

@@ -12,6 +12,11 @@ std::size_t TissueSpec::layerAt(double x) const {
   return layers.empty() ? 0 : layers.size() - 1;
 }
 
+bool InclusionSpec::contains(double px, double py, double pz) const {
+  const double dx = px - x, dy = py - y, dz = shape == Shape::Cylinder ? 0.0 : pz - z;
+  return dx * dx + dy * dy + dz * dz < radius * radius;
+}
+
 double Scenario::maxDepth() const {
   double d = insertion.start_depth;
   for (const auto& s : insertion.segments)

@@ -1,12 +1,17 @@
 #pragma once
 // The typed scenario every engine receives: plain structs in SI units.
 // Engines never parse YAML; scenario/reader.cpp builds this from a file.
+#include <memory>
 #include <string>
 #include <vector>
 
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim {
+
+namespace mesh {
+struct VolumeMesh;  // mesh/volume_mesh.hpp
+}
 
 // Modified Karnopp friction along the shaft, per unit length in contact
 // (seed 003 eq 3.23 with the per-length coefficients of eq 5.1).
@@ -48,6 +53,8 @@ struct InclusionSpec {
   bool target = false;                // the needle aims at it: its displacement is the targeting error
   bool sliding = false;               // separate body in contact with the tissue (false: bonded)
   double interface_friction = 0.0;    // Coulomb coefficient between a sliding inclusion and the tissue
+  // Whether the tissue-frame point (x, y, z) lies inside it.
+  bool contains(double px, double py, double pz) const;
 };
 
 struct TissueSpec {
@@ -226,6 +233,7 @@ struct ExplicitModelSpec {
   int dimension = 2;                 // 2 (plane strain) or 3
   std::string element;               // quad4, tri3, hex8, tet4; "" = quad4 (2D) / hex8 (3D)
   std::string mesh;                  // Gmsh .msh path (resolved against the scenario file); "" = graded block
+  std::shared_ptr<const mesh::VolumeMesh> imported_mesh;  // that file, read by the scenario reader (null = none)
   double element_size = 0.5e-3;      // m, core element size around the needle path (seed 001: 0.25 mm)
   double max_element_size = 3e-3;    // m, at the block boundary (seed 001: 3 mm)
   double core_width = 6e-3;          // m, refined zone around the path (seed 001: 6 mm)

@@ -27,6 +27,7 @@
 #include <vector>
 
 #include "needlesim/engines/explicit/solver.hpp"
+#include "needlesim/mesh/gmsh_reader.hpp"
 
 using namespace needlesim;
 using namespace needlesim::explicit_fe;
@@ -37,7 +38,7 @@ int main(int argc, char** argv) {
     return 2;
   }
   try {
-    Mesh mesh = readGmsh(argv[1]);
+    Mesh mesh = fromVolumeMesh(mesh::readGmsh(argv[1]));
     std::ifstream in(argv[2]);
     if (!in) throw std::runtime_error(std::string("cannot open ") + argv[2]);
     double C10 = 0, K = 0, rho = 0, d = 0, T = 0, H = 0, c = 0, hourglass = 1.0;

@@ -77,11 +77,12 @@ void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, cons
   for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) ck = std::max(ck, C * solver.needleLateralStiffness(e[p]) * scale);
   const double w0 = 1.0 / (dt * std::sqrt(1.0 + 2.0 * ck)), a = w0 * dt;
   omega_ = w0;
-  double wTip[2] = {0, 0}, thTip[2] = {0, 0}, residual = 0.0, wTarget = 0.0;
+  double wTip[2] = {0, 0}, thTip[2] = {0, 0}, residual = 0.0;
+  e_[0] = e[0], e_[1] = dim_ == 3 ? e[1] : Vector3d::Zero();
   for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) {
     const auto s = cantileverFromResultant(EI_, L_, ne_, F.dot(e[p]), M.dot(axis.cross(e[p])));
     residual = std::max(residual, std::abs(s.w.back() - w_[p].back()));
-    if (p == 0) wTarget = s.w.back();
+    target_[p] = s.w.back();
     // kinetic damping (dynamic relaxation): moving away from the beam solution, restart at rest, so
     // momentum gathered while the contact was soft cannot carry the pose past it when it stiffens
     if (vw_[p].back() * (s.w.back() - w_[p].back()) < 0.0) {
@@ -106,7 +107,6 @@ void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, cons
     thTip[p] = th_[p].back();
   }
   residual_ = residual;
-  target_ = wTarget;
   if (n.nodesInContact > 0) residualSum_ += residual, ++residualCount_;
   // residual averaged over the follower's time 1 / w0: single-step spikes of the contact force (a seam
   // node snapping open) are filtered out by the follower and do not count as divergence

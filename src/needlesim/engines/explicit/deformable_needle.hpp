@@ -47,14 +47,15 @@ class DeformableNeedle {
   void update(RigidNeedle& n, const ExplicitSolver& solver, const Eigen::Vector3d& base, const Eigen::Vector3d& axis,
               const Eigen::Vector3d& bevelSide, double scale);
 
-  // Applied (relaxed) tip deflection along the rigid bevel side (+ = towards the bevel side), m.
-  double tipDeflection() const { return w_[0].empty() ? 0.0 : w_[0].back(); }
-  double tipSlope() const { return th_[0].empty() ? 0.0 : th_[0].back(); }
+  // Applied (relaxed) tip deflection and slope along a unit direction e across the needle (e.g. the
+  // insertion frame's lateral), m and rad; the beam's tip deflection under the last step's loads along e.
+  double tipDeflectionAlong(const Eigen::Vector3d& e) const { return tipValueAlong(w_, e); }
+  double tipSlopeAlong(const Eigen::Vector3d& e) const { return tipValueAlong(th_, e); }
+  double targetDeflectionAlong(const Eigen::Vector3d& e) const { return target_[0] * e_[0].dot(e) + target_[1] * e_[1].dot(e); }
   double EI() const { return EI_; }
   double followerFrequency() const { return omega_; }  // w0, 1/s
-  // Beam tip deflection under the last step's loads (the follower's target, bevel-side plane), m;
-  // |target - applied| at the tip in the last update and its mean over the updates in contact.
-  double targetDeflection() const { return target_; }
+  // |beam tip deflection under the last step's loads - applied| at the tip in the last update and its
+  // mean over the updates in contact.
   double residual() const { return residual_; }
   double meanResidual() const { return residualCount_ ? residualSum_ / residualCount_ : 0.0; }
 
@@ -63,9 +64,17 @@ class DeformableNeedle {
   int dim_, ne_;
   std::vector<double> w_[2], th_[2];    // applied nodal deflection and slope per plane
   std::vector<double> vw_[2], vt_[2];  // their rates (the damped follower)
+  Eigen::Vector3d e_[2] = {Eigen::Vector3d::Zero(), Eigen::Vector3d::Zero()};  // the planes' lateral directions
+  double target_[2] = {0.0, 0.0};      // beam tip deflection per plane under the last loads
+  double tipValueAlong(const std::vector<double> (&v)[2], const Eigen::Vector3d& e) const {
+    double s = 0.0;
+    for (int p = 0; p < 2; ++p)
+      if (!v[p].empty()) s += v[p].back() * e_[p].dot(e);
+    return s;
+  }
   Eigen::Vector3d lastTip_ = Eigen::Vector3d::Zero(), lastAxis_ = Eigen::Vector3d::Zero();
   bool started_ = false;
-  double omega_ = 1.0, residual_ = 0.0, target_ = 0.0, residualSum_ = 0.0, residualAvg_ = 0.0;
+  double omega_ = 1.0, residual_ = 0.0, residualSum_ = 0.0, residualAvg_ = 0.0;
   long residualCount_ = 0;
 };
 

@@ -2,9 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <map>
-#include <sstream>
 
 #include "needlesim/core/error.hpp"
 
@@ -194,132 +192,18 @@ std::vector<std::pair<int, int>> splitSeam(Mesh& m, double offset, double x0, do
   return pairs;
 }
 
-Mesh readGmsh(const std::string& path) {
-  std::ifstream in(path);
-  SourceLocation where{path, 0, 0};
-  if (!in) throw InputError(where, "mesh", path, "cannot open the Gmsh file", "a readable .msh file");
-  std::string tok;
-  std::map<std::pair<int, int>, int> physical;  // (dim, entity) -> physical tag
-  std::map<long, int> nodeIndex;
-  std::vector<double> X3;
-  struct Block {
-    int dim, entity, type;
-    std::vector<long> conn;
-  };
-  std::vector<Block> blocks;
-  bool formatOk = false;
-  while (in >> tok) {
-    if (tok == "$MeshFormat") {
-      double ver;
-      int ft, ds;
-      in >> ver >> ft >> ds;
-      if (ver < 4.0 || ft != 0)
-        throw InputError(where, "$MeshFormat", std::to_string(ver), "unsupported Gmsh format",
-                         "format 4.1 ASCII (gmsh -format msh41)");
-      formatOk = true;
-    } else if (tok == "$Entities") {
-      std::size_t n[4];
-      in >> n[0] >> n[1] >> n[2] >> n[3];
-      for (int d = 0; d < 4; ++d)
-        for (std::size_t e = 0; e < n[d]; ++e) {
-          int tag;
-          double b;
-          in >> tag;
-          for (int q = 0; q < (d == 0 ? 3 : 6); ++q) in >> b;
-          std::size_t np;
-          in >> np;
-          for (std::size_t p = 0; p < np; ++p) {
-            int ph;
-            in >> ph;
-            if (p == 0) physical[{d, tag}] = ph;
-          }
-          if (d > 0) {
-            std::size_t nb;
-            in >> nb;
-            for (std::size_t p = 0; p < nb; ++p) in >> b;
-          }
-        }
-    } else if (tok == "$Nodes") {
-      std::size_t nb, nn, mn, mx;
-      in >> nb >> nn >> mn >> mx;
-      for (std::size_t b = 0; b < nb; ++b) {
-        int ed, et, par;
-        std::size_t cnt;
-        in >> ed >> et >> par >> cnt;
-        std::vector<long> tags(cnt);
-        for (auto& t : tags) in >> t;
-        for (std::size_t i = 0; i < cnt; ++i) {
-          double x, y, z;
-          in >> x >> y >> z;
-          for (int p = 0; p < par * ed; ++p) in >> tok;
-          nodeIndex[tags[i]] = static_cast<int>(X3.size() / 3);
-          X3.insert(X3.end(), {x, y, z});
-        }
-      }
-    } else if (tok == "$Elements") {
-      std::size_t nb, ne, mn, mx;
-      in >> nb >> ne >> mn >> mx;
-      for (std::size_t b = 0; b < nb; ++b) {
-        Block bl;
-        std::size_t cnt;
-        in >> bl.dim >> bl.entity >> bl.type >> cnt;
-        static const std::map<int, int> npe{{1, 2}, {2, 3}, {3, 4}, {4, 4}, {5, 8}, {15, 1}};
-        auto it = npe.find(bl.type);
-        if (it == npe.end())
-          throw InputError(where, "$Elements", std::to_string(bl.type), "unsupported Gmsh element type",
-                           "first-order points, lines, triangles (2), quads (3), tets (4), hexes (5)");
-        for (std::size_t i = 0; i < cnt; ++i) {
-          long t;
-          in >> t;
-          for (int q = 0; q < it->second; ++q) {
-            in >> t;
-            bl.conn.push_back(t);
-          }
-        }
-        blocks.push_back(std::move(bl));
-      }
-    }
-  }
-  if (!formatOk || X3.empty())
-    throw InputError(where, "mesh", path, "no $MeshFormat or no $Nodes section", "a Gmsh 4.1 ASCII mesh");
-  int topDim = 0;
-  for (auto& b : blocks) topDim = std::max(topDim, b.dim);
-  int type = -1;
-  for (auto& b : blocks)
-    if (b.dim == topDim) {
-      if (type >= 0 && b.type != type)
-        throw InputError(where, "$Elements", std::to_string(b.type), "mixed element types in one mesh",
-                         "one element type of the highest dimension");
-      type = b.type;
-    }
-  if (topDim < 2 || type < 0)
-    throw InputError(where, "$Elements", "", "no 2D or 3D elements", "triangles, quads, tets or hexes");
+Mesh fromVolumeMesh(const mesh::VolumeMesh& v) {
   Mesh m;
-  m.dim = topDim;
-  m.type = type == 2 ? ElementType::Tri3 : type == 3 ? ElementType::Quad4 : type == 4 ? ElementType::Tet4
-                                                                                      : ElementType::Hex8;
-  for (std::size_t i = 0; i < X3.size() / 3; ++i)
-    for (int q = 0; q < m.dim; ++q) m.X.push_back(X3[3 * i + q]);
-  std::map<int, int> regionOf;
-  for (auto& b : blocks)
-    if (b.dim == topDim) {
-      auto it = physical.find({b.dim, b.entity});
-      regionOf.emplace(it == physical.end() ? b.entity : it->second, 0);
-    }
+  m.dim = v.dim;
+  m.type = elementTypeFromName(v.element);
+  m.X = v.X;
+  m.conn = v.conn;
+  std::map<int, int> regionOf;  // tag -> region, in increasing tag order
+  for (int t : v.tag) regionOf.emplace(t, 0);
   int r = 0;
   for (auto& kv : regionOf) kv.second = r++;
-  for (auto& b : blocks) {
-    if (b.dim != topDim) continue;
-    auto it = physical.find({b.dim, b.entity});
-    int reg = regionOf[it == physical.end() ? b.entity : it->second];
-    for (long t : b.conn) {
-      auto n = nodeIndex.find(t);
-      if (n == nodeIndex.end())
-        throw InputError(where, "$Elements", std::to_string(t), "element refers to an unknown node", "");
-      m.conn.push_back(n->second);
-    }
-    for (std::size_t e = 0; e < b.conn.size() / nodesPerElement(m.type); ++e) m.region.push_back(reg);
-  }
+  m.region.reserve(v.tag.size());
+  for (int t : v.tag) m.region.push_back(regionOf[t]);
   return m;
 }
 

@@ -2,10 +2,12 @@
 // Meshes for the explicit engine: structured graded blocks in 2D (4-node
 // quads or 3-node triangles) and 3D (8-node hexahedra or 4-node tetrahedra),
 // refined around the needle path (seed 001 section 3.2: a 0.25 mm core
-// graded to 3 mm at the boundary), and Gmsh .msh v4 ASCII import.
+// graded to 3 mm at the boundary), and imported meshes (mesh/gmsh_reader.hpp).
 // Coordinates are stored node-interleaved (x0 y0 [z0] x1 ...), SI metres.
 #include <string>
 #include <vector>
+
+#include "needlesim/mesh/volume_mesh.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -52,9 +54,8 @@ std::vector<std::pair<int, int>> splitSeam(Mesh& mesh, double offset, double x0,
 // Moves the grid line nearest to `value` onto it (keeps the list sorted).
 void snapCoordinate(std::vector<double>& xs, double value);
 
-// Gmsh .msh format 4.1 ASCII: the highest-dimension elements of one type
-// (triangles, quads, tetrahedra or hexahedra, first order); the physical (or
-// entity) tag of each element becomes its region. Throws InputError.
-Mesh readGmsh(const std::string& path);
+// An imported mesh (mesh/volume_mesh.hpp, read by the scenario layer): its tags,
+// in increasing order, become regions 0, 1, ... (layer / material indices).
+Mesh fromVolumeMesh(const mesh::VolumeMesh& v);
 
 }  // namespace needlesim::explicit_fe

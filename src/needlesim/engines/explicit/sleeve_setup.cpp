@@ -33,20 +33,7 @@ SleeveMesh sleeveMeshFor(const Scenario& sc, const needle::NeedleShape& shape, d
   const double dmax = std::min(t.length, sc.maxDepth() + 2 * h);
   sp.xs = gradedCoordinates(0.0, t.length, 0.0, std::max(dmax, h), h, H, ex.grading);
   sp.sleeveDepth = dmax;
-  SleeveMesh sm = sleeveBlock(sp);
-  // layers stacked from the entry face (as the plane seam's block)
-  std::vector<double> ends;
-  double edge = 0;
-  for (const auto& l : t.layers) ends.push_back(edge += l.thickness);
-  Mesh& m = sm.mesh;
-  for (int e = 0; e < m.elements(); ++e) {
-    double cx = 0;
-    for (int a = 0; a < 8; ++a) cx += m.coord(m.conn[8 * e + a], 0) / 8;
-    int r = 0;
-    while (r + 1 < static_cast<int>(ends.size()) && cx > ends[r]) ++r;
-    m.region[e] = r;
-  }
-  return sm;
+  return sleeveBlock(sp);
 }
 
 double sleeveCoreInBore(ExplicitSolver& s) {

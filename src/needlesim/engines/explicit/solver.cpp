@@ -56,6 +56,28 @@ inline Matrix3d fromVoigt(const Voigt& v) {
   return S;
 }
 
+// Flanagan-Belytschko hourglass forces of one element added to fe (gamma: nhg x NPE shape vectors, K the
+// DIM x DIM stiffness); returns the hourglass energy, sets hs to the largest zig-zag amplitude / size.
+template <int NPE, int DIM>
+[[gnu::always_inline]] inline double hourglassForces(const double* K, const double* gamma, int nhg, const double (&ue)[NPE][DIM],
+                              double sumG, double* fe, double& hs) {
+  double ehg = 0.0;
+  for (int m = 0; m < nhg; ++m) {
+    const double* gam = gamma + static_cast<std::size_t>(m) * NPE;
+    double q[DIM] = {}, Kq[DIM] = {};
+    for (int a = 0; a < NPE; ++a)
+      for (int i = 0; i < DIM; ++i) q[i] += gam[a] * ue[a][i];
+    for (int i = 0; i < DIM; ++i)
+      for (int j = 0; j < DIM; ++j) Kq[i] += K[i * DIM + j] * q[j];
+    for (int a = 0; a < NPE; ++a)
+      for (int i = 0; i < DIM; ++i) fe[a * DIM + i] += gam[a] * Kq[i];
+    double qq = 0.0;
+    for (int i = 0; i < DIM; ++i) ehg += 0.5 * q[i] * Kq[i], qq += q[i] * q[i];
+    hs = std::max(hs, std::sqrt(qq * sumG) / NPE);  // zig-zag amplitude / element size
+  }
+  return ehg;
+}
+
 // Below this many elements / nodes a loop runs serially: thread start-up and
 // barriers cost more than the work (and spin badly on a loaded machine).
 constexpr int kParallelMin = 4000;
@@ -76,6 +98,35 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   nel_ = mesh_.elements();
   nnode_ = mesh_.nodes();
   nhg_ = mesh_.type == ElementType::Quad4 ? 1 : mesh_.type == ElementType::Hex8 ? 4 : 0;
+  validateInput();
+  allocateElementData();
+
+  for (auto& m : mats_) {
+    const auto [lam, mu] = m.law.initialLame();
+    matWaveModulus_.push_back(lam + 2 * mu);
+    double K = lam + 2.0 / 3.0 * mu;
+    matBulk_.push_back(K);
+    // bending modulus of the hourglass stiffness: plane-strain E' (2D) or E (3D); -> 4 mu, 3 mu as nu -> 1/2
+    matShear_.push_back(dim_ == 2 ? 4 * mu * (lam + mu) / (lam + 2 * mu) : materials::youngPoisson(K, mu).E);
+  }
+
+  minSize_ = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < nel_; ++e) {
+    referenceGeometry(e);
+    hourglassVectors(e);
+    elementStiffnessAndMass(e);
+  }
+  allocatePronyStates();
+  buildNodeSlots();
+  lumpedMassAndNodeData();
+  releaseDistance_ = minSize_;
+  // stable step of the initial mesh, so that timeStep() is meaningful before the first step
+  elementForces(0.0);
+  elementUpdates_ = 0;
+  computeStableStep();
+}
+
+void ExplicitSolver::validateInput() {
   if (elementDim(mesh_.type) != dim_) throw Error("mesh dimension does not match its element type");
   if (mats_.empty()) throw Error("explicit FE: no material");
   if (mesh_.region.size() != static_cast<std::size_t>(nel_)) mesh_.region.assign(nel_, 0);
@@ -85,7 +136,9 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
     throw Error("explicit FE: contact penalty must lie in (0, 1e4] (multiple of m/dt^2)");
   if (!(opt_.stickPenalty > 0 && opt_.stickPenalty < 1.0))
     throw Error("explicit FE: friction stick penalty must lie in (0, 1) (fraction of m/dt^2)");
+}
 
+void ExplicitSolver::allocateElementData() {
   grad0_.assign(static_cast<std::size_t>(nel_) * npe_ * dim_, 0.0);
   gamma_.assign(static_cast<std::size_t>(nel_) * std::max(nhg_, 1) * npe_, 0.0);
   vol0_.assign(nel_, 0.0);
@@ -99,112 +152,116 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
   hgStrain_.assign(nel_, 0.0);
   failElem_.assign(nel_, 0);
   spk2_.assign(static_cast<std::size_t>(nel_) * 6, 0.0);
+}
 
-  for (auto& m : mats_) {
-    const auto [lam, mu] = m.law.initialLame();
-    matWaveModulus_.push_back(lam + 2 * mu);
-    double K = lam + 2.0 / 3.0 * mu;
-    matBulk_.push_back(K);
-    // bending modulus of the hourglass stiffness: plane-strain E' (2D) or E (3D); -> 4 mu, 3 mu as nu -> 1/2
-    matShear_.push_back(dim_ == 2 ? 4 * mu * (lam + mu) / (lam + 2 * mu) : materials::youngPoisson(K, mu).E);
-  }
-
-  minSize_ = std::numeric_limits<double>::infinity();
-  for (int e = 0; e < nel_; ++e) {
-    int* cn = &mesh_.conn[static_cast<std::size_t>(e) * npe_];
-    const int reg = mesh_.region[e];
-    if (reg < 0 || reg >= static_cast<int>(mats_.size()))
-      throw Error("element " + std::to_string(e) + " has region " + std::to_string(reg) + " but only " +
-                  std::to_string(mats_.size()) + " materials are given");
-    mat_[e] = reg;
-    auto X = [&](int a, int i) { return mesh_.X[static_cast<std::size_t>(cn[a]) * dim_ + i]; };
-    // Natural derivatives at the centroid, Jacobian, gradients, volume.
-    Eigen::MatrixXd dN(npe_, dim_);
-    double volFactor = 1.0;
-    for (int pass = 0; pass < 2; ++pass) {
-      switch (mesh_.type) {
-        case ElementType::Quad4:
-          for (int a = 0; a < 4; ++a)
-            for (int i = 0; i < 2; ++i) dN(a, i) = 0.25 * kQuadXi[a][i];
-          volFactor = 4.0;
-          break;
-        case ElementType::Hex8:
-          for (int a = 0; a < 8; ++a)
-            for (int i = 0; i < 3; ++i) dN(a, i) = 0.125 * kHexXi[a][i];
-          volFactor = 8.0;
-          break;
-        case ElementType::Tri3:
-          dN << -1, -1, 1, 0, 0, 1;
-          volFactor = 0.5;
-          break;
-        case ElementType::Tet4:
-          dN << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1;
-          volFactor = 1.0 / 6.0;
-          break;
-      }
-      Eigen::MatrixXd Jm = Eigen::MatrixXd::Zero(dim_, dim_);
-      for (int a = 0; a < npe_; ++a)
-        for (int i = 0; i < dim_; ++i)
-          for (int j = 0; j < dim_; ++j) Jm(i, j) += X(a, i) * dN(a, j);
-      double det = Jm.determinant();
-      if (det > 0) {
-        Eigen::MatrixXd G = dN * Jm.inverse();  // npe x dim: dN_a/dX_j
-        for (int a = 0; a < npe_; ++a)
-          for (int j = 0; j < dim_; ++j) grad0_[(static_cast<std::size_t>(e) * npe_ + a) * dim_ + j] = G(a, j);
-        vol0_[e] = volFactor * det;
+// Natural derivatives at the centroid, Jacobian, gradients dN/dX and reference volume of element e
+// (an element given in inverted node order is mirrored once).
+void ExplicitSolver::referenceGeometry(int e) {
+  const int reg = mesh_.region[e];
+  if (reg < 0 || reg >= static_cast<int>(mats_.size()))
+    throw Error("element " + std::to_string(e) + " has region " + std::to_string(reg) + " but only " +
+                std::to_string(mats_.size()) + " materials are given");
+  mat_[e] = reg;
+  int* cn = &mesh_.conn[static_cast<std::size_t>(e) * npe_];
+  auto X = [&](int a, int i) { return mesh_.X[static_cast<std::size_t>(cn[a]) * dim_ + i]; };
+  Eigen::MatrixXd dN(npe_, dim_);
+  double volFactor = 1.0;
+  for (int pass = 0; pass < 2; ++pass) {
+    switch (mesh_.type) {
+      case ElementType::Quad4:
+        for (int a = 0; a < 4; ++a)
+          for (int i = 0; i < 2; ++i) dN(a, i) = 0.25 * kQuadXi[a][i];
+        volFactor = 4.0;
         break;
-      }
-      if (pass == 1 || det == 0.0 || !std::isfinite(det))
-        throw Error("explicit FE: element " + std::to_string(e) + " has zero or undefined volume");
-      // Inverted node order (e.g. a clockwise Gmsh quad): mirror it once.
-      switch (mesh_.type) {
-        case ElementType::Quad4: std::swap(cn[1], cn[3]); break;
-        case ElementType::Tri3: std::swap(cn[1], cn[2]); break;
-        case ElementType::Tet4: std::swap(cn[1], cn[2]); break;
-        case ElementType::Hex8:
-          std::swap(cn[1], cn[3]);
-          std::swap(cn[5], cn[7]);
-          break;
-      }
+      case ElementType::Hex8:
+        for (int a = 0; a < 8; ++a)
+          for (int i = 0; i < 3; ++i) dN(a, i) = 0.125 * kHexXi[a][i];
+        volFactor = 8.0;
+        break;
+      case ElementType::Tri3:
+        dN << -1, -1, 1, 0, 0, 1;
+        volFactor = 0.5;
+        break;
+      case ElementType::Tet4:
+        dN << -1, -1, -1, 1, 0, 0, 0, 1, 0, 0, 0, 1;
+        volFactor = 1.0 / 6.0;
+        break;
     }
-    const double* g = &grad0_[static_cast<std::size_t>(e) * npe_ * dim_];
-    // Hourglass shape vectors gamma = h - (h . X) grad N  (orthogonal to linear fields).
-    for (int m = 0; m < nhg_; ++m) {
-      double hx[3] = {0, 0, 0};
-      for (int a = 0; a < npe_; ++a) {
-        double h = dim_ == 2 ? kQuadH[a] : kHexH[m][a];
-        for (int i = 0; i < dim_; ++i) hx[i] += h * X(a, i);
-      }
-      for (int a = 0; a < npe_; ++a) {
-        double h = dim_ == 2 ? kQuadH[a] : kHexH[m][a];
-        double gam = h;
-        for (int i = 0; i < dim_; ++i) gam -= hx[i] * g[a * dim_ + i];
-        gamma_[(static_cast<std::size_t>(e) * nhg_ + m) * npe_ + a] = gam;
-      }
+    Eigen::MatrixXd Jm = Eigen::MatrixXd::Zero(dim_, dim_);
+    for (int a = 0; a < npe_; ++a)
+      for (int i = 0; i < dim_; ++i)
+        for (int j = 0; j < dim_; ++j) Jm(i, j) += X(a, i) * dN(a, j);
+    double det = Jm.determinant();
+    if (det > 0) {
+      Eigen::MatrixXd G = dN * Jm.inverse();  // npe x dim: dN_a/dX_j
+      for (int a = 0; a < npe_; ++a)
+        for (int j = 0; j < dim_; ++j) grad0_[(static_cast<std::size_t>(e) * npe_ + a) * dim_ + j] = G(a, j);
+      vol0_[e] = volFactor * det;
+      break;
     }
-    // Hourglass stiffness tensor K = eps E_b V0 G / (3 |h|^2), G_ij = sum_a dN_a/dX_i dN_a/dX_j: exact
-    // pure bending of a rectangular element for eps = 1 (Belytschko & Bindeman 1993 physical
-    // stabilization, in tensor form); E_b never contains the bulk modulus, so no volumetric locking.
-    double sumG = 0.0;
-    for (int i = 0; i < dim_; ++i)
-      for (int j = 0; j < dim_; ++j) {
-        double Gij = 0;
-        for (int a = 0; a < npe_; ++a) Gij += g[a * dim_ + i] * g[a * dim_ + j];
-        if (i == j) sumG += Gij;
-        if (nhg_ > 0)
-          hgStiff_[static_cast<std::size_t>(e) * dim_ * dim_ + i * dim_ + j] =
-              opt_.hourglass * matShear_[mat_[e]] * vol0_[e] * Gij / (3.0 * npe_);
-      }
-    minSize_ = std::min(minSize_, 1.0 / std::sqrt(0.5 * sumG * npe_ / dim_));
-    // Density and mass scaling (factor, then to the target step).
-    double rho = mats_[mat_[e]].density * opt_.massScaling;
-    double c = std::sqrt(matWaveModulus_[mat_[e]] / rho);
-    double dte = opt_.cfl * 2.0 / (c * std::sqrt(npe_ * sumG));
-    if (opt_.targetTimeStep > 0 && dte < opt_.targetTimeStep) rho *= std::pow(opt_.targetTimeStep / dte, 2);
-    rho_[e] = rho;
-    physicalMass_ += mats_[mat_[e]].density * vol0_[e];
+    if (pass == 1 || det == 0.0 || !std::isfinite(det))
+      throw Error("explicit FE: element " + std::to_string(e) + " has zero or undefined volume");
+    // Inverted node order (e.g. a clockwise Gmsh quad): mirror it once.
+    switch (mesh_.type) {
+      case ElementType::Quad4: std::swap(cn[1], cn[3]); break;
+      case ElementType::Tri3: std::swap(cn[1], cn[2]); break;
+      case ElementType::Tet4: std::swap(cn[1], cn[2]); break;
+      case ElementType::Hex8:
+        std::swap(cn[1], cn[3]);
+        std::swap(cn[5], cn[7]);
+        break;
+    }
   }
-  // Prony states (allocated once).
+}
+
+void ExplicitSolver::hourglassVectors(int e) {
+  const int* cn = &mesh_.conn[static_cast<std::size_t>(e) * npe_];
+  auto X = [&](int a, int i) { return mesh_.X[static_cast<std::size_t>(cn[a]) * dim_ + i]; };
+  const double* g = &grad0_[static_cast<std::size_t>(e) * npe_ * dim_];
+  // Hourglass shape vectors gamma = h - (h . X) grad N  (orthogonal to linear fields).
+  for (int m = 0; m < nhg_; ++m) {
+    double hx[3] = {0, 0, 0};
+    for (int a = 0; a < npe_; ++a) {
+      double h = dim_ == 2 ? kQuadH[a] : kHexH[m][a];
+      for (int i = 0; i < dim_; ++i) hx[i] += h * X(a, i);
+    }
+    for (int a = 0; a < npe_; ++a) {
+      double h = dim_ == 2 ? kQuadH[a] : kHexH[m][a];
+      double gam = h;
+      for (int i = 0; i < dim_; ++i) gam -= hx[i] * g[a * dim_ + i];
+      gamma_[(static_cast<std::size_t>(e) * nhg_ + m) * npe_ + a] = gam;
+    }
+  }
+}
+
+// Hourglass stiffness, smallest element size, density with mass scaling of element e.
+void ExplicitSolver::elementStiffnessAndMass(int e) {
+  const double* g = &grad0_[static_cast<std::size_t>(e) * npe_ * dim_];
+  // Hourglass stiffness tensor K = eps E_b V0 G / (3 |h|^2), G_ij = sum_a dN_a/dX_i dN_a/dX_j: exact
+  // pure bending of a rectangular element for eps = 1 (Belytschko & Bindeman 1993 physical
+  // stabilization, in tensor form); E_b never contains the bulk modulus, so no volumetric locking.
+  double sumG = 0.0;
+  for (int i = 0; i < dim_; ++i)
+    for (int j = 0; j < dim_; ++j) {
+      double Gij = 0;
+      for (int a = 0; a < npe_; ++a) Gij += g[a * dim_ + i] * g[a * dim_ + j];
+      if (i == j) sumG += Gij;
+      if (nhg_ > 0)
+        hgStiff_[static_cast<std::size_t>(e) * dim_ * dim_ + i * dim_ + j] =
+            opt_.hourglass * matShear_[mat_[e]] * vol0_[e] * Gij / (3.0 * npe_);
+    }
+  minSize_ = std::min(minSize_, 1.0 / std::sqrt(0.5 * sumG * npe_ / dim_));
+  // Density and mass scaling (factor, then to the target step).
+  double rho = mats_[mat_[e]].density * opt_.massScaling;
+  double c = std::sqrt(matWaveModulus_[mat_[e]] / rho);
+  double dte = opt_.cfl * 2.0 / (c * std::sqrt(npe_ * sumG));
+  if (opt_.targetTimeStep > 0 && dte < opt_.targetTimeStep) rho *= std::pow(opt_.targetTimeStep / dte, 2);
+  rho_[e] = rho;
+  physicalMass_ += mats_[mat_[e]].density * vol0_[e];
+}
+
+// Prony states (allocated once).
+void ExplicitSolver::allocatePronyStates() {
   prony_.resize(nel_);
   for (int e = 0; e < nel_; ++e) {
     const auto& pr = mats_[mat_[e]].prony;
@@ -213,7 +270,10 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
     prony_[e].SePrev = Voigt::Zero();
     prony_[e].started = true;
   }
-  // Node -> element slots (CSR) for a race-free gather.
+}
+
+// Node -> element slots (CSR) for a race-free gather.
+void ExplicitSolver::buildNodeSlots() {
   nodeStart_.assign(nnode_ + 1, 0);
   for (int s = 0; s < nel_ * npe_; ++s) nodeStart_[mesh_.conn[s] + 1]++;
   for (int n = 0; n < nnode_; ++n) nodeStart_[n + 1] += nodeStart_[n];
@@ -222,7 +282,10 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
     std::vector<int> fill(nodeStart_.begin(), nodeStart_.end() - 1);
     for (int s = 0; s < nel_ * npe_; ++s) nodeSlots_[fill[mesh_.conn[s]]++] = s;
   }
-  // Lumped mass: rho V0 / n_a per node.
+}
+
+// Lumped mass rho V0 / n_a per node; node and contact arrays.
+void ExplicitSolver::lumpedMassAndNodeData() {
   const std::size_t ndof = static_cast<std::size_t>(nnode_) * dim_;
   mass_.assign(nnode_, 0.0);
   for (int e = 0; e < nel_; ++e)
@@ -252,11 +315,6 @@ ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, Solve
     anpNode_.assign(nnode_, 0.0);
     anpDp_.assign(nel_, 0.0);
   }
-  releaseDistance_ = minSize_;
-  // stable step of the initial mesh, so that timeStep() is meaningful before the first step
-  elementForces(0.0);
-  elementUpdates_ = 0;
-  computeStableStep();
 }
 
 int ExplicitSolver::addGroup() {
@@ -416,22 +474,9 @@ void ExplicitSolver::internalForces(double dtStep) {
         fe[a * DIM + i] = V0 * s;
       }
     double ehg = 0.0, hs = 0.0;
-    if constexpr ((NPE == 4 && DIM == 2) || NPE == 8) {
-      const double* K = &hgStiff_[static_cast<std::size_t>(e) * DIM * DIM];
-      for (int m = 0; m < nhg; ++m) {
-        const double* gam = &gamma_[(static_cast<std::size_t>(e) * nhg + m) * NPE];
-        double q[DIM] = {}, Kq[DIM] = {};
-        for (int a = 0; a < NPE; ++a)
-          for (int i = 0; i < DIM; ++i) q[i] += gam[a] * ue[a][i];
-        for (int i = 0; i < DIM; ++i)
-          for (int j = 0; j < DIM; ++j) Kq[i] += K[i * DIM + j] * q[j];
-        for (int a = 0; a < NPE; ++a)
-          for (int i = 0; i < DIM; ++i) fe[a * DIM + i] += gam[a] * Kq[i];
-        double qq = 0.0;
-        for (int i = 0; i < DIM; ++i) ehg += 0.5 * q[i] * Kq[i], qq += q[i] * q[i];
-        hs = std::max(hs, std::sqrt(qq * sumG) / NPE);  // zig-zag amplitude / element size
-      }
-    }
+    if constexpr ((NPE == 4 && DIM == 2) || NPE == 8)
+      ehg = hourglassForces<NPE, DIM>(&hgStiff_[static_cast<std::size_t>(e) * DIM * DIM],
+                                      &gamma_[static_cast<std::size_t>(e) * nhg * NPE], nhg, ue, sumG, fe, hs);
     hgElem_[e] = ehg;
     hgStrain_[e] = hs;
     wElem_[e] = V0 * W;
@@ -440,17 +485,19 @@ void ExplicitSolver::internalForces(double dtStep) {
   }
   elementUpdates_ += nel_;
   if (bad == 0 && !anpP_.empty()) eW += nodalPressureCorrection();
-  if (bad > 0) {
-    int e = static_cast<int>(std::find(failElem_.begin(), failElem_.end(), 1) - failElem_.begin());
-    Matrix3d F = deformationGradient(e);
-    fail("inverted element (det F = " + fmtNum(F.determinant()) + ", " + std::to_string(bad) + " element(s))",
-         elementWhere(e),
-         "Remedy: refine the mesh where the needle cuts, lower the needle speed or the mass scaling, "
-         "raise the bulk viscosity, or (near the tip) use a sharper tip / frictionless tip contact");
-  }
+  if (bad > 0) failInverted(bad);
   en_.strain = eW;
   en_.hourglass = eHg;
   dtStable_ = dtMin;
+}
+
+void ExplicitSolver::failInverted(int bad) const {
+  int e = static_cast<int>(std::find(failElem_.begin(), failElem_.end(), 1) - failElem_.begin());
+  Matrix3d F = deformationGradient(e);
+  fail("inverted element (det F = " + fmtNum(F.determinant()) + ", " + std::to_string(bad) + " element(s))",
+       elementWhere(e),
+       "Remedy: refine the mesh where the needle cuts, lower the needle speed or the mass scaling, "
+       "raise the bulk viscosity, or (near the tip) use a sharper tip / frictionless tip contact");
 }
 
 void ExplicitSolver::gatherForces() {
@@ -479,6 +526,88 @@ double ExplicitSolver::episodeStiffness(int n, double k0, double kMax) {
   return k;
 }
 
+// The needle's hit on tissue node n at x (the straight needle in `pose`): queryNeedle with the node's lip
+// side, or on a cohesive seam lip the wedge of cohesive_wedge.hpp / cohesive_sleeve.hpp; wedgeAxial: the
+// axial face force per unit lateral force the needle takes for a wedged lip (0 otherwise).
+needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const needle::NeedlePose& pose,
+                                            double& wedgeAxial) const {
+  const RigidNeedle& nd = needle_;
+  const int d = dim_;
+  const bool planar = d == 2;
+  needle::NeedleHit hit =
+      needle::queryNeedle(nd.shape, pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
+  // Wedge on a still-cohesive seam pair (docs/models/cohesive.md "The point wedges the seam
+  // open"): the lip nodes of a pair that is not fully damaged are pushed across the cut line
+  // only, each to its own side, by the lateral gap to the needle's face (the axial push of the
+  // inclined faces would shove the closed pair ahead of the point); the needle takes the axial
+  // reaction that makes its work match: one gap function per lip (cohesive_wedge.hpp: 2D bevel,
+  // 3D bevel with the seam through the axis, 3D cone) at the node's reference axial station.
+  // (bevel, 2D and 3D: also once fully damaged: a lip dragged across the axis plane by its partner (3D), or
+  // a wall-side lip released above the point's line by the chisel (2D), would otherwise meet the lip side
+  // rule of queryNeedle with a jump in depth: 2D cut with G_c = 2 J/m^2, h = 0.125 mm: needle balance 8.4 %
+  // with the switch to queryNeedle at d = 1, 0.26 % without)
+  const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
+                   (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel);
+  if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
+      (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
+    double uAx = 0.0;
+    for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * pose.axis[i];
+    const Vector3d xw = x - uAx * pose.axis;
+    needle::NeedleHit wh;
+    const Vector3d xRef(mesh_.X[static_cast<std::size_t>(n) * d], mesh_.X[static_cast<std::size_t>(n) * d + 1],
+                        d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
+    const bool in = sleeveRadius_ > 0
+                        ? sleeveWedge(nd.shape, pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial, &xRef)
+                        : lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
+    hit = in ? wh : needle::NeedleHit{};
+  } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
+    const double c = hit.normal.dot(pose.bevelSide);
+    if (std::abs(c) > 1e-3) {
+      wedgeAxial = hit.normal.dot(pose.axis) / std::abs(c);
+      hit.depth /= std::abs(c);
+      hit.normal = (c > 0 ? 1.0 : -1.0) * pose.bevelSide;
+    }
+  }
+  return hit;
+}
+
+// Needle contact stiffness of node n for this step: k = contact_penalty m / dtPen^2 (contact/penalty.hpp).
+double ExplicitSolver::needleContactStiffness(int n, double dtPen) {
+  // cohesive seam lips keep an explicit-range penalty, the one the wedge model was built with: the
+  // contact_penalty itself when it is <= 1, else lipPenalty (docs/models/explicit.md)
+  const bool seamLip = sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0;  // sleeve: full penalty
+  const double lipPen = opt_.contactPenalty <= 1.0 ? opt_.contactPenalty : opt_.lipPenalty;
+  // (an explicit lip penalty stays below 4 - (2 cfl)^2 = 0.76 m/dt^2 at cfl 0.9: kLipPenaltyMax)
+  double k = seamLip ? episodeStiffness(n, contact::massPenalty(lipPen, mass_[n], dtPen),
+                                        contact::massPenalty(std::max(kLipPenaltyMax, lipPen), mass_[n], dtPen))
+                     : episodeStiffness(n, contact::massPenalty(opt_.contactPenalty, mass_[n], dtPen),
+                                        std::numeric_limits<double>::infinity());
+  // sleeve lips (implicit contact, any k is stable): at least 10x the pair's cohesive spring K A, so the wall
+  // holds t_c with a gap of delta_0 / 10 instead of storing (and releasing at failure) a large penalty energy
+  if (sleeveRadius_ > 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0)
+    k = std::max(k, 10.0 * coh_.front().law(cohPairOf_[n]).stiffness * coh_.front().tributaryLength(cohPairOf_[n]));
+  return k;
+}
+
+void ExplicitSolver::failNeedlePenetration(double maxPen) const {
+  const RigidNeedle& nd = needle_;
+  fail("needle contact penetration " + fmtNum(maxPen * 1e3) + " mm exceeds the tolerance " +
+           fmtNum(penetrationTol_ * 1e3) + " mm",
+       "the needle contact zone (tip at " + fmtNum(nd.pose.tip.x() * 1e3) + ", " + fmtNum(nd.pose.tip.y() * 1e3) +
+           ", " + fmtNum(nd.pose.tip.z() * 1e3) + " mm)",
+       "Remedy: raise model.explicit.contact_penalty, lower the insertion speed or the mass "
+       "scaling, or refine the mesh so that tissue nodes resolve the needle tip");
+}
+
+// Penalty from the stable step, not the (possibly shortened) last step: k = penalty m / dt_stable^2.
+// The normal force is completed at the end of the next step (contact_normal.cpp); the friction
+// stick spring stays explicit with the stable fraction stickPenalty. fixedContactStiffness keeps
+// the step of the first evaluation (a conservative penalty, docs/models/cohesive.md).
+double ExplicitSolver::contactTimeStep() {
+  if (dtPenFixed_ == 0.0) dtPenFixed_ = opt_.cfl * dtStable_;
+  return opt_.fixedContactStiffness ? dtPenFixed_ : opt_.cfl * dtStable_;
+}
+
 void ExplicitSolver::contactForces(double dtStep) {
   std::fill(fcon_.begin(), fcon_.end(), 0.0);
   std::fill(contactBody_.begin(), contactBody_.end(), -1);
@@ -486,12 +615,7 @@ void ExplicitSolver::contactForces(double dtStep) {
   extContactForce_.setZero();
   if (dtStep <= 0) return;
   const int d = dim_;
-  // Penalty from the stable step, not the (possibly shortened) last step: k = penalty m / dt_stable^2.
-  // The normal force is completed at the end of the next step (contact_normal.cpp); the friction
-  // stick spring stays explicit with the stable fraction stickPenalty. fixedContactStiffness keeps
-  // the step of the first evaluation (a conservative penalty, docs/models/cohesive.md).
-  if (dtPenFixed_ == 0.0) dtPenFixed_ = opt_.cfl * dtStable_;
-  const double dtPen = opt_.fixedContactStiffness ? dtPenFixed_ : opt_.cfl * dtStable_;
+  const double dtPen = contactTimeStep();
   const double stick = std::min(opt_.contactPenalty, opt_.stickPenalty);  // stick spring: k = stick m / dtPen^2
   for (std::size_t p = 0; p < planes_.size(); ++p) {
     RigidPlane& pl = planes_[p];
@@ -529,7 +653,6 @@ void ExplicitSolver::contactForces(double dtStep) {
   }
   if (!hasNeedle_) return;
   RigidNeedle& nd = needle_;
-  const bool planar = d == 2;
   const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
   double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0, ePen = 0;
   double drv = 0;  // path needle: reaction along the local tangents
@@ -554,61 +677,16 @@ void ExplicitSolver::contactForces(double dtStep) {
     }
     const Vector3d vb = nd.path ? Vector3d(nd.velocity * pose.axis) : needleSurfaceVelocity(nd, x);  // needle_motion.cpp
     double wedgeAxial = 0.0;  // axial face force per unit lateral force on a wedged lip (reaction only)
-    needle::NeedleHit hit =
-        needle::queryNeedle(nd.shape, pose, x, planar, contactSide_.empty() ? 0 : contactSide_[n]);
-    // Wedge on a still-cohesive seam pair (docs/models/cohesive.md "The point wedges the seam
-    // open"): the lip nodes of a pair that is not fully damaged are pushed across the cut line
-    // only, each to its own side, by the lateral gap to the needle's face (the axial push of the
-    // inclined faces would shove the closed pair ahead of the point); the needle takes the axial
-    // reaction that makes its work match: one gap function per lip (cohesive_wedge.hpp: 2D bevel,
-    // 3D bevel with the seam through the axis, 3D cone) at the node's reference axial station.
-    // (bevel, 2D and 3D: also once fully damaged: a lip dragged across the axis plane by its partner (3D), or
-    // a wall-side lip released above the point's line by the chisel (2D), would otherwise meet the lip side
-    // rule of queryNeedle with a jump in depth: 2D cut with G_c = 2 J/m^2, h = 0.125 mm: needle balance 8.4 %
-    // with the switch to queryNeedle at d = 1, 0.26 % without)
-    const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
-                     (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel);
-    if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
-        (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
-      double uAx = 0.0;
-      for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * pose.axis[i];
-      const Vector3d xw = x - uAx * pose.axis;
-      needle::NeedleHit wh;
-      const Vector3d xRef(mesh_.X[static_cast<std::size_t>(n) * d], mesh_.X[static_cast<std::size_t>(n) * d + 1],
-                          d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
-      const bool in = sleeveRadius_ > 0
-                          ? sleeveWedge(nd.shape, pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial, &xRef)
-                          : lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
-      hit = in ? wh : needle::NeedleHit{};
-    } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
-      const double c = hit.normal.dot(pose.bevelSide);
-      if (std::abs(c) > 1e-3) {
-        wedgeAxial = hit.normal.dot(pose.axis) / std::abs(c);
-        hit.depth /= std::abs(c);
-        hit.normal = (c > 0 ? 1.0 : -1.0) * pose.bevelSide;
-      }
-    }
+    needle::NeedleHit hit = needleHit(n, x, pose, wedgeAxial);
     if (!hit.inside) {
       ft[0] = ft[1] = ft[2] = 0;
       needleK_[n] = 0.0;  // the contact episode ends
       continue;
     }
-    // cohesive seam lips keep an explicit-range penalty, the one the wedge model was built with: the
-    // contact_penalty itself when it is <= 1, else lipPenalty (docs/models/explicit.md)
-    const bool seamLip = sleeveRadius_ <= 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0;  // sleeve: full penalty
-    const double lipPen = opt_.contactPenalty <= 1.0 ? opt_.contactPenalty : opt_.lipPenalty;
-    // (an explicit lip penalty stays below 4 - (2 cfl)^2 = 0.76 m/dt^2 at cfl 0.9: kLipPenaltyMax)
-    double k = seamLip ? episodeStiffness(n, contact::massPenalty(lipPen, mass_[n], dtPen),
-                                          contact::massPenalty(std::max(kLipPenaltyMax, lipPen), mass_[n], dtPen))
-                       : episodeStiffness(n, contact::massPenalty(opt_.contactPenalty, mass_[n], dtPen),
-                                          std::numeric_limits<double>::infinity());
-    // sleeve lips (implicit contact, any k is stable): at least 10x the pair's cohesive spring K A, so the wall
-    // holds t_c with a gap of delta_0 / 10 instead of storing (and releasing at failure) a large penalty energy
-    if (sleeveRadius_ > 0 && !cohPairOf_.empty() && cohPairOf_[n] >= 0)
-      k = std::max(k, 10.0 * coh_.front().law(cohPairOf_[n]).stiffness * coh_.front().tributaryLength(cohPairOf_[n]));
+    const double k = needleContactStiffness(n, dtPen);
     const double fn = contact::penaltyForce(k, hit.depth);
     Vector3d f = fn * hit.normal;
-    const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.frictionWall;
+    const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.wallFriction(n);
     recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
     if (nd.path)
       for (int i = 0; i < 3; ++i) contactAxis_[static_cast<std::size_t>(n) * 3 + i] = pose.axis[i];
@@ -646,13 +724,7 @@ void ExplicitSolver::contactForces(double dtStep) {
   nd.nodesInContact = count;
   nd.maxPenetration = maxPen;
   en_.penaltyEnergy = ePen;
-  if (maxPen > penetrationTol_)
-    fail("needle contact penetration " + fmtNum(maxPen * 1e3) + " mm exceeds the tolerance " +
-             fmtNum(penetrationTol_ * 1e3) + " mm",
-         "the needle contact zone (tip at " + fmtNum(nd.pose.tip.x() * 1e3) + ", " + fmtNum(nd.pose.tip.y() * 1e3) +
-             ", " + fmtNum(nd.pose.tip.z() * 1e3) + " mm)",
-         "Remedy: raise model.explicit.contact_penalty, lower the insertion speed or the mass "
-         "scaling, or refine the mesh so that tissue nodes resolve the needle tip");
+  if (maxPen > penetrationTol_) failNeedlePenetration(maxPen);
 }
 
 void ExplicitSolver::computeStableStep() {
@@ -670,54 +742,67 @@ void ExplicitSolver::computeStableStep() {
   dt_ = dt;
 }
 
+// Forces and stable step at the initial state (initial displacement or velocity may have been set).
+void ExplicitSolver::startFirstStep() {
+  const double dtKeep = dt_;
+  elementForces(0.0);
+  gatherForces();
+  computeStableStep();
+  if (dtKeep > 0.0 && dtKeep < dt_) dt_ = dtKeep;  // a first step shortened by advanceTo
+  double ke = 0;
+  for (std::size_t k = 0; k < u_.size(); ++k) ke += 0.5 * mass_[k / dim_] * vHalf_[k] * vHalf_[k];
+  en_.kinetic = en_.kinetic0 = ke;
+}
+
+// Tied seam pairs move together: equal and opposite tie forces give both the pair's common
+// acceleration (they do no work since the velocities agree); a pair the tip's leading point reached is released.
+void ExplicitSolver::tieForces(double alpha) {
+  const int d = dim_;
+  if (hasNeedle_) {
+    // the leading point of the tip: the sharp point of a bevel, the apex of a cone
+    const auto& nd = needle_;
+    Vector3d lead = nd.pose.tip;
+    if (nd.shape.tip == TipType::Bevel) lead -= nd.shape.radius * nd.pose.bevelSide;
+    for (std::size_t t = 0; t < tieA_.size(); ++t) {
+      if (!tieOn_[t]) continue;
+      Vector3d x = Vector3d::Zero();
+      for (int i = 0; i < d; ++i) x[i] = mesh_.X[static_cast<std::size_t>(tieA_[t]) * d + i] + u_[static_cast<std::size_t>(tieA_[t]) * d + i];
+      if ((x - lead).dot(nd.pose.axis) < releaseDistance_) tieOn_[t] = 0;
+    }
+  }
+  std::fill(ftie_.begin(), ftie_.end(), 0.0);
+  for (std::size_t t = 0; t < tieA_.size(); ++t) {
+    if (!tieOn_[t]) continue;
+    const int a = tieA_[t], b = tieB_[t];
+    const double ma = mass_[a], mb = mass_[b];
+    for (int i = 0; i < d; ++i) {
+      const std::size_t ka = static_cast<std::size_t>(a) * d + i, kb = static_cast<std::size_t>(b) * d + i;
+      double fa = fext_[ka] - fint_[ka] + fcon_[ka] - alpha * ma * vHalf_[ka] + (coh_.empty() ? 0.0 : fcoh_[ka]);
+      double fb = fext_[kb] - fint_[kb] + fcon_[kb] - alpha * mb * vHalf_[kb] + (coh_.empty() ? 0.0 : fcoh_[kb]);
+      double tf = ma * (fa + fb) / (ma + mb) - fa;
+      ftie_[ka] = tf;
+      ftie_[kb] = -tf;
+    }
+  }
+}
+
+void ExplicitSolver::checkHourglassing() const {
+  int e = static_cast<int>(std::max_element(hgStrain_.begin(), hgStrain_.end()) - hgStrain_.begin());
+  if (hgStrain_[e] > opt_.hourglassStrainLimit)
+    fail("hourglassing: zig-zag (hourglass) strain " + fmtNum(hgStrain_[e]) + " exceeds the limit " +
+             fmtNum(opt_.hourglassStrainLimit),
+         elementWhere(e),
+         "Remedy: refine the mesh under the load, raise model.explicit.hourglass, or use tri3/tet4 elements");
+}
+
 void ExplicitSolver::step() {
   const std::size_t ndof = u_.size();
-  if (steps_ == 0) {
-    // forces and stable step at the initial state (initial displacement or velocity may have been set)
-    const double dtKeep = dt_;
-    elementForces(0.0);
-    gatherForces();
-    computeStableStep();
-    if (dtKeep > 0.0 && dtKeep < dt_) dt_ = dtKeep;  // a first step shortened by advanceTo
-    double ke = 0;
-    for (std::size_t k = 0; k < ndof; ++k) ke += 0.5 * mass_[k / dim_] * vHalf_[k] * vHalf_[k];
-    en_.kinetic = en_.kinetic0 = ke;
-  }
+  if (steps_ == 0) startFirstStep();
   const double dt = dt_;
   const double dtAvg = steps_ == 0 ? 0.5 * dt : 0.5 * (dtPrev_ + dt);
   const double alpha = opt_.damping;
   normalContactCorrection(dt, dtAvg);
-  // Tied seam pairs move together: equal and opposite tie forces give both the
-  // pair's common acceleration (they do no work since the velocities agree).
-  if (!tieA_.empty()) {
-    const int d = dim_;
-    if (hasNeedle_) {
-      // the leading point of the tip: the sharp point of a bevel, the apex of a cone
-      const auto& nd = needle_;
-      Vector3d lead = nd.pose.tip;
-      if (nd.shape.tip == TipType::Bevel) lead -= nd.shape.radius * nd.pose.bevelSide;
-      for (std::size_t t = 0; t < tieA_.size(); ++t) {
-        if (!tieOn_[t]) continue;
-        Vector3d x = Vector3d::Zero();
-        for (int i = 0; i < d; ++i) x[i] = mesh_.X[static_cast<std::size_t>(tieA_[t]) * d + i] + u_[static_cast<std::size_t>(tieA_[t]) * d + i];
-        if ((x - lead).dot(nd.pose.axis) < releaseDistance_) tieOn_[t] = 0;
-      }
-    }
-    std::fill(ftie_.begin(), ftie_.end(), 0.0);
-    for (std::size_t t = 0; t < tieA_.size(); ++t) {
-      if (!tieOn_[t]) continue;
-      const int a = tieA_[t], b = tieB_[t];
-      const double ma = mass_[a], mb = mass_[b];
-      for (int i = 0; i < d; ++i) {
-        const std::size_t ka = static_cast<std::size_t>(a) * d + i, kb = static_cast<std::size_t>(b) * d + i;
-        double fa = fext_[ka] - fint_[ka] + fcon_[ka] - alpha * ma * vHalf_[ka] + (coh_.empty() ? 0.0 : fcoh_[ka]);
-        double fb = fext_[kb] - fint_[kb] + fcon_[kb] - alpha * mb * vHalf_[kb] + (coh_.empty() ? 0.0 : fcoh_[kb]);
-        double tf = ma * (fa + fb) / (ma + mb) - fa;
-        ftie_[ka] = tf;
-        ftie_[kb] = -tf;
-      }
-    }
-  }
+  if (!tieA_.empty()) tieForces(alpha);
   const bool ties = !tieA_.empty(), coh = !coh_.empty();
   double ke = 0, keMid = 0, wInt = 0, wExt = 0, wCon = 0, wDamp = 0, wCoh = 0, wConN = 0, dFric = 0;
   const int d = dim_;
@@ -794,14 +879,7 @@ void ExplicitSolver::step() {
   gatherForces();
   contactForces(dt);
   cohesiveForces();
-  if (nhg_ > 0 && (steps_ & 15) == 0) {
-    int e = static_cast<int>(std::max_element(hgStrain_.begin(), hgStrain_.end()) - hgStrain_.begin());
-    if (hgStrain_[e] > opt_.hourglassStrainLimit)
-      fail("hourglassing: zig-zag (hourglass) strain " + fmtNum(hgStrain_[e]) + " exceeds the limit " +
-               fmtNum(opt_.hourglassStrainLimit),
-           elementWhere(e),
-           "Remedy: refine the mesh under the load, raise model.explicit.hourglass, or use tri3/tet4 elements");
-  }
+  if (nhg_ > 0 && (steps_ & 15) == 0) checkHourglassing();
   computeStableStep();
 }
 

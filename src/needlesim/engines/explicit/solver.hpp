@@ -112,6 +112,8 @@ struct RigidNeedle {
   double spinRate = 0.0;         // rad/s about pose.axis (needle_motion.hpp; 3D)
   double frictionWall = 0.0;     // Coulomb coefficient on the walls (seed 001: 0.3)
   double frictionTip = 0.0;      // on the tip surface (seed 001: frictionless)
+  std::vector<double> frictionWallNode;  // per tissue node: its layer's or inclusion's (empty = frictionWall)
+  double wallFriction(int node) const { return frictionWallNode.empty() ? frictionWall : frictionWallNode[node]; }
   // loads applied in the last step (the normal part evaluated at its end, contact_normal.cpp)
   Eigen::Vector3d force = Eigen::Vector3d::Zero();   // reaction on the needle (from the tissue)
   Eigen::Vector3d moment = Eigen::Vector3d::Zero();  // about the base centre
@@ -212,11 +214,29 @@ class ExplicitSolver {
   Eigen::Matrix3d deformationGradient(int e) const;
 
  private:
+  // set-up steps of the constructor
+  void validateInput();
+  void allocateElementData();
+  void referenceGeometry(int e);
+  void hourglassVectors(int e);
+  void elementStiffnessAndMass(int e);
+  void allocatePronyStates();
+  void buildNodeSlots();
+  void lumpedMassAndNodeData();
   template <int NPE, int DIM>
   void internalForces(double dtStep);
+  [[noreturn]] void failInverted(int bad) const;
+  // steps of step()
+  void startFirstStep();
+  void tieForces(double alpha);
+  void checkHourglassing() const;
   // internalForces for this mesh's element type.
   void elementForces(double dtStep);
   void contactForces(double dtStep);
+  double contactTimeStep();
+  needle::NeedleHit needleHit(int n, const Eigen::Vector3d& x, const needle::NeedlePose& pose, double& wedgeAxial) const;
+  double needleContactStiffness(int n, double dtPen);
+  [[noreturn]] void failNeedlePenetration(double maxPen) const;
   // needle contact stiffness of a node, kept over its contact episode (solver.cpp)
   double episodeStiffness(int n, double k0, double kMax);
   static constexpr double kLipPenaltyMax = 0.6;  // explicit lip penalty cap, m/(cfl dt_stable)^2

@@ -1,0 +1,347 @@
+// Set-up of an explicit run (explicit_run.hpp): mesh and regions, seam or cohesive zone, solver, needle.
+#include <algorithm>
+#include <cmath>
+#include <fmt/format.h>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/engines/explicit/explicit_run.hpp"
+#include "needlesim/engines/explicit/path_needle.hpp"
+#include "needlesim/engines/explicit/sleeve_setup.hpp"
+#include "needlesim/materials/material_spec.hpp"
+
+namespace needlesim::explicit_fe {
+
+using Eigen::Vector3d;
+
+namespace {
+
+Vector3d centroid(const Mesh& m, int e) {
+  const int npe = nodesPerElement(m.type);
+  Vector3d c = Vector3d::Zero();
+  for (int a = 0; a < npe; ++a)
+    for (int i = 0; i < m.dim; ++i) c[i] += m.coord(m.conn[static_cast<std::size_t>(e) * npe + a], i) / npe;
+  return c;
+}
+
+// Largest extent of an element's bounding box: its local size.
+double elementSize(const Mesh& m, int e) {
+  const int npe = nodesPerElement(m.type);
+  Vector3d lo = Vector3d::Constant(1e300), hi = Vector3d::Constant(-1e300);
+  for (int a = 0; a < npe; ++a)
+    for (int i = 0; i < m.dim; ++i) {
+      const double x = m.coord(m.conn[static_cast<std::size_t>(e) * npe + a], i);
+      lo[i] = std::min(lo[i], x), hi[i] = std::max(hi[i], x);
+    }
+  double h = 0;
+  for (int i = 0; i < m.dim; ++i) h = std::max(h, hi[i] - lo[i]);
+  return h;
+}
+
+Vector3d nodePoint(const Mesh& m, int n) {
+  Vector3d p = Vector3d::Zero();
+  for (int i = 0; i < m.dim; ++i) p[i] = m.coord(n, i);
+  return p;
+}
+
+// Index of the last inclusion containing x (later ones are laid over earlier ones), -1 none.
+int inclusionAt(const std::vector<InclusionSpec>& inclusions, const Vector3d& x) {
+  for (int i = static_cast<int>(inclusions.size()) - 1; i >= 0; --i)
+    if (inclusions[i].contains(x.x(), x.y(), x.z())) return i;
+  return -1;
+}
+
+}  // namespace
+
+ExplicitRun::ExplicitRun(const Scenario& sc, ResultSink& sink)
+    : sc_(sc),
+      ex_(sc.model.explicit_fe),
+      sink_(sink),
+      frame_(needle::InsertionFrame::fromInsertion(sc.insertion)),
+      shape_(needle::NeedleShape::fromSpec(sc.needle)),
+      motion_(sc.insertion),
+      dim_(sc.model.explicit_fe.dimension),
+      inclusions_(sc.tissue.inclusions, frame_) {
+  checkInput();
+  // 2D plane strain shows only the in-plane sides of the bevel
+  bevelSide_ = dim_ == 2 ? Vector3d(frame_.bevelSign() * frame_.lateral) : frame_.bevelSide();
+  chooseSeam();
+  buildMesh();
+  solver_ = std::make_unique<ExplicitSolver>(mesh_, regionMaterials(), solverOptions());
+  setupSeam();
+  if (cohesive_) setupCohesive();
+  fixDistalFace();
+  setupNeedle();
+  createOutputs();
+}
+
+void ExplicitRun::checkInput() const {
+  if (sc_.tissue.layers.empty()) throw Error("explicit: the tissue needs at least one layer");
+  for (std::size_t i = 0; i < sc_.tissue.inclusions.size(); ++i)
+    if (sc_.tissue.inclusions[i].sliding)
+      throw Error(fmt::format("explicit: tissue.inclusions[{}].interface: sliding needs tissue-tissue contact, which "
+                              "explicit does not have; use interface: bonded or engine mpm",
+                              i));
+  if (!ex_.mesh.empty() && !ex_.imported_mesh)
+    throw Error("explicit: model.explicit.mesh '" + ex_.mesh + "' was not read (the scenario reader loads it)");
+}
+
+// The pre-cut seam runs through the leading point of the tip (the bevel's sharp point, at -R bevelSide).
+void ExplicitRun::chooseSeam() {
+  const double th = sc_.insertion.entry_angle, phi = sc_.insertion.bevel_orientation;
+  const bool aligned = std::abs(th - 0.5 * M_PI) < 1e-9 && std::abs(std::sin(phi)) < 1e-9;
+  seamOn_ = ex_.pre_cut && !ex_.imported_mesh && aligned;
+  cohesive_ = ex_.cohesive.enable;
+  // cylindrical sleeve seam (docs/models/cohesive.md "Sleeve seam"): its own O-grid block (sleeve_setup.hpp)
+  sleeve_ = cohesive_ && ex_.cohesive.seam == "sleeve";
+  // 3D bevel with the cohesive zone: through the needle axis instead (docs/models/cohesive.md "3D bevel"),
+  // a plane through the point is tangent to the shaft and the needle would indent the tissue beside it.
+  const bool seamThroughAxis = dim_ == 3 && cohesive_;
+  seamY_ = sc_.insertion.entry_offset -
+           (sc_.needle.tip == TipType::Bevel && !seamThroughAxis ? shape_.radius * bevelSide_.y() : 0.0);
+}
+
+void ExplicitRun::buildMesh() {
+  dmax_ = std::min(sc_.tissue.length, sc_.maxDepth() + 2 * ex_.element_size);
+  if (sleeve_) {
+    sleeveMesh_ = sleeveMeshFor(sc_, shape_, sleeveRadius_);
+    mesh_ = sleeveMesh_.mesh;
+    seam_ = sleeveMesh_.pairs;
+  } else if (ex_.imported_mesh) {
+    mesh_ = fromVolumeMesh(*ex_.imported_mesh);
+  } else {
+    buildBlock();
+  }
+  if (dim_ == 2) thickness_ = 2 * shape_.radius;
+  assignRegions();
+  checkInclusionResolution();
+  if (seamOn_ && !sleeve_ && !ex_.imported_mesh)
+    seam_ = splitSeam(mesh_, seamY_, 0.0, dmax_, dim_ == 3 ? shape_.radius + 1.01 * ex_.element_size : 0.0);
+  // crack path and follow-the-leader needle (path_from_scenario.hpp, docs/models/cohesive.md "Crack path")
+  crackPath_ = setupCrackPath(sc_, shape_, seamY_, bevelSide_.y() >= 0 ? 1 : -1, seamOn_ && cohesive_, mesh_);
+}
+
+// Tissue block: depth x in [0, length] from the entry face, y across the width (needle path at
+// y = entry_offset), z across the height (path at z = 0): the centred tissue frame.
+void ExplicitRun::buildBlock() {
+  const auto& t = sc_.tissue;
+  const double y0 = sc_.insertion.entry_offset, h = ex_.element_size, H = ex_.max_element_size;
+  const double half = 0.5 * ex_.core_width;
+  // along the path: the core size down to just past the deepest tip position, then graded
+  auto xs = gradedCoordinates(0.0, t.length, 0.0, std::max(dmax_, h), h, H, ex_.grading);
+  auto ys = gradedCoordinates(-0.5 * t.width, 0.5 * t.width, y0 - half, y0 + half, h, H, ex_.grading);
+  if (seamOn_) snapCoordinate(ys, seamY_);
+  const ElementType type = elementTypeFromName(ex_.element.empty() ? (dim_ == 2 ? "quad4" : "hex8") : ex_.element);
+  if (elementDim(type) != dim_)
+    throw Error("model.explicit.element " + elementName(type) + " does not match dimension " + std::to_string(dim_) +
+                "d");
+  if (dim_ == 2) {
+    mesh_ = structuredBlock(xs, ys, type);
+  } else {
+    auto zs = gradedCoordinates(-0.5 * t.height, 0.5 * t.height, -half, half, h, H, ex_.grading);
+    mesh_ = structuredBlock(xs, ys, zs, type);
+  }
+}
+
+// Regions: layer r (stacked from the entry face, by element centroid; an imported mesh keeps its
+// groups), then inclusion i as region layers + i (elements whose centroid lies inside it).
+void ExplicitRun::assignRegions() {
+  const auto& t = sc_.tissue;
+  const int layers = static_cast<int>(t.layers.size());
+  if (ex_.imported_mesh) {
+    const int regions = *std::max_element(mesh_.region.begin(), mesh_.region.end()) + 1;
+    if (regions > layers)
+      throw Error(fmt::format("explicit: the imported mesh (model.explicit.mesh) has {} element groups but "
+                              "tissue.layers has {}: one layer per group, in increasing tag order",
+                              regions, layers));
+  }
+  for (int e = 0; e < mesh_.elements(); ++e) {
+    const Vector3d c = centroid(mesh_, e);
+    if (!ex_.imported_mesh) mesh_.region[e] = static_cast<int>(t.layerAt(c.x()));
+    const int i = inclusionAt(t.inclusions, c);
+    if (i >= 0) mesh_.region[e] = layers + i;
+  }
+}
+
+// Every inclusion needs elements, and resolving it needs about two elements across its radius.
+void ExplicitRun::checkInclusionResolution() {
+  const auto& incs = sc_.tissue.inclusions;
+  const int layers = static_cast<int>(sc_.tissue.layers.size());
+  std::vector<double> size(incs.size(), 0.0);
+  std::vector<std::vector<char>> member(incs.size(), std::vector<char>(mesh_.nodes(), 0));
+  const int npe = nodesPerElement(mesh_.type);
+  for (int e = 0; e < mesh_.elements(); ++e) {
+    const int i = mesh_.region[e] - layers;
+    if (i < 0) continue;
+    size[i] = std::max(size[i], elementSize(mesh_, e));
+    for (int a = 0; a < npe; ++a) member[i][mesh_.conn[static_cast<std::size_t>(e) * npe + a]] = 1;
+  }
+  inclusionNodes_.assign(incs.size(), {});
+  for (std::size_t i = 0; i < incs.size(); ++i) {
+    if (size[i] == 0.0)
+      throw Error(fmt::format("explicit: tissue.inclusions[{}] ({}) contains no element centroid: refine the mesh "
+                              "there (model.explicit.element_size, core_width) or enlarge its radius",
+                              i, incs[i].name));
+    for (int n = 0; n < mesh_.nodes(); ++n)
+      if (member[i][n]) inclusionNodes_[i].push_back(n);
+    if (incs[i].radius < 2.0 * size[i])
+      sink_.note(fmt::format("explicit: inclusion {} (radius {:g} mm) spans fewer than 2 elements of the local size "
+                             "{:g} mm across its radius: its shape and stiffness are coarsely resolved; refine "
+                             "model.explicit.element_size or core_width around it.",
+                             incs[i].name, incs[i].radius * 1e3, size[i] * 1e3));
+  }
+}
+
+std::vector<Material> ExplicitRun::regionMaterials() const {
+  std::vector<Material> mats;
+  for (const auto& l : sc_.tissue.layers) mats.push_back(Material::fromSpec(l.material));
+  for (const auto& I : sc_.tissue.inclusions) mats.push_back(Material::fromSpec(I.material));
+  return mats;
+}
+
+SolverOptions ExplicitRun::solverOptions() const {
+  SolverOptions o;
+  o.massScaling = ex_.mass_scaling;
+  o.targetTimeStep = ex_.target_time_step;
+  o.cfl = ex_.cfl;
+  o.bulkViscosityLinear = ex_.bulk_viscosity_linear;
+  o.bulkViscosityQuadratic = ex_.bulk_viscosity_quadratic;
+  o.hourglass = ex_.hourglass;
+  o.damping = ex_.damping;
+  o.contactPenalty = ex_.contact_penalty;
+  o.fixedContactStiffness = ex_.fixed_contact_stiffness;
+  // Seam lips meet the sharp point with the offset the intact tissue ahead had (up to ~0.4 of a
+  // core element at 0.5 mm, seed 004 example): allow one core element before stopping.
+  if (seamOn_ || sleeve_) o.penetrationTolerance = ex_.element_size;
+  return o;
+}
+
+// Seam pairs: tied until the tip arrives (node release) or joined by the cohesive zone; each lip
+// meets the needle on its own side (needle::queryNeedle's `side`).
+void ExplicitRun::setupSeam() {
+  if (cohesive_ && !sleeve_ && (!seamOn_ || mesh_.type == ElementType::Tri3 || mesh_.type == ElementType::Tet4))
+    throw Error("model.explicit.cohesive needs the pre-cut seam of a quad4 (2d) or hex8 (3d) mesh (pre_cut: true, no "
+                "imported mesh, entry_angle 90 deg, bevel_orientation 0 or 180 deg)");
+  // splitSeam gives the copies to the +y lip; the bevel faces +y when bevelSide.y > 0
+  const int copySide = sleeve_ || bevelSide_.y() >= 0 ? 1 : -1;  // sleeve: core side -1, outer side +1
+  for (auto [a, b] : seam_) {
+    if (!cohesive_) solver_->addTie(a, b);
+    // 3D: the lip sides disambiguate the nearest exit only on the sharp point's line (z = 0); off
+    // it the tube's lower wall is the natural exit of the upper lip, which the side rule forbids
+    // (node-release seam only: the cohesive wedge needs every lip's side, cohesive_wedge.hpp)
+    if (dim_ == 3 && !cohesive_ && std::abs(mesh_.coord(a, 2)) > 0.5 * ex_.element_size) continue;
+    solver_->setContactSide(a, -copySide);
+    solver_->setContactSide(b, copySide);
+  }
+}
+
+// The cohesive law of a seam pair at x: G_c of the layer or inclusion there (or fracture_energy),
+// K and t_c from the model's settings or that material's modulus (docs/models/cohesive.md).
+CohesiveLaw ExplicitRun::cohesiveLawAt(const Vector3d& x) const {
+  const auto& cs = ex_.cohesive;
+  const auto& t = sc_.tissue;
+  const int i = inclusionAt(t.inclusions, x);
+  const LayerSpec& layer = t.layers[t.layerAt(x.x())];
+  const std::string where = i >= 0 ? fmt::format("tissue.inclusions[{}]", i) : "layer " + layer.name;
+  const materials::MaterialSpec& material = i >= 0 ? t.inclusions[i].material : layer.material;
+  const double toughness = i >= 0 ? t.inclusions[i].toughness : layer.toughness;
+  if (!(cs.fracture_energy > 0) && !(toughness > 0))
+    throw Error("explicit: " + where + ".toughness is not given and model.explicit.cohesive.fracture_energy is 0: "
+                "the cohesive zone through it needs G_c");
+  const auto mod = materials::smallStrainModuli(material);
+  const double E = mod.youngs(), nu = mod.poisson(), Ep = E / (1 - nu * nu);
+  CohesiveLaw law;
+  law.energy = cs.fracture_energy > 0 ? cs.fracture_energy : toughness;
+  law.shearEnergy = cs.mode_ii_ratio * law.energy;
+  law.strength = cs.strength > 0 ? cs.strength : 2.0 * law.energy / cs.critical_separation;
+  law.stiffness = cs.stiffness > 0                ? cs.stiffness
+                  : cs.constitutive_thickness > 0 ? E / cs.constitutive_thickness
+                                                  : 10.0 * Ep / ex_.element_size;
+  try {
+    law.validate();
+  } catch (const Error& e) {
+    throw Error("model.explicit.cohesive (" + where + "): " + e.what());
+  }
+  return law;
+}
+
+// Cohesive zone on the seam pairs instead of node release (docs/models/cohesive.md).
+void ExplicitRun::setupCohesive() {
+  cohGc_.assign(mesh_.nodes(), 0.0);
+  for (auto [a, b] : seam_) {
+    (void)b;
+    cohLaws_.push_back(cohesiveLawAt(nodePoint(mesh_, a)));
+    cohGc_[a] = cohLaws_.back().energy;
+  }
+  if (dim_ == 3) {
+    // quadrilaterals on the seam plane y = seamY (cohesive_surface.cpp); the faces reaching the
+    // unsplit nodes beyond the strip carry the closed crack front
+    solver_->setCohesive(sleeve_ ? CohesiveInterface::fromQuads(mesh_, seam_, cohLaws_, sleeveMesh_.quads,
+                                                                sleeveMesh_.quadNormals, frame_.axial)
+                                 : CohesiveInterface::surface3D(mesh_, seam_, cohLaws_, Vector3d::UnitY(), frame_.axial));
+    if (sleeve_) solver_->setSleeveRadius(sleeveRadius_);
+    return;
+  }
+  CohesiveInterface ci(mesh_.X, seam_, cohLaws_, Eigen::Vector2d::UnitX(), 1.0);
+  // closed crack tip: the shared node beyond the seam's last pair
+  double xLast = -1e300, xNext = 1e300;
+  for (auto [a, b] : seam_) xLast = std::max(xLast, mesh_.coord(a, 0));
+  for (int n = 0; n < mesh_.nodes(); ++n)
+    if (std::abs(mesh_.coord(n, 1) - crackPath_.seamHeight(mesh_.coord(n, 0), seamY_)) < 1e-9 &&
+        mesh_.coord(n, 0) > xLast + 1e-12)
+      xNext = std::min(xNext, mesh_.coord(n, 0));
+  if (xNext < 1e299) ci.addEndLength(0.0, 0.5 * (xNext - xLast));
+  solver_->setCohesive(std::move(ci));
+}
+
+// Distal face fixed (seed 001 section 3.2).
+void ExplicitRun::fixDistalFace() {
+  const int fixed = solver_->addGroup();
+  for (int n = 0; n < mesh_.nodes(); ++n)
+    if (mesh_.coord(n, 0) > sc_.tissue.length - 1e-9)
+      for (int i = 0; i < dim_; ++i) solver_->addDof(fixed, n, i);
+}
+
+// Wall friction per tissue node: the mean of its elements' layer or inclusion coefficients; empty
+// when one coefficient holds everywhere.
+std::vector<double> ExplicitRun::wallFrictionPerNode() const {
+  std::vector<double> mu;
+  for (const auto& l : sc_.tissue.layers) mu.push_back(l.friction.coefficient);
+  for (const auto& I : sc_.tissue.inclusions) mu.push_back(I.friction_coefficient);
+  if (std::all_of(mu.begin(), mu.end(), [&](double m) { return m == mu.front(); })) return {};
+  const Mesh& m = solver_->mesh();
+  const int npe = nodesPerElement(m.type);
+  std::vector<double> sum(m.nodes(), 0.0), count(m.nodes(), 0.0);
+  for (int e = 0; e < m.elements(); ++e)
+    for (int a = 0; a < npe; ++a) {
+      const int n = m.conn[static_cast<std::size_t>(e) * npe + a];
+      sum[n] += mu[m.region[e]];
+      count[n] += 1.0;
+    }
+  for (int n = 0; n < m.nodes(); ++n) sum[n] /= count[n];
+  return sum;
+}
+
+void ExplicitRun::setupNeedle() {
+  RigidNeedle nd;
+  nd.shape = shape_;
+  nd.pose.axis = frame_.axial;
+  nd.pose.bevelSide = bevelSide_;
+  nd.pose.tip = frame_.onAxis(motion_.at(0.0).depth);
+  nd.frictionWall = sc_.tissue.layers.front().friction.coefficient;
+  nd.frictionWallNode = wallFrictionPerNode();
+  nd.frictionTip = ex_.tip_friction;
+  if (crackPath_.path) {
+    nd.path = crackPath_.path;
+    nd.pathSide = crackPath_.side;
+    placeOnPath(nd, motion_.at(0.0).depth);
+  }
+  solver_->setNeedle(nd);
+  // Deformable needle (model.explicit.needle_model: beam, deformable_needle.hpp): a cantilever clamped at
+  // the base, which follows the profile; it sets the contact pose from its deflection each step.
+  if (ex_.needle_model == "beam")
+    beam_ = std::make_unique<DeformableNeedle>(
+        needle::Section{sc_.needle.youngs_modulus, sc_.needle.outer_diameter, sc_.needle.inner_diameter},
+        shape_.length, dim_);
+}
+
+}  // namespace needlesim::explicit_fe
