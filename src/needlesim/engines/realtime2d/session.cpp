@@ -5,10 +5,13 @@
 #include <numbers>
 
 #include "needlesim/core/error.hpp"
-#include "needlesim/engines/realtime2d/beam.hpp"
 #include "needlesim/forces/karnopp.hpp"
+#include "needlesim/needle/beam_element.hpp"
 
 namespace needlesim::realtime2d {
+
+using needle::cantileverDeflection;
+using needle::cantileverSlope;
 
 namespace {
 // A coupled node is released only once it lies this far ahead of the tip, so a node

@@ -1,7 +1,7 @@
 #pragma once
 // Real-time session of the 2D FE needle insertion model (seed 003 sections
 // 3.1-3.5): linear elastic tissue (tissue.hpp), an Euler-Bernoulli needle
-// clamped at its base (beam.hpp), the needle-tissue coupling on the path nodes
+// clamped at its base (needle/beam_element.hpp influence functions), the needle-tissue coupling on the path nodes
 // (eqs 3.18-3.21, with the modified local constraints of Gao et al. 2016, seed
 // 003 ref 16) and the lumped forces of section 3.2: pre-puncture stiffness
 // (eq 3.16), constant cutting (eq 3.24) and modified Karnopp friction (eq 3.23).
