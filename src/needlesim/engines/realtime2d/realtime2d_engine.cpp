@@ -121,10 +121,9 @@ SessionConfig realtime2dConfig(const Scenario& sc) {
   forces::StiffnessLaw law{c.tissue.material.E, c.tissue.material.nu, nd.bevel_angle, sc.insertion.entry_angle};
   // The reader marks a puncture depth with a negative value: convert it by eq 3.16.
   c.puncture_force = L0.puncture_force >= 0.0 ? L0.puncture_force : law.force(-L0.puncture_force);
-  c.entry_offset = sc.insertion.entry_offset;
-  c.entry_angle = 0.5 * std::numbers::pi - sc.insertion.entry_angle;
+  c.frame = needle::InsertionFrame::fromInsertion(sc.insertion);
   c.dt = sc.model.time_step;
-  if (c.entry_angle > 0.25 * std::numbers::pi + 1e-12)
+  if (sc.insertion.entry_angle < 0.25 * std::numbers::pi - 1e-12)
     throw SolverError(fmt::format("realtime2d: entry angle {:g} deg is below the 45 deg the path-node coupling "
                                   "supports (the needle axis must be within 45 deg of the entry-face normal)",
                                   sc.insertion.entry_angle * 180.0 / std::numbers::pi));
@@ -147,7 +146,7 @@ void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& optio
       r.field_interval > 0.0 ? std::max(1LL, std::llround(r.field_interval / dt)) : 0LL;
 
   std::vector<Marker> markers;
-  const double path_y = 0.5 * sc.tissue.width + sc.insertion.entry_offset;
+  const double path_y = s.entryPoint().y() + s.cornerShift().y();
   for (const auto& m : r.markers) markers.push_back(locate(mesh, m, path_y));
 
   io::Table forces({{"time", "s"},
@@ -182,7 +181,8 @@ void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& optio
   constexpr int kShapePoints = 41;
   Eigen::Matrix2Xd needle(2, kShapePoints);
   if (tf) {
-    std::vector<double> pts(mesh.nodes.data(), mesh.nodes.data() + mesh.nodes.size());
+    const Eigen::Matrix2Xd centred = mesh.nodes.colwise() - s.cornerShift();  // the tissue frame
+    std::vector<double> pts(centred.data(), centred.data() + centred.size());
     std::vector<int> conn(mesh.quads.data(), mesh.quads.data() + mesh.quads.size());
     tf->setMesh(pts, io::CellType::Quad, conn);
   }
@@ -241,14 +241,14 @@ void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& optio
     const MotionState m0 = motion.at(0.0);
     StepResult o0;
     o0.depth = m0.depth;
-    o0.tip_position = s.entryPoint() + m0.depth * Eigen::Vector2d(std::cos(cfg.entry_angle), std::sin(cfg.entry_angle));
+    o0.tip_position = s.entryPoint() + m0.depth * cfg.frame.axial.head<2>();
     record(0.0, m0, o0);
     if (fieldEvery > 0) writeFields(0.0);
   }
   for (long long k = 1; k <= steps; ++k) {
     const double t = std::min(k * dt, motion.duration());
     const MotionState m = motion.at(t);
-    const BasePose pose = s.poseAtDepth(m.depth, 0.0, m.plane_angle, m.axial_angle);
+    const BasePose pose = s.poseAtDepth(m.depth, 0.0, m.plane_angle, m.axial_angle - sc.insertion.bevel_orientation);
     const StepResult& o = s.step(pose, dt);
     if (o.punctured_now && std::isnan(punctureDepth)) punctureDepth = o.depth;
     if (o.axial_force > peak) { peak = o.axial_force; peakDepth = o.depth; }

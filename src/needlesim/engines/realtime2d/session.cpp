@@ -17,13 +17,14 @@ namespace {
 // A coupled node is released only once it lies this far ahead of the tip, so a node
 // dragged along right at the tip does not flicker between coupled and free.
 constexpr double kReleaseGap = 1e-4;  // m
-Eigen::Vector2d entryOf(const SessionConfig& c) {
-  return {0.0, 0.5 * c.tissue.mesh.width + c.entry_offset};
+Eigen::Vector2d cornerShiftOf(const SessionConfig& c) {
+  TissueSpec block;
+  block.width = c.tissue.mesh.width;
+  return needle::cornerShift(block).head<2>();
 }
-Eigen::Vector2d axisOf(const SessionConfig& c) { return {std::cos(c.entry_angle), std::sin(c.entry_angle)}; }
 SessionConfig normalised(SessionConfig c) {
   // The refined line of the mesh runs through the entry point.
-  c.tissue.mesh.path_y = 0.5 * c.tissue.mesh.width + c.entry_offset;
+  c.tissue.mesh.path_y = c.frame.entry.y() + cornerShiftOf(c).y();
   if (c.friction.D_p <= 0.0) c.friction.D_p = c.friction.C_p;  // static limit defaults to dynamic
   if (c.friction.D_n <= 0.0) c.friction.D_n = c.friction.C_n;
   if (!(c.needle.EI > 0.0) || !(c.needle.length > 0.0))
@@ -44,15 +45,16 @@ SessionConfig normalised(SessionConfig c) {
 
 Session::Session(const SessionConfig& cfg_in)
     : cfg_(normalised(cfg_in)),
-      entry_(entryOf(cfg_)),
-      t0_(axisOf(cfg_)),
-      n0_(-t0_.y(), t0_.x()),
-      theta0_(cfg_.entry_angle),
-      tissue_(cfg_.tissue, entry_, t0_, cfg_.dt) {
+      shift_(cornerShiftOf(cfg_)),
+      entry_(cfg_.frame.entry.head<2>()),
+      t0_(cfg_.frame.axial.head<2>()),
+      n0_(cfg_.frame.lateral.head<2>()),
+      theta0_(std::atan2(t0_.y(), t0_.x())),
+      tissue_(cfg_.tissue, entry_ + shift_, t0_, cfg_.dt) {
   stiffness_.E = cfg_.tissue.material.E;
   stiffness_.nu = cfg_.tissue.material.nu;
   stiffness_.alpha = cfg_.needle.bevel_angle;
-  stiffness_.theta = 0.5 * std::numbers::pi - std::abs(cfg_.entry_angle);  // angle to the surface
+  stiffness_.theta = 0.5 * std::numbers::pi - std::abs(theta0_);  // angle to the surface
   EI_ = cfg_.needle.EI;
   L_ = cfg_.needle.length;
   s_exit_ = (tissue_.mesh().length() - entry_.x()) / t0_.x();
@@ -206,7 +208,8 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   }
   const double ratio = cfg_.needle.tip_load_ratio >= 0.0 ? cfg_.needle.tip_load_ratio
                                                           : 1.0 / std::tan(cfg_.needle.bevel_angle);
-  const double Qnew = ratio * Fc * std::cos(pose.roll);
+  // The tissue pushes the bevel tip towards -bevelSide (needle/insertion_frame.hpp).
+  const double Qnew = -ratio * Fc * cfg_.frame.bevelSign(pose.roll);
 
   // Coupled nodes: the path prefix the tip has passed (current axial positions).
   int k = 0;
@@ -331,12 +334,11 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
 
   // Needle loads and outputs: the tissue pushes the needle with -f on each tie.
   Eigen::Vector2d F = Eigen::Vector2d::Zero();
-  double T = 0.0, fric = 0.0, lat = 0.0;
+  double T = 0.0, fric = 0.0;
   for (int i = 0; i < k; ++i) {
     const auto p = static_cast<std::size_t>(i);
     lambda_[p] = f_[2 * i + 1];
     fric += f_[2 * i];
-    lat -= f_[2 * i + 1];
     if (status_[p] == Status::Stick) ++o.sticking;
   }
   for (int i = 0; i < k; ++i) {
@@ -356,7 +358,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   o.stiffness_force = F1;
   o.cutting_force = Fc;
   o.friction_force = fric;
-  o.lateral_force = lat;
+  o.lateral_force = F.dot(n0_);
   o.tip_load = Q_;
   o.tip_deflection = needleDeflection(L_);
   double slope = Q_ * L_ * L_ / (2.0 * EI_);

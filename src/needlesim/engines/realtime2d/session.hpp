@@ -15,6 +15,7 @@
 
 #include "needlesim/engines/realtime2d/tissue.hpp"
 #include "needlesim/forces/stiffness.hpp"
+#include "needlesim/needle/insertion_frame.hpp"
 #include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim::realtime2d {
@@ -44,8 +45,9 @@ struct SessionConfig {
   // by the depth x of each path node (friction) and of the tip (cutting).
   std::vector<LayerForces> layers;
   double puncture_force = 0.0; // N, threshold of eq 3.16
-  double entry_offset = 0.0;   // m, lateral entry point from the centre of the entry face
-  double entry_angle = 0.0;    // rad, reference needle axis from the depth direction (0 = normal)
+  // The insertion frame (needle/insertion_frame.hpp) in the centred tissue frame; the session
+  // uses its in-plane (x, y) parts: entry point, reference axis, lateral, bevel orientation.
+  needle::InsertionFrame frame;
   double dt = 1e-3;            // s
   int max_active_set_iterations = 12;
 };
@@ -55,10 +57,15 @@ struct SessionConfig {
 // nodesDepth x nodesLateral nodes; shared by tests and benchmarks.
 SessionConfig thesisGelatinConfig(int nodesDepth, int nodesLateral, Backend backend = Backend::Auto);
 
+// Positions of the session's interface (poses, tip, needle shape, entry point) are in the
+// centred tissue frame (origin at the centre of the entry face); the mesh's own node
+// coordinates start at its corner: mesh point = centred point + cornerShift().
 struct BasePose {
-  double x = 0.0, y = 0.0;  // m, needle base (hub) in tissue coordinates
+  double x = 0.0, y = 0.0;  // m, needle base (hub) in the centred tissue frame
   double angle = 0.0;       // rad, needle axis from +x (depth direction)
-  double roll = 0.0;        // rad, axial rotation: bevel load along +n for roll = 0, -n for pi
+  // rad, turn of the needle about its axis from the frame's bevel orientation: the tissue
+  // pushes the tip towards -bevelSign(roll) lateral (frame.bevelSign).
+  double roll = 0.0;
 };
 
 enum class Phase : int { Outside = 0, Pressing = 1, Cutting = 2, Inside = 3, Through = 4 };
@@ -71,11 +78,11 @@ struct StepResult {
   double stiffness_force = 0.0; // N, eq 3.16 part (axial)
   double cutting_force = 0.0;   // N, eq 3.24 part (axial)
   double friction_force = 0.0;  // N, friction on the shaft resisting insertion
-  double lateral_force = 0.0;   // N, lateral tissue load on the needle (+n)
-  double tip_load = 0.0;        // N, transverse bevel load (+n)
-  Eigen::Vector2d tip_position = Eigen::Vector2d::Zero();  // m
+  double lateral_force = 0.0;   // N, tissue force on the needle along frame.lateral (shaft + tip load)
+  double tip_load = 0.0;        // N, transverse bevel load (along frame.lateral)
+  Eigen::Vector2d tip_position = Eigen::Vector2d::Zero();  // m, centred tissue frame
   double tip_angle = 0.0;       // rad
-  double tip_deflection = 0.0;  // m, elastic lateral tip deflection (+n) from the straight needle
+  double tip_deflection = 0.0;  // m, elastic tip deflection along frame.lateral from the straight needle
   double depth = 0.0;           // m, tip position along the reference axis from the entry point
   Phase phase = Phase::Outside;
   int coupled = 0;              // coupled tissue nodes
@@ -102,7 +109,8 @@ class Session {
   // Lateral elastic deflection (+n) of the needle at arc length sigma from the base.
   double needleDeflection(double sigma) const;
   const SessionConfig& config() const { return cfg_; }
-  const Eigen::Vector2d& entryPoint() const { return entry_; }
+  const Eigen::Vector2d& entryPoint() const { return entry_; }   // centred tissue frame
+  const Eigen::Vector2d& cornerShift() const { return shift_; }  // centred -> mesh coordinates
   double exitDepth() const { return s_exit_; }
 
  private:
@@ -113,7 +121,7 @@ class Session {
   bool solveSmall(int m);
 
   SessionConfig cfg_;
-  Eigen::Vector2d entry_, t0_, n0_;
+  Eigen::Vector2d shift_, entry_, t0_, n0_;
   double theta0_ = 0.0;
   Tissue tissue_;
   forces::StiffnessLaw stiffness_;
