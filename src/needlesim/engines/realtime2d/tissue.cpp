@@ -438,70 +438,117 @@ class ReducedIntegrator final : public TissueIntegrator {
 
 }  // namespace
 
+namespace {
+Eigen::Vector2d elementCentre(const Mesh& mesh, int e) {
+  Eigen::Vector2d c = Eigen::Vector2d::Zero();
+  for (int a = 0; a < 4; ++a) c += 0.25 * mesh.nodes.col(mesh.quads(a, e));
+  return c;
+}
+
+// Winkler springs on the held sides: k times each node's tributary boundary length times t.
+Eigen::SparseMatrix<double> boundarySprings(const Mesh& mesh, double k, double thickness) {
+  std::vector<Eigen::Triplet<double>> t;
+  auto add = [&](int node, double len) {
+    t.emplace_back(2 * node, 2 * node, k * len * thickness);
+    t.emplace_back(2 * node + 1, 2 * node + 1, k * len * thickness);
+  };
+  auto trib = [](const std::vector<double>& c, int i) {
+    const int n = static_cast<int>(c.size());
+    double l = 0.0;
+    if (i > 0) l += 0.5 * (c[static_cast<std::size_t>(i)] - c[static_cast<std::size_t>(i - 1)]);
+    if (i + 1 < n) l += 0.5 * (c[static_cast<std::size_t>(i + 1)] - c[static_cast<std::size_t>(i)]);
+    return l;
+  };
+  for (int i = 0; i < mesh.nx; ++i) {
+    add(mesh.node(i, 0), trib(mesh.xs, i));
+    add(mesh.node(i, mesh.ny - 1), trib(mesh.xs, i));
+  }
+  for (int j = 0; j < mesh.ny; ++j) add(mesh.node(mesh.nx - 1, j), trib(mesh.ys, j));
+  const int N = 2 * mesh.nodeCount();
+  Eigen::SparseMatrix<double> Ks(N, N);
+  Ks.setFromTriplets(t.begin(), t.end());
+  return Ks;
+}
+}  // namespace
+
 // ---------------------------------------------------------------------------
 Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eigen::Vector2d& axis, double dt)
     : mesh_(generateMesh(cfg.mesh)), cfg_(cfg) {
   t_ = axis.normalized();
   n_ = Eigen::Vector2d(-t_.y(), t_.x());
+  assignMaterials(entry);
+  const std::vector<bool> onSides = nodesOnHeldSides(mesh_);
+  assembleSupported(onSides);
+  pickPath(entry, onSides);
+  makeIntegrator(dt);
+  const int N = mesh_.nodeCount();
+  pu_.setZero(pathDofs()); pv_.setZero(pathDofs()); pa_.setZero(pathDofs());
+  full_u_.setZero(2 * N); full_v_.setZero(2 * N);
+  u0P_.setZero(pathDofs());
+}
+
+// Element materials: by the layer of the element centre, then the material regions
+// (inclusions) holding the centre, then the stiffening around the needle path.
+void Tissue::assignMaterials(const Eigen::Vector2d& entry) {
+  const auto& cfg = cfg_;
   elem_mat_.assign(static_cast<std::size_t>(mesh_.elementCount()), cfg.material);
-  for (int e = 0; e < mesh_.elementCount() && !cfg.layers.empty(); ++e) {  // layer of the element centre
-    double xc = 0.0;
-    for (int a = 0; a < 4; ++a) xc += 0.25 * mesh_.nodes(0, mesh_.quads(a, e));
-    std::size_t L = 0;
-    while (L + 1 < cfg.layers.size() && xc > cfg.layers[L].first) ++L;
-    elem_mat_[static_cast<std::size_t>(e)] = cfg.layers[L].second;
-    elem_mat_[static_cast<std::size_t>(e)].thickness = cfg.material.thickness;
-    elem_mat_[static_cast<std::size_t>(e)].plane_strain = cfg.material.plane_strain;
+  std::vector<std::vector<bool>> inRegion(cfg.regions.size(), std::vector<bool>(static_cast<std::size_t>(mesh_.nodeCount()), false));
+  for (int e = 0; e < mesh_.elementCount(); ++e) {
+    const Eigen::Vector2d c = elementCentre(mesh_, e);
+    ElasticMaterial& m = elem_mat_[static_cast<std::size_t>(e)];
+    if (!cfg.layers.empty()) {
+      std::size_t L = 0;
+      while (L + 1 < cfg.layers.size() && c.x() > cfg.layers[L].first) ++L;
+      m = cfg.layers[L].second;
+    }
+    for (std::size_t r = 0; r < cfg.regions.size(); ++r) {
+      if ((c - cfg.regions[r].centre).norm() > cfg.regions[r].radius) continue;
+      m = cfg.regions[r].material;
+      for (int a = 0; a < 4; ++a) inRegion[r][static_cast<std::size_t>(mesh_.quads(a, e))] = true;
+    }
+    m.thickness = cfg.material.thickness;
+    m.plane_strain = cfg.material.plane_strain;
+  }
+  region_nodes_.assign(cfg.regions.size(), {});
+  for (std::size_t r = 0; r < cfg.regions.size(); ++r) {
+    for (int n = 0; n < mesh_.nodeCount(); ++n)
+      if (inRegion[r][static_cast<std::size_t>(n)]) region_nodes_[r].push_back(n);
+    if (region_nodes_[r].empty())
+      throw SolverError(fmt::format("realtime2d: material region {} (radius {:g} mm) holds no element centre of the "
+                                    "mesh; refine the mesh or enlarge the region",
+                                    r, cfg.regions[r].radius * 1e3));
   }
   if (cfg.stiffening_factor != 1.0 && cfg.stiffening_radius > 0.0) {
     if (!(cfg.stiffening_factor > 0.0)) throw SolverError("realtime2d: the stiffening factor must be > 0");
     // Seed 003 section 3.5 item 4: the tissue around the needle path is stiffer (the shaft
     // confines it), so nodes next to the shaft are dragged less and the needle slips past.
-    for (int e = 0; e < mesh_.elementCount(); ++e) {
-      Eigen::Vector2d c = Eigen::Vector2d::Zero();
-      for (int a = 0; a < 4; ++a) c += 0.25 * mesh_.nodes.col(mesh_.quads(a, e));
-      if (std::abs((c - entry).dot(n_)) <= cfg.stiffening_radius) elem_mat_[static_cast<std::size_t>(e)].E *= cfg.stiffening_factor;
-    }
+    for (int e = 0; e < mesh_.elementCount(); ++e)
+      if (std::abs((elementCentre(mesh_, e) - entry).dot(n_)) <= cfg.stiffening_radius)
+        elem_mat_[static_cast<std::size_t>(e)].E *= cfg.stiffening_factor;
   }
-  const auto asm_ = assemble(mesh_, elem_mat_, cfg.lumped_mass);
+}
+
+// K and M on the free DOFs: every side but the entry face held (seed 003 section 3.5
+// item 3), or Winkler springs there instead.
+void Tissue::assembleSupported(const std::vector<bool>& onSides) {
+  const auto asm_ = assemble(mesh_, elem_mat_, cfg_.lumped_mass);
   const int N = mesh_.nodeCount();
-  const auto onSides = nodesOnHeldSides(mesh_);
-  std::vector<bool> held(static_cast<std::size_t>(2 * N), false);
+  held_.assign(static_cast<std::size_t>(2 * N), false);
   Eigen::SparseMatrix<double> Kfull = asm_.K;
-  if (cfg.support_stiffness > 0.0) {
-    // Winkler springs on the held sides: tributary boundary length per node.
-    std::vector<Eigen::Triplet<double>> t;
-    auto add = [&](int node, double len) {
-      const double k = cfg.support_stiffness * len * cfg.material.thickness;
-      t.emplace_back(2 * node, 2 * node, k);
-      t.emplace_back(2 * node + 1, 2 * node + 1, k);
-    };
-    const auto& xs = mesh_.xs; const auto& ys = mesh_.ys;
-    auto trib = [](const std::vector<double>& c, int i) {
-      const int n = static_cast<int>(c.size());
-      double l = 0.0;
-      if (i > 0) l += 0.5 * (c[static_cast<std::size_t>(i)] - c[static_cast<std::size_t>(i - 1)]);
-      if (i + 1 < n) l += 0.5 * (c[static_cast<std::size_t>(i + 1)] - c[static_cast<std::size_t>(i)]);
-      return l;
-    };
-    for (int i = 0; i < mesh_.nx; ++i) {
-      add(mesh_.node(i, 0), trib(xs, i));
-      add(mesh_.node(i, mesh_.ny - 1), trib(xs, i));
-    }
-    for (int j = 0; j < mesh_.ny; ++j) add(mesh_.node(mesh_.nx - 1, j), trib(ys, j));
-    Eigen::SparseMatrix<double> Ks(2 * N, 2 * N);
-    Ks.setFromTriplets(t.begin(), t.end());
-    Kfull += Ks;
+  if (cfg_.support_stiffness > 0.0) {
+    Kfull += boundarySprings(mesh_, cfg_.support_stiffness, cfg_.material.thickness);
   } else {
     for (int i = 0; i < N; ++i)
-      if (onSides[static_cast<std::size_t>(i)]) held[static_cast<std::size_t>(2 * i)] = held[static_cast<std::size_t>(2 * i + 1)] = true;
+      if (onSides[static_cast<std::size_t>(i)]) held_[static_cast<std::size_t>(2 * i)] = held_[static_cast<std::size_t>(2 * i + 1)] = true;
   }
-  map_ = makeDofMap(2 * N, held);
+  map_ = makeDofMap(2 * N, held_);
   K_ = restrictToFree(Kfull, map_);
   M_ = restrictToFree(asm_.M, map_);
+}
 
-  // Path: per depth column the node nearest to the reference axis line (axis within
-  // 45 deg of the depth direction), from the entry face on; held nodes excluded.
+// Path: per depth column the node nearest to the reference axis line (axis within
+// 45 deg of the depth direction), from the entry face on; held nodes excluded.
+void Tissue::pickPath(const Eigen::Vector2d& entry, const std::vector<bool>& onSides) {
   if (!(t_.x() > std::sqrt(0.5) - 1e-12))
     throw SolverError("realtime2d: the needle axis must be within 45 degrees of the entry-face normal");
   for (int i = 0; i < mesh_.nx; ++i) {
@@ -512,7 +559,7 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
                                      [&](double a, double b) { return std::abs(a - y) < std::abs(b - y); });
     const int j = static_cast<int>(it - mesh_.ys.begin());
     const int node = mesh_.node(i, j);
-    if (held[static_cast<std::size_t>(2 * node)] || (cfg.support_stiffness <= 0.0 && onSides[static_cast<std::size_t>(node)]))
+    if (held_[static_cast<std::size_t>(2 * node)] || (cfg_.support_stiffness <= 0.0 && onSides[static_cast<std::size_t>(node)]))
       continue;
     const Eigen::Vector2d d = mesh_.nodes.col(node) - entry;
     path_.push_back({node, d.dot(t_), d.dot(n_)});
@@ -521,7 +568,10 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
   for (const auto& p : path_)
     pdof_.push_back({map_.free_of_dof[static_cast<std::size_t>(2 * p.node)],
                      map_.free_of_dof[static_cast<std::size_t>(2 * p.node + 1)]});
+}
 
+void Tissue::makeIntegrator(double dt) {
+  const auto& cfg = cfg_;
   PathMap pm{&pdof_, t_, n_};
   materials::Prony prony{cfg.prony};
   prony.validate();
@@ -546,9 +596,6 @@ Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eige
   checkStable(dt);
   nm_ = NewmarkCoefficients(cfg.newmark, dt);
   impl_->prepare(nm_);
-  pu_.setZero(pathDofs()); pv_.setZero(pathDofs()); pa_.setZero(pathDofs());
-  full_u_.setZero(2 * N); full_v_.setZero(2 * N);
-  u0P_.setZero(pathDofs());
 }
 
 Tissue::~Tissue() = default;
@@ -611,6 +658,13 @@ Eigen::Vector2d Tissue::nodeDisplacement(int node) const {
     if (k >= 0) u[c] = dirty_ ? impl_->freeDisplacement(k) : full_u_[2 * node + c];
   }
   return u;
+}
+
+Eigen::Vector2d Tissue::regionDisplacement(std::size_t region) const {
+  Eigen::Vector2d u = Eigen::Vector2d::Zero();
+  const auto& nodes = region_nodes_.at(region);
+  for (int n : nodes) u += nodeDisplacement(n);
+  return u / static_cast<double>(nodes.size());
 }
 
 Eigen::Matrix4Xd Tissue::elementStresses() const {
