@@ -34,6 +34,9 @@ struct LayerForces {
   double depth_end = 0.0;      // m, x of the layer's far boundary
   FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
   double cutting_force = 0.0;  // N (eq 3.24)
+  // N, threshold of eq 3.16 (with the layer's E, nu from TissueConfig::layers) at the
+  // layer's near boundary; the first layer's is SessionConfig::puncture_force.
+  double puncture_force = 0.0;
 };
 
 struct SessionConfig {
@@ -115,6 +118,33 @@ class Session {
 
  private:
   enum class Status : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
+  struct Motion {
+    double ds = 0.0, v_ax = 0.0;  // m, m/s: axial base motion of this step
+    double s_tip = 0.0;           // m, tip along the reference axis
+  };
+  // A layer boundary the tip must puncture (eq 3.16 with the layer's material).
+  struct Membrane {
+    double s = 0.0;          // m, along the reference axis
+    double threshold = 0.0;  // N
+    forces::StiffnessLaw law;
+    int node = 0;            // path node that takes the indentation load
+  };
+  Motion moveBase(const BasePose& pose, double dt);
+  double pressMembrane(double s_tip, StepResult& o);
+  double cutAtTip(const Motion& mo);
+  void coupleNodes(double s_tip);
+  void measureShaft(double s_tip);
+  int solveCoupling(const Motion& mo, double dt);
+  void addKnownLoads();
+  int assembleCoupling(const Motion& mo, double dt);
+  bool updateFrictionStatus(const Motion& mo, double dt);
+  void reportLoads(const BasePose& pose, double F1, double Fc, StepResult& o);
+  Phase phaseOf(const Motion& mo, double Fc) const;
+  double tipLoadRatio() const;
+  bool entered() const { return pending_ > 0; }  // the entry face is punctured
+  void placeMembranes();
+  double nodeDepth(int pathNode) const;
+  std::size_t layerAt(double x, double tolerance) const;
   double cuttingAt(double s_tip) const;
   double rigidLateral(double p) const { return dB_ + (p - sB_) * tanphi_; }
   double needleLateralAt(double p) const;  // total lateral position (+n) of the needle at axial p
@@ -124,13 +154,14 @@ class Session {
   Eigen::Vector2d shift_, entry_, t0_, n0_;
   double theta0_ = 0.0;
   Tissue tissue_;
-  forces::StiffnessLaw stiffness_;
   double EI_ = 0.0, L_ = 0.0, s_exit_ = 0.0;
   int P_ = 0;  // path nodes
   // Needle state of the current step.
   double sB_ = 0.0, dB_ = 0.0, phi_ = 0.0, tanphi_ = 0.0, cosphi_ = 1.0, Q_ = 0.0;
   double sB_prev_ = 0.0;
-  bool started_ = false, punctured_ = false;
+  bool started_ = false, pressing_ = false;
+  std::vector<Membrane> membranes_;  // the entry face first, then inner layer boundaries
+  std::size_t pending_ = 0;          // first membrane not yet punctured
   double front_ = 0.0, time_ = 0.0;
   int k_ = 0;  // coupled nodes (a prefix of the path)
   std::vector<Status> status_;
