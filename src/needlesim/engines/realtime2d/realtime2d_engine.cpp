@@ -5,7 +5,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
-#include <optional>
 
 #include "needlesim/core/progress.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
