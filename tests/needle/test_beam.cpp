@@ -38,6 +38,30 @@ TEST(Beam, CantileverTipMomentAndUniformLoad) {
   EXPECT_NEAR(u.w.back(), q * L * L * L * L / (8 * EI), 1e-12);
 }
 
+// The closed-form cantilever influence functions (the realtime2d needle's condensed
+// coupling, seed 003 eq 3.12) against the assembled Hermite FE (eq 3.14) for arbitrary
+// point loads at the nodes: the FE is exact for point loads, so they agree to round-off.
+TEST(Beam, CantileverInfluenceFunctionsMatchTheFE) {
+  const double EI = 0.0206, L = 0.1, P = 0.12;
+  StraightBeam b{EI, L, 10, {}};
+  const BeamSolution tip = solveStraightBeam(b, {{10, P, 0.0}});
+  EXPECT_NEAR(tip.w.back(), P * cantileverDeflection(L, L, EI), 1e-14);
+  EXPECT_NEAR(tip.theta.back(), P * cantileverSlope(L, L, EI), 1e-13);
+  const double F[11] = {0, 0.1, -0.3, 0, 0.2, 0.05, 0, 0, -0.1, 0.4, 0.12};
+  std::vector<NodalLoad> loads;
+  for (int j = 1; j <= 10; ++j) loads.push_back({j, F[j], 0.0});
+  const BeamSolution s = solveStraightBeam(b, loads);
+  for (int i = 1; i <= 10; ++i) {
+    double wc = 0, tc = 0;
+    for (int j = 1; j <= 10; ++j) {
+      wc += F[j] * cantileverDeflection(s.x[i], s.x[j], EI);
+      tc += F[j] * cantileverSlope(s.x[i], s.x[j], EI);
+    }
+    EXPECT_NEAR(s.w[i], wc, 1e-12) << i;
+    EXPECT_NEAR(s.theta[i], tc, 1e-12) << i;
+  }
+}
+
 TEST(Beam, HetenyiSemiInfiniteBeamOnWinklerFoundation) {
   // Free end of a long beam on a Winkler foundation k under end force P and moment M0
   // (Hetenyi 1946): w(0) = 2 lambda (P - lambda M0) / k, theta(0) = -2 lambda^2 (P - 2 lambda M0) / k

@@ -45,8 +45,9 @@ MemorySink run(const Scenario& sc) {
 // The thesis experiment (seed 003 section 5.4): 60 mm at 3 mm/s. The axial force at
 // the end is the lumped model's friction over the shaft in contact plus cutting,
 // (C_p + b_p v) d + F_c (eqs 3.23-3.24 with eq 5.1), within the creep of the dragged
-// nodes; the tip deflects towards the bevel side by a millimetre or so (thesis 1.200 mm,
-// measured 1.301 +- 0.274 mm).
+// nodes; the tissue pushes the bevel tip away from the bevel face (-lateral at bevel
+// orientation 0, needle/insertion_frame.hpp) by a millimetre or so (thesis 1.200 mm,
+// measured 1.301 +- 0.274 mm in magnitude).
 TEST(Realtime2dEngine, ThesisExampleForceAndDeflection) {
   const Scenario sc = scenario::readText(example("thesis_gelatin_18G_3mms.yaml"), "thesis_gelatin_18G_3mms.yaml");
   ASSERT_EQ(sc.model.engine, "realtime2d");
@@ -57,8 +58,8 @@ TEST(Realtime2dEngine, ThesisExampleForceAndDeflection) {
   EXPECT_NEAR(out.results.at("final_force"), lumped, 0.1 * lumped);
   EXPECT_NEAR(out.results.at("max_depth"), d, 1e-6);
   const double defl = out.results.at("max_tip_deflection");
-  EXPECT_GT(defl, 0.8e-3);
-  EXPECT_LT(defl, 2.2e-3);
+  EXPECT_LT(defl, -0.8e-3);
+  EXPECT_GT(defl, -2.2e-3);
   // Markers beside the path are dragged in the insertion direction (x) by friction.
   for (const char* m : {"n1", "n2", "n3", "n4"}) EXPECT_GT(out.results.at(std::string("marker_") + m + "_ux_max"), 0.0) << m;
   ASSERT_TRUE(out.tables.count("forces"));

@@ -1,10 +1,9 @@
-// Tissue FE, needle beam and Newmark of the real-time 2D engine (seed 003 eqs 3.1-3.15).
+// Tissue FE and Newmark of the real-time 2D engine (seed 003 eqs 3.1-3.15).
 #include <gtest/gtest.h>
 
 #include <Eigen/SparseCholesky>
 #include <cmath>
 
-#include "needlesim/engines/realtime2d/beam.hpp"
 #include "needlesim/engines/realtime2d/fe.hpp"
 #include "needlesim/engines/realtime2d/tissue.hpp"
 
@@ -123,33 +122,6 @@ TEST(Realtime2dFe, MeshRefinementConverges) {
   const double e1 = std::abs(w[1] - w[0]), e2 = std::abs(w[2] - w[1]);
   EXPECT_GT(e1, 0.0);
   EXPECT_LT(e2, 0.4 * e1) << w[0] << " " << w[1] << " " << w[2];
-}
-
-// Needle alone: clamped cantilever FE (eq 3.14, with rotations) against
-// P L^3 / 3EI and P L^2 / 2EI, and the condensed influence functions used by the
-// session against the assembled FE for arbitrary point loads.
-TEST(Realtime2dBeam, CantileverMatchesClosedFormAndCondensation) {
-  const double EI = 0.0206, L = 0.1, P = 0.12;
-  std::vector<double> x;
-  for (int i = 0; i <= 10; ++i) x.push_back(L * i / 10.0);
-  CantileverFE fe(x, EI);
-  Eigen::VectorXd F = Eigen::VectorXd::Zero(11), Mo = Eigen::VectorXd::Zero(11), w, th;
-  F[10] = P;
-  fe.solve(F, Mo, w, th);
-  EXPECT_NEAR(w[10], P * L * L * L / (3 * EI), 1e-12);
-  EXPECT_NEAR(th[10], P * L * L / (2 * EI), 1e-12);
-  EXPECT_NEAR(w[10], P * cantileverDeflection(L, L, EI), 1e-14);
-  F << 0, 0.1, -0.3, 0, 0.2, 0.05, 0, 0, -0.1, 0.4, 0.12;
-  fe.solve(F, Mo, w, th);
-  for (int i = 1; i <= 10; ++i) {
-    double wc = 0, tc = 0;
-    for (int j = 1; j <= 10; ++j) {
-      wc += F[j] * cantileverDeflection(x[static_cast<std::size_t>(i)], x[static_cast<std::size_t>(j)], EI);
-      tc += F[j] * cantileverSlope(x[static_cast<std::size_t>(i)], x[static_cast<std::size_t>(j)], EI);
-    }
-    EXPECT_NEAR(w[i], wc, 1e-12);
-    EXPECT_NEAR(th[i], tc, 1e-12);
-  }
 }
 
 namespace {

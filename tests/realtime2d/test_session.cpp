@@ -152,7 +152,8 @@ TEST(Realtime2dSession, PauseAndRetraction) {
   EXPECT_GE(r.friction_force, -1.03 * (c.friction.C_n + c.friction.b_n * 3e-3) * r.depth);
 }
 
-// The bevel load bends the needle: flipping the bevel (roll = pi) mirrors the deflection.
+// The bevel load bends the needle towards -lateral at roll 0 (needle/insertion_frame.hpp):
+// flipping the bevel (roll = pi) mirrors the deflection.
 TEST(Realtime2dSession, BevelFlipMirrorsDeflection) {
   double defl[2];
   for (int k = 0; k < 2; ++k) {
@@ -162,7 +163,7 @@ TEST(Realtime2dSession, BevelFlipMirrorsDeflection) {
     for (int n = 1; n <= 8000; ++n) s.step(s.poseAtDepth(3e-3 * n * c.dt, 0, 0, k * std::numbers::pi), c.dt);
     defl[k] = s.last().tip_deflection;
   }
-  EXPECT_GT(defl[0], 1e-4);
+  EXPECT_LT(defl[0], -1e-4);
   EXPECT_NEAR(defl[1], -defl[0], 1e-9);
 }
 

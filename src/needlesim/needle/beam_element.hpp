@@ -31,7 +31,8 @@ inline Vec4 hermiteD3N(double h) {  // d3N/dx3 (constant)
   return Vec4(12 / (h * h * h), 6 / (h * h), -12 / (h * h * h), 6 / (h * h));
 }
 
-// Bending stiffness EI/h^3 [...]: exact for cubic fields.
+// Bending stiffness EI/h^3 [...]: exact for cubic fields (seed 003 eq 3.14; the thesis
+// extraction prints 4/L in row 4 col 2, the symmetric matrix has 2/L).
 inline Mat4 bendingStiffness(double EI, double h) {
   const double h2 = h * h;
   Mat4 k;
@@ -106,6 +107,18 @@ inline Mat6 frameStiffnessGlobal(double EA, double EI, double x1, double y1, dou
   const double dx = x2 - x1, dy = y2 - y1, h = std::hypot(dx, dy);
   const Mat6 T = frameRotation(dx / h, dy / h);
   return T.transpose() * frameStiffnessLocal(EA, EI, h) * T;
+}
+
+// Closed-form influence functions of a cantilever clamped at x = 0: deflection at a and
+// slope at a per unit transverse force at b. The Hermite FE with nodes at the load points
+// reproduces them exactly (its static condensation); min^2 (3 max - min) / (6 EI) is seed 003
+// eq 3.12's k = l^3 / 3EI generalised to two points.
+inline double cantileverDeflection(double a, double b, double EI) {
+  const double lo = a < b ? a : b, hi = a < b ? b : a;
+  return lo * lo * (3.0 * hi - lo) / (6.0 * EI);
+}
+inline double cantileverSlope(double a, double b, double EI) {
+  return a <= b ? a * (2.0 * b - a) / (2.0 * EI) : b * b / (2.0 * EI);
 }
 
 }  // namespace needlesim::needle

@@ -5,22 +5,25 @@
 #include <numbers>
 
 #include "needlesim/core/error.hpp"
-#include "needlesim/engines/realtime2d/beam.hpp"
-#include "needlesim/forces/karnopp.hpp"
+#include "needlesim/needle/beam_element.hpp"
 
 namespace needlesim::realtime2d {
+
+using needle::cantileverDeflection;
+using needle::cantileverSlope;
 
 namespace {
 // A coupled node is released only once it lies this far ahead of the tip, so a node
 // dragged along right at the tip does not flicker between coupled and free.
 constexpr double kReleaseGap = 1e-4;  // m
-Eigen::Vector2d entryOf(const SessionConfig& c) {
-  return {0.0, 0.5 * c.tissue.mesh.width + c.entry_offset};
+Eigen::Vector2d cornerShiftOf(const SessionConfig& c) {
+  TissueSpec block;
+  block.width = c.tissue.mesh.width;
+  return needle::cornerShift(block).head<2>();
 }
-Eigen::Vector2d axisOf(const SessionConfig& c) { return {std::cos(c.entry_angle), std::sin(c.entry_angle)}; }
 SessionConfig normalised(SessionConfig c) {
   // The refined line of the mesh runs through the entry point.
-  c.tissue.mesh.path_y = 0.5 * c.tissue.mesh.width + c.entry_offset;
+  c.tissue.mesh.path_y = c.frame.entry.y() + cornerShiftOf(c).y();
   if (c.friction.D_p <= 0.0) c.friction.D_p = c.friction.C_p;  // static limit defaults to dynamic
   if (c.friction.D_n <= 0.0) c.friction.D_n = c.friction.C_n;
   if (!(c.needle.EI > 0.0) || !(c.needle.length > 0.0))
@@ -41,15 +44,12 @@ SessionConfig normalised(SessionConfig c) {
 
 Session::Session(const SessionConfig& cfg_in)
     : cfg_(normalised(cfg_in)),
-      entry_(entryOf(cfg_)),
-      t0_(axisOf(cfg_)),
-      n0_(-t0_.y(), t0_.x()),
-      theta0_(cfg_.entry_angle),
-      tissue_(cfg_.tissue, entry_, t0_, cfg_.dt) {
-  stiffness_.E = cfg_.tissue.material.E;
-  stiffness_.nu = cfg_.tissue.material.nu;
-  stiffness_.alpha = cfg_.needle.bevel_angle;
-  stiffness_.theta = 0.5 * std::numbers::pi - std::abs(cfg_.entry_angle);  // angle to the surface
+      shift_(cornerShiftOf(cfg_)),
+      entry_(cfg_.frame.entry.head<2>()),
+      t0_(cfg_.frame.axial.head<2>()),
+      n0_(cfg_.frame.lateral.head<2>()),
+      theta0_(std::atan2(t0_.y(), t0_.x())),
+      tissue_(cfg_.tissue, entry_ + shift_, t0_, cfg_.dt) {
   EI_ = cfg_.needle.EI;
   L_ = cfg_.needle.length;
   s_exit_ = (tissue_.mesh().length() - entry_.x()) / t0_.x();
@@ -58,12 +58,9 @@ Session::Session(const SessionConfig& cfg_in)
   status_.assign(static_cast<std::size_t>(P_), Status::Stick);
   nodeFriction_.assign(static_cast<std::size_t>(P_), cfg_.friction);
   if (!cfg_.layers.empty())
-    for (int i = 0; i < P_; ++i) {  // the layer holding the node (by its depth x)
-      const double x = tissue_.mesh().nodes(0, tissue_.path()[static_cast<std::size_t>(i)].node);
-      std::size_t L = 0;
-      while (L + 1 < cfg_.layers.size() && x > cfg_.layers[L].depth_end + 1e-12) ++L;
-      nodeFriction_[static_cast<std::size_t>(i)] = cfg_.layers[L].friction;
-    }
+    for (int i = 0; i < P_; ++i)  // the layer holding the node (by its depth x)
+      nodeFriction_[static_cast<std::size_t>(i)] = cfg_.layers[layerAt(nodeDepth(i), 1e-12)].friction;
+  placeMembranes();
   offset_.assign(static_cast<std::size_t>(P_), 0.0);
   sigma_.assign(static_cast<std::size_t>(P_), 0.0);
   ell_.assign(static_cast<std::size_t>(P_), 0.0);
@@ -74,12 +71,38 @@ Session::Session(const SessionConfig& cfg_in)
   H_.setZero(D, D);
 }
 
+double Session::nodeDepth(int i) const {
+  return tissue_.mesh().nodes(0, tissue_.path()[static_cast<std::size_t>(i)].node);
+}
+
+std::size_t Session::layerAt(double x, double tolerance) const {
+  std::size_t L = 0;
+  while (L + 1 < cfg_.layers.size() && x > cfg_.layers[L].depth_end + tolerance) ++L;
+  return L;
+}
+
+// The entry face and every inner layer boundary the axis crosses: eq 3.16 with the
+// layer's E and nu acts on the path node at the boundary until its puncture threshold.
+void Session::placeMembranes() {
+  auto lawOf = [&](std::size_t L) {
+    const auto& m = L < cfg_.tissue.layers.size() ? cfg_.tissue.layers[L].second : cfg_.tissue.material;
+    return forces::StiffnessLaw{m.E, m.nu, cfg_.needle.bevel_angle, 0.5 * std::numbers::pi - std::abs(theta0_)};
+  };
+  membranes_.push_back({0.0, cfg_.puncture_force, lawOf(0), 0});
+  const auto& path = tissue_.path();
+  for (std::size_t L = 1; L < cfg_.layers.size(); ++L) {
+    const double s = (cfg_.layers[L - 1].depth_end - entry_.x()) / t0_.x();
+    if (!(s > 0.0) || !(s < s_exit_)) continue;
+    int node = 0;
+    for (int i = 1; i < P_; ++i)
+      if (std::abs(path[static_cast<std::size_t>(i)].s - s) < std::abs(path[static_cast<std::size_t>(node)].s - s)) node = i;
+    membranes_.push_back({s, cfg_.layers[L].puncture_force, lawOf(L), node});
+  }
+}
+
 double Session::cuttingAt(double s_tip) const {
   if (cfg_.layers.empty()) return cfg_.cutting_force;
-  const double x = entry_.x() + s_tip * t0_.x();
-  std::size_t L = 0;
-  while (L + 1 < cfg_.layers.size() && x > cfg_.layers[L].depth_end) ++L;
-  return cfg_.layers[L].cutting_force;
+  return cfg_.layers[layerAt(entry_.x() + s_tip * t0_.x(), 0.0)].cutting_force;
 }
 
 BasePose Session::poseAtDepth(double depth, double lateral, double rotation, double roll) const {
@@ -139,13 +162,31 @@ bool Session::solveSmall(int m) {
 
 const StepResult& Session::step(const BasePose& pose, double dt) {
   tissue_.setTimeStep(dt);
-  const auto& path = tissue_.path();
-  const auto& S = tissue_.pathCompliance();
-  const auto& c = tissue_.coefficients();
-  const double gam = cfg_.tissue.newmark.gamma;
-  const double band = 0.5 * cfg_.friction.static_band;
+  const Motion mo = moveBase(pose, dt);
+  StepResult& o = out_;
+  o = StepResult{};
+  time_ += dt;
+  o.time = time_;
+  o.depth = mo.s_tip;
+  tissue_.predict();
+  fK_.setZero();
+  const double F1 = pressMembrane(mo.s_tip, o);
+  const double Fc = cutAtTip(mo);
+  // The tissue pushes the bevel tip towards -bevelSide (needle/insertion_frame.hpp).
+  const double Qnew = -tipLoadRatio() * Fc * cfg_.frame.bevelSign(pose.roll);
+  coupleNodes(mo.s_tip);
+  Q_ = Qnew;
+  measureShaft(mo.s_tip);
+  o.iterations = solveCoupling(mo, dt);
+  tissue_.commit(f_);
+  reportLoads(pose, F1, Fc, o);
+  o.phase = phaseOf(mo, Fc);
+  sB_prev_ = sB_;
+  return o;
+}
 
-  // Needle kinematics in the reference frame (entry point, axis t0, normal n0).
+// Needle kinematics in the reference frame (entry point, axis t0, normal n0).
+Session::Motion Session::moveBase(const BasePose& pose, double dt) {
   const Eigen::Vector2d d = Eigen::Vector2d(pose.x, pose.y) - entry_;
   sB_ = d.dot(t0_);
   dB_ = d.dot(n0_);
@@ -154,42 +195,41 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   tanphi_ = std::tan(phi_);
   if (!started_) { sB_prev_ = sB_; started_ = true; }
   const double ds = sB_ - sB_prev_;
-  const double v_ax = ds / dt;
-  const double s_tip = sB_ + L_ * cosphi_;
-  StepResult& o = out_;
-  o = StepResult{};
-  time_ += dt;
-  o.time = time_;
-  o.depth = s_tip;
+  return {ds, ds / dt, sB_ + L_ * cosphi_};
+}
 
-  tissue_.predict();
-  const Eigen::VectorXd& u0 = tissue_.predictedPath();
-  const Eigen::VectorXd& pu = tissue_.pathU();
-  const Eigen::VectorXd& pv = tissue_.pathV();
-  const Eigen::VectorXd& pa = tissue_.pathA();
-  fK_.setZero();
-
-  // Phase A: the tip indents the surface (eq 3.16) until the puncture threshold.
-  double F1 = 0.0;
-  if (!punctured_ && s_tip > 0.0) {
-    F1 = stiffness_.force(s_tip);
-    if (F1 >= cfg_.puncture_force) {
-      punctured_ = true;  // phase B: the load is released and the tissue relaxes
-      o.punctured_now = true;
-      front_ = s_tip;
-      F1 = 0.0;
-    } else {
-      fK_[0] += F1;  // axial load on the entry node
+// Phase A: the tip indents the next unpunctured layer boundary (eq 3.16, the layer's
+// E and nu) until its puncture threshold; phase B: the load is released and the tissue
+// relaxes. Returns the indentation force (0 once punctured).
+double Session::pressMembrane(double s_tip, StepResult& o) {
+  pressing_ = false;
+  while (pending_ < membranes_.size() && s_tip > membranes_[pending_].s) {
+    const Membrane& mb = membranes_[pending_];
+    const double F1 = mb.law.force(s_tip - mb.s);
+    if (F1 < mb.threshold) {
+      pressing_ = true;
+      fK_[2 * mb.node] += F1;  // axial load on the boundary node
+      return F1;
     }
+    o.punctured_now = true;
+    if (pending_ == 0) front_ = s_tip;
+    ++pending_;
   }
-  const bool inside = punctured_ && s_tip > 0.0 && s_tip < s_exit_;
-  // Cutting (eq 3.24) only when the tip advances into uncut tissue.
+  return 0.0;
+}
+
+// Cutting (eq 3.24) only when the tip advances into uncut tissue; while resting at the
+// front (|v| inside the static band) the cutting load is held, as in the lumped force
+// model; retraction releases it. Split linearly between the path nodes around the tip.
+double Session::cutAtTip(const Motion& mo) {
+  const auto& path = tissue_.path();
+  const double band = 0.5 * cfg_.friction.static_band;
+  const double s_tip = mo.s_tip;
+  const bool inside = entered() && !pressing_ && s_tip > 0.0 && s_tip < s_exit_;
   double Fc = 0.0;
-  // While resting at the front (|v| inside the static band) the cutting load is held,
-  // as in the lumped force model; retraction releases it.
-  if (inside && v_ax > -band && s_tip >= front_ - 1e-9) Fc = cuttingAt(s_tip);
-  if (punctured_) front_ = std::max(front_, std::min(s_tip, s_exit_));
-  if (Fc > 0.0) {  // consistent (linear) split between the path nodes around the tip
+  if (inside && mo.v_ax > -band && s_tip >= front_ - 1e-9) Fc = cuttingAt(s_tip);
+  if (entered()) front_ = std::max(front_, std::min(s_tip, s_exit_));
+  if (Fc > 0.0) {
     int k = 0;
     while (k + 1 < P_ && path[static_cast<std::size_t>(k + 1)].s <= s_tip) ++k;
     if (k + 1 < P_) {
@@ -201,142 +241,193 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
       fK_[2 * k] += Fc;
     }
   }
-  const double ratio = cfg_.needle.tip_load_ratio >= 0.0 ? cfg_.needle.tip_load_ratio
-                                                          : 1.0 / std::tan(cfg_.needle.bevel_angle);
-  const double Qnew = ratio * Fc * std::cos(pose.roll);
+  return Fc;
+}
 
-  // Coupled nodes: the path prefix the tip has passed (current axial positions).
+double Session::tipLoadRatio() const {
+  return cfg_.needle.tip_load_ratio >= 0.0 ? cfg_.needle.tip_load_ratio : 1.0 / std::tan(cfg_.needle.bevel_angle);
+}
+
+// Coupled nodes: the path prefix the tip has passed (current axial positions), short of
+// a layer boundary the tip is still pressing. A newly coupled node is tied at its
+// current gap (no jump); nodes behind a retracting tip are released.
+void Session::coupleNodes(double s_tip) {
+  const auto& path = tissue_.path();
+  const Eigen::VectorXd& pu = tissue_.pathU();
+  const double reach = pressing_ ? std::min(s_tip, membranes_[pending_].s - 1e-9) : s_tip;
   int k = 0;
-  if (punctured_ && s_tip > 0.0)
-    while (k < P_ && path[static_cast<std::size_t>(k)].s + pu[2 * k] <= s_tip + (k < k_ ? kReleaseGap : 0.0)) ++k;
-  for (int i = k_; i < k; ++i) {  // newly coupled: tie at the current gap (no jump)
+  if (entered() && s_tip > 0.0)
+    while (k < P_ && path[static_cast<std::size_t>(k)].s + pu[2 * k] <= reach + (k < k_ ? kReleaseGap : 0.0)) ++k;
+  for (int i = k_; i < k; ++i) {
     offset_[static_cast<std::size_t>(i)] = pu[2 * i + 1] - needleLateralAt(path[static_cast<std::size_t>(i)].s + pu[2 * i]);
     status_[static_cast<std::size_t>(i)] = Status::Stick;
   }
-  for (int i = k; i < k_; ++i) lambda_[static_cast<std::size_t>(i)] = 0.0;  // released behind a retracting tip
+  for (int i = k; i < k_; ++i) lambda_[static_cast<std::size_t>(i)] = 0.0;
   k_ = k;
-  Q_ = Qnew;
-  for (int i = 0; i < k; ++i) pos_[static_cast<std::size_t>(i)] = path[static_cast<std::size_t>(i)].s + pu[2 * i];
-  for (int i = 0; i < k; ++i) {  // tributary shaft lengths and arc positions from the base
-    // Shaft in contact only: boundaries clamped to the tissue (0 .. tip or exit face).
-    const double top = std::min(s_tip, s_exit_);
-    const double lo = i == 0 ? 0.0 : std::clamp(0.5 * (pos_[static_cast<std::size_t>(i - 1)] + pos_[static_cast<std::size_t>(i)]), 0.0, top);
-    const double hi = i + 1 == k ? top : std::clamp(0.5 * (pos_[static_cast<std::size_t>(i)] + pos_[static_cast<std::size_t>(i + 1)]), 0.0, top);
-    ell_[static_cast<std::size_t>(i)] = std::max(hi - lo, 0.0);
-    sigma_[static_cast<std::size_t>(i)] = std::max((pos_[static_cast<std::size_t>(i)] - sB_) / cosphi_, 0.0);
-  }
+}
 
-  // Active set on the axial status of each coupled node.
+// Current axial positions of the coupled nodes, their tributary shaft lengths in contact
+// (boundaries clamped to the tissue: 0 .. tip or exit face) and arc positions from the base.
+void Session::measureShaft(double s_tip) {
+  const auto& path = tissue_.path();
+  const Eigen::VectorXd& pu = tissue_.pathU();
+  const int k = k_;
+  for (int i = 0; i < k; ++i) pos_[static_cast<std::size_t>(i)] = path[static_cast<std::size_t>(i)].s + pu[2 * i];
+  const double top = std::min(s_tip, s_exit_);
+  for (int i = 0; i < k; ++i) {
+    const auto p = static_cast<std::size_t>(i);
+    const double lo = i == 0 ? 0.0 : std::clamp(0.5 * (pos_[p - 1] + pos_[p]), 0.0, top);
+    const double hi = i + 1 == k ? top : std::clamp(0.5 * (pos_[p] + pos_[p + 1]), 0.0, top);
+    ell_[p] = std::max(hi - lo, 0.0);
+    sigma_[p] = std::max((pos_[p] - sB_) / cosphi_, 0.0);
+  }
+}
+
+// Active set on the axial status of each coupled node (eq 3.23), to a fixed point.
+int Session::solveCoupling(const Motion& mo, double dt) {
   int it = 0;
   for (; it < cfg_.max_active_set_iterations; ++it) {
-    // Known loads: press, cutting, held static friction, undamped slip.
-    f_ = fK_;
-    for (int i = 0; i < k; ++i) {
-      const auto st = status_[static_cast<std::size_t>(i)];
-      const double l = ell_[static_cast<std::size_t>(i)];
-      const auto& fr = nodeFriction_[static_cast<std::size_t>(i)];
-      if (!(l > 1e-9)) continue;
-      if (st == Status::HoldPos) f_[2 * i] += fr.D_p * l;
-      if (st == Status::HoldNeg) f_[2 * i] -= fr.D_n * l;
-      if (st == Status::SlipPos && !(fr.b_p * l > 1e-12)) f_[2 * i] += fr.C_p * l;
-      if (st == Status::SlipNeg && !(fr.b_n * l > 1e-12)) f_[2 * i] -= fr.C_n * l;
-    }
-    // y = u0 + S f_known
-    y_ = u0;
-    for (int l = 0; l < 2 * P_; ++l)
-      if (f_[l] != 0.0) y_.noalias() += f_[l] * S.col(l);
-    // Unknown slots: all lateral ties, axial stick and damped slip.
-    int m = 0;
-    for (int i = 0; i < k; ++i) {
-      idx_[static_cast<std::size_t>(m++)] = 2 * i + 1;
-      const auto st = status_[static_cast<std::size_t>(i)];
-      const double l = ell_[static_cast<std::size_t>(i)];
-      const auto& fr = nodeFriction_[static_cast<std::size_t>(i)];
-      if (!(l > 1e-9)) continue;  // no shaft in contact (dragged out of the tissue): no axial load
-      if (st == Status::Stick || (st == Status::SlipPos && fr.b_p * l > 1e-12) ||
-          (st == Status::SlipNeg && fr.b_n * l > 1e-12))
-        idx_[static_cast<std::size_t>(m++)] = 2 * i;
-    }
-    for (int a = 0; a < m; ++a) {
-      const int ia = idx_[static_cast<std::size_t>(a)];
-      const int na = ia / 2;
-      for (int b = 0; b <= a; ++b) {
-        const int ib = idx_[static_cast<std::size_t>(b)];
-        double h = S(ia, ib);
-        if (ia % 2 == 1 && ib % 2 == 1)  // needle flexibility between lateral ties (eq 3.12)
-          h += cantileverDeflection(sigma_[static_cast<std::size_t>(na)], sigma_[static_cast<std::size_t>(ib / 2)], EI_);
-        H_(a, b) = h;
-        H_(b, a) = h;
-      }
-      const auto p = static_cast<std::size_t>(na);
-      if (ia % 2 == 1) {  // lateral tie: u_n = needle lateral + offset
-        rhs_[a] = rigidLateral(pos_[p]) + Q_ * cantileverDeflection(sigma_[p], L_, EI_) + offset_[p] - y_[ia];
-      } else if (status_[p] == Status::Stick) {  // axial: moves with the needle
-        rhs_[a] = pu[ia] + ds - y_[ia];
-      } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity)
-        const auto& fr = nodeFriction_[p];
-        const bool posv = status_[p] == Status::SlipPos;
-        const double C = posv ? fr.C_p : -fr.C_n, b = posv ? fr.b_p : fr.b_n;
-        const double e = pv[ia] + dt * (1.0 - gam) * pa[ia] - c.a1 * pu[ia] - dt * gam * (c.a2 * pv[ia] + c.a3 * pa[ia]);
-        const double r = ell_[p] * (C + b * (v_ax - e)), cc = ell_[p] * b * c.a1;
-        H_(a, a) += 1.0 / cc;
-        rhs_[a] = r / cc - y_[ia];
-      }
-    }
+    addKnownLoads();
+    const int m = assembleCoupling(mo, dt);
     if (!solveSmall(m)) throw SolverError("realtime2d: the coupling system is not positive definite");
     for (int a = 0; a < m; ++a) f_[idx_[static_cast<std::size_t>(a)]] += x_[a];
-    // New path displacement and the status checks of eq 3.23.
-    bool changed = false;
-    for (int i = 0; i < k; ++i) {
-      const auto p = static_cast<std::size_t>(i);
-      const int ia = 2 * i;
-      double un = u0[ia];
-      for (int l = 0; l < 2 * P_; ++l)
-        if (f_[l] != 0.0) un += S(ia, l) * f_[l];
-      const double an = c.a0 * (un - pu[ia]) - c.a2 * pv[ia] - c.a3 * pa[ia];
-      const double vn = pv[ia] + dt * ((1.0 - gam) * pa[ia] + gam * an);
-      const double vrel = v_ax - vn;
-      const double Fa = ell_[p] > 0.0 ? f_[ia] / ell_[p] : 0.0;
-      const auto& fr = nodeFriction_[p];
-      Status next = status_[p];
-      switch (status_[p]) {
-        case Status::Stick:
-          if (Fa > fr.D_p) next = Status::HoldPos;
-          else if (Fa < -fr.D_n) next = Status::HoldNeg;
-          break;
-        case Status::HoldPos:
-          if (vrel >= band) next = Status::SlipPos;
-          else if (vrel <= 0.0) next = Status::Stick;
-          break;
-        case Status::HoldNeg:
-          if (vrel <= -band) next = Status::SlipNeg;
-          else if (vrel >= 0.0) next = Status::Stick;
-          break;
-        case Status::SlipPos:
-          if (vrel < band) next = Status::Stick;
-          break;
-        case Status::SlipNeg:
-          if (vrel > -band) next = Status::Stick;
-          break;
-      }
-      if (next != status_[p]) { status_[p] = next; changed = true; }
-    }
-    if (!changed) break;
+    if (!updateFrictionStatus(mo, dt)) break;
   }
-  o.iterations = it + 1;
-  tissue_.commit(f_);
+  return it + 1;
+}
 
-  // Needle loads and outputs: the tissue pushes the needle with -f on each tie.
+// Known loads (press, cutting, held static friction, undamped slip) into f_, and the
+// path displacement they give, y = u0 + S f_known.
+void Session::addKnownLoads() {
+  const auto& S = tissue_.pathCompliance();
+  f_ = fK_;
+  for (int i = 0; i < k_; ++i) {
+    const auto st = status_[static_cast<std::size_t>(i)];
+    const double l = ell_[static_cast<std::size_t>(i)];
+    const auto& fr = nodeFriction_[static_cast<std::size_t>(i)];
+    if (!(l > 1e-9)) continue;
+    if (st == Status::HoldPos) f_[2 * i] += fr.D_p * l;
+    if (st == Status::HoldNeg) f_[2 * i] -= fr.D_n * l;
+    if (st == Status::SlipPos && !(fr.b_p * l > 1e-12)) f_[2 * i] += fr.C_p * l;
+    if (st == Status::SlipNeg && !(fr.b_n * l > 1e-12)) f_[2 * i] -= fr.C_n * l;
+  }
+  y_ = tissue_.predictedPath();
+  for (int l = 0; l < 2 * P_; ++l)
+    if (f_[l] != 0.0) y_.noalias() += f_[l] * S.col(l);
+}
+
+// The SPD system on the unknown slots (all lateral ties, axial stick and damped slip):
+// H_ = S + needle flexibility between the ties (eq 3.12), rhs_ from the constraints.
+// Returns its size.
+int Session::assembleCoupling(const Motion& mo, double dt) {
+  const auto& S = tissue_.pathCompliance();
+  const auto& c = tissue_.coefficients();
+  const Eigen::VectorXd& pu = tissue_.pathU();
+  const Eigen::VectorXd& pv = tissue_.pathV();
+  const Eigen::VectorXd& pa = tissue_.pathA();
+  const double gam = cfg_.tissue.newmark.gamma;
+  int m = 0;
+  for (int i = 0; i < k_; ++i) {
+    idx_[static_cast<std::size_t>(m++)] = 2 * i + 1;
+    const auto st = status_[static_cast<std::size_t>(i)];
+    const double l = ell_[static_cast<std::size_t>(i)];
+    const auto& fr = nodeFriction_[static_cast<std::size_t>(i)];
+    if (!(l > 1e-9)) continue;  // no shaft in contact (dragged out of the tissue): no axial load
+    if (st == Status::Stick || (st == Status::SlipPos && fr.b_p * l > 1e-12) ||
+        (st == Status::SlipNeg && fr.b_n * l > 1e-12))
+      idx_[static_cast<std::size_t>(m++)] = 2 * i;
+  }
+  for (int a = 0; a < m; ++a) {
+    const int ia = idx_[static_cast<std::size_t>(a)];
+    const int na = ia / 2;
+    for (int b = 0; b <= a; ++b) {
+      const int ib = idx_[static_cast<std::size_t>(b)];
+      double h = S(ia, ib);
+      if (ia % 2 == 1 && ib % 2 == 1)  // needle flexibility between lateral ties (eq 3.12)
+        h += cantileverDeflection(sigma_[static_cast<std::size_t>(na)], sigma_[static_cast<std::size_t>(ib / 2)], EI_);
+      H_(a, b) = h;
+      H_(b, a) = h;
+    }
+    const auto p = static_cast<std::size_t>(na);
+    if (ia % 2 == 1) {  // lateral tie: u_n = needle lateral + offset
+      rhs_[a] = rigidLateral(pos_[p]) + Q_ * cantileverDeflection(sigma_[p], L_, EI_) + offset_[p] - y_[ia];
+    } else if (status_[p] == Status::Stick) {  // axial: moves with the needle
+      rhs_[a] = pu[ia] + mo.ds - y_[ia];
+    } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity)
+      const auto& fr = nodeFriction_[p];
+      const bool posv = status_[p] == Status::SlipPos;
+      const double C = posv ? fr.C_p : -fr.C_n, b = posv ? fr.b_p : fr.b_n;
+      const double e = pv[ia] + dt * (1.0 - gam) * pa[ia] - c.a1 * pu[ia] - dt * gam * (c.a2 * pv[ia] + c.a3 * pa[ia]);
+      const double r = ell_[p] * (C + b * (mo.v_ax - e)), cc = ell_[p] * b * c.a1;
+      H_(a, a) += 1.0 / cc;
+      rhs_[a] = r / cc - y_[ia];
+    }
+  }
+  return m;
+}
+
+// New path displacement and the status checks of the modified Karnopp law (eq 3.23):
+// stick -> hold beyond the static limit D l, hold -> slip beyond the band, slip -> stick
+// inside it. Returns whether any status changed.
+bool Session::updateFrictionStatus(const Motion& mo, double dt) {
+  const auto& S = tissue_.pathCompliance();
+  const auto& c = tissue_.coefficients();
+  const Eigen::VectorXd& u0 = tissue_.predictedPath();
+  const Eigen::VectorXd& pu = tissue_.pathU();
+  const Eigen::VectorXd& pv = tissue_.pathV();
+  const Eigen::VectorXd& pa = tissue_.pathA();
+  const double gam = cfg_.tissue.newmark.gamma;
+  const double band = 0.5 * cfg_.friction.static_band;
+  bool changed = false;
+  for (int i = 0; i < k_; ++i) {
+    const auto p = static_cast<std::size_t>(i);
+    const int ia = 2 * i;
+    double un = u0[ia];
+    for (int l = 0; l < 2 * P_; ++l)
+      if (f_[l] != 0.0) un += S(ia, l) * f_[l];
+    const double an = c.a0 * (un - pu[ia]) - c.a2 * pv[ia] - c.a3 * pa[ia];
+    const double vn = pv[ia] + dt * ((1.0 - gam) * pa[ia] + gam * an);
+    const double vrel = mo.v_ax - vn;
+    const double Fa = ell_[p] > 0.0 ? f_[ia] / ell_[p] : 0.0;
+    const auto& fr = nodeFriction_[p];
+    Status next = status_[p];
+    switch (status_[p]) {
+      case Status::Stick:
+        if (Fa > fr.D_p) next = Status::HoldPos;
+        else if (Fa < -fr.D_n) next = Status::HoldNeg;
+        break;
+      case Status::HoldPos:
+        if (vrel >= band) next = Status::SlipPos;
+        else if (vrel <= 0.0) next = Status::Stick;
+        break;
+      case Status::HoldNeg:
+        if (vrel <= -band) next = Status::SlipNeg;
+        else if (vrel >= 0.0) next = Status::Stick;
+        break;
+      case Status::SlipPos:
+        if (vrel < band) next = Status::Stick;
+        break;
+      case Status::SlipNeg:
+        if (vrel > -band) next = Status::Stick;
+        break;
+    }
+    if (next != status_[p]) { status_[p] = next; changed = true; }
+  }
+  return changed;
+}
+
+// Needle loads and outputs: the tissue pushes the needle with -f on each tie, and with
+// the press, cutting and bevel loads at the tip.
+void Session::reportLoads(const BasePose& pose, double F1, double Fc, StepResult& o) {
   Eigen::Vector2d F = Eigen::Vector2d::Zero();
-  double T = 0.0, fric = 0.0, lat = 0.0;
-  for (int i = 0; i < k; ++i) {
+  double T = 0.0, fric = 0.0;
+  for (int i = 0; i < k_; ++i) {
     const auto p = static_cast<std::size_t>(i);
     lambda_[p] = f_[2 * i + 1];
     fric += f_[2 * i];
-    lat -= f_[2 * i + 1];
     if (status_[p] == Status::Stick) ++o.sticking;
   }
-  for (int i = 0; i < k; ++i) {
+  for (int i = 0; i < k_; ++i) {
     const auto p = static_cast<std::size_t>(i);
     const Eigen::Vector2d Fi = -f_[2 * i] * t0_ - f_[2 * i + 1] * n0_;
     const Eigen::Vector2d r = (pos_[p] - sB_) * t0_ + (needleLateralAt(pos_[p]) - dB_) * n0_;
@@ -353,21 +444,23 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   o.stiffness_force = F1;
   o.cutting_force = Fc;
   o.friction_force = fric;
-  o.lateral_force = lat;
+  o.lateral_force = F.dot(n0_);
   o.tip_load = Q_;
   o.tip_deflection = needleDeflection(L_);
   double slope = Q_ * L_ * L_ / (2.0 * EI_);
-  for (int i = 0; i < k; ++i) slope -= lambda_[static_cast<std::size_t>(i)] * cantileverSlope(L_, sigma_[static_cast<std::size_t>(i)], EI_);
+  for (int i = 0; i < k_; ++i) slope -= lambda_[static_cast<std::size_t>(i)] * cantileverSlope(L_, sigma_[static_cast<std::size_t>(i)], EI_);
   o.tip_angle = pose.angle + slope;
-  o.tip_position = entry_ + s_tip * t0_ + (dB_ + L_ * std::sin(phi_) + o.tip_deflection) * n0_;
-  o.coupled = k;
-  if (s_tip <= 0.0) o.phase = Phase::Outside;
-  else if (!punctured_) o.phase = Phase::Pressing;
-  else if (s_tip >= s_exit_) o.phase = Phase::Through;
-  else if (Fc > 0.0 && v_ax >= band) o.phase = Phase::Cutting;
-  else o.phase = Phase::Inside;
-  sB_prev_ = sB_;
-  return o;
+  o.tip_position = entry_ + o.depth * t0_ + (dB_ + L_ * std::sin(phi_) + o.tip_deflection) * n0_;
+  o.coupled = k_;
+}
+
+Phase Session::phaseOf(const Motion& mo, double Fc) const {
+  const double band = 0.5 * cfg_.friction.static_band;
+  if (mo.s_tip <= 0.0) return Phase::Outside;
+  if (!entered() || pressing_) return Phase::Pressing;
+  if (mo.s_tip >= s_exit_) return Phase::Through;
+  if (Fc > 0.0 && mo.v_ax >= band) return Phase::Cutting;
+  return Phase::Inside;
 }
 
 SessionConfig thesisGelatinConfig(int nodesDepth, int nodesLateral, Backend backend) {

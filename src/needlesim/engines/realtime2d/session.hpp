@@ -1,7 +1,7 @@
 #pragma once
 // Real-time session of the 2D FE needle insertion model (seed 003 sections
 // 3.1-3.5): linear elastic tissue (tissue.hpp), an Euler-Bernoulli needle
-// clamped at its base (beam.hpp), the needle-tissue coupling on the path nodes
+// clamped at its base (needle/beam_element.hpp influence functions), the needle-tissue coupling on the path nodes
 // (eqs 3.18-3.21, with the modified local constraints of Gao et al. 2016, seed
 // 003 ref 16) and the lumped forces of section 3.2: pre-puncture stiffness
 // (eq 3.16), constant cutting (eq 3.24) and modified Karnopp friction (eq 3.23).
@@ -15,6 +15,7 @@
 
 #include "needlesim/engines/realtime2d/tissue.hpp"
 #include "needlesim/forces/stiffness.hpp"
+#include "needlesim/needle/insertion_frame.hpp"
 #include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim::realtime2d {
@@ -33,6 +34,9 @@ struct LayerForces {
   double depth_end = 0.0;      // m, x of the layer's far boundary
   FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
   double cutting_force = 0.0;  // N (eq 3.24)
+  // N, threshold of eq 3.16 (with the layer's E, nu from TissueConfig::layers) at the
+  // layer's near boundary; the first layer's is SessionConfig::puncture_force.
+  double puncture_force = 0.0;
 };
 
 struct SessionConfig {
@@ -44,8 +48,9 @@ struct SessionConfig {
   // by the depth x of each path node (friction) and of the tip (cutting).
   std::vector<LayerForces> layers;
   double puncture_force = 0.0; // N, threshold of eq 3.16
-  double entry_offset = 0.0;   // m, lateral entry point from the centre of the entry face
-  double entry_angle = 0.0;    // rad, reference needle axis from the depth direction (0 = normal)
+  // The insertion frame (needle/insertion_frame.hpp) in the centred tissue frame; the session
+  // uses its in-plane (x, y) parts: entry point, reference axis, lateral, bevel orientation.
+  needle::InsertionFrame frame;
   double dt = 1e-3;            // s
   int max_active_set_iterations = 12;
 };
@@ -55,10 +60,15 @@ struct SessionConfig {
 // nodesDepth x nodesLateral nodes; shared by tests and benchmarks.
 SessionConfig thesisGelatinConfig(int nodesDepth, int nodesLateral, Backend backend = Backend::Auto);
 
+// Positions of the session's interface (poses, tip, needle shape, entry point) are in the
+// centred tissue frame (origin at the centre of the entry face); the mesh's own node
+// coordinates start at its corner: mesh point = centred point + cornerShift().
 struct BasePose {
-  double x = 0.0, y = 0.0;  // m, needle base (hub) in tissue coordinates
+  double x = 0.0, y = 0.0;  // m, needle base (hub) in the centred tissue frame
   double angle = 0.0;       // rad, needle axis from +x (depth direction)
-  double roll = 0.0;        // rad, axial rotation: bevel load along +n for roll = 0, -n for pi
+  // rad, turn of the needle about its axis from the frame's bevel orientation: the tissue
+  // pushes the tip towards -bevelSign(roll) lateral (frame.bevelSign).
+  double roll = 0.0;
 };
 
 enum class Phase : int { Outside = 0, Pressing = 1, Cutting = 2, Inside = 3, Through = 4 };
@@ -71,11 +81,11 @@ struct StepResult {
   double stiffness_force = 0.0; // N, eq 3.16 part (axial)
   double cutting_force = 0.0;   // N, eq 3.24 part (axial)
   double friction_force = 0.0;  // N, friction on the shaft resisting insertion
-  double lateral_force = 0.0;   // N, lateral tissue load on the needle (+n)
-  double tip_load = 0.0;        // N, transverse bevel load (+n)
-  Eigen::Vector2d tip_position = Eigen::Vector2d::Zero();  // m
+  double lateral_force = 0.0;   // N, tissue force on the needle along frame.lateral (shaft + tip load)
+  double tip_load = 0.0;        // N, transverse bevel load (along frame.lateral)
+  Eigen::Vector2d tip_position = Eigen::Vector2d::Zero();  // m, centred tissue frame
   double tip_angle = 0.0;       // rad
-  double tip_deflection = 0.0;  // m, elastic lateral tip deflection (+n) from the straight needle
+  double tip_deflection = 0.0;  // m, elastic tip deflection along frame.lateral from the straight needle
   double depth = 0.0;           // m, tip position along the reference axis from the entry point
   Phase phase = Phase::Outside;
   int coupled = 0;              // coupled tissue nodes
@@ -102,27 +112,56 @@ class Session {
   // Lateral elastic deflection (+n) of the needle at arc length sigma from the base.
   double needleDeflection(double sigma) const;
   const SessionConfig& config() const { return cfg_; }
-  const Eigen::Vector2d& entryPoint() const { return entry_; }
+  const Eigen::Vector2d& entryPoint() const { return entry_; }   // centred tissue frame
+  const Eigen::Vector2d& cornerShift() const { return shift_; }  // centred -> mesh coordinates
   double exitDepth() const { return s_exit_; }
 
  private:
   enum class Status : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
+  struct Motion {
+    double ds = 0.0, v_ax = 0.0;  // m, m/s: axial base motion of this step
+    double s_tip = 0.0;           // m, tip along the reference axis
+  };
+  // A layer boundary the tip must puncture (eq 3.16 with the layer's material).
+  struct Membrane {
+    double s = 0.0;          // m, along the reference axis
+    double threshold = 0.0;  // N
+    forces::StiffnessLaw law;
+    int node = 0;            // path node that takes the indentation load
+  };
+  Motion moveBase(const BasePose& pose, double dt);
+  double pressMembrane(double s_tip, StepResult& o);
+  double cutAtTip(const Motion& mo);
+  void coupleNodes(double s_tip);
+  void measureShaft(double s_tip);
+  int solveCoupling(const Motion& mo, double dt);
+  void addKnownLoads();
+  int assembleCoupling(const Motion& mo, double dt);
+  bool updateFrictionStatus(const Motion& mo, double dt);
+  void reportLoads(const BasePose& pose, double F1, double Fc, StepResult& o);
+  Phase phaseOf(const Motion& mo, double Fc) const;
+  double tipLoadRatio() const;
+  bool entered() const { return pending_ > 0; }  // the entry face is punctured
+  void placeMembranes();
+  double nodeDepth(int pathNode) const;
+  std::size_t layerAt(double x, double tolerance) const;
   double cuttingAt(double s_tip) const;
   double rigidLateral(double p) const { return dB_ + (p - sB_) * tanphi_; }
   double needleLateralAt(double p) const;  // total lateral position (+n) of the needle at axial p
   bool solveSmall(int m);
 
   SessionConfig cfg_;
-  Eigen::Vector2d entry_, t0_, n0_;
+  Eigen::Vector2d shift_, entry_, t0_, n0_;
   double theta0_ = 0.0;
   Tissue tissue_;
-  forces::StiffnessLaw stiffness_;
   double EI_ = 0.0, L_ = 0.0, s_exit_ = 0.0;
   int P_ = 0;  // path nodes
   // Needle state of the current step.
   double sB_ = 0.0, dB_ = 0.0, phi_ = 0.0, tanphi_ = 0.0, cosphi_ = 1.0, Q_ = 0.0;
   double sB_prev_ = 0.0;
-  bool started_ = false, punctured_ = false;
+  bool started_ = false, pressing_ = false;
+  std::vector<Membrane> membranes_;  // the entry face first, then inner layer boundaries
+  std::size_t pending_ = 0;          // first membrane not yet punctured
   double front_ = 0.0, time_ = 0.0;
   int k_ = 0;  // coupled nodes (a prefix of the path)
   std::vector<Status> status_;

@@ -46,6 +46,14 @@ struct NewmarkCoefficients {  // eq 3.4 written as A u = Q + M(...) + C(...)
 
 enum class Backend { Auto, Direct, Modal, Reduced };
 
+// A disc of its own material (an inclusion's section in the insertion plane); the elements
+// whose centre lies inside take its material. Mesh coordinates.
+struct MaterialRegion {
+  Eigen::Vector2d centre = Eigen::Vector2d::Zero();  // m
+  double radius = 0.0;                               // m
+  ElasticMaterial material;                          // thickness and plane from TissueConfig::material
+};
+
 struct TissueConfig {
   ElasticMaterial material;
   MeshSpec mesh;
@@ -60,6 +68,8 @@ struct TissueConfig {
   // Layered block: materials by depth band (x of each band's far boundary, ascending);
   // when not empty it replaces `material` element by element (thickness from `material`).
   std::vector<std::pair<double, ElasticMaterial>> layers;
+  // Material regions over the layers (bonded inclusions), in order: a later one wins.
+  std::vector<MaterialRegion> regions;
   // Prony terms (materials/viscoelastic.hpp, seed 001 eqs 1-4): QLV relaxation of the whole
   // stiffness, K -> K G(t) with G = g_inf + sum g_i exp(-t/tau_i); empty = elastic.
   std::vector<materials::PronyTerm> prony;
@@ -115,6 +125,8 @@ class Tissue {
   const Eigen::VectorXd& velocity() const;
   // Displacement of one node (held: 0) without rebuilding the full field.
   Eigen::Vector2d nodeDisplacement(int node) const;
+  // Mean displacement of the nodes of a material region's elements (its material's motion).
+  Eigen::Vector2d regionDisplacement(std::size_t region) const;
   // Centre stresses (sxx, syy, sxy, szz) of every element from displacement() (4 x elements);
   // szz = nu (sxx + syy) in plane strain, 0 in plane stress.
   Eigen::Matrix4Xd elementStresses() const;
@@ -135,6 +147,10 @@ class Tissue {
   int freeDofs() const { return map_.freeCount(); }
 
  private:
+  void assignMaterials(const Eigen::Vector2d& entry);
+  void assembleSupported(const std::vector<bool>& onSides);
+  void pickPath(const Eigen::Vector2d& entry, const std::vector<bool>& onSides);
+  void makeIntegrator(double dt);
   void refreshFull() const;
   Mesh mesh_;
   TissueConfig cfg_;
@@ -151,6 +167,8 @@ class Tissue {
   mutable bool dirty_ = true;
   double dt_limit_ = 0.0;
   std::vector<ElasticMaterial> elem_mat_;
+  std::vector<std::vector<int>> region_nodes_;  // nodes of each material region's elements
+  std::vector<bool> held_;                      // per DOF
   void checkStable(double dt) const;
 };
 
