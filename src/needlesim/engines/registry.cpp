@@ -12,7 +12,8 @@ namespace needlesim {
 const std::vector<EngineInfo>& engineRegistry() {
   static const std::vector<EngineInfo> list{
       {"lumped", "lumped insertion-force model (seed 003 section 3.2)", engines::runLumped},
-      {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", engines::runRealtime2d},
+      {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", engines::runRealtime2d,
+       false, true},
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", engines::runKinematic},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", engines::runEnergy},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)", engines::runBeamFoundation},

@@ -74,7 +74,7 @@ std::vector<FieldDoc> build() {
             "(material, puncture, cutting, friction, interaction) directly under tissue",
             false, "layer"));
   add(other("tissue", "inclusions", Kind::List, "",
-            "bodies embedded in the block and bonded to it (a tumour to target, a vessel): engines mpm and explicit",
+            "bodies embedded in the block (a tumour to target, a vessel): engines mpm, explicit and realtime2d",
             false, "inclusion"));
   add(positive("block", "length", D::Length, "", "extent along the insertion axis (entry face to exit face)", true));
   add(positive("block", "width", D::Length, "", "extent across the insertion axis, in the insertion plane", true));
