@@ -320,12 +320,11 @@ void Session::addKnownLoads() {
 // H_ = S + needle flexibility between the ties (eq 3.12), rhs_ from the constraints.
 // Returns its size.
 int Session::assembleCoupling(const Motion& mo, double dt) {
-  const auto& S = tissue_.pathCompliance();
-  const auto& c = tissue_.coefficients();
-  const Eigen::VectorXd& pu = tissue_.pathU();
-  const Eigen::VectorXd& pv = tissue_.pathV();
-  const Eigen::VectorXd& pa = tissue_.pathA();
-  const double gam = cfg_.tissue.newmark.gamma;
+  const PathState ps = pathState();
+  const auto& S = ps.S;
+  const auto& c = ps.c;
+  const Eigen::VectorXd &pu = ps.u, &pv = ps.v, &pa = ps.a;
+  const double gam = ps.gamma;
   int m = 0;
   for (int i = 0; i < k_; ++i) {
     idx_[static_cast<std::size_t>(m++)] = 2 * i + 1;
@@ -370,13 +369,12 @@ int Session::assembleCoupling(const Motion& mo, double dt) {
 // stick -> hold beyond the static limit D l, hold -> slip beyond the band, slip -> stick
 // inside it. Returns whether any status changed.
 bool Session::updateFrictionStatus(const Motion& mo, double dt) {
-  const auto& S = tissue_.pathCompliance();
-  const auto& c = tissue_.coefficients();
+  const PathState ps = pathState();
+  const auto& S = ps.S;
+  const auto& c = ps.c;
   const Eigen::VectorXd& u0 = tissue_.predictedPath();
-  const Eigen::VectorXd& pu = tissue_.pathU();
-  const Eigen::VectorXd& pv = tissue_.pathV();
-  const Eigen::VectorXd& pa = tissue_.pathA();
-  const double gam = cfg_.tissue.newmark.gamma;
+  const Eigen::VectorXd &pu = ps.u, &pv = ps.v, &pa = ps.a;
+  const double gam = ps.gamma;
   const double band = 0.5 * cfg_.friction.static_band;
   bool changed = false;
   for (int i = 0; i < k_; ++i) {

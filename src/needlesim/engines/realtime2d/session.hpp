@@ -136,6 +136,17 @@ class Session {
   void measureShaft(double s_tip);
   int solveCoupling(const Motion& mo, double dt);
   void addKnownLoads();
+  // The path nodes' Newmark state the coupling works on (references into the tissue).
+  struct PathState {
+    const Eigen::MatrixXd& S;  // path compliance: u_P = u0_P + S f
+    const NewmarkCoefficients& c;
+    const Eigen::VectorXd &u, &v, &a;  // path displacement, velocity, acceleration at the step's start
+    double gamma;
+  };
+  PathState pathState() const {
+    return {tissue_.pathCompliance(), tissue_.coefficients(), tissue_.pathU(), tissue_.pathV(), tissue_.pathA(),
+            cfg_.tissue.newmark.gamma};
+  }
   int assembleCoupling(const Motion& mo, double dt);
   bool updateFrictionStatus(const Motion& mo, double dt);
   void reportLoads(const BasePose& pose, double F1, double Fc, StepResult& o);
