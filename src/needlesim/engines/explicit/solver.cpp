@@ -614,20 +614,24 @@ void ExplicitSolver::contactForces(double dtStep) {
   extContactForceLast_ = extContactForce_;
   extContactForce_.setZero();
   if (dtStep <= 0) return;
-  const int d = dim_;
   const double dtPen = contactTimeStep();
   const double stick = std::min(opt_.contactPenalty, opt_.stickPenalty);  // stick spring: k = stick m / dtPen^2
+  const ContactStep cs{dtStep, dtPen, stick};
+  planeContactForces(cs);
+  if (hasNeedle_) needleContactForces(cs);
+}
+
+void ExplicitSolver::planeContactForces(const ContactStep& cs) {
+  const int d = dim_;
+  const double dtStep = cs.dtStep, dtPen = cs.dtPen, stick = cs.stick;
   for (std::size_t p = 0; p < planes_.size(); ++p) {
     RigidPlane& pl = planes_[p];
     std::vector<double>& ftH = planeFt_[p];
     double fx = 0, fy = 0, fz = 0;
 #pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz)
     for (int n = 0; n < nnode_; ++n) {
-      Vector3d x = Vector3d::Zero(), v = Vector3d::Zero();
-      for (int i = 0; i < d; ++i) {
-        x[i] = mesh_.X[static_cast<std::size_t>(n) * d + i] + u_[static_cast<std::size_t>(n) * d + i];
-        v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
-      }
+      Vector3d x, v;
+      nodeState(n, x, v);
       double gap = (x - pl.point).dot(pl.normal);
       double* ft = &ftH[static_cast<std::size_t>(n) * 3];
       if (gap >= 0) {
@@ -651,7 +655,44 @@ void ExplicitSolver::contactForces(double dtStep) {
     }
     planeStage_[p] = Vector3d(fx, fy, fz);  // pl.force: completed by normalContactCorrection
   }
-  if (!hasNeedle_) return;
+}
+
+// Node n inside the needle (hit): its penalty normal force and stick-spring friction on the tissue
+// (fcon_, fconNeedle_, fconFriction_, the stick state needleFt_), recorded for the normal correction.
+ExplicitSolver::NeedleNodeForce ExplicitSolver::needleNodeForce(int n, const Vector3d& v, const Vector3d& vb,
+                                                                const needle::NeedlePose& pose,
+                                                                const needle::NeedleHit& hit, double wedgeAxial,
+                                                                const ContactStep& cs) {
+  const RigidNeedle& nd = needle_;
+  const int d = dim_;
+  double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
+  const double k = needleContactStiffness(n, cs.dtPen);
+  const double fn = contact::penaltyForce(k, hit.depth);
+  Vector3d f = fn * hit.normal;
+  const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.wallFriction(n);
+  recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
+  if (nd.path)
+    for (int i = 0; i < 3; ++i) contactAxis_[static_cast<std::size_t>(n) * 3 + i] = pose.axis[i];
+  contactWedge_[n] = wedgeAxial;
+  contactTip_[n] = hit.face == needle::NeedleFace::Tip;
+  if (mu > 0) {
+    const Vector3d t = contact::stickSpringFriction(Vector3d(ft[0], ft[1], ft[2]), hit.normal, v - vb,
+                                                    contact::massPenalty(cs.stick, mass_[n], cs.dtPen) * cs.dtStep,
+                                                    mu * fn);
+    ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
+    f += t;
+    for (int i = 0; i < d; ++i) fconFriction_[static_cast<std::size_t>(n) * d + i] = t[i];
+  } else {
+    ft[0] = ft[1] = ft[2] = 0;
+  }
+  for (int i = 0; i < d; ++i) {
+    fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
+    fconNeedle_[static_cast<std::size_t>(n) * d + i] = f[i];
+  }
+  return {f, fn, contact::penaltyEnergy(k, hit.depth)};
+}
+
+void ExplicitSolver::needleContactForces(const ContactStep& cs) {
   RigidNeedle& nd = needle_;
   const Vector3d base = nd.pose.tip - nd.shape.length * nd.pose.axis;
   double fx = 0, fy = 0, fz = 0, mx = 0, my = 0, mz = 0, tx = 0, ty = 0, tz = 0, fnSum = 0, maxPen = 0, ePen = 0;
@@ -662,11 +703,8 @@ void ExplicitSolver::contactForces(double dtStep) {
 #pragma omp parallel for schedule(static) if (nnode_ >= kParallelMin) reduction(+ : fx, fy, fz, mx, my, mz, tx, ty, tz, fnSum, count, ePen, drv) \
     reduction(max : maxPen)
   for (int n = 0; n < nnode_; ++n) {
-    Vector3d x = Vector3d::Zero(), v = Vector3d::Zero();
-    for (int i = 0; i < d; ++i) {
-      x[i] = mesh_.X[static_cast<std::size_t>(n) * d + i] + u_[static_cast<std::size_t>(n) * d + i];
-      v[i] = vHalf_[static_cast<std::size_t>(n) * d + i];
-    }
+    Vector3d x, v;
+    nodeState(n, x, v);
     double* ft = &needleFt_[static_cast<std::size_t>(n) * 3];
     // a needle following a path: the straight needle in the frame of x's nearest station (path_needle.hpp),
     // its surface moving with the insertion speed along the local tangent
@@ -683,29 +721,10 @@ void ExplicitSolver::contactForces(double dtStep) {
       needleK_[n] = 0.0;  // the contact episode ends
       continue;
     }
-    const double k = needleContactStiffness(n, dtPen);
-    const double fn = contact::penaltyForce(k, hit.depth);
-    Vector3d f = fn * hit.normal;
-    const double mu = hit.face == needle::NeedleFace::Tip ? nd.frictionTip : nd.wallFriction(n);
-    recordNormalContact(n, 0, hit.normal, k, hit.depth, vb, mu);
-    if (nd.path)
-      for (int i = 0; i < 3; ++i) contactAxis_[static_cast<std::size_t>(n) * 3 + i] = pose.axis[i];
-    contactWedge_[n] = wedgeAxial;
-    contactTip_[n] = hit.face == needle::NeedleFace::Tip;
-    if (mu > 0) {
-      const Vector3d t = contact::stickSpringFriction(Vector3d(ft[0], ft[1], ft[2]), hit.normal, v - vb,
-                                                      contact::massPenalty(stick, mass_[n], dtPen) * dtStep, mu * fn);
-      ft[0] = t[0], ft[1] = t[1], ft[2] = t[2];
-      f += t;
-      for (int i = 0; i < d; ++i) fconFriction_[static_cast<std::size_t>(n) * d + i] = t[i];
-    } else {
-      ft[0] = ft[1] = ft[2] = 0;
-    }
-    ePen += contact::penaltyEnergy(k, hit.depth);
-    for (int i = 0; i < d; ++i) {
-      fcon_[static_cast<std::size_t>(n) * d + i] += f[i];
-      fconNeedle_[static_cast<std::size_t>(n) * d + i] = f[i];
-    }
+    const NeedleNodeForce c = needleNodeForce(n, v, vb, pose, hit, wedgeAxial, cs);
+    const double fn = c.normal;
+    Vector3d f = c.force;
+    ePen += c.energy;
     // reaction on the needle: -f at x; moment about the base centre. A wedged lip (above) feels
     // only the lateral part fn of the face force; the needle takes the whole face force, whose
     // axial part fn tan(face) makes the needle's work match the opening work at the face.

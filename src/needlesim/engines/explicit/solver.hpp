@@ -233,6 +233,29 @@ class ExplicitSolver {
   // internalForces for this mesh's element type.
   void elementForces(double dtStep);
   void contactForces(double dtStep);
+  // the step's contact penalties: step dtStep, stable step dtPen of the normal penalty
+  // k = contactPenalty m / dtPen^2, stick spring k = stick m / dtPen^2
+  struct ContactStep {
+    double dtStep, dtPen, stick;
+  };
+  // steps of contactForces: the rigid planes, the needle, one tissue node in needle contact
+  void planeContactForces(const ContactStep& cs);
+  void needleContactForces(const ContactStep& cs);
+  struct NeedleNodeForce {
+    Eigen::Vector3d force;  // on the tissue node: normal plus friction
+    double normal, energy;  // penalty normal force and energy
+  };
+  NeedleNodeForce needleNodeForce(int n, const Eigen::Vector3d& v, const Eigen::Vector3d& vb,
+                                  const needle::NeedlePose& pose, const needle::NeedleHit& hit, double wedgeAxial,
+                                  const ContactStep& cs);
+  // current position and half-step velocity of node n (2D: z = 0)
+  void nodeState(int n, Eigen::Vector3d& x, Eigen::Vector3d& v) const {
+    x.setZero(), v.setZero();
+    for (int i = 0; i < dim_; ++i) {
+      x[i] = mesh_.X[static_cast<std::size_t>(n) * dim_ + i] + u_[static_cast<std::size_t>(n) * dim_ + i];
+      v[i] = vHalf_[static_cast<std::size_t>(n) * dim_ + i];
+    }
+  }
   double contactTimeStep();
   needle::NeedleHit needleHit(int n, const Eigen::Vector3d& x, const needle::NeedlePose& pose, double& wedgeAxial) const;
   double needleContactStiffness(int n, double dtPen);
