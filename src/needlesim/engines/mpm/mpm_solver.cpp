@@ -1000,18 +1000,34 @@ MPM_AVX_CLONES void remapNodes(double* r, double* v, std::size_t n, const std::u
 // mass lanes plus its last-step spans). The arithmetic per node is the
 // scalar one in four lanes (same operations, same roundings).
 void MpmSolver::gridUpdate() {
-  const int B = cfg_.bodies;
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1;
+  planGridRows();
+  // Node-wise work beyond eq 3 and the fixed components: rigid or velocity contact.
+  const bool nodeWise = !rigids_.empty() || (cfg_.bodies == 2 && !penalty_);
+  std::size_t touchLo = rows, touchHi = 0;  // rows with rigid contact: [touchLo, touchHi)
+#pragma omp parallel num_threads(nthreads_) reduction(min : touchLo) reduction(max : touchHi)
+  {
+    const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
+    for (std::size_t q = qa; q < qb; ++q) {
+      const auto [h0, h1] = momentumUpdateRow(q, nodeWise);
+      if (!nodeWise) continue;
+      clearOutsideHull(q, h0, h1);
+      if (contactOnRow(q, h0, h1)) {
+        touchLo = std::min(touchLo, q);
+        touchHi = std::max(touchHi, q + 1);
+      }
+    }
+  }
+  sumRigidForces(touchLo, touchHi);
+}
+
+// gridUpdate: this step's spans become the last step's, and each row's work
+// (its mass lanes plus its last-step spans) is summed for the threads' shares.
+void MpmSolver::planGridRows() {
   const std::size_t R = rigids_.size();
-  const double dt = dt_;
-  Buf& G = buf_[0];
-  const bool musl = cfg_.update == Update::MUSL;
-  const double gap = cfg_.contactGap;
-  const double mu = cfg_.friction;
-  const double pairGap = pairGap_;
-  const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
-  const std::size_t NR = static_cast<std::size_t>(nr_);
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1, UB = static_cast<std::size_t>(B);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1, UB = static_cast<std::size_t>(cfg_.bodies);
   if (rowSpan_.size() != 2 * UB * rows) {  // first step: nothing set outside the (empty) spans
     rowSpan_.assign(2 * UB * rows, 0);
     rowSpanPrev_.assign(2 * UB * rows, 0);
@@ -1025,93 +1041,121 @@ void MpmSolver::gridUpdate() {
       w += 4 * (rowSpanPrev_[2 * (b * rows + q) + 1] - rowSpanPrev_[2 * (b * rows + q)]);
     rowWork_[q + 1] = rowWork_[q] + w;
   }
-  // Node-wise work beyond eq 3 and the fixed components: rigid or velocity contact.
-  const bool nodeWise = R > 0 || (B == 2 && !penalty_);
+}
+
+// gridUpdate on row q, per body: the span of the nodes with mass and eq 3 on
+// it (the fixed components too unless nodeWise: contactOnRow applies them
+// after the contact); the velocities the last step's span left outside it
+// are cleared. Returns the hull [h0, h1) of the spans (h0 = n2, h1 = 0: none).
+[[gnu::always_inline]] inline std::pair<std::size_t, std::size_t> MpmSolver::momentumUpdateRow(std::size_t q,
+                                                                                              bool nodeWise) {
+  const std::size_t NR = static_cast<std::size_t>(nr_), UB = static_cast<std::size_t>(cfg_.bodies);
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1;
+  const double dt = dt_;
+  const bool musl = cfg_.update == Update::MUSL;
   const double grav[3] = {cfg_.gravity.x(), cfg_.gravity.y(), cfg_.gravity.z()};
-  double* rec = G.rec.data();
+  double* rec = buf_[0].rec.data();
   double* vel = vel_.data();
   const double* dash = dashpot_.data();
   const std::uint8_t* fix = fixMask_.data();
-  std::size_t touchLo = rows, touchHi = 0;  // rows with rigid contact: [touchLo, touchHi)
-#pragma omp parallel num_threads(nthreads_) reduction(min : touchLo) reduction(max : touchHi)
-  {
-    const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
-    for (std::size_t q = qa; q < qb; ++q) {
-      const std::size_t I0 = q * n2;
-      std::size_t h0 = n2, h1 = 0;  // hull of this step's spans
-      for (std::size_t b = 0; b < UB; ++b) {
-        const std::size_t J0 = b * nodes_ + I0;
-        const double* m = rec + NR * J0 + kM;
-        std::size_t k0 = 0, k1 = n2;
-        while (k0 < n2 && !(m[NR * k0] > 0)) ++k0;
-        if (k0 == n2) k0 = k1 = 0;
-        while (k1 > k0 && !(m[NR * (k1 - 1)] > 0)) --k1;
-        std::uint32_t* span = &rowSpan_[2 * (b * rows + q)];
-        const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
-        span[0] = static_cast<std::uint32_t>(k0);
-        span[1] = static_cast<std::uint32_t>(k1);
-        if (k1 > k0) {
-          h0 = std::min(h0, k0);
-          h1 = std::max(h1, k1);
-        }
-        // Outside the span: clear the velocities the last step's span left.
-        for (std::size_t k = prev[0]; k < std::min<std::size_t>(prev[1], k0); ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
-        for (std::size_t k = std::max<std::size_t>(prev[0], k1); k < prev[1]; ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
-        if (k1 > k0)
-          eq3Nodes(rec + NR * (J0 + k0), vel + 8 * (J0 + k0), dash + 3 * (I0 + k0), k1 - k0, dt, grav, musl,
-                   nodeWise ? nullptr : fix + I0 + k0);
-      }
-      if (!nodeWise) continue;
-      // Outside the hull: clear the contact flags the last step left and
-      // reset the gap minima p2g wrote (its support reaches nodes of zero weight).
-      for (std::size_t b = 0; b < UB; ++b) {
-        const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
-        for (std::size_t k = prev[0]; k < prev[1]; ++k)
-          if (k < h0 || k >= h1)
-            for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I0 + k] = 0;
-      }
-      for (std::size_t r = 0; r < R; ++r) {
-        double* gm = &G.gmin[r * nodes_ + I0];
-        for (std::size_t k = 0; k < n2; ++k)
-          if ((k < h0 || k >= h1) && gm[k] != kInf) gm[k] = kInf;  // reset for the next p2g
-      }
-      const int i = static_cast<int>(q / n1), j = static_cast<int>(q % n1);
-      for (std::size_t k = h0; k < h1; ++k) {
-        const std::size_t I = I0 + k;
-        double mb[2] = {0, 0};
-        bool any = false;
-        for (std::size_t b = 0; b < UB; ++b) {
-          mb[b] = rec[NR * (b * nodes_ + I) + kM];
-          any = any || mb[b] > 0;
-        }
-        for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
-        if (!any) {
-          for (std::size_t r = 0; r < R; ++r) G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g
-          continue;
-        }
-        const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, static_cast<int>(k));
-        if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
-          pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.grad[8 * I + kG],
-                      &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX],
-                      pairGap, xI, est, cfg_.h);
-        for (std::size_t r = 0; r < R; ++r) {
-          const double gm = G.gmin[r * nodes_ + I];
-          G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g (gridUpdate is its only reader)
-          if (!(gm < gap)) continue;  // eq 22: no particle touches the body here
-          if (rigidContactAt(r, I, xI, mb)) {
-            touchLo = std::min(touchLo, q);
-            touchHi = std::max(touchHi, q + 1);
-          }
-        }
-        const std::uint8_t mask = fix[I];
-        if (mask)
-          for (std::size_t b = 0; b < UB; ++b)
-            for (int c = 0; c < 3; ++c)
-              if (mask & (1 << c)) vel_[8 * (b * nodes_ + I) + c] = 0.0;
-      }
+  const std::size_t I0 = q * n2;
+  std::size_t h0 = n2, h1 = 0;  // hull of this step's spans
+  for (std::size_t b = 0; b < UB; ++b) {
+    const std::size_t J0 = b * nodes_ + I0;
+    const double* m = rec + NR * J0 + kM;
+    std::size_t k0 = 0, k1 = n2;
+    while (k0 < n2 && !(m[NR * k0] > 0)) ++k0;
+    if (k0 == n2) k0 = k1 = 0;
+    while (k1 > k0 && !(m[NR * (k1 - 1)] > 0)) --k1;
+    std::uint32_t* span = &rowSpan_[2 * (b * rows + q)];
+    const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
+    span[0] = static_cast<std::uint32_t>(k0);
+    span[1] = static_cast<std::uint32_t>(k1);
+    if (k1 > k0) {
+      h0 = std::min(h0, k0);
+      h1 = std::max(h1, k1);
     }
+    // Outside the span: clear the velocities the last step's span left.
+    for (std::size_t k = prev[0]; k < std::min<std::size_t>(prev[1], k0); ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
+    for (std::size_t k = std::max<std::size_t>(prev[0], k1); k < prev[1]; ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
+    if (k1 > k0)
+      eq3Nodes(rec + NR * (J0 + k0), vel + 8 * (J0 + k0), dash + 3 * (I0 + k0), k1 - k0, dt, grav, musl,
+               nodeWise ? nullptr : fix + I0 + k0);
   }
-  sumRigidForces(touchLo, touchHi);
+  return {h0, h1};
+}
+
+// gridUpdate on row q outside the hull [h0, h1) of its spans: clear the
+// contact flags the last step left and reset the gap minima p2g wrote (its
+// support reaches nodes of zero weight).
+[[gnu::always_inline]] inline void MpmSolver::clearOutsideHull(std::size_t q, std::size_t h0, std::size_t h1) {
+  const std::size_t R = rigids_.size(), UB = static_cast<std::size_t>(cfg_.bodies);
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1;
+  const std::size_t I0 = q * n2;
+  for (std::size_t b = 0; b < UB; ++b) {
+    const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
+    for (std::size_t k = prev[0]; k < prev[1]; ++k)
+      if (k < h0 || k >= h1)
+        for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I0 + k] = 0;
+  }
+  for (std::size_t r = 0; r < R; ++r) {
+    double* gm = &buf_[0].gmin[r * nodes_ + I0];
+    for (std::size_t k = 0; k < n2; ++k)
+      if ((k < h0 || k >= h1) && gm[k] != kInf) gm[k] = kInf;  // reset for the next p2g
+  }
+}
+
+// gridUpdate on the hull [h0, h1) of row q, node by node: the velocity
+// contact of the two fields, the rigid contact where a point lies within the
+// eq 22 gap, then the fixed velocity components; true when a rigid acted.
+[[gnu::always_inline]] inline bool MpmSolver::contactOnRow(std::size_t q, std::size_t h0, std::size_t h1) {
+  const int B = cfg_.bodies;
+  const std::size_t R = rigids_.size(), UB = static_cast<std::size_t>(B);
+  Buf& G = buf_[0];
+  const double gap = cfg_.contactGap;
+  const double mu = cfg_.friction;
+  const double pairGap = pairGap_;
+  const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
+  const std::size_t NR = static_cast<std::size_t>(nr_);
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const double* rec = G.rec.data();
+  const std::uint8_t* fix = fixMask_.data();
+  const std::size_t I0 = q * n2;
+  const int i = static_cast<int>(q / n1), j = static_cast<int>(q % n1);
+  bool touched = false;
+  for (std::size_t k = h0; k < h1; ++k) {
+    const std::size_t I = I0 + k;
+    double mb[2] = {0, 0};
+    bool any = false;
+    for (std::size_t b = 0; b < UB; ++b) {
+      mb[b] = rec[NR * (b * nodes_ + I) + kM];
+      any = any || mb[b] > 0;
+    }
+    for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
+    if (!any) {
+      for (std::size_t r = 0; r < R; ++r) G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g
+      continue;
+    }
+    const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, static_cast<int>(k));
+    if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
+      pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.grad[8 * I + kG],
+                  &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX],
+                  pairGap, xI, est, cfg_.h);
+    for (std::size_t r = 0; r < R; ++r) {
+      const double gm = G.gmin[r * nodes_ + I];
+      G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g (gridUpdate is its only reader)
+      if (!(gm < gap)) continue;  // eq 22: no particle touches the body here
+      if (rigidContactAt(r, I, xI, mb)) touched = true;
+    }
+    const std::uint8_t mask = fix[I];
+    if (mask)
+      for (std::size_t b = 0; b < UB; ++b)
+        for (int c = 0; c < 3; ++c)
+          if (mask & (1 << c)) vel_[8 * (b * nodes_ + I) + c] = 0.0;
+  }
+  return touched;
 }
 
 // Force on each rigid body: the impulses in node order (the same sum on any

@@ -191,9 +191,15 @@ class MpmSolver {
   void buildSurface(std::size_t r);
   template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
   void gridUpdate();
+  void planGridRows();                                                               // gridUpdate
+  std::pair<std::size_t, std::size_t> momentumUpdateRow(std::size_t q, bool nodeWise);  // gridUpdate
+  void clearOutsideHull(std::size_t q, std::size_t h0, std::size_t h1);              // gridUpdate
+  bool contactOnRow(std::size_t q, std::size_t h0, std::size_t h1);                  // gridUpdate
   void sumRigidForces(std::size_t touchLo, std::size_t touchHi);  // gridUpdate
   bool rigidContactAt(std::size_t r, std::size_t I, const Vec3& xI, const double* mb);  // gridUpdate
   void penaltyForces();           // penalty_contact.cpp
+  void penaltyPairsOfCell(std::size_t c0, std::size_t tid, double dt0, double mu);  // penaltyForces
+  void penaltyPairForces(std::size_t tid, double mu, double dt);                    // penaltyForces
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
   void scatterContact(std::size_t tid);  // penalty_contact.cpp
   void densityForces();           // density_contact.cpp
