@@ -692,31 +692,43 @@ template <int S>
 }
 }  // namespace
 
-// Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
-// grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
-// entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
-// is a fixed-length vector update of one cache line.
-template <int S, bool Grad>
-MPM_CLONES void MpmSolver::p2g() {
-  constexpr std::size_t NR = 8;
-  const double invh = 1.0 / cfg_.h;
-  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
-  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
-  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+// Cheap bound for the gap search: the signed distance to a needle is at
+// least its distance to the shaft cylinder, r - R (the solid is an intersection).
+struct MpmSolver::NeedleAxis {
+  Vec3 c, e;
+  double rmax2;
+  bool needle;
+};
+
+// p2g: the shaft axis of each of the first 8 rigids, marked when it is a
+// needle with grid contact, and the squared reach of the gap search around it.
+[[gnu::always_inline]] inline std::array<MpmSolver::NeedleAxis, 8> MpmSolver::needleAxes(double gapReach) const {
   const int R = static_cast<int>(rigids_.size());
-  // Cheap bound for the gap search: the signed distance to a needle is at
-  // least its distance to the shaft cylinder, r - R (the solid is an intersection).
-  struct Axis { Vec3 c, e; double rmax2; bool needle; };
-  std::array<Axis, 8> ax{};
-  const double gapReach = 2.0 * cfg_.h + cfg_.contactGap;
+  std::array<NeedleAxis, 8> ax{};
   for (int r = 0; r < R && r < 8; ++r) {
     const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
-    Axis& A = ax[static_cast<std::size_t>(r)];
+    NeedleAxis& A = ax[static_cast<std::size_t>(r)];
     A.needle = rb.kind == RigidBody::Kind::Needle && !rb.surfaceContact;
     A.c = rb.axisPoint();
     A.e = rb.axis;
     A.rmax2 = (rb.radius + gapReach) * (rb.radius + gapReach);
   }
+  return ax;
+}
+
+// Particle to grid: mass, momentum and internal force (scatterPoint), the
+// gradient records near the other body, the gap minima of the rigids
+// (rigidGaps). Slabs of one colour touch disjoint node layers, so the
+// threads add into one shared grid without races.
+template <int S, bool Grad>
+MPM_CLONES void MpmSolver::p2g() {
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const int R = static_cast<int>(rigids_.size());
+  const double gapReach = 2.0 * cfg_.h + cfg_.contactGap;
+  const std::array<NeedleAxis, 8> ax = needleAxes(gapReach);
   Buf& B = buf_[0];
   double* __restrict rec = B.rec.data();
   double* __restrict grad = B.grad.data();  // two bodies
@@ -740,14 +752,7 @@ MPM_CLONES void MpmSolver::p2g() {
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
       if (qi + kPrefetchAhead < q1) prefetchRecord<3u>(&P_[order[qi + kPrefetchAhead]]);  // x, v, m, V | sigma
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
-      const double m = P_[p].mass;
-      const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
-      const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
-      const double s00 = V * P_[p].sig[0], s11 = V * P_[p].sig[1], s22 = V * P_[p].sig[2];
-      const double s01 = V * P_[p].sig[3], s12 = V * P_[p].sig[4], s02 = V * P_[p].sig[5];
-      const double z0 = opaqueZero();
-      const A4 S0 = {s00, s01, s02, z0}, S1 = {s01, s11, s12, z0}, S2 = {s02, s12, s22, z0};  // rows of -V sigma
+      const lanes::Stencil4<S> st = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const double xp[3] = {P_[p].x[0], P_[p].x[1], P_[p].x[2]};
       // Two bodies: the normal and gap lanes matter only at nodes that both
       // bodies reach, i.e. for points with the other body within 3 cells.
@@ -760,64 +765,99 @@ MPM_CLONES void MpmSolver::p2g() {
         const bool cand = needG && (near1Rows[w] & cellBit(c)) != 0;
         nearCell[p] = cand ? static_cast<std::uint32_t>(c.row * n2 + c.k) : kNotNear;
       }
-      const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-      for (int i = 0; i < S; ++i)
-        for (int j = 0; j < S; ++j) {
-          const A4 wij = wx[i] * wy[j];
-          const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
-          const std::size_t node = off + (static_cast<std::size_t>(bx + i) * n1 +
-                                          static_cast<std::size_t>(by + j)) * n2 +
-                                   static_cast<std::size_t>(bz);
-          double* __restrict r = rec + NR * node;
-          const A4 a0 = wij * q;
-          const A4 a1 = gxij * S0 + gyij * S1;
-          const A4 b1 = wij * S2;
-          if (Grad && needG) {
-            // gradient record: mass gradient (3), mass-weighted position (3)
-            const A4 a2 = {m * gxij[0], m * gyij[0], 0.0, wij[0] * m * xp[0]};
-            const A4 b2 = {z0, z0, m * wij[0], z0};
-            double* __restrict g = grad + 8 * node;
-            for (int k = 0; k < S; ++k, r += NR, g += 8) {
-              add(r, wz[k] * a0);
-              add(r + 4, wz[k] * a1 + dz[k] * b1);
-              add(g, wz[k] * a2 + dz[k] * b2);
-            }
-            if (centroid) {
-              const A4 a3 = {wij[0] * m * xp[1], wij[0] * m * xp[2], z0, z0};
-              g -= 8 * S;
-              for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
-            }
-          } else {
-            for (int k = 0; k < S; ++k, r += NR) {
-              add(r, wz[k] * a0);
-              add(r + 4, wz[k] * a1 + dz[k] * b1);
-            }
-          }
-        }
-      // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
-      for (int r = 0; r < R; ++r) {
-        const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
-        if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
-        if (r < 8 && ax[static_cast<std::size_t>(r)].needle) {
-          const Axis& A = ax[static_cast<std::size_t>(r)];
-          // Scalar on purpose: a vectorised form packs rel through the stack and
-          // stalls on store forwarding in this, the most frequent, branch.
-          const double r0 = xp[0] - A.c.x(), r1 = xp[1] - A.c.y(), r2 = xp[2] - A.c.z();
-          const double s = r0 * A.e.x() + r1 * A.e.y() + r2 * A.e.z();
-          if (r0 * r0 + r1 * r1 + r2 * r2 - s * s > A.rmax2) continue;
-        }
-        const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
-        if (gap > gapReach) continue;
-        const std::size_t base = static_cast<std::size_t>(r) * nodes_ +
-                                 (static_cast<std::size_t>(bx) * n1 + static_cast<std::size_t>(by)) * n2 +
-                                 static_cast<std::size_t>(bz);
-        minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
-      }
+      scatterPoint<S, Grad>(p, st, xp, needG, centroid, rec, grad, n1, n2);
+      rigidGaps<S>(p, xp, st.bx, st.by, st.bz, n1, n2, ax.data(), R, gapReach);
     }
     if (colour == 0) {
 #pragma omp barrier
     }
     }
+  }
+}
+
+// p2g of point p over its support st (position xp): mass and momentum (eqs
+// 1-2) and the internal force -V sigma : grad N into the records of its body;
+// with needG (two bodies, the other one near) the gradient record too: mass
+// gradient and mass-weighted position (its y, z lanes only for the centroid
+// gap rule). Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
+// grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
+// entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
+// is a fixed-length vector update of one cache line.
+template <int S, bool Grad>
+[[gnu::always_inline]] inline void MpmSolver::scatterPoint(std::size_t p, const lanes::Stencil4<S>& st,
+                                                           const double* xp, bool needG, bool centroid,
+                                                           double* __restrict rec, double* __restrict grad,
+                                                           std::size_t n1, std::size_t n2) {
+  constexpr std::size_t NR = 8;
+  const auto& [wx, wy, wz, dx, dy, dz, bx, by, bz] = st;
+  const double m = P_[p].mass;
+  const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
+  const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
+  const double s00 = V * P_[p].sig[0], s11 = V * P_[p].sig[1], s22 = V * P_[p].sig[2];
+  const double s01 = V * P_[p].sig[3], s12 = V * P_[p].sig[4], s02 = V * P_[p].sig[5];
+  const double z0 = opaqueZero();
+  const A4 S0 = {s00, s01, s02, z0}, S1 = {s01, s11, s12, z0}, S2 = {s02, s12, s22, z0};  // rows of -V sigma
+  const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j) {
+      const A4 wij = wx[i] * wy[j];
+      const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+      const std::size_t node = off + (static_cast<std::size_t>(bx + i) * n1 +
+                                      static_cast<std::size_t>(by + j)) * n2 +
+                               static_cast<std::size_t>(bz);
+      double* __restrict r = rec + NR * node;
+      const A4 a0 = wij * q;
+      const A4 a1 = gxij * S0 + gyij * S1;
+      const A4 b1 = wij * S2;
+      if (Grad && needG) {
+        // gradient record: mass gradient (3), mass-weighted position (3)
+        const A4 a2 = {m * gxij[0], m * gyij[0], 0.0, wij[0] * m * xp[0]};
+        const A4 b2 = {z0, z0, m * wij[0], z0};
+        double* __restrict g = grad + 8 * node;
+        for (int k = 0; k < S; ++k, r += NR, g += 8) {
+          add(r, wz[k] * a0);
+          add(r + 4, wz[k] * a1 + dz[k] * b1);
+          add(g, wz[k] * a2 + dz[k] * b2);
+        }
+        if (centroid) {
+          const A4 a3 = {wij[0] * m * xp[1], wij[0] * m * xp[2], z0, z0};
+          g -= 8 * S;
+          for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
+        }
+      } else {
+        for (int k = 0; k < S; ++k, r += NR) {
+          add(r, wz[k] * a0);
+          add(r + 4, wz[k] * a1 + dz[k] * b1);
+        }
+      }
+    }
+}
+
+// p2g: the gap of point p (position xp, support from base node bx, by, bz)
+// to each of the R rigid bodies (eq 22), kept as a nodal minimum; a needle
+// farther than the reach of its shaft axis ax is skipped.
+template <int S>
+[[gnu::always_inline]] inline void MpmSolver::rigidGaps(std::size_t p, const double* xp, std::size_t bx,
+                                                        std::size_t by, std::size_t bz, std::size_t n1,
+                                                        std::size_t n2, const NeedleAxis* ax, int R,
+                                                        double gapReach) {
+  Buf& B = buf_[0];
+  for (int r = 0; r < R; ++r) {
+    const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
+    if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
+    if (r < 8 && ax[r].needle) {
+      const NeedleAxis& A = ax[r];
+      // Scalar on purpose: a vectorised form packs rel through the stack and
+      // stalls on store forwarding in this, the most frequent, branch.
+      const double r0 = xp[0] - A.c.x(), r1 = xp[1] - A.c.y(), r2 = xp[2] - A.c.z();
+      const double s = r0 * A.e.x() + r1 * A.e.y() + r2 * A.e.z();
+      if (r0 * r0 + r1 * r1 + r2 * r2 - s * s > A.rmax2) continue;
+    }
+    const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
+    if (gap > gapReach) continue;
+    const std::size_t base = static_cast<std::size_t>(r) * nodes_ +
+                             (bx * n1 + by) * n2 + bz;
+    minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
   }
 }
 

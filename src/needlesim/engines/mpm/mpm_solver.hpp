@@ -23,6 +23,11 @@
 
 namespace needlesim::mpm {
 
+namespace lanes {
+template <int S>
+struct Stencil4;  // support_lanes.hpp
+}  // namespace lanes
+
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
 
@@ -185,6 +190,14 @@ class MpmSolver {
   void setUpBoundaries();    // finalize
   void checkInitialState();  // finalize
   template <int S, bool Grad> void p2g();
+  struct NeedleAxis;
+  std::array<NeedleAxis, 8> needleAxes(double gapReach) const;  // p2g
+  template <int S, bool Grad>
+  void scatterPoint(std::size_t p, const lanes::Stencil4<S>& st, const double* xp, bool needG, bool centroid,
+                    double* __restrict rec, double* __restrict grad, std::size_t n1, std::size_t n2);  // p2g
+  template <int S>
+  void rigidGaps(std::size_t p, const double* xp, std::size_t bx, std::size_t by, std::size_t bz, std::size_t n1,
+                 std::size_t n2, const NeedleAxis* ax, int R, double gapReach);  // p2g
   template <int S> void g2pRemap();
   template <int S> void surfaceContact(bool first);
   void findSurfacePairs(std::size_t r);  // surfaceContact
