@@ -203,6 +203,16 @@ class MpmSolver {
   void findSurfacePairs(std::size_t r);  // surfaceContact
   void buildSurface(std::size_t r);
   template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
+  struct GridSums;
+  template <int S, bool Usl>
+  static GridSums gatherGridSums(const lanes::Stencil4<S>& st, const double* __restrict vel, std::size_t off,
+                                 std::size_t n1, std::size_t n2);  // g2pFinal
+  template <bool Usl> double advancePoint(std::size_t p, const GridSums& g, double dt, double flip);  // g2pFinal
+  template <int S>
+  int checkAdvanced(std::size_t p, double J, double speed2, const double* o, double invh, const double* limEnd,
+                    std::size_t n1, int slabAxis, std::uint64_t* occ, std::size_t occW, int& layerLo,
+                    int& layerHi);  // g2pFinal
+  void stressChunk(const std::size_t* ready, std::size_t nready, double& ei, double& vmax);  // g2pFinal
   void gridUpdate();
   void planGridRows();                                                               // gridUpdate
   std::pair<std::size_t, std::size_t> momentumUpdateRow(std::size_t q, bool nodeWise);  // gridUpdate
