@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -226,6 +227,12 @@ class MpmSolver {
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
   void scatterContact(std::size_t tid);  // penalty_contact.cpp
   void densityForces();           // density_contact.cpp
+  void resetDensityScratch();                                                                   // densityForces
+  int densityNearCells(std::size_t c0, std::uint32_t* lo, std::uint32_t* hi, const double** bb) const;  // densityForces
+  void densitySweepCell(std::size_t c0, std::size_t tid, double* racc, std::size_t from);       // densityForces
+  void densityLawAt(std::size_t s, std::size_t tid, double dt0, std::atomic<std::size_t>& passed);  // densityForces
+  void densityFrictionInputs(std::size_t tid);                                                  // densityForces
+  void densityPairForces(std::size_t tid, bool friction, double mu, double dt);                 // densityForces
   void densityEnergyAfterStep();  // density_contact.cpp
   bool surfaceNormal(const double* x, double* m) const;  // density_contact.cpp
   double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,
