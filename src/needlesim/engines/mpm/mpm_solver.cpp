@@ -692,31 +692,43 @@ template <int S>
 }
 }  // namespace
 
-// Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
-// grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
-// entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
-// is a fixed-length vector update of one cache line.
-template <int S, bool Grad>
-MPM_CLONES void MpmSolver::p2g() {
-  constexpr std::size_t NR = 8;
-  const double invh = 1.0 / cfg_.h;
-  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
-  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
-  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+// Cheap bound for the gap search: the signed distance to a needle is at
+// least its distance to the shaft cylinder, r - R (the solid is an intersection).
+struct MpmSolver::NeedleAxis {
+  Vec3 c, e;
+  double rmax2;
+  bool needle;
+};
+
+// p2g: the shaft axis of each of the first 8 rigids, marked when it is a
+// needle with grid contact, and the squared reach of the gap search around it.
+[[gnu::always_inline]] inline std::array<MpmSolver::NeedleAxis, 8> MpmSolver::needleAxes(double gapReach) const {
   const int R = static_cast<int>(rigids_.size());
-  // Cheap bound for the gap search: the signed distance to a needle is at
-  // least its distance to the shaft cylinder, r - R (the solid is an intersection).
-  struct Axis { Vec3 c, e; double rmax2; bool needle; };
-  std::array<Axis, 8> ax{};
-  const double gapReach = 2.0 * cfg_.h + cfg_.contactGap;
+  std::array<NeedleAxis, 8> ax{};
   for (int r = 0; r < R && r < 8; ++r) {
     const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
-    Axis& A = ax[static_cast<std::size_t>(r)];
+    NeedleAxis& A = ax[static_cast<std::size_t>(r)];
     A.needle = rb.kind == RigidBody::Kind::Needle && !rb.surfaceContact;
     A.c = rb.axisPoint();
     A.e = rb.axis;
     A.rmax2 = (rb.radius + gapReach) * (rb.radius + gapReach);
   }
+  return ax;
+}
+
+// Particle to grid: mass, momentum and internal force (scatterPoint), the
+// gradient records near the other body, the gap minima of the rigids
+// (rigidGaps). Slabs of one colour touch disjoint node layers, so the
+// threads add into one shared grid without races.
+template <int S, bool Grad>
+MPM_CLONES void MpmSolver::p2g() {
+  const double invh = 1.0 / cfg_.h;
+  const double ox = cfg_.origin.x(), oy = cfg_.origin.y(), oz = cfg_.origin.z();
+  const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const int R = static_cast<int>(rigids_.size());
+  const double gapReach = 2.0 * cfg_.h + cfg_.contactGap;
+  const std::array<NeedleAxis, 8> ax = needleAxes(gapReach);
   Buf& B = buf_[0];
   double* __restrict rec = B.rec.data();
   double* __restrict grad = B.grad.data();  // two bodies
@@ -740,14 +752,7 @@ MPM_CLONES void MpmSolver::p2g() {
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
       if (qi + kPrefetchAhead < q1) prefetchRecord<3u>(&P_[order[qi + kPrefetchAhead]]);  // x, v, m, V | sigma
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
-      const double m = P_[p].mass;
-      const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
-      const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
-      const double s00 = V * P_[p].sig[0], s11 = V * P_[p].sig[1], s22 = V * P_[p].sig[2];
-      const double s01 = V * P_[p].sig[3], s12 = V * P_[p].sig[4], s02 = V * P_[p].sig[5];
-      const double z0 = opaqueZero();
-      const A4 S0 = {s00, s01, s02, z0}, S1 = {s01, s11, s12, z0}, S2 = {s02, s12, s22, z0};  // rows of -V sigma
+      const lanes::Stencil4<S> st = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const double xp[3] = {P_[p].x[0], P_[p].x[1], P_[p].x[2]};
       // Two bodies: the normal and gap lanes matter only at nodes that both
       // bodies reach, i.e. for points with the other body within 3 cells.
@@ -760,64 +765,99 @@ MPM_CLONES void MpmSolver::p2g() {
         const bool cand = needG && (near1Rows[w] & cellBit(c)) != 0;
         nearCell[p] = cand ? static_cast<std::uint32_t>(c.row * n2 + c.k) : kNotNear;
       }
-      const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-      for (int i = 0; i < S; ++i)
-        for (int j = 0; j < S; ++j) {
-          const A4 wij = wx[i] * wy[j];
-          const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
-          const std::size_t node = off + (static_cast<std::size_t>(bx + i) * n1 +
-                                          static_cast<std::size_t>(by + j)) * n2 +
-                                   static_cast<std::size_t>(bz);
-          double* __restrict r = rec + NR * node;
-          const A4 a0 = wij * q;
-          const A4 a1 = gxij * S0 + gyij * S1;
-          const A4 b1 = wij * S2;
-          if (Grad && needG) {
-            // gradient record: mass gradient (3), mass-weighted position (3)
-            const A4 a2 = {m * gxij[0], m * gyij[0], 0.0, wij[0] * m * xp[0]};
-            const A4 b2 = {z0, z0, m * wij[0], z0};
-            double* __restrict g = grad + 8 * node;
-            for (int k = 0; k < S; ++k, r += NR, g += 8) {
-              add(r, wz[k] * a0);
-              add(r + 4, wz[k] * a1 + dz[k] * b1);
-              add(g, wz[k] * a2 + dz[k] * b2);
-            }
-            if (centroid) {
-              const A4 a3 = {wij[0] * m * xp[1], wij[0] * m * xp[2], z0, z0};
-              g -= 8 * S;
-              for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
-            }
-          } else {
-            for (int k = 0; k < S; ++k, r += NR) {
-              add(r, wz[k] * a0);
-              add(r + 4, wz[k] * a1 + dz[k] * b1);
-            }
-          }
-        }
-      // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
-      for (int r = 0; r < R; ++r) {
-        const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
-        if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
-        if (r < 8 && ax[static_cast<std::size_t>(r)].needle) {
-          const Axis& A = ax[static_cast<std::size_t>(r)];
-          // Scalar on purpose: a vectorised form packs rel through the stack and
-          // stalls on store forwarding in this, the most frequent, branch.
-          const double r0 = xp[0] - A.c.x(), r1 = xp[1] - A.c.y(), r2 = xp[2] - A.c.z();
-          const double s = r0 * A.e.x() + r1 * A.e.y() + r2 * A.e.z();
-          if (r0 * r0 + r1 * r1 + r2 * r2 - s * s > A.rmax2) continue;
-        }
-        const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
-        if (gap > gapReach) continue;
-        const std::size_t base = static_cast<std::size_t>(r) * nodes_ +
-                                 (static_cast<std::size_t>(bx) * n1 + static_cast<std::size_t>(by)) * n2 +
-                                 static_cast<std::size_t>(bz);
-        minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
-      }
+      scatterPoint<S, Grad>(p, st, xp, needG, centroid, rec, grad, n1, n2);
+      rigidGaps<S>(p, xp, st.bx, st.by, st.bz, n1, n2, ax.data(), R, gapReach);
     }
     if (colour == 0) {
 #pragma omp barrier
     }
     }
+  }
+}
+
+// p2g of point p over its support st (position xp): mass and momentum (eqs
+// 1-2) and the internal force -V sigma : grad N into the records of its body;
+// with needG (two bodies, the other one near) the gradient record too: mass
+// gradient and mass-weighted position (its y, z lanes only for the centroid
+// gap rule). Tensor-product form: for a node (i, j, k) w = wx_i wy_j wz_k and
+// grad N = (dx_i wy_j wz_k, wx_i dy_j wz_k, wx_i wy_j dz_k), so every record
+// entry is wz_k a_ij + dz_k b_ij with a, b formed once per (i, j); the k loop
+// is a fixed-length vector update of one cache line.
+template <int S, bool Grad>
+[[gnu::always_inline]] inline void MpmSolver::scatterPoint(std::size_t p, const lanes::Stencil4<S>& st,
+                                                           const double* xp, bool needG, bool centroid,
+                                                           double* __restrict rec, double* __restrict grad,
+                                                           std::size_t n1, std::size_t n2) {
+  constexpr std::size_t NR = 8;
+  const auto& [wx, wy, wz, dx, dy, dz, bx, by, bz] = st;
+  const double m = P_[p].mass;
+  const A4 q = {m, m * P_[p].v[0], m * P_[p].v[1], m * P_[p].v[2]};  // eqs 1-2
+  const double V = -P_[p].vol;  // -V sigma : grad N is the internal force
+  const double s00 = V * P_[p].sig[0], s11 = V * P_[p].sig[1], s22 = V * P_[p].sig[2];
+  const double s01 = V * P_[p].sig[3], s12 = V * P_[p].sig[4], s02 = V * P_[p].sig[5];
+  const double z0 = opaqueZero();
+  const A4 S0 = {s00, s01, s02, z0}, S1 = {s01, s11, s12, z0}, S2 = {s02, s12, s22, z0};  // rows of -V sigma
+  const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j) {
+      const A4 wij = wx[i] * wy[j];
+      const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+      const std::size_t node = off + (static_cast<std::size_t>(bx + i) * n1 +
+                                      static_cast<std::size_t>(by + j)) * n2 +
+                               static_cast<std::size_t>(bz);
+      double* __restrict r = rec + NR * node;
+      const A4 a0 = wij * q;
+      const A4 a1 = gxij * S0 + gyij * S1;
+      const A4 b1 = wij * S2;
+      if (Grad && needG) {
+        // gradient record: mass gradient (3), mass-weighted position (3)
+        const A4 a2 = {m * gxij[0], m * gyij[0], 0.0, wij[0] * m * xp[0]};
+        const A4 b2 = {z0, z0, m * wij[0], z0};
+        double* __restrict g = grad + 8 * node;
+        for (int k = 0; k < S; ++k, r += NR, g += 8) {
+          add(r, wz[k] * a0);
+          add(r + 4, wz[k] * a1 + dz[k] * b1);
+          add(g, wz[k] * a2 + dz[k] * b2);
+        }
+        if (centroid) {
+          const A4 a3 = {wij[0] * m * xp[1], wij[0] * m * xp[2], z0, z0};
+          g -= 8 * S;
+          for (int k = 0; k < S; ++k, g += 8) add(g + 4, wz[k] * a3);
+        }
+      } else {
+        for (int k = 0; k < S; ++k, r += NR) {
+          add(r, wz[k] * a0);
+          add(r + 4, wz[k] * a1 + dz[k] * b1);
+        }
+      }
+    }
+}
+
+// p2g: the gap of point p (position xp, support from base node bx, by, bz)
+// to each of the R rigid bodies (eq 22), kept as a nodal minimum; a needle
+// farther than the reach of its shaft axis ax is skipped.
+template <int S>
+[[gnu::always_inline]] inline void MpmSolver::rigidGaps(std::size_t p, const double* xp, std::size_t bx,
+                                                        std::size_t by, std::size_t bz, std::size_t n1,
+                                                        std::size_t n2, const NeedleAxis* ax, int R,
+                                                        double gapReach) {
+  Buf& B = buf_[0];
+  for (int r = 0; r < R; ++r) {
+    const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
+    if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
+    if (r < 8 && ax[r].needle) {
+      const NeedleAxis& A = ax[r];
+      // Scalar on purpose: a vectorised form packs rel through the stack and
+      // stalls on store forwarding in this, the most frequent, branch.
+      const double r0 = xp[0] - A.c.x(), r1 = xp[1] - A.c.y(), r2 = xp[2] - A.c.z();
+      const double s = r0 * A.e.x() + r1 * A.e.y() + r2 * A.e.z();
+      if (r0 * r0 + r1 * r1 + r2 * r2 - s * s > A.rmax2) continue;
+    }
+    const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
+    if (gap > gapReach) continue;
+    const std::size_t base = static_cast<std::size_t>(r) * nodes_ +
+                             (bx * n1 + by) * n2 + bz;
+    minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
   }
 }
 
@@ -1000,18 +1040,34 @@ MPM_AVX_CLONES void remapNodes(double* r, double* v, std::size_t n, const std::u
 // mass lanes plus its last-step spans). The arithmetic per node is the
 // scalar one in four lanes (same operations, same roundings).
 void MpmSolver::gridUpdate() {
-  const int B = cfg_.bodies;
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1;
+  planGridRows();
+  // Node-wise work beyond eq 3 and the fixed components: rigid or velocity contact.
+  const bool nodeWise = !rigids_.empty() || (cfg_.bodies == 2 && !penalty_);
+  std::size_t touchLo = rows, touchHi = 0;  // rows with rigid contact: [touchLo, touchHi)
+#pragma omp parallel num_threads(nthreads_) reduction(min : touchLo) reduction(max : touchHi)
+  {
+    const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
+    for (std::size_t q = qa; q < qb; ++q) {
+      const auto [h0, h1] = momentumUpdateRow(q, nodeWise);
+      if (!nodeWise) continue;
+      clearOutsideHull(q, h0, h1);
+      if (contactOnRow(q, h0, h1)) {
+        touchLo = std::min(touchLo, q);
+        touchHi = std::max(touchHi, q + 1);
+      }
+    }
+  }
+  sumRigidForces(touchLo, touchHi);
+}
+
+// gridUpdate: this step's spans become the last step's, and each row's work
+// (its mass lanes plus its last-step spans) is summed for the threads' shares.
+void MpmSolver::planGridRows() {
   const std::size_t R = rigids_.size();
-  const double dt = dt_;
-  Buf& G = buf_[0];
-  const bool musl = cfg_.update == Update::MUSL;
-  const double gap = cfg_.contactGap;
-  const double mu = cfg_.friction;
-  const double pairGap = pairGap_;
-  const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
-  const std::size_t NR = static_cast<std::size_t>(nr_);
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
-  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1, UB = static_cast<std::size_t>(B);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1, UB = static_cast<std::size_t>(cfg_.bodies);
   if (rowSpan_.size() != 2 * UB * rows) {  // first step: nothing set outside the (empty) spans
     rowSpan_.assign(2 * UB * rows, 0);
     rowSpanPrev_.assign(2 * UB * rows, 0);
@@ -1025,93 +1081,121 @@ void MpmSolver::gridUpdate() {
       w += 4 * (rowSpanPrev_[2 * (b * rows + q) + 1] - rowSpanPrev_[2 * (b * rows + q)]);
     rowWork_[q + 1] = rowWork_[q] + w;
   }
-  // Node-wise work beyond eq 3 and the fixed components: rigid or velocity contact.
-  const bool nodeWise = R > 0 || (B == 2 && !penalty_);
+}
+
+// gridUpdate on row q, per body: the span of the nodes with mass and eq 3 on
+// it (the fixed components too unless nodeWise: contactOnRow applies them
+// after the contact); the velocities the last step's span left outside it
+// are cleared. Returns the hull [h0, h1) of the spans (h0 = n2, h1 = 0: none).
+[[gnu::always_inline]] inline std::pair<std::size_t, std::size_t> MpmSolver::momentumUpdateRow(std::size_t q,
+                                                                                              bool nodeWise) {
+  const std::size_t NR = static_cast<std::size_t>(nr_), UB = static_cast<std::size_t>(cfg_.bodies);
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1;
+  const double dt = dt_;
+  const bool musl = cfg_.update == Update::MUSL;
   const double grav[3] = {cfg_.gravity.x(), cfg_.gravity.y(), cfg_.gravity.z()};
-  double* rec = G.rec.data();
+  double* rec = buf_[0].rec.data();
   double* vel = vel_.data();
   const double* dash = dashpot_.data();
   const std::uint8_t* fix = fixMask_.data();
-  std::size_t touchLo = rows, touchHi = 0;  // rows with rigid contact: [touchLo, touchHi)
-#pragma omp parallel num_threads(nthreads_) reduction(min : touchLo) reduction(max : touchHi)
-  {
-    const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
-    for (std::size_t q = qa; q < qb; ++q) {
-      const std::size_t I0 = q * n2;
-      std::size_t h0 = n2, h1 = 0;  // hull of this step's spans
-      for (std::size_t b = 0; b < UB; ++b) {
-        const std::size_t J0 = b * nodes_ + I0;
-        const double* m = rec + NR * J0 + kM;
-        std::size_t k0 = 0, k1 = n2;
-        while (k0 < n2 && !(m[NR * k0] > 0)) ++k0;
-        if (k0 == n2) k0 = k1 = 0;
-        while (k1 > k0 && !(m[NR * (k1 - 1)] > 0)) --k1;
-        std::uint32_t* span = &rowSpan_[2 * (b * rows + q)];
-        const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
-        span[0] = static_cast<std::uint32_t>(k0);
-        span[1] = static_cast<std::uint32_t>(k1);
-        if (k1 > k0) {
-          h0 = std::min(h0, k0);
-          h1 = std::max(h1, k1);
-        }
-        // Outside the span: clear the velocities the last step's span left.
-        for (std::size_t k = prev[0]; k < std::min<std::size_t>(prev[1], k0); ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
-        for (std::size_t k = std::max<std::size_t>(prev[0], k1); k < prev[1]; ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
-        if (k1 > k0)
-          eq3Nodes(rec + NR * (J0 + k0), vel + 8 * (J0 + k0), dash + 3 * (I0 + k0), k1 - k0, dt, grav, musl,
-                   nodeWise ? nullptr : fix + I0 + k0);
-      }
-      if (!nodeWise) continue;
-      // Outside the hull: clear the contact flags the last step left and
-      // reset the gap minima p2g wrote (its support reaches nodes of zero weight).
-      for (std::size_t b = 0; b < UB; ++b) {
-        const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
-        for (std::size_t k = prev[0]; k < prev[1]; ++k)
-          if (k < h0 || k >= h1)
-            for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I0 + k] = 0;
-      }
-      for (std::size_t r = 0; r < R; ++r) {
-        double* gm = &G.gmin[r * nodes_ + I0];
-        for (std::size_t k = 0; k < n2; ++k)
-          if ((k < h0 || k >= h1) && gm[k] != kInf) gm[k] = kInf;  // reset for the next p2g
-      }
-      const int i = static_cast<int>(q / n1), j = static_cast<int>(q % n1);
-      for (std::size_t k = h0; k < h1; ++k) {
-        const std::size_t I = I0 + k;
-        double mb[2] = {0, 0};
-        bool any = false;
-        for (std::size_t b = 0; b < UB; ++b) {
-          mb[b] = rec[NR * (b * nodes_ + I) + kM];
-          any = any || mb[b] > 0;
-        }
-        for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
-        if (!any) {
-          for (std::size_t r = 0; r < R; ++r) G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g
-          continue;
-        }
-        const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, static_cast<int>(k));
-        if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
-          pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.grad[8 * I + kG],
-                      &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX],
-                      pairGap, xI, est, cfg_.h);
-        for (std::size_t r = 0; r < R; ++r) {
-          const double gm = G.gmin[r * nodes_ + I];
-          G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g (gridUpdate is its only reader)
-          if (!(gm < gap)) continue;  // eq 22: no particle touches the body here
-          if (rigidContactAt(r, I, xI, mb)) {
-            touchLo = std::min(touchLo, q);
-            touchHi = std::max(touchHi, q + 1);
-          }
-        }
-        const std::uint8_t mask = fix[I];
-        if (mask)
-          for (std::size_t b = 0; b < UB; ++b)
-            for (int c = 0; c < 3; ++c)
-              if (mask & (1 << c)) vel_[8 * (b * nodes_ + I) + c] = 0.0;
-      }
+  const std::size_t I0 = q * n2;
+  std::size_t h0 = n2, h1 = 0;  // hull of this step's spans
+  for (std::size_t b = 0; b < UB; ++b) {
+    const std::size_t J0 = b * nodes_ + I0;
+    const double* m = rec + NR * J0 + kM;
+    std::size_t k0 = 0, k1 = n2;
+    while (k0 < n2 && !(m[NR * k0] > 0)) ++k0;
+    if (k0 == n2) k0 = k1 = 0;
+    while (k1 > k0 && !(m[NR * (k1 - 1)] > 0)) --k1;
+    std::uint32_t* span = &rowSpan_[2 * (b * rows + q)];
+    const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
+    span[0] = static_cast<std::uint32_t>(k0);
+    span[1] = static_cast<std::uint32_t>(k1);
+    if (k1 > k0) {
+      h0 = std::min(h0, k0);
+      h1 = std::max(h1, k1);
     }
+    // Outside the span: clear the velocities the last step's span left.
+    for (std::size_t k = prev[0]; k < std::min<std::size_t>(prev[1], k0); ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
+    for (std::size_t k = std::max<std::size_t>(prev[0], k1); k < prev[1]; ++k) std::fill_n(vel + 8 * (J0 + k), 8, 0.0);
+    if (k1 > k0)
+      eq3Nodes(rec + NR * (J0 + k0), vel + 8 * (J0 + k0), dash + 3 * (I0 + k0), k1 - k0, dt, grav, musl,
+               nodeWise ? nullptr : fix + I0 + k0);
   }
-  sumRigidForces(touchLo, touchHi);
+  return {h0, h1};
+}
+
+// gridUpdate on row q outside the hull [h0, h1) of its spans: clear the
+// contact flags the last step left and reset the gap minima p2g wrote (its
+// support reaches nodes of zero weight).
+[[gnu::always_inline]] inline void MpmSolver::clearOutsideHull(std::size_t q, std::size_t h0, std::size_t h1) {
+  const std::size_t R = rigids_.size(), UB = static_cast<std::size_t>(cfg_.bodies);
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1;
+  const std::size_t I0 = q * n2;
+  for (std::size_t b = 0; b < UB; ++b) {
+    const std::uint32_t* prev = &rowSpanPrev_[2 * (b * rows + q)];
+    for (std::size_t k = prev[0]; k < prev[1]; ++k)
+      if (k < h0 || k >= h1)
+        for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I0 + k] = 0;
+  }
+  for (std::size_t r = 0; r < R; ++r) {
+    double* gm = &buf_[0].gmin[r * nodes_ + I0];
+    for (std::size_t k = 0; k < n2; ++k)
+      if ((k < h0 || k >= h1) && gm[k] != kInf) gm[k] = kInf;  // reset for the next p2g
+  }
+}
+
+// gridUpdate on the hull [h0, h1) of row q, node by node: the velocity
+// contact of the two fields, the rigid contact where a point lies within the
+// eq 22 gap, then the fixed velocity components; true when a rigid acted.
+[[gnu::always_inline]] inline bool MpmSolver::contactOnRow(std::size_t q, std::size_t h0, std::size_t h1) {
+  const int B = cfg_.bodies;
+  const std::size_t R = rigids_.size(), UB = static_cast<std::size_t>(B);
+  Buf& G = buf_[0];
+  const double gap = cfg_.contactGap;
+  const double mu = cfg_.friction;
+  const double pairGap = pairGap_;
+  const SurfaceFromCentroid* est = surfaceEst_ ? &*surfaceEst_ : nullptr;
+  const std::size_t NR = static_cast<std::size_t>(nr_);
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const double* rec = G.rec.data();
+  const std::uint8_t* fix = fixMask_.data();
+  const std::size_t I0 = q * n2;
+  const int i = static_cast<int>(q / n1), j = static_cast<int>(q % n1);
+  bool touched = false;
+  for (std::size_t k = h0; k < h1; ++k) {
+    const std::size_t I = I0 + k;
+    double mb[2] = {0, 0};
+    bool any = false;
+    for (std::size_t b = 0; b < UB; ++b) {
+      mb[b] = rec[NR * (b * nodes_ + I) + kM];
+      any = any || mb[b] > 0;
+    }
+    for (std::size_t r = 0; r < R; ++r) active_[r * nodes_ + I] = 0;
+    if (!any) {
+      for (std::size_t r = 0; r < R; ++r) G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g
+      continue;
+    }
+    const Vec3 xI = cfg_.origin + cfg_.h * Vec3(i, j, static_cast<int>(k));
+    if (B == 2 && mb[0] > 0 && mb[1] > 0 && !penalty_)  // penalty: contact forces already in f_I
+      pairContact(mb[0], mb[1], &vel_[8 * I], &vel_[8 * (nodes_ + I)], &G.grad[8 * I + kG],
+                  &G.grad[8 * (nodes_ + I) + kG], mu, &G.grad[8 * I + kX], &G.grad[8 * (nodes_ + I) + kX],
+                  pairGap, xI, est, cfg_.h);
+    for (std::size_t r = 0; r < R; ++r) {
+      const double gm = G.gmin[r * nodes_ + I];
+      G.gmin[r * nodes_ + I] = kInf;  // reset for the next p2g (gridUpdate is its only reader)
+      if (!(gm < gap)) continue;  // eq 22: no particle touches the body here
+      if (rigidContactAt(r, I, xI, mb)) touched = true;
+    }
+    const std::uint8_t mask = fix[I];
+    if (mask)
+      for (std::size_t b = 0; b < UB; ++b)
+        for (int c = 0; c < 3; ++c)
+          if (mask & (1 << c)) vel_[8 * (b * nodes_ + I) + c] = 0.0;
+  }
+  return touched;
 }
 
 // Force on each rigid body: the impulses in node order (the same sum on any
@@ -1537,9 +1621,9 @@ MPM_CLONES void MpmSolver::g2pRemap() {
 
 // Final pass: position from the updated grid velocity (eq 4), velocity
 // gradient, deformation gradient and stress (update stress last). For USL the
-// particle velocity is also updated here. Tensor-product sums per (i, j):
-// L_c0 += dx_i wy_j sum_k wz_k v_c, L_c1 += wx_i dy_j sum_k wz_k v_c,
-// L_c2 += wx_i wy_j sum_k dz_k v_c.
+// particle velocity is also updated here. Per point: the grid sums
+// (gatherGridSums), the update (advancePoint), the checks of the new state
+// (checkAdvanced); then the stresses of a chunk of points (stressChunk).
 template <int S, bool Usl>
 MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOut) {
   const std::size_t np = size();
@@ -1548,11 +1632,9 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   const A4 O = {ox, oy, oz, 0.0};  // grid origin in lanes (support_lanes.hpp)
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   const double flip = cfg_.flip;
-  constexpr bool usl = Usl;
   const double dt = dt_;
   // vel_: v_new at 0-2, at 4-6 the remapped v* (MUSL) or the velocity before the update (USL).
   const double* __restrict vel = vel_.data();
-  constexpr int go = usl ? 0 : 4;  // field of the velocity gradient
   std::atomic<int> bad{0};
   std::atomic<std::size_t> badP{0};
   double ek = 0, ei = 0, vmax = 0;
@@ -1589,88 +1671,13 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     for (std::size_t qi = c0; qi < c1; ++qi) {
       const std::size_t p = order[qi];
       if (qi + kPrefetchAhead < q1) prefetchRecord<15u>(&P_[order[qi + kPrefetchAhead]]);  // the whole record
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
+      const lanes::Stencil4<S> st = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-      A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
-      A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
-      for (int i = 0; i < S; ++i)
-        for (int j = 0; j < S; ++j) {
-          const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                  static_cast<std::size_t>(bz);
-          const double* __restrict v = vel + 8 * row;
-          // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
-          // (the sums start from the k = 0 products, not from 0 + product:
-          // the same values, without an add of zero and its register copy)
-          const A4 vg0 = ld(v + go);
-          A4 sw = wz[0] * vg0, sd = dz[0] * vg0, so = {0, 0, 0, 0};
-          if constexpr (usl) so = wz[0] * ld(v + 4);
-          for (int k = 1; k < S; ++k) {
-            const A4 vg = ld(v + 8 * k + go);
-            sw += wz[k] * vg;
-            sd += dz[k] * vg;
-            if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
-          }
-          const A4 wij = wx[i] * wy[j];
-          const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
-          if constexpr (usl) {
-            an += wij * sw;
-            ao += wij * so;
-          }
-          Lx += gxij * sw;
-          Ly += gyij * sw;
-          Lz += wij * sd;
-        }
-      const double L[9] = {Lx[0], Ly[0], Lz[0], Lx[1], Ly[1], Lz[1], Lx[2], Ly[2], Lz[2]};
-      double acc[3];
-      if constexpr (usl) {
-        P_[p].v[0] = flip * (P_[p].v[0] + (an[0] - ao[0])) + (1 - flip) * an[0];
-        P_[p].v[1] = flip * (P_[p].v[1] + (an[1] - ao[1])) + (1 - flip) * an[1];
-        P_[p].v[2] = flip * (P_[p].v[2] + (an[2] - ao[2])) + (1 - flip) * an[2];
-        for (int c = 0; c < 3; ++c) acc[c] = an[c];
-      } else {
-        acc[0] = P_[p].vg[0];
-        acc[1] = P_[p].vg[1];
-        acc[2] = P_[p].vg[2];
-      }
-      P_[p].x[0] += dt * acc[0];
-      P_[p].x[1] += dt * acc[1];
-      P_[p].x[2] += dt * acc[2];
-      // F <- (I + dt L) F
-      double Fn[9];
-      for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 3; ++c)
-          Fn[3 * r + c] = P_[p].F[3 * r + c] + dt * (L[3 * r + 0] * P_[p].F[c] + L[3 * r + 1] * P_[p].F[3 + c] +
-                                                   L[3 * r + 2] * P_[p].F[6 + c]);
-      for (int c = 0; c < 9; ++c) P_[p].F[c] = Fn[c];
-      // det F by cofactors of the first row, the expression of Eigen's 3x3
-      // determinant (same bits as Mat3::determinant, without the copy into a Mat3)
-      const double J = Fn[0] * (Fn[4] * Fn[8] - Fn[5] * Fn[7]) - Fn[1] * (Fn[3] * Fn[8] - Fn[5] * Fn[6]) +
-                       Fn[2] * (Fn[3] * Fn[7] - Fn[4] * Fn[6]);
-      P_[p].vol = P_[p].vol0 * J;  // the next scatter's volume
+      const GridSums g = gatherGridSums<S, Usl>(st, vel, off, n1, n2);
+      const double J = advancePoint<Usl>(p, g, dt, flip);
       const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
-      int cause = 0;
-      if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) cause = 2;
-      else if (!(J > 0.0) || !std::isfinite(J)) cause = 1;
-      else {
-        // Base node of the support at the new position (as weights<S>) in
-        // 0 .. lim: floor(xs) in 0 .. lim, i.e. 0 <= xs < lim + 1.
-        const double sh = S == 2 ? 0.0 : 0.5;
-        const double xc[3] = {(P_[p].x[0] - ox) * invh, (P_[p].x[1] - oy) * invh, (P_[p].x[2] - oz) * invh};  // in cells
-        const double xs[3] = {xc[0] - sh, xc[1] - sh, xc[2] - sh};
-        for (int d = 0; d < 3; ++d)
-          if (!(xs[d] >= 0.0 && xs[d] < limEnd[d])) cause = 3;
-        if (!cause) {
-          const int l = static_cast<int>(xs[slabAxis]);  // = the floor, xs >= 0
-          layerLo = std::min(layerLo, l);
-          layerHi = std::max(layerHi, l);
-          if (occ) {  // as markNearBodies' own pass; slabs meet at a row: atomic OR, skipped when set
-            const grid::Cell c = grid::cellAt(xc[0], xc[1], xc[2], n1);
-            std::uint64_t* w = occ + cellWord(c, body_[p], occW);
-            const std::uint64_t bit = cellBit(c);
-            if (!(__atomic_load_n(w, __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(w, bit, __ATOMIC_RELAXED);
-          }
-        }
-      }
+      const double o[3] = {ox, oy, oz};
+      const int cause = checkAdvanced<S>(p, J, speed2, o, invh, limEnd, n1, slabAxis, occ, occW, layerLo, layerHi);
       if (cause) {
         int expected = 0;
         if (bad.compare_exchange_strong(expected, cause)) badP = p;
@@ -1679,32 +1686,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
       ek += 0.5 * P_[p].mass * speed2;
       if (!fbar) ready[nready++] = p;  // fbar: stress after the cell averages of det F (fbarStress)
     }
-    for (std::size_t r = 0; r < nready;) {
-      const std::size_t p0 = ready[r];
-      const MpmMaterial& mat = mats_[mat_[p0]];
-      if (!materials::lanes::hasLanes(mat.law)) {
-        double W, c;
-        stress(p0, defGrad(p0), W, c);
-        const Point& q = P_[p0];
-        ei += q.vol0 * W;
-        vmax = std::max(vmax, c + std::sqrt(q.v[0] * q.v[0] + q.v[1] * q.v[1] + q.v[2] * q.v[2]));
-        ++r;
-        continue;
-      }
-      std::size_t g[4];
-      int n = 0;
-      while (r < nready && n < 4 && mat_[ready[r]] == mat_[p0]) g[n++] = ready[r++];
-      for (int l = n; l < 4; ++l) g[l] = g[n - 1];  // idle lanes repeat the last point
-      A4 Fl[9] = {}, sl[6] = {}, W = {}, wave = {};
-      for (int c = 0; c < 9; ++c) Fl[c] = A4{P_[g[0]].F[c], P_[g[1]].F[c], P_[g[2]].F[c], P_[g[3]].F[c]};
-      materials::lanes::hyperelasticStress4(mat.law, mat.density * cfg_.massScaling, Fl, sl, W, wave);
-      for (int l = 0; l < n; ++l) {
-        Point& q = P_[g[l]];
-        for (int c = 0; c < 6; ++c) q.sig[c] = sl[c][l];
-        ei += q.vol0 * W[l];
-        vmax = std::max(vmax, wave[l] + std::sqrt(q.v[0] * q.v[0] + q.v[1] * q.v[1] + q.v[2] * q.v[2]));
-      }
-    }
+    stressChunk(ready, nready, ei, vmax);
   }
   if (slabs) {
     const auto sl = static_cast<std::size_t>(2 * t + colour);
@@ -1719,6 +1701,160 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   ekOut = ek;
   eiOut = ei;
   vmaxOut = vmax;
+}
+
+// g2pFinal: the sums of a point over its support, lanes = velocity component:
+// sum N v_new and sum N v_old (USL only), the columns of the velocity gradient L.
+struct MpmSolver::GridSums {
+  A4 an, ao, Lx, Ly, Lz;
+};
+
+// g2pFinal: the sums of a point with support st in the grid velocities vel
+// of its body (off = body * nodes). Tensor-product sums per (i, j):
+// L_c0 += dx_i wy_j sum_k wz_k v_c, L_c1 += wx_i dy_j sum_k wz_k v_c,
+// L_c2 += wx_i wy_j sum_k dz_k v_c.
+template <int S, bool Usl>
+[[gnu::always_inline]] inline MpmSolver::GridSums MpmSolver::gatherGridSums(const lanes::Stencil4<S>& st,
+                                                                           const double* __restrict vel,
+                                                                           std::size_t off, std::size_t n1,
+                                                                           std::size_t n2) {
+  constexpr bool usl = Usl;
+  constexpr int go = usl ? 0 : 4;  // field of the velocity gradient
+  const auto& [wx, wy, wz, dx, dy, dz, bx, by, bz] = st;
+  A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old (USL only)
+  A4 Lx = {0, 0, 0, 0}, Ly = {0, 0, 0, 0}, Lz = {0, 0, 0, 0};  // columns of L (lanes: velocity component)
+  for (int i = 0; i < S; ++i)
+    for (int j = 0; j < S; ++j) {
+      const std::size_t row = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                              static_cast<std::size_t>(bz);
+      const double* __restrict v = vel + 8 * row;
+      // gradient field: v_new (USL, lanes 0-3) or the remapped v* (MUSL, lanes 4-7)
+      // (the sums start from the k = 0 products, not from 0 + product:
+      // the same values, without an add of zero and its register copy)
+      const A4 vg0 = ld(v + go);
+      A4 sw = wz[0] * vg0, sd = dz[0] * vg0, so = {0, 0, 0, 0};
+      if constexpr (usl) so = wz[0] * ld(v + 4);
+      for (int k = 1; k < S; ++k) {
+        const A4 vg = ld(v + 8 * k + go);
+        sw += wz[k] * vg;
+        sd += dz[k] * vg;
+        if constexpr (usl) so += wz[k] * ld(v + 8 * k + 4);
+      }
+      const A4 wij = wx[i] * wy[j];
+      const A4 gxij = dx[i] * wy[j], gyij = wx[i] * dy[j];
+      if constexpr (usl) {
+        an += wij * sw;
+        ao += wij * so;
+      }
+      Lx += gxij * sw;
+      Ly += gyij * sw;
+      Lz += wij * sd;
+    }
+  return {an, ao, Lx, Ly, Lz};
+}
+
+// g2pFinal: point p over the step dt from its grid sums g: the velocity
+// (USL: FLIP blended with PIC by flip), the position (eq 4), F and the
+// volume; returns det F.
+template <bool Usl>
+[[gnu::always_inline]] inline double MpmSolver::advancePoint(std::size_t p, const GridSums& g, double dt,
+                                                             double flip) {
+  const A4 &an = g.an, &ao = g.ao, &Lx = g.Lx, &Ly = g.Ly, &Lz = g.Lz;
+  const double L[9] = {Lx[0], Ly[0], Lz[0], Lx[1], Ly[1], Lz[1], Lx[2], Ly[2], Lz[2]};
+  double acc[3];
+  if constexpr (Usl) {
+    P_[p].v[0] = flip * (P_[p].v[0] + (an[0] - ao[0])) + (1 - flip) * an[0];
+    P_[p].v[1] = flip * (P_[p].v[1] + (an[1] - ao[1])) + (1 - flip) * an[1];
+    P_[p].v[2] = flip * (P_[p].v[2] + (an[2] - ao[2])) + (1 - flip) * an[2];
+    for (int c = 0; c < 3; ++c) acc[c] = an[c];
+  } else {
+    acc[0] = P_[p].vg[0];
+    acc[1] = P_[p].vg[1];
+    acc[2] = P_[p].vg[2];
+  }
+  P_[p].x[0] += dt * acc[0];
+  P_[p].x[1] += dt * acc[1];
+  P_[p].x[2] += dt * acc[2];
+  // F <- (I + dt L) F
+  double Fn[9];
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c)
+      Fn[3 * r + c] = P_[p].F[3 * r + c] + dt * (L[3 * r + 0] * P_[p].F[c] + L[3 * r + 1] * P_[p].F[3 + c] +
+                                               L[3 * r + 2] * P_[p].F[6 + c]);
+  for (int c = 0; c < 9; ++c) P_[p].F[c] = Fn[c];
+  // det F by cofactors of the first row, the expression of Eigen's 3x3
+  // determinant (same bits as Mat3::determinant, without the copy into a Mat3)
+  const double J = Fn[0] * (Fn[4] * Fn[8] - Fn[5] * Fn[7]) - Fn[1] * (Fn[3] * Fn[8] - Fn[5] * Fn[6]) +
+                   Fn[2] * (Fn[3] * Fn[7] - Fn[4] * Fn[6]);
+  P_[p].vol = P_[p].vol0 * J;  // the next scatter's volume
+  return J;
+}
+
+// g2pFinal: 0 when point p (det F = J, squared speed speed2) goes on after
+// its update, else the cause for fail: 2 a velocity or position not finite,
+// 1 J not positive or not finite, 3 its support at the new position leaves
+// the grid (origin o, 1 / h invh; base nodes below limEnd). A point that goes
+// on widens the thread's base layers [layerLo, layerHi] along slabAxis and,
+// two bodies, marks its cell in occ (occW words per body and row).
+template <int S>
+[[gnu::always_inline]] inline int MpmSolver::checkAdvanced(std::size_t p, double J, double speed2, const double* o,
+                                                           double invh, const double* limEnd, std::size_t n1,
+                                                           int slabAxis, std::uint64_t* occ, std::size_t occW,
+                                                           int& layerLo, int& layerHi) {
+  if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) return 2;
+  if (!(J > 0.0) || !std::isfinite(J)) return 1;
+  // Base node of the support at the new position (as weights<S>) in
+  // 0 .. lim: floor(xs) in 0 .. lim, i.e. 0 <= xs < lim + 1.
+  const double sh = S == 2 ? 0.0 : 0.5;
+  const double xc[3] = {(P_[p].x[0] - o[0]) * invh, (P_[p].x[1] - o[1]) * invh, (P_[p].x[2] - o[2]) * invh};  // in cells
+  const double xs[3] = {xc[0] - sh, xc[1] - sh, xc[2] - sh};
+  int cause = 0;
+  for (int d = 0; d < 3; ++d)
+    if (!(xs[d] >= 0.0 && xs[d] < limEnd[d])) cause = 3;
+  if (cause) return cause;
+  const int l = static_cast<int>(xs[slabAxis]);  // = the floor, xs >= 0
+  layerLo = std::min(layerLo, l);
+  layerHi = std::max(layerHi, l);
+  if (occ) {  // as markNearBodies' own pass; slabs meet at a row: atomic OR, skipped when set
+    const grid::Cell c = grid::cellAt(xc[0], xc[1], xc[2], n1);
+    std::uint64_t* w = occ + cellWord(c, body_[p], occW);
+    const std::uint64_t bit = cellBit(c);
+    if (!(__atomic_load_n(w, __ATOMIC_RELAXED) & bit)) __atomic_fetch_or(w, bit, __ATOMIC_RELAXED);
+  }
+  return 0;
+}
+
+// g2pFinal: the stresses of the nready points ready[] (in slab order), four
+// points of one material at a time on vector lanes where the law has them;
+// their strain energy into ei, the largest wave plus point speed into vmax.
+[[gnu::always_inline]] inline void MpmSolver::stressChunk(const std::size_t* ready, std::size_t nready, double& ei,
+                                                          double& vmax) {
+  for (std::size_t r = 0; r < nready;) {
+    const std::size_t p0 = ready[r];
+    const MpmMaterial& mat = mats_[mat_[p0]];
+    if (!materials::lanes::hasLanes(mat.law)) {
+      double W, c;
+      stress(p0, defGrad(p0), W, c);
+      const Point& q = P_[p0];
+      ei += q.vol0 * W;
+      vmax = std::max(vmax, c + std::sqrt(q.v[0] * q.v[0] + q.v[1] * q.v[1] + q.v[2] * q.v[2]));
+      ++r;
+      continue;
+    }
+    std::size_t g[4];
+    int n = 0;
+    while (r < nready && n < 4 && mat_[ready[r]] == mat_[p0]) g[n++] = ready[r++];
+    for (int l = n; l < 4; ++l) g[l] = g[n - 1];  // idle lanes repeat the last point
+    A4 Fl[9] = {}, sl[6] = {}, W = {}, wave = {};
+    for (int c = 0; c < 9; ++c) Fl[c] = A4{P_[g[0]].F[c], P_[g[1]].F[c], P_[g[2]].F[c], P_[g[3]].F[c]};
+    materials::lanes::hyperelasticStress4(mat.law, mat.density * cfg_.massScaling, Fl, sl, W, wave);
+    for (int l = 0; l < n; ++l) {
+      Point& q = P_[g[l]];
+      for (int c = 0; c < 6; ++c) q.sig[c] = sl[c][l];
+      ei += q.vol0 * W[l];
+      vmax = std::max(vmax, wave[l] + std::sqrt(q.v[0] * q.v[0] + q.v[1] * q.v[1] + q.v[2] * q.v[2]));
+    }
+  }
 }
 
 // Anti-locking (F-bar, de Souza Neto et al. 1996, in the MPM form of cell

@@ -9,6 +9,7 @@
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>
+#include <atomic>
 #include <cstdint>
 #include <optional>
 #include <string>
@@ -22,6 +23,11 @@
 #include "needlesim/materials/hyperelastic.hpp"
 
 namespace needlesim::mpm {
+
+namespace lanes {
+template <int S>
+struct Stencil4;  // support_lanes.hpp
+}  // namespace lanes
 
 using Vec3 = Eigen::Vector3d;
 using Mat3 = Eigen::Matrix3d;
@@ -185,18 +191,48 @@ class MpmSolver {
   void setUpBoundaries();    // finalize
   void checkInitialState();  // finalize
   template <int S, bool Grad> void p2g();
+  struct NeedleAxis;
+  std::array<NeedleAxis, 8> needleAxes(double gapReach) const;  // p2g
+  template <int S, bool Grad>
+  void scatterPoint(std::size_t p, const lanes::Stencil4<S>& st, const double* xp, bool needG, bool centroid,
+                    double* __restrict rec, double* __restrict grad, std::size_t n1, std::size_t n2);  // p2g
+  template <int S>
+  void rigidGaps(std::size_t p, const double* xp, std::size_t bx, std::size_t by, std::size_t bz, std::size_t n1,
+                 std::size_t n2, const NeedleAxis* ax, int R, double gapReach);  // p2g
   template <int S> void g2pRemap();
   template <int S> void surfaceContact(bool first);
   void findSurfacePairs(std::size_t r);  // surfaceContact
   void buildSurface(std::size_t r);
   template <int S, bool Usl> void g2pFinal(double& ek, double& ei, double& vmax);
+  struct GridSums;
+  template <int S, bool Usl>
+  static GridSums gatherGridSums(const lanes::Stencil4<S>& st, const double* __restrict vel, std::size_t off,
+                                 std::size_t n1, std::size_t n2);  // g2pFinal
+  template <bool Usl> double advancePoint(std::size_t p, const GridSums& g, double dt, double flip);  // g2pFinal
+  template <int S>
+  int checkAdvanced(std::size_t p, double J, double speed2, const double* o, double invh, const double* limEnd,
+                    std::size_t n1, int slabAxis, std::uint64_t* occ, std::size_t occW, int& layerLo,
+                    int& layerHi);  // g2pFinal
+  void stressChunk(const std::size_t* ready, std::size_t nready, double& ei, double& vmax);  // g2pFinal
   void gridUpdate();
+  void planGridRows();                                                               // gridUpdate
+  std::pair<std::size_t, std::size_t> momentumUpdateRow(std::size_t q, bool nodeWise);  // gridUpdate
+  void clearOutsideHull(std::size_t q, std::size_t h0, std::size_t h1);              // gridUpdate
+  bool contactOnRow(std::size_t q, std::size_t h0, std::size_t h1);                  // gridUpdate
   void sumRigidForces(std::size_t touchLo, std::size_t touchHi);  // gridUpdate
   bool rigidContactAt(std::size_t r, std::size_t I, const Vec3& xI, const double* mb);  // gridUpdate
   void penaltyForces();           // penalty_contact.cpp
+  void penaltyPairsOfCell(std::size_t c0, std::size_t tid, double dt0, double mu);  // penaltyForces
+  void penaltyPairForces(std::size_t tid, double mu, double dt);                    // penaltyForces
   void penaltyEnergyAfterStep();  // penalty_contact.cpp
   void scatterContact(std::size_t tid);  // penalty_contact.cpp
   void densityForces();           // density_contact.cpp
+  void resetDensityScratch();                                                                   // densityForces
+  int densityNearCells(std::size_t c0, std::uint32_t* lo, std::uint32_t* hi, const double** bb) const;  // densityForces
+  void densitySweepCell(std::size_t c0, std::size_t tid, double* racc, std::size_t from);       // densityForces
+  void densityLawAt(std::size_t s, std::size_t tid, double dt0, std::atomic<std::size_t>& passed);  // densityForces
+  void densityFrictionInputs(std::size_t tid);                                                  // densityForces
+  void densityPairForces(std::size_t tid, bool friction, double mu, double dt);                 // densityForces
   void densityEnergyAfterStep();  // density_contact.cpp
   bool surfaceNormal(const double* x, double* m) const;  // density_contact.cpp
   double pairFriction(std::size_t p, std::size_t q, const double* n, double fn, double mu, double dt,

@@ -294,13 +294,10 @@ void MpmSolver::penaltyEnergyAfterStep() {
 void MpmSolver::penaltyForces() {
   PairPenalty& P = *penalty_;
   if (P.density()) return densityForces();  // the density law (density_contact.cpp)
-  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
   // Cell lists of the candidates (counting sort, serial), per body and cell
   // (key body * nodes + cell), so a point scans only the other body's points.
   P.bin(nearCell_.data(), body_.data(), size(), nodes_);
-  const std::size_t nc = P.cand_.size();
-  // Body-1 items follow all body-0 items: slots [first1, nc).
-  const std::size_t first1 = P.first1_;
+  const std::size_t nc = P.cand_.size();  // body-1 items follow all body-0 items: slots [first1_, nc)
   const std::size_t nthreads = P.thread_.size();
   P.force_.assign(3 * nc, 0.0);
   P.reaction_.resize(nthreads);
@@ -309,11 +306,10 @@ void MpmSolver::penaltyForces() {
   P.contacts_.resize(nthreads);
   P.vfield_.resize(3 * nc);
   P.need_.assign(nc, 0);
-  std::uint8_t* need = P.need_.data();
+  const std::uint8_t* need = P.need_.data();
   const double dt0 = dt_, mu = cfg_.friction;
   const std::size_t NR = static_cast<std::size_t>(nr_);
   const double* rec0 = buf_[0].rec.data();
-  const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
   const std::size_t ncell = P.cells0_.size();
   for (auto& r : P.reaction_) r.clear();  // a thread that does not run this step adds nothing
 #pragma omp parallel num_threads(nthreads_)
@@ -323,69 +319,13 @@ void MpmSolver::penaltyForces() {
 #else
     const std::size_t tid = 0;
 #endif
-    PenaltyTally& T = P.thread_[tid];
-    double& W = P.friction_[8 * tid];
-    auto& Pairs = P.pairs_[tid];
-    Pairs.clear();
-    auto& Contacts = P.contacts_[tid];
-    Contacts.clear();
+    P.pairs_[tid].clear();
+    P.contacts_[tid].clear();
     // Bounding boxes of the body-1 cells: a body-0 point skips a cell farther
     // than 1.5 (r_p + r_max) along an axis (no pair there passes the distance test).
     P.cellBoxes(P_[0].x, sizeof(Point) / sizeof(double), nodes_);
-    // Reactions on body-1 slots: thread 0 into force_, the others into their own buffer.
-    // (slot s at react[3 (s - reactFrom)]).
-    const auto [react, reactFrom] = reactionSink(P.force_.data(), P.reaction_[tid], 3, tid, first1, nc);
 #pragma omp for schedule(static)
-    for (std::size_t ic = 0; ic < ncell; ++ic) {
-      const std::size_t c0 = P.cells0_[ic];
-      // The occupied body-1 cells among the 27 around c0 (slot ranges).
-      std::uint32_t lo[27], hi[27];
-      const double* bb[27];
-      const int nb = P.nearCells(c0, 1, nodes_, n1, n2, lim, lo, hi, bb);
-      if (nb == 0) continue;
-      for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
-        const std::size_t p = P.items_[sp];
-        const double reach = 1.5 * (P.radius_[p] + P.rmax_) * (1 + 1e-12);
-        const double* xp = P_[p].x;
-        for (int b = 0; b < nb; ++b) {
-          const double* bx = bb[b];
-          if (xp[0] < bx[0] - reach || xp[0] > bx[3] + reach || xp[1] < bx[1] - reach || xp[1] > bx[4] + reach ||
-              xp[2] < bx[2] - reach || xp[2] > bx[5] + reach)
-            continue;
-          for (std::uint32_t sq = lo[b]; sq < hi[b]; ++sq) {
-            const std::size_t q = P.items_[sq];
-            const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
-            const double r2 = dx * dx + dy * dy + dz * dz;
-            const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
-            if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
-            const double r = std::sqrt(r2), delta = d - r;
-            const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
-            // approach speed of the pair (> 0: closing)
-            const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
-            if (!(delta > 0.0)) {
-              // Not touching: close if it would within two steps at the
-              // current approach speed (the next step resolves the contact).
-              if (-delta < 2.0 * vn * dt0) {
-                T.close += 1;
-                T.travel = std::min(T.travel, r / vn);
-              }
-              continue;
-            }
-            if (vn > 0.0) T.travel = std::min(T.travel, r / vn);
-            T.energy += P.pairEnergy(delta, d);
-            T.penetration = std::max(T.penetration, delta);
-            T.tangent = std::max(T.tangent, P.pairTangent(delta, d));
-            T.pairs += 1;
-            Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
-            Contacts.push_back({sp, sq, {n[0], n[1], n[2]}, P.pairForce(delta, d)});
-            if (mu > 0.0) {  // several threads may mark q: atomic stores of the same value
-              __atomic_store_n(need + sp, std::uint8_t{1}, __ATOMIC_RELAXED);
-              __atomic_store_n(need + sq, std::uint8_t{1}, __ATOMIC_RELAXED);
-            }
-          }
-        }
-      }
-    }
+    for (std::size_t ic = 0; ic < ncell; ++ic) penaltyPairsOfCell(P.cells0_[ic], tid, dt0, mu);
     // The step's own limit (after the barrier of the search): the pairs'
     // tangent stiffness and approach at its start (PairPenalty::limit), the
     // same reduction on every thread (no single and its barrier).
@@ -398,21 +338,92 @@ void MpmSolver::penaltyForces() {
       for (std::size_t s = 0; s < nc; ++s)
         if (need[s]) fieldVelocity(P.items_[s], rec0, NR, &P.vfield_[3 * s]);
     }
-    // Pair forces: fp on p (this thread's cells), -fp on q.
-    for (const PairPenalty::Contact& C : Contacts) {
-      const std::size_t p = P.items_[C.sp], q = P.items_[C.sq];
-      double fp[3] = {C.fn * C.n[0], C.fn * C.n[1], C.fn * C.n[2]};
-      if (mu > 0.0) W += pairFriction(p, q, C.n, C.fn, mu, dt, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], fp);
-      for (int c3 = 0; c3 < 3; ++c3) {
-        P.force_[3 * C.sp + c3] += fp[c3];
-        react[3 * (C.sq - reactFrom) + c3] -= fp[c3];
-      }
-    }
+    penaltyPairForces(tid, mu, dt);
 #pragma omp barrier
     scatterContact(tid);
     if (tid == 0) dt_ = dt;
   }
   P.tally_ = P.sum();
+}
+
+// penaltyForces, the search from the body-0 cell c0 on thread tid: the
+// pairs in contact (into the thread's tally, pairs and contacts; with
+// friction their slots marked in need_) and those close to it.
+[[gnu::always_inline]] inline void MpmSolver::penaltyPairsOfCell(std::size_t c0, std::size_t tid, double dt0,
+                                                                 double mu) {
+  PairPenalty& P = *penalty_;
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const long long lim[3] = {nn_[0], nn_[1], nn_[2]};
+  std::uint8_t* need = P.need_.data();
+  PenaltyTally& T = P.thread_[tid];
+  auto& Pairs = P.pairs_[tid];
+  auto& Contacts = P.contacts_[tid];
+  // The occupied body-1 cells among the 27 around c0 (slot ranges).
+  std::uint32_t lo[27], hi[27];
+  const double* bb[27];
+  const int nb = P.nearCells(c0, 1, nodes_, n1, n2, lim, lo, hi, bb);
+  if (nb == 0) return;
+  for (std::uint32_t sp = P.start_[c0]; sp < P.start_[c0 + 1]; ++sp) {
+    const std::size_t p = P.items_[sp];
+    const double reach = 1.5 * (P.radius_[p] + P.rmax_) * (1 + 1e-12);
+    const double* xp = P_[p].x;
+    for (int b = 0; b < nb; ++b) {
+      const double* bx = bb[b];
+      if (xp[0] < bx[0] - reach || xp[0] > bx[3] + reach || xp[1] < bx[1] - reach || xp[1] > bx[4] + reach ||
+          xp[2] < bx[2] - reach || xp[2] > bx[5] + reach)
+        continue;
+      for (std::uint32_t sq = lo[b]; sq < hi[b]; ++sq) {
+        const std::size_t q = P.items_[sq];
+        const double dx = P_[p].x[0] - P_[q].x[0], dy = P_[p].x[1] - P_[q].x[1], dz = P_[p].x[2] - P_[q].x[2];
+        const double r2 = dx * dx + dy * dy + dz * dz;
+        const double d = P.radius_[p] + P.radius_[q];  // contact distance of the two points' volumes
+        if (!(r2 < 2.25 * d * d) || !(r2 > 0.0)) continue;
+        const double r = std::sqrt(r2), delta = d - r;
+        const double n[3] = {dx / r, dy / r, dz / r};  // from q to p
+        // approach speed of the pair (> 0: closing)
+        const double vn = (P_[q].v[0] - P_[p].v[0]) * n[0] + (P_[q].v[1] - P_[p].v[1]) * n[1] + (P_[q].v[2] - P_[p].v[2]) * n[2];
+        if (!(delta > 0.0)) {
+          // Not touching: close if it would within two steps at the
+          // current approach speed (the next step resolves the contact).
+          if (-delta < 2.0 * vn * dt0) {
+            T.close += 1;
+            T.travel = std::min(T.travel, r / vn);
+          }
+          continue;
+        }
+        if (vn > 0.0) T.travel = std::min(T.travel, r / vn);
+        T.energy += P.pairEnergy(delta, d);
+        T.penetration = std::max(T.penetration, delta);
+        T.tangent = std::max(T.tangent, P.pairTangent(delta, d));
+        T.pairs += 1;
+        Pairs.push_back({static_cast<std::uint32_t>(p), static_cast<std::uint32_t>(q)});
+        Contacts.push_back({sp, sq, {n[0], n[1], n[2]}, P.pairForce(delta, d)});
+        if (mu > 0.0) {  // several threads may mark q: atomic stores of the same value
+          __atomic_store_n(need + sp, std::uint8_t{1}, __ATOMIC_RELAXED);
+          __atomic_store_n(need + sq, std::uint8_t{1}, __ATOMIC_RELAXED);
+        }
+      }
+    }
+  }
+}
+
+// penaltyForces, the pair forces of thread tid's contacts: fp (with the
+// friction at step dt) on p (this thread's cells), -fp on q. Reactions on
+// body-1 slots: thread 0 into force_, the others into their own buffer.
+void MpmSolver::penaltyPairForces(std::size_t tid, double mu, double dt) {
+  PairPenalty& P = *penalty_;
+  double& W = P.friction_[8 * tid];
+  // slot s at react[3 (s - reactFrom)]
+  const auto [react, reactFrom] = reactionSink(P.force_.data(), P.reaction_[tid], 3, tid, P.first1_, P.cand_.size());
+  for (const PairPenalty::Contact& C : P.contacts_[tid]) {
+    const std::size_t p = P.items_[C.sp], q = P.items_[C.sq];
+    double fp[3] = {C.fn * C.n[0], C.fn * C.n[1], C.fn * C.n[2]};
+    if (mu > 0.0) W += pairFriction(p, q, C.n, C.fn, mu, dt, &P.vfield_[3 * C.sp], &P.vfield_[3 * C.sq], fp);
+    for (int c3 = 0; c3 < 3; ++c3) {
+      P.force_[3 * C.sp + c3] += fp[c3];
+      react[3 * (C.sq - reactFrom) + c3] -= fp[c3];
+    }
+  }
 }
 
 // Tests: the contact forces of either law without friction at the current
