@@ -717,9 +717,9 @@ struct MpmSolver::NeedleAxis {
 }
 
 // Particle to grid: mass, momentum and internal force (scatterPoint), the
-// gradient records near the other body, the gap minima of the rigids
-// (rigidGaps). Slabs of one colour touch disjoint node layers, so the
-// threads add into one shared grid without races.
+// gradient records near the other body, the gap minima of the rigids. Slabs
+// of one colour touch disjoint node layers, so the threads add into one
+// shared grid without races.
 template <int S, bool Grad>
 MPM_CLONES void MpmSolver::p2g() {
   const double invh = 1.0 / cfg_.h;
@@ -766,7 +766,23 @@ MPM_CLONES void MpmSolver::p2g() {
         nearCell[p] = cand ? static_cast<std::uint32_t>(c.row * n2 + c.k) : kNotNear;
       }
       scatterPoint<S, Grad>(p, st, xp, needG, centroid, rec, grad, n1, n2);
-      rigidGaps<S>(p, xp, st.bx, st.by, st.bz, n1, n2, ax.data(), R, gapReach);
+      // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
+      for (int r = 0; r < R; ++r) {
+        const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
+        if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
+        if (r < 8 && ax[static_cast<std::size_t>(r)].needle) {
+          const NeedleAxis& A = ax[static_cast<std::size_t>(r)];
+          // Scalar on purpose: a vectorised form packs rel through the stack and
+          // stalls on store forwarding in this, the most frequent, branch.
+          const double r0 = xp[0] - A.c.x(), r1 = xp[1] - A.c.y(), r2 = xp[2] - A.c.z();
+          const double s = r0 * A.e.x() + r1 * A.e.y() + r2 * A.e.z();
+          if (r0 * r0 + r1 * r1 + r2 * r2 - s * s > A.rmax2) continue;
+        }
+        const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
+        if (gap > gapReach) continue;
+        const std::size_t base = static_cast<std::size_t>(r) * nodes_ + (st.bx * n1 + st.by) * n2 + st.bz;
+        minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
+      }
     }
     if (colour == 0) {
 #pragma omp barrier
@@ -831,34 +847,6 @@ template <int S, bool Grad>
         }
       }
     }
-}
-
-// p2g: the gap of point p (position xp, support from base node bx, by, bz)
-// to each of the R rigid bodies (eq 22), kept as a nodal minimum; a needle
-// farther than the reach of its shaft axis ax is skipped.
-template <int S>
-[[gnu::always_inline]] inline void MpmSolver::rigidGaps(std::size_t p, const double* xp, std::size_t bx,
-                                                        std::size_t by, std::size_t bz, std::size_t n1,
-                                                        std::size_t n2, const NeedleAxis* ax, int R,
-                                                        double gapReach) {
-  Buf& B = buf_[0];
-  for (int r = 0; r < R; ++r) {
-    const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
-    if (rb.surfaceContact) continue;  // CFEMP: particle-to-surface search instead
-    if (r < 8 && ax[r].needle) {
-      const NeedleAxis& A = ax[r];
-      // Scalar on purpose: a vectorised form packs rel through the stack and
-      // stalls on store forwarding in this, the most frequent, branch.
-      const double r0 = xp[0] - A.c.x(), r1 = xp[1] - A.c.y(), r2 = xp[2] - A.c.z();
-      const double s = r0 * A.e.x() + r1 * A.e.y() + r2 * A.e.z();
-      if (r0 * r0 + r1 * r1 + r2 * r2 - s * s > A.rmax2) continue;
-    }
-    const double gap = rb.distance(Vec3(xp[0], xp[1], xp[2]), nullptr, nullptr);
-    if (gap > gapReach) continue;
-    const std::size_t base = static_cast<std::size_t>(r) * nodes_ +
-                             (bx * n1 + by) * n2 + bz;
-    minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
-  }
 }
 
 // ---------------------------------------------------------------- grid update and contact

@@ -196,9 +196,6 @@ class MpmSolver {
   template <int S, bool Grad>
   void scatterPoint(std::size_t p, const lanes::Stencil4<S>& st, const double* xp, bool needG, bool centroid,
                     double* __restrict rec, double* __restrict grad, std::size_t n1, std::size_t n2);  // p2g
-  template <int S>
-  void rigidGaps(std::size_t p, const double* xp, std::size_t bx, std::size_t by, std::size_t bz, std::size_t n1,
-                 std::size_t n2, const NeedleAxis* ax, int R, double gapReach);  // p2g
   template <int S> void g2pRemap();
   template <int S> void surfaceContact(bool first);
   void findSurfacePairs(std::size_t r);  // surfaceContact
