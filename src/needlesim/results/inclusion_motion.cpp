@@ -48,10 +48,10 @@ void InclusionMotion::report(ResultSink& sink) const {
     sink.result(n + "_displacement_max", largest_[i], "m", "largest displacement of " + n + " during the run");
     if (!target_[i]) continue;
     sink.result(n + "_shift_lateral", frame_.lateralOf(last_[i]), "m",
-                "target " + n + " moved across the needle path in the insertion plane (along the frame's lateral)");
+                "shift of " + n + " across the needle path in the insertion plane (targeting error along the frame's lateral)");
     sink.result(n + "_shift_out_of_plane", frame_.outOfPlaneOf(last_[i]), "m",
-                "target " + n + " moved out of the insertion plane");
-    sink.result(n + "_shift_axial", frame_.axialOf(last_[i]), "m", "target " + n + " pushed along the needle axis");
+                "shift of " + n + " out of the insertion plane (targeting error)");
+    sink.result(n + "_shift_axial", frame_.axialOf(last_[i]), "m", "shift of " + n + " along the needle axis (pushed ahead of the tip when > 0)");
   }
 }
 
