@@ -124,7 +124,7 @@ bool MpmSolver::surfaceNormal(const double* x, double* m) const {
   for (int c = 0; c < 3; ++c) m[c] = g0[c] / a0 - g1[c] / a1;
   const double mm = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
   if (!(mm > 0)) return false;
-  const double s = 1.0 / mm;  // (times the reciprocal: the pair friction's roundings since session 4)
+  const double s = 1.0 / mm;  // multiply by the reciprocal: the pair friction is written with this rounding
   for (int c = 0; c < 3; ++c) m[c] *= s;
   return true;
 }
