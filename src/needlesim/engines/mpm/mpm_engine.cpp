@@ -130,12 +130,6 @@ RigidBody rigidNeedle(const Scenario& sc, const Vec3& axis) {
   return n;
 }
 
-bool insideInclusion(const InclusionSpec& I, const Vec3& x) {
-  const Vec3 d = x - Vec3(I.x, I.y, I.z);
-  const double r2 = I.shape == InclusionSpec::Shape::Sphere ? d.squaredNorm() : d.x() * d.x() + d.y() * d.y();
-  return r2 <= I.radius * I.radius;
-}
-
 }  // namespace
 
 MpmSetup mpmSetup(const Scenario& sc) {
@@ -179,7 +173,7 @@ std::vector<std::vector<std::size_t>> addTissue(MpmSolver& solver, const Scenari
   for (std::size_t p = 0; p < np; ++p) {
     const Vec3 xc = solver.position(p) - s.shift;
     for (std::size_t i = t.inclusions.size(); i-- > 0;) {  // the last inclusion listed wins an overlap
-      if (!insideInclusion(t.inclusions[i], xc)) continue;
+      if (!t.inclusions[i].contains(xc.x(), xc.y(), xc.z())) continue;
       solver.reassign(p, static_cast<int>(t.layers.size() + i), t.inclusions[i].sliding ? 1 : 0);
       members[i].push_back(p);
       break;
