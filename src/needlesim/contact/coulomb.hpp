@@ -82,9 +82,8 @@ inline Eigen::Vector3d stickSpringFriction(const Eigen::Vector3d& tOld, const Ei
   const Eigen::Vector3d vt = vRel - vRel.dot(n) * n;
   Eigen::Vector3d t = tOld;
   t -= t.dot(n) * n;
-  t -= kdt * vt;  // elastic stick predictor (slip increment over the step)
-  t *= coulombScale(t.norm(), limit);  // return map onto the Coulomb cone
-  return t;
+  t -= kdt * vt;                     // elastic stick predictor (slip increment over the step)
+  return coulombReturnMap(t, limit);  // onto the Coulomb cone
 }
 
 // Coulomb friction of an MPM pair of points (seed 000 eqs 19-21), added to f
