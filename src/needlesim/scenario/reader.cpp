@@ -159,7 +159,7 @@ InclusionSpec readInclusion(Section& s, std::size_t index, const TissueSpec& T) 
   I.y = s.number("lateral");
   I.z = s.number("elevation");
   I.radius = s.number("radius");
-  if (I.shape == InclusionSpec::Shape::Cylinder && s.has("elevation"))
+  if (I.shape == InclusionSpec::Shape::Cylinder && I.z != 0.0)
     throw s.error("elevation", "", "has no meaning for a cylinder (its axis runs through the block's height)",
                   "elevation for a sphere only");
   const bool inside = I.x - I.radius >= 0.0 && I.x + I.radius <= T.length &&
@@ -178,7 +178,7 @@ InclusionSpec readInclusion(Section& s, std::size_t index, const TissueSpec& T) 
   I.target = s.boolean("target");
   I.sliding = s.choice("interface") == "sliding";
   I.interface_friction = s.number("interface_friction");
-  if (!I.sliding && s.has("interface_friction"))
+  if (!I.sliding && I.interface_friction != 0.0)
     throw s.error("interface_friction", "", "applies to a sliding inclusion only", "interface: sliding");
   return I;
 }
