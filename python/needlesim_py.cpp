@@ -94,9 +94,23 @@ void requirePositive(const std::string& call, const std::string& arg, double v, 
 
 // with_values: the base YAML with fields set; a bad field path is an InputError
 // naming the path and the bad part's position.
-PyScenario withValues(const PyScenario& s, const std::map<std::string, std::string>& values) {
+// A with_values value as YAML text: a str as written ("3 N/m"), a bool, or a finite number.
+std::string valueText(const std::string& path, const py::handle& v) {
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) {
+    double x = v.cast<double>();
+    requireFinite("with_values", path, x, "a finite number, or a str with its unit such as '3 N/m'");
+    return py::repr(v).cast<std::string>();
+  }
+  throw py::type_error("with_values: the value of '" + path + "' must be a str (e.g. '3 N/m'), a number or a bool, not " +
+                       py::type::of(v).attr("__name__").cast<std::string>());
+}
+
+PyScenario withValues(const PyScenario& s, const std::map<std::string, py::object>& values) {
   study::Case c;
-  for (const auto& [path, value] : values) {
+  for (const auto& [path, object] : values) {
+    std::string value = valueText(path, object);
     try {
       study::checkFieldPath(s.text, path);
     } catch (const study::FieldPathError& e) {
@@ -148,7 +162,8 @@ PYBIND11_MODULE(needlesim, m) {
       .def_property_readonly("yaml", [](const PyScenario& s) { return s.text; })
       .def("with_values", &withValues, py::arg("values"),
            "A copy with fields set, e.g. {'tissue.friction.C_p': '3 N/m', 'insertion.profile[0].insert.speed': "
-           "'5 mm/s'}; validated like a file. Keys are field paths as in a study (docs/studies.md); a bad path or "
+           "'5 mm/s', 'model.lumped.relaxation_time': '0.1 s'}; validated like a file. Keys are field paths as in a study "
+           "(docs/studies.md); values are str (with units), finite numbers or bools. A bad path or "
            "value raises needlesim.InputError.");
 
   m.def("load", &load, py::arg("path_or_yaml"), kLoadDoc);

@@ -54,9 +54,10 @@ YAML::Node nodeAt(YAML::Node root, const std::string& path) {
   YAML::Node n;
   n.reset(root);
   for (const auto& st : parseScenarioFieldPath(path)) {
-    if (!n.IsMap() && !n.IsNull())
-      throw FieldPathError(st.key_position, fmt::format("'{}' is inside a single value of the base scenario", st.key),
-                           "a path whose sections are written as sections in the base scenario");
+    if (n.IsDefined() && !n.IsMap() && !n.IsNull())  // undefined: a section the base omits, made on assignment
+      throw FieldPathError(st.key_position,
+                           fmt::format("'{}' is inside a value the base scenario writes as a single value or list", st.key),
+                           "a path whose sections are written as sections (key: value lines) in the base scenario");
     YAML::Node next = n[st.key];
     if (st.index) {
       if (!next.IsSequence() || *st.index >= next.size())
