@@ -105,7 +105,7 @@ void registerCheckCommand(CLI::App& app) {
           auto cases = study::expandCases(spec, base, study::CaseCheck::Representative);
           std::size_t read = study::representativeCases(spec, cases).size();
           fmt::print("{}: ok (study of {} case{} on {}; {} read as scenarios: the first, each field's smallest and "
-                     "largest value and each value written; sweep reads every case before running)\n",
+                     "largest value and each unit or word written; sweep reads every case before running)\n",
                      f, cases.size(), cases.size() == 1 ? "" : "s", spec.scenario_file.string(), read);
           continue;
         }

@@ -260,3 +260,15 @@ TEST(StudyFieldPath, MutatedPathsGiveFieldPathErrorsOnly) {
   }
   EXPECT_GT(accepted, 0);
 }
+
+// `check` reads representative cases; every case of every shipped study is a valid scenario.
+TEST(StudyFieldPath, EveryCaseOfEveryShippedStudyIsValid) {
+  int studies = 0;
+  for (const auto& e : fs::directory_iterator(std::string(NEEDLESIM_SOURCE_DIR) + "/examples/studies")) {
+    if (e.path().extension() != ".yaml") continue;
+    StudySpec spec = readStudyFile(e.path());
+    EXPECT_NO_THROW(expandCases(spec, readAll(spec.scenario_file), CaseCheck::All)) << e.path();
+    ++studies;
+  }
+  EXPECT_GT(studies, 5);
+}

@@ -54,9 +54,11 @@ enum class CaseCheck { All, Representative };
 // one-at-a-time (base values) and checks the field paths against it and the
 // case scenarios as `check` says.
 std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml, CaseCheck check = CaseCheck::All);
-// Indices (0-based) of the first case, of the cases with each field's smallest
-// and largest value, and (grid, list, one-at-a-time) of the first case of each
-// value written in the study file.
+// The most cases `needlesim check` reads as scenarios.
+inline constexpr std::size_t kMaxCheckedCases = 200;
+// Indices (0-based, at most kMaxCheckedCases) of the first case, of the cases
+// with each field's smallest and largest value, and of the first case of each
+// unit (or each non-numeric word, such as a material name) per field.
 std::vector<std::size_t> representativeCases(const StudySpec& spec, const std::vector<Case>& cases);
 // Throws FieldPathError when `path` breaks the grammar or the schema or leads
 // to no place in the base scenario (a list entry it does not write).

@@ -1,6 +1,7 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <set>
@@ -287,21 +288,37 @@ void validateCase(const StudySpec& spec, const std::string& baseYaml, const Case
 }  // namespace
 
 std::vector<std::size_t> representativeCases(const StudySpec& spec, const std::vector<Case>& cases) {
-  std::set<std::size_t> pick;
-  if (!cases.empty()) pick.insert(0);
+  std::vector<std::size_t> order;  // by priority: the first case, extremes, then each unit or word
+  std::set<std::size_t> taken;
+  auto pick = [&](std::size_t i) {
+    if (order.size() < kMaxCheckedCases && taken.insert(i).second) order.push_back(i);
+  };
+  if (cases.empty()) return order;
+  pick(0);
   for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
     std::size_t lo = 0, hi = 0;
-    std::set<std::string> seen;
     for (std::size_t i = 0; i < cases.size(); ++i) {
       double v = cases[i].values_si[k];
       if (std::isfinite(v) && !(cases[lo].values_si[k] <= v)) lo = i;
       if (std::isfinite(v) && !(cases[hi].values_si[k] >= v)) hi = i;
-      // Values written in the study file (not drawn): the first case of each.
-      if (spec.method != Method::LatinHypercube && seen.insert(cases[i].assignments[k].second).second) pick.insert(i);
     }
-    if (!cases.empty()) pick.insert({lo, hi});
+    pick(lo);
+    pick(hi);
   }
-  return {pick.begin(), pick.end()};
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
+    std::set<std::string> kinds;  // the unit of a number, or the text of a word (a material, a choice)
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const std::string& text = cases[i].assignments[k].second;
+      std::string kind = "word " + text;
+      try {
+        kind = "unit " + units::siName(units::parse(text).dim);
+      } catch (const std::invalid_argument&) {
+      }
+      if (kinds.insert(kind).second) pick(i);
+    }
+  }
+  std::sort(order.begin(), order.end());
+  return order;
 }
 
 std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml, CaseCheck check) {
