@@ -229,7 +229,7 @@ TEST(StudyFieldPath, CheckReadsRepresentativeCasesOnly) {
                    << "  - {field: tissue.friction.b_p, values: [200 N*s/m^2, 300 N*s/m^2]}\n";
   r = runCli("check " + f.string());
   EXPECT_EQ(r.code, 2) << r.out;
-  expectHas(r.out, {"tissue.friction.C_p = 3 mm", "wrong unit"});
+  expectHas(r.out, {"study.yaml:3:", "tissue.friction.C_p = 3 mm", "wrong unit"});  // the line that sets C_p
 }
 
 // Seeded mutations of valid paths: the parser answers FieldPathError or a

@@ -272,6 +272,13 @@ void checkFieldsInBase(const StudySpec& spec, const YAML::Node& base) {
   }
 }
 
+// Where the study sets the field a case's scenario error names (the study file alone if none).
+SourceLocation whereSet(const StudySpec& spec, const std::string& field) {
+  for (const auto& p : spec.parameters)
+    if (p.field == field) return SourceLocation{spec.file.string(), p.line, p.column};
+  return SourceLocation{spec.file.string(), 0, 0};
+}
+
 void validateCase(const StudySpec& spec, const std::string& baseYaml, const Case& c) {
   std::string label = fmt::format("{} case {}", spec.file.string(), c.index);
   try {
@@ -279,7 +286,7 @@ void validateCase(const StudySpec& spec, const std::string& baseYaml, const Case
   } catch (const InputError& e) {
     std::string what;
     for (const auto& [f, v] : c.assignments) what += (what.empty() ? "" : ", ") + f + " = " + v;
-    throw InputError(SourceLocation{spec.file.string(), 0, 0}, "vary", what,
+    throw InputError(whereSet(spec, e.field()), "vary", what,
                      fmt::format("gives an invalid scenario in case {}: {}", c.index, e.what()),
                      "values the scenario accepts (see needlesim schema)");
   }
