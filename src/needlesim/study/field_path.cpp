@@ -82,18 +82,11 @@ class PathScanner {
   std::size_t index() {
     std::size_t begin = pos_;
     while (pos_ < p_.size() && isDigit(p_[pos_])) ++pos_;
-    if (pos_ == begin) {
-      pos_ = begin;
-      fail("is not an index", "a whole number 0, 1, 2, ... (no sign, no name) inside [ ]");
-    }
+    if (pos_ == begin) fail("is not an index", "a whole number 0, 1, 2, ... (no sign, no name) inside [ ]");
     std::size_t value = 0;
-    auto [end, ec] = std::from_chars(p_.data() + begin, p_.data() + pos_, value);
-    if (ec != std::errc()) {
-      std::size_t digits = pos_ - begin;
-      pos_ = begin;
-      throw FieldPathError(begin + 1, fmt::format("index {} is too large", printableText(p_.substr(begin, digits))),
+    if (std::from_chars(p_.data() + begin, p_.data() + pos_, value).ec != std::errc())
+      throw FieldPathError(begin + 1, fmt::format("index {} is too large", printableText(p_.substr(begin, pos_ - begin))),
                            "an index below the list's length");
-    }
     if (pos_ == p_.size() || p_[pos_] != ']') fail("follows the index where ']' must close it", "digits 0-9, then ]");
     ++pos_;
     return value;
