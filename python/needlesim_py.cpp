@@ -67,14 +67,18 @@ PyScenario loadFile(const std::filesystem::path& path) {
   return PyScenario{scenario::readText(text, name), text};
 }
 
+bool isPathLike(const py::handle& o) { return py::hasattr(o, "__fspath__"); }
+
+// A pathlib.Path (any os.PathLike) as text.
+std::string pathText(const py::handle& o) { return py::module_::import("os").attr("fsdecode")(o).cast<std::string>(); }
+
 PyScenario load(const py::object& pathOrYaml) {
   if (py::isinstance<py::str>(pathOrYaml)) {
     auto s = pathOrYaml.cast<std::string>();
     if (looksLikePath(s)) return loadFile(s);
     return PyScenario{scenario::readText(s, "<python>"), s};
   }
-  if (py::hasattr(pathOrYaml, "__fspath__"))
-    return loadFile(py::module_::import("os").attr("fsdecode")(pathOrYaml).cast<std::string>());
+  if (isPathLike(pathOrYaml)) return loadFile(pathText(pathOrYaml));
   throw py::type_error("needlesim.load: expected a str (path or YAML text) or a pathlib.Path, got " +
                        std::string(py::str(py::type::of(pathOrYaml).attr("__name__"))));
 }
@@ -170,7 +174,10 @@ PYBIND11_MODULE(needlesim, m) {
   m.def("default_scenario", [] { return PyScenario{scenario::defaultScenario(), std::string(embedded::kDefaultScenario)}; });
   m.def(
       "run",
-      [](const PyScenario& s, const std::string& out, bool overwrite) -> py::object {
+      [](const PyScenario& s, const py::object& outArg, bool overwrite) -> py::object {
+        if (!py::isinstance<py::str>(outArg) && !isPathLike(outArg))
+          throw py::type_error("needlesim.run: out must be a str or a pathlib.Path");
+        const std::string out = isPathLike(outArg) ? pathText(outArg) : outArg.cast<std::string>();
         if (out.empty()) {
           py::gil_scoped_release release;
           MemorySink sink = runInMemory(s.scenario);
@@ -189,7 +196,7 @@ PYBIND11_MODULE(needlesim, m) {
       },
       py::arg("scenario"), py::arg("out") = "", py::arg("overwrite") = false,
       "Run the scenario's engine. Without `out`: in memory, returns {'results': {key: (value, unit)}, 'tables': "
-      "{name: {column: [values]}}}. With `out`: writes the results folder.");
+      "{name: {column: [values]}}}. With `out` (a str or pathlib.Path): writes the results folder.");
   m.def("schema", [] { return scenario::schemaText(); });
 
   py::class_<forces::LumpedForceModel>(m, "LumpedForceModel",

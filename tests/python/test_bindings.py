@@ -107,6 +107,8 @@ check(abs(total - (0.04335 + 0.02 * (3.791 + 285.053 * 1e-3))) < 1e-3, "LumpedFo
 with tempfile.TemporaryDirectory() as d:
     out = needlesim.run(s, out=os.path.join(d, "run"))
     check(os.path.exists(os.path.join(out["folder"], "summary.json")), "run to a results folder")
+    out = needlesim.run(s, out=pathlib.Path(d) / "run_path")
+    check(os.path.exists(os.path.join(out["folder"], "summary.json")), "run to a pathlib.Path results folder")
 
 print("%d failed" % failures)
 sys.exit(1 if failures else 0)
