@@ -3,6 +3,11 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include <fmt/format.h>
+
+#include <cctype>
+#include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 
@@ -14,6 +19,7 @@
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/scenario/schema.hpp"
+#include "needlesim/study/field_path.hpp"
 #include "needlesim/study/study.hpp"
 
 namespace py = pybind11;
@@ -26,15 +32,98 @@ struct PyScenario {
   std::string text;  // the YAML it came from (for with_values)
 };
 
-PyScenario load(const std::string& pathOrYaml) {
-  bool isText = pathOrYaml.find('\n') != std::string::npos || pathOrYaml.find(':') != std::string::npos;
-  std::string text = pathOrYaml;
-  if (!isText) {
-    std::ifstream in(pathOrYaml);
-    if (!in) throw InputError(SourceLocation{pathOrYaml, 0, 0}, "", "", "cannot be opened", "a scenario file or YAML text");
-    text.assign(std::istreambuf_iterator<char>(in), {});
+constexpr const char* kLoadDoc = R"(Read and validate a scenario.
+
+`path_or_yaml` is read as a file when it is a pathlib.Path (any os.PathLike),
+when it names an existing file, or when it is one line that ends in .yaml,
+.yml or .json or holds no ':' (such a path that does not exist raises
+needlesim.InputError "file not found"). Otherwise (text with a newline, or one
+line with ':' such as "{tissue: ...}") it is YAML text. Errors raise
+needlesim.InputError naming file, line, field, value and what is allowed.)";
+
+bool endsWith(const std::string& s, const std::string& tail) {
+  if (s.size() < tail.size()) return false;
+  for (std::size_t i = 0; i < tail.size(); ++i)
+    if (std::tolower(static_cast<unsigned char>(s[s.size() - tail.size() + i])) != tail[i]) return false;
+  return true;
+}
+
+// The rule of kLoadDoc for a str argument.
+bool looksLikePath(const std::string& s) {
+  if (s.find('\n') != std::string::npos) return false;
+  if (std::filesystem::is_regular_file(s)) return true;
+  return endsWith(s, ".yaml") || endsWith(s, ".yml") || endsWith(s, ".json") || s.find(':') == std::string::npos;
+}
+
+PyScenario loadFile(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  if (std::filesystem::is_directory(path))
+    throw InputError(SourceLocation{name, 0, 0}, "", "", "is a folder", "a scenario file (YAML) or YAML text");
+  if (!std::filesystem::exists(path))
+    throw InputError(SourceLocation{name, 0, 0}, "", "", "file not found", "an existing scenario file or YAML text");
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw InputError(SourceLocation{name, 0, 0}, "", "", "cannot be opened (unreadable)", "a readable scenario file");
+  std::string text((std::istreambuf_iterator<char>(in)), {});
+  return PyScenario{scenario::readText(text, name), text};
+}
+
+bool isPathLike(const py::handle& o) { return py::hasattr(o, "__fspath__"); }
+
+// A pathlib.Path (any os.PathLike) as text.
+std::string pathText(const py::handle& o) { return py::module_::import("os").attr("fsdecode")(o).cast<std::string>(); }
+
+PyScenario load(const py::object& pathOrYaml) {
+  if (py::isinstance<py::str>(pathOrYaml)) {
+    auto s = pathOrYaml.cast<std::string>();
+    if (looksLikePath(s)) return loadFile(s);
+    return PyScenario{scenario::readText(s, "<python>"), s};
   }
-  return PyScenario{scenario::readText(text, isText ? "<python>" : pathOrYaml), text};
+  if (isPathLike(pathOrYaml)) return loadFile(pathText(pathOrYaml));
+  throw py::type_error("needlesim.load: expected a str (path or YAML text) or a pathlib.Path, got " +
+                       std::string(py::str(py::type::of(pathOrYaml).attr("__name__"))));
+}
+
+// Arguments of the Python entry points: finite numbers, positive steps.
+void requireFinite(const std::string& call, const std::string& arg, double v, const std::string& allowed) {
+  if (!std::isfinite(v))
+    throw InputError(SourceLocation{"<python>", 0, 0}, call + "(" + arg + ")", fmt::format("{}", v), "must be a finite number",
+                     allowed);
+}
+
+void requirePositive(const std::string& call, const std::string& arg, double v, const std::string& allowed) {
+  requireFinite(call, arg, v, allowed);
+  if (!(v > 0.0))
+    throw InputError(SourceLocation{"<python>", 0, 0}, call + "(" + arg + ")", fmt::format("{}", v), "must be > 0", allowed);
+}
+
+// with_values: the base YAML with fields set; a bad field path is an InputError
+// naming the path and the bad part's position.
+// A with_values value as YAML text: a str as written ("3 N/m"), a bool, or a finite number.
+std::string valueText(const std::string& path, const py::handle& v) {
+  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
+  if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) {
+    double x = v.cast<double>();
+    requireFinite("with_values", path, x, "a finite number, or a str with its unit such as '3 N/m'");
+    return py::repr(v).cast<std::string>();
+  }
+  throw py::type_error("with_values: the value of '" + path + "' must be a str (e.g. '3 N/m'), a number or a bool, not " +
+                       py::type::of(v).attr("__name__").cast<std::string>());
+}
+
+PyScenario withValues(const PyScenario& s, const std::map<std::string, py::object>& values) {
+  study::Case c;
+  for (const auto& [path, object] : values) {
+    std::string value = valueText(path, object);
+    try {
+      study::checkFieldPath(s.text, path);
+    } catch (const study::FieldPathError& e) {
+      throw study::fieldPathInputError(e, SourceLocation{"<python with_values>", 0, 0}, "with_values key", path);
+    }
+    c.assignments.emplace_back(path, value);
+  }
+  std::string text = study::caseYaml(s.text, c);
+  return PyScenario{scenario::readText(text, "<python with_values>"), text};
 }
 
 py::dict toDict(const MemorySink& s) {
@@ -75,22 +164,20 @@ PYBIND11_MODULE(needlesim, m) {
       .def_property_readonly("engine", [](const PyScenario& s) { return s.scenario.model.engine; })
       .def_property_readonly("duration", [](const PyScenario& s) { return s.scenario.totalDuration(); })
       .def_property_readonly("yaml", [](const PyScenario& s) { return s.text; })
-      .def(
-          "with_values",
-          [](const PyScenario& s, const std::map<std::string, std::string>& values) {
-            study::Case c;
-            for (const auto& [k, v] : values) c.assignments.emplace_back(k, v);
-            std::string text = study::caseYaml(s.text, c);
-            return PyScenario{scenario::readText(text, "<python with_values>"), text};
-          },
-          py::arg("values"),
-          "A copy with fields set, e.g. {'tissue.friction.C_p': '3 N/m'}; validated like a file.");
+      .def("with_values", &withValues, py::arg("values"),
+           "A copy with fields set, e.g. {'tissue.friction.C_p': '3 N/m', 'insertion.profile[0].insert.speed': "
+           "'5 mm/s', 'model.lumped.relaxation_time': '0.1 s'}; validated like a file. Keys are field paths as in a study "
+           "(docs/studies.md); values are str (with units), finite numbers or bools. A bad path or "
+           "value raises needlesim.InputError.");
 
-  m.def("load", &load, py::arg("path_or_yaml"), "Read and validate a scenario file (or YAML text).");
+  m.def("load", &load, py::arg("path_or_yaml"), kLoadDoc);
   m.def("default_scenario", [] { return PyScenario{scenario::defaultScenario(), std::string(embedded::kDefaultScenario)}; });
   m.def(
       "run",
-      [](const PyScenario& s, const std::string& out, bool overwrite) -> py::object {
+      [](const PyScenario& s, const py::object& outArg, bool overwrite) -> py::object {
+        if (!py::isinstance<py::str>(outArg) && !isPathLike(outArg))
+          throw py::type_error("needlesim.run: out must be a str or a pathlib.Path");
+        const std::string out = isPathLike(outArg) ? pathText(outArg) : outArg.cast<std::string>();
         if (out.empty()) {
           py::gil_scoped_release release;
           MemorySink sink = runInMemory(s.scenario);
@@ -109,7 +196,7 @@ PYBIND11_MODULE(needlesim, m) {
       },
       py::arg("scenario"), py::arg("out") = "", py::arg("overwrite") = false,
       "Run the scenario's engine. Without `out`: in memory, returns {'results': {key: (value, unit)}, 'tables': "
-      "{name: {column: [values]}}}. With `out`: writes the results folder.");
+      "{name: {column: [values]}}}. With `out` (a str or pathlib.Path): writes the results folder.");
   m.def("schema", [] { return scenario::schemaText(); });
 
   py::class_<forces::LumpedForceModel>(m, "LumpedForceModel",
@@ -122,6 +209,9 @@ PYBIND11_MODULE(needlesim, m) {
       .def(
           "step",
           [](forces::LumpedForceModel& m, double depth, double velocity, double dt) {
+            requireFinite("LumpedForceModel.step", "depth", depth, "a tip depth in m");
+            requireFinite("LumpedForceModel.step", "velocity", velocity, "a tip velocity in m/s");
+            requirePositive("LumpedForceModel.step", "dt", dt, "a time step > 0 s");
             auto f = m.step(depth, velocity, dt);
             return py::make_tuple(f.total(), f.stiffness, f.cutting, f.friction);
           },

@@ -102,8 +102,11 @@ void registerCheckCommand(CLI::App& app) {
           study::StudySpec spec = study::readStudyFile(f);
           std::ifstream in(spec.scenario_file);
           std::string base((std::istreambuf_iterator<char>(in)), {});
-          auto cases = study::expandCases(spec, base);  // reads every case as a scenario
-          fmt::print("{}: ok (study of {} cases on {})\n", f, cases.size(), spec.scenario_file.string());
+          auto cases = study::expandCases(spec, base, study::CaseCheck::Representative);
+          std::size_t read = study::representativeCases(spec, cases).size();
+          fmt::print("{}: ok (study of {} case{} on {}; {} read as scenarios: the first, each field's smallest and "
+                     "largest value and each unit or word written; sweep reads every case before running)\n",
+                     f, cases.size(), cases.size() == 1 ? "" : "s", spec.scenario_file.string(), read);
           continue;
         }
         Scenario sc = scenario::readFile(f);

@@ -116,7 +116,8 @@ TEST(Cli, SchemaListsEveryFieldWithUnits) {
     EXPECT_NE(r.out.find(f), std::string::npos) << f;
 }
 
-// Every scenario and study shipped in examples/ is valid (studies: every case is read).
+// Every scenario and study shipped in examples/ is valid (studies: their representative cases;
+// tests/study/field_path_test.cpp reads every case).
 // summary.json holds the whole scenario as understood: running the summary itself
 // gives the same results, byte for byte.
 TEST(Cli, ARunFromItsOwnSummaryGivesTheSameResults) {

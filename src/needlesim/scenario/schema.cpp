@@ -383,7 +383,8 @@ std::vector<FieldDoc> build() {
             "parameter changed by each percent; latin-hypercube: samples between min and max",
             false, {}, {"grid", "list", "one-at-a-time", "latin-hypercube"}));
   add(other("study", "vary", Kind::List, "", "the fields to vary", true, "parameter"));
-  add(q("study", "samples", D::None, "10", 1.0, 1e6, false, false, "number of latin-hypercube samples"));
+  // The upper bound is study::kMaxCases.
+  add(q("study", "samples", D::None, "10", 1.0, 1e5, false, false, "number of latin-hypercube samples"));
   add(q("study", "seed", D::None, "1", 0.0, 1e18, false, false, "random seed of the latin hypercube"));
   add(q("study", "parallel", D::None, "0", 0.0, 1024.0, false, false, "cases run at once per process (0 = all cores)"));
   add(other("study", "directory", Kind::String, "results/<name>", "study folder: one folder per case, study.csv, report.html"));

@@ -19,7 +19,7 @@ struct Parameter {
   std::vector<double> percent;      // OneAtATime: changes of the base value in percent
   double min = 0.0, max = 0.0;      // LatinHypercube, SI
   units::Dim dim{};                 // dimension of min/max
-  int line = 0;                     // where it was given in the study file
+  int line = 0, column = 0;         // where its field path is written in the study file
 };
 
 struct StudySpec {
@@ -41,12 +41,28 @@ struct Case {
   std::vector<double> values_si;  // one per parameter, SI (NaN if not numeric)
 };
 
+// The most cases a study may have (grid products, one-at-a-time, samples).
+inline constexpr std::uint64_t kMaxCases = 100000;
+
 StudySpec readStudyFile(const std::filesystem::path& path);
 // True when the file is YAML with a top-level 'vary' list (a study, not a scenario).
 bool isStudyFile(const std::filesystem::path& path);
+// Which cases expandCases reads as scenarios: all (before a sweep runs), or
+// the representative ones (needlesim check, bounded by the study file's size).
+enum class CaseCheck { All, Representative };
 // Expands the sampling method into cases; needs the base scenario text for
-// one-at-a-time (base values) and checks every case scenario is valid.
-std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml);
+// one-at-a-time (base values) and checks the field paths against it and the
+// case scenarios as `check` says.
+std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml, CaseCheck check = CaseCheck::All);
+// The most cases `needlesim check` reads as scenarios.
+inline constexpr std::size_t kMaxCheckedCases = 200;
+// Indices (0-based, at most kMaxCheckedCases) of the first case, of the cases
+// with each field's smallest and largest value, and of the first case of each
+// unit (or each non-numeric word, such as a material name) per field.
+std::vector<std::size_t> representativeCases(const StudySpec& spec, const std::vector<Case>& cases);
+// Throws FieldPathError when `path` breaks the grammar or the schema or leads
+// to no place in the base scenario (a list entry it does not write).
+void checkFieldPath(const std::string& baseYaml, const std::string& path);
 // The base scenario YAML with a case's assignments applied.
 std::string caseYaml(const std::string& baseYaml, const Case& c);
 

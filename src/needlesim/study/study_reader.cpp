@@ -1,13 +1,16 @@
 #include <fmt/format.h>
 #include <yaml-cpp/yaml.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
+#include <set>
 #include <sstream>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
+#include "needlesim/study/field_path.hpp"
 #include "needlesim/study/samplers.hpp"
 #include "needlesim/study/study.hpp"
 
@@ -18,6 +21,7 @@ using scenario::Section;
 namespace {
 
 std::string readAll(const fs::path& p, const std::string& what) {
+  if (fs::is_directory(p)) throw InputError(SourceLocation{p.string(), 0, 0}, "", "", "is a folder", what);
   std::ifstream in(p, std::ios::binary);
   if (!in) throw InputError(SourceLocation{p.string(), 0, 0}, "", "", "cannot be opened (missing or unreadable)", what);
   std::stringstream ss;
@@ -34,50 +38,79 @@ std::vector<std::string> scalarList(Section& s, const std::string& key) {
   return out;
 }
 
-// Splits "a.b[2].c" into keys and indices.
-struct Step {
-  std::string key;
-  int index = -1;
-};
-std::vector<Step> splitPath(const std::string& path) {
-  std::vector<Step> steps;
-  std::stringstream ss(path);
-  std::string part;
-  while (std::getline(ss, part, '.')) {
-    Step st;
-    auto b = part.find('[');
-    if (b != std::string::npos) {
-      auto e = part.find(']', b);
-      if (e == std::string::npos) throw std::invalid_argument("unclosed '[' in '" + part + "'");
-      st.key = part.substr(0, b);
-      st.index = std::stoi(part.substr(b + 1, e - b - 1));
-    } else {
-      st.key = part;
-    }
-    if (st.key.empty()) throw std::invalid_argument("empty name in '" + path + "'");
-    steps.push_back(st);
-  }
-  if (steps.empty()) throw std::invalid_argument("empty field path");
-  return steps;
+std::string entryProblem(const std::string& key, std::size_t index, const YAML::Node& list) {
+  if (!list.IsSequence()) return fmt::format("'{}' is not a list in the base scenario, so it has no entry [{}]", key, index);
+  return fmt::format("'{}' has no entry [{}] in the base scenario ({} entr{})", key, index, list.size(),
+                     list.size() == 1 ? "y" : "ies");
 }
 
-// The node at `path`, creating missing mappings on the way; throws for a bad index.
+std::string entryRange(const YAML::Node& list) {
+  if (!list.IsSequence() || list.size() == 0) return "a list that the base scenario writes";
+  return list.size() == 1 ? "index 0" : fmt::format("an index from 0 to {}", list.size() - 1);
+}
+
+// The node at `path`, creating missing mappings on the way; throws
+// FieldPathError for a path the schema or the base scenario does not have.
 YAML::Node nodeAt(YAML::Node root, const std::string& path) {
   YAML::Node n;
   n.reset(root);
-  for (const auto& st : splitPath(path)) {
-    if (!n.IsMap() && !n.IsNull()) throw std::invalid_argument("'" + st.key + "' is not inside a section");
+  for (const auto& st : parseScenarioFieldPath(path)) {
+    if (n.IsDefined() && !n.IsMap() && !n.IsNull())  // undefined: a section the base omits, made on assignment
+      throw FieldPathError(st.key_position,
+                           fmt::format("'{}' is inside a value the base scenario writes as a single value or list", st.key),
+                           "a path whose sections are written as sections (key: value lines) in the base scenario");
     YAML::Node next = n[st.key];
-    if (st.index >= 0) {
-      if (!next.IsSequence() || st.index >= static_cast<int>(next.size()))
-        throw std::invalid_argument(fmt::format("'{}' has no entry [{}]", st.key, st.index));
-      YAML::Node e = next[static_cast<std::size_t>(st.index)];
+    if (st.index) {
+      if (!next.IsSequence() || *st.index >= next.size())
+        throw FieldPathError(st.index_position, entryProblem(st.key, *st.index, next), entryRange(next));
+      YAML::Node e = next[*st.index];
       n.reset(e);
     } else {
       n.reset(next);
     }
   }
   return n;
+}
+
+// A count field (samples): a whole number.
+int wholeNumber(Section& s, const std::string& key) {
+  double v = s.number(key);
+  if (v != std::floor(v)) throw s.error(key, fmt::format("{}", v), "must be a whole number", "1, 2, 3, ...");
+  return static_cast<int>(v);
+}
+
+// Cases the method makes, counted without making them (saturates above kMaxCases).
+std::uint64_t caseCount(const StudySpec& spec) {
+  const auto& P = spec.parameters;
+  switch (spec.method) {
+    case Method::Grid: {
+      std::uint64_t n = 1;
+      for (const auto& p : P) n = std::min<std::uint64_t>(n * p.values.size(), kMaxCases + 1);
+      return P.empty() ? 0 : n;
+    }
+    case Method::List:
+      return P.empty() ? 0 : P.front().values.size();
+    case Method::OneAtATime: {
+      std::uint64_t n = 1;
+      for (const auto& p : P) n += p.percent.size();
+      return n;
+    }
+    case Method::LatinHypercube:
+      return static_cast<std::uint64_t>(spec.samples);
+  }
+  return 0;
+}
+
+void checkCaseCount(const StudySpec& spec, Section& top, const YAML::Node& vary) {
+  std::uint64_t n = caseCount(spec);
+  if (n <= kMaxCases) return;
+  std::string count = spec.method == Method::Grid ? fmt::format("more than {} cases (the product of the numbers of values)", kMaxCases)
+                                                  : fmt::format("{} cases", n);
+  if (spec.method == Method::LatinHypercube)
+    throw top.error("samples", std::to_string(spec.samples), "gives more cases than a study may have",
+                    fmt::format("at most {} cases", kMaxCases));
+  throw top.errorAt(vary, "vary", "", "gives " + count,
+                    fmt::format("at most {} cases; split the study or use method latin-hypercube", kMaxCases));
 }
 
 Method methodOf(const std::string& m) {
@@ -118,23 +151,30 @@ StudySpec readStudyFile(const fs::path& path) {
   if (!fs::exists(spec.scenario_file))
     throw top.error("scenario", scen, "names a file that does not exist (" + spec.scenario_file.string() + ")",
                     "a scenario file path relative to the study file");
+  if (fs::is_directory(spec.scenario_file))
+    throw top.error("scenario", scen, "is a folder (" + spec.scenario_file.string() + "), give a scenario file",
+                    "a scenario file path relative to the study file");
   spec.name = top.text("name");
   if (spec.name.empty()) spec.name = path.stem().string();
   spec.method = methodOf(top.choice("method"));
-  spec.samples = static_cast<int>(top.number("samples"));
+  spec.samples = wholeNumber(top, "samples");
   spec.seed = static_cast<std::uint64_t>(top.number("seed"));
   spec.parallel = static_cast<int>(top.number("parallel"));
   spec.directory = top.text("directory");
   auto vary = top.list("vary");
+  if (vary.empty())
+    throw top.error("vary", "", "is an empty list", "at least one field to vary, e.g. - {field: tissue.friction.C_p, values: [3 N/m]}");
   for (std::size_t i = 0; i < vary.size(); ++i) {
     Section p = top.element(vary[i], "vary", i);
     Parameter par;
     par.field = p.text("field");
-    par.line = p.location(vary[i]).line;
+    SourceLocation at = p.location(p.raw("field"));
+    par.line = at.line;
+    par.column = at.column;
     try {
-      splitPath(par.field);
-    } catch (const std::invalid_argument& e) {
-      throw p.error("field", par.field, std::string("is not a field path: ") + e.what(), "e.g. tissue.friction.C_p");
+      parseScenarioFieldPath(par.field);
+    } catch (const FieldPathError& e) {
+      throw fieldPathInputError(e, at, p.fieldPath("field"), par.field);
     }
     par.values = scalarList(p, "values");
     for (const auto& s : scalarList(p, "percent")) {
@@ -178,8 +218,11 @@ StudySpec readStudyFile(const fs::path& path) {
         throw top.errorAt(vary[0], "vary", par.field, "method list needs the same number of values for every field",
                           fmt::format("{} values each", spec.parameters.front().values.size()));
   }
+  checkCaseCount(spec, top, vary.front());
   return spec;
 }
+
+void checkFieldPath(const std::string& baseYaml, const std::string& path) { nodeAt(YAML::Load(baseYaml), path); }
 
 std::string caseYaml(const std::string& baseYaml, const Case& c) {
   YAML::Node root = YAML::Load(baseYaml);
@@ -205,7 +248,87 @@ static std::string siText(double v, const units::Dim& d) {
   return fmt::format("{:.12g} {}", v, units::siName(d));
 }
 
-std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml) {
+namespace {
+
+YAML::Node loadBase(const StudySpec& spec, const std::string& baseYaml) {
+  try {
+    return YAML::Load(baseYaml);
+  } catch (const YAML::Exception& e) {
+    throw InputError(SourceLocation{spec.scenario_file.string(), e.mark.line + 1, e.mark.column + 1}, "", "",
+                     "is not valid YAML: " + e.msg, "a scenario (see docs/scenario-format.md)");
+  }
+}
+
+// Every field path must lead to a place in the base scenario (list entries it writes).
+void checkFieldsInBase(const StudySpec& spec, const YAML::Node& base) {
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
+    const Parameter& p = spec.parameters[k];
+    try {
+      nodeAt(YAML::Clone(base), p.field);
+    } catch (const FieldPathError& e) {
+      throw fieldPathInputError(e, SourceLocation{spec.file.string(), p.line, p.column}, fmt::format("vary[{}].field", k),
+                                p.field);
+    }
+  }
+}
+
+// Where the study sets the field a case's scenario error names (the study file alone if none).
+SourceLocation whereSet(const StudySpec& spec, const std::string& field) {
+  for (const auto& p : spec.parameters)
+    if (p.field == field) return SourceLocation{spec.file.string(), p.line, p.column};
+  return SourceLocation{spec.file.string(), 0, 0};
+}
+
+void validateCase(const StudySpec& spec, const std::string& baseYaml, const Case& c) {
+  std::string label = fmt::format("{} case {}", spec.file.string(), c.index);
+  try {
+    scenario::readText(caseYaml(baseYaml, c), label);
+  } catch (const InputError& e) {
+    std::string what;
+    for (const auto& [f, v] : c.assignments) what += (what.empty() ? "" : ", ") + f + " = " + v;
+    throw InputError(whereSet(spec, e.field()), "vary", what,
+                     fmt::format("gives an invalid scenario in case {}: {}", c.index, e.what()),
+                     "values the scenario accepts (see needlesim schema)");
+  }
+}
+
+}  // namespace
+
+std::vector<std::size_t> representativeCases(const StudySpec& spec, const std::vector<Case>& cases) {
+  std::vector<std::size_t> order;  // by priority: the first case, extremes, then each unit or word
+  std::set<std::size_t> taken;
+  auto pick = [&](std::size_t i) {
+    if (order.size() < kMaxCheckedCases && taken.insert(i).second) order.push_back(i);
+  };
+  if (cases.empty()) return order;
+  pick(0);
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      double v = cases[i].values_si[k];
+      if (std::isfinite(v) && !(cases[lo].values_si[k] <= v)) lo = i;
+      if (std::isfinite(v) && !(cases[hi].values_si[k] >= v)) hi = i;
+    }
+    pick(lo);
+    pick(hi);
+  }
+  for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
+    std::set<std::string> kinds;  // the unit of a number, or the text of a word (a material, a choice)
+    for (std::size_t i = 0; i < cases.size(); ++i) {
+      const std::string& text = cases[i].assignments[k].second;
+      std::string kind = "word " + text;
+      try {
+        kind = "unit " + units::siName(units::parse(text).dim);
+      } catch (const std::invalid_argument&) {
+      }
+      if (kinds.insert(kind).second) pick(i);
+    }
+  }
+  std::sort(order.begin(), order.end());
+  return order;
+}
+
+std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml, CaseCheck check) {
   std::vector<Case> cases;
   const auto& P = spec.parameters;
   auto push = [&](std::vector<std::pair<std::string, std::string>> a) {
@@ -215,7 +338,8 @@ std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml
     c.assignments = std::move(a);
     cases.push_back(std::move(c));
   };
-  YAML::Node base = YAML::Load(baseYaml);
+  YAML::Node base = loadBase(spec, baseYaml);
+  checkFieldsInBase(spec, base);
   auto baseValue = [&](const Parameter& p) -> units::Quantity {
     YAML::Node n;
     try {
@@ -276,21 +400,11 @@ std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml
       break;
     }
   }
-  // Every case must be a valid scenario before anything runs.
-  for (const auto& c : cases) {
-    std::string label = fmt::format("{} case {}", spec.file.string(), c.index);
-    try {
-      scenario::readText(caseYaml(baseYaml, c), label);
-    } catch (const InputError& e) {
-      std::string what;
-      for (const auto& [f, v] : c.assignments) what += (what.empty() ? "" : ", ") + f + " = " + v;
-      throw InputError(SourceLocation{spec.file.string(), 0, 0}, "vary", what,
-                       fmt::format("gives an invalid scenario in case {}: {}", c.index, e.what()),
-                       "values the scenario accepts (see needlesim schema)");
-    } catch (const std::invalid_argument& e) {
-      throw InputError(SourceLocation{spec.file.string(), 0, 0}, "vary", "", e.what(), "field paths of the base scenario");
-    }
-  }
+  // Every case (or, for check, the representative ones) must be a valid scenario before anything runs.
+  if (check == CaseCheck::All)
+    for (const auto& c : cases) validateCase(spec, baseYaml, c);
+  else
+    for (std::size_t i : representativeCases(spec, cases)) validateCase(spec, baseYaml, cases[i]);
   return cases;
 }
 
