@@ -220,6 +220,26 @@ TEST(StudyBadInput, DuplicateKeyInAStudyNamesBothLines) {
   std::filesystem::remove(study);
 }
 
+TEST(StudyBadInput, DuplicateKeyInTheBaseScenarioIsNamedAtItsLine) {
+  study::StudySpec spec;
+  spec.file = "study.yaml";
+  spec.scenario_file = "base.yaml";
+  spec.method = study::Method::Grid;
+  study::Parameter p;
+  p.field = "needle.length";
+  p.values = {"100 mm"};
+  spec.parameters = {p};
+  const std::string base = kBase + "needle: {outer_diameter: 20 G, length: 90 mm}\n";
+  try {
+    study::expandCases(spec, base);
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("base.yaml:16:"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("key 'needle' given twice (lines 10 and 16)"), std::string::npos) << msg;
+  }
+}
+
 TEST(StudyAliases, EditingOneAliasedPathLeavesTheOtherAsItWas) {
   const std::string base = R"(name: t
 tissue:
@@ -249,4 +269,10 @@ insertion:
   EXPECT_DOUBLE_EQ(sc.tissue.layers[0].friction.C_p, 7.0);
   EXPECT_DOUBLE_EQ(sc.tissue.layers[1].friction.C_p, 3.0);
   EXPECT_DOUBLE_EQ(sc.insertion.segments[0].speed, 0.005);
+
+  // A field the base does not write is added to that place only.
+  c.assignments = {{"tissue.layers[1].friction.coefficient", "0.3"}};
+  sc = scenario::readText(study::caseYaml(base, c), "case");
+  EXPECT_DOUBLE_EQ(sc.tissue.layers[1].friction.coefficient, 0.3);
+  EXPECT_DOUBLE_EQ(sc.tissue.layers[0].friction.coefficient, 0.0);
 }

@@ -102,7 +102,8 @@ YAML::Node copyWith(const YAML::Node& n, const Step& step, const YAML::Node& rep
 YAML::Node withValueAlone(const YAML::Node& at, const std::vector<Step>& steps, std::size_t i, const std::string& value) {
   if (i == steps.size()) return YAML::Node(value);
   const Step& st = steps[i];
-  const YAML::Node child = at.IsMap() ? at[st.key] : YAML::Node();
+  YAML::Node child;  // a missing section is made on the way
+  if (at.IsMap() && at[st.key]) child = at[st.key];
   if (st.index < 0) return copyWith(at, st, withValueAlone(child, steps, i + 1, value));
   const YAML::Node entry = child[static_cast<std::size_t>(st.index)];
   const YAML::Node list = copyWith(child, st, withValueAlone(entry, steps, i + 1, value));
@@ -242,7 +243,9 @@ std::vector<Case> expandCases(const StudySpec& spec, const std::string& baseYaml
     c.assignments = std::move(a);
     cases.push_back(std::move(c));
   };
-  YAML::Node base = YAML::Load(baseYaml);
+  // The base file's own problems (a key given twice, a tag, not UTF-8) are named at its lines.
+  YAML::Node base = scenario::loadYamlDocument(baseYaml, spec.scenario_file.string(),
+                                               "a scenario file (see docs/scenario-format.md)", "scenario");
   auto baseValue = [&](const Parameter& p) -> units::Quantity {
     YAML::Node n;
     try {
