@@ -3,6 +3,7 @@
 // line, column), which field, the offending value and what is allowed.
 #include <stdexcept>
 #include <string>
+#include <string_view>
 
 namespace needlesim {
 
@@ -12,12 +13,24 @@ class Error : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// How many characters of an offending value an error message echoes.
+inline constexpr std::size_t kEchoChars = 60;
+
 struct SourceLocation {
   std::string file;  // empty when the input did not come from a file
   int line = 0;      // 1-based; 0 = unknown
   int column = 0;    // 1-based; 0 = unknown
   std::string str() const;
 };
+
+// `text` as it may be shown on a terminal: control bytes and bytes that are not UTF-8 are
+// escaped (\x1b, \n), and text longer than `max_chars` characters is cut there and ends with
+// "... (N bytes)". Every InputError message passes its parts through this.
+std::string printable(std::string_view text, std::size_t max_chars = kEchoChars);
+
+// Byte offset of the first byte of `text` that is not part of a well-formed UTF-8
+// character, or std::string_view::npos when all of it is UTF-8.
+std::size_t utf8ErrorOffset(std::string_view text);
 
 // A problem with user input: scenario, data file or argument.
 class InputError : public Error {

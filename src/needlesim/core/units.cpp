@@ -8,6 +8,10 @@
 #include <stdexcept>
 #include <string>
 
+#include <fmt/format.h>
+
+#include "needlesim/core/error.hpp"
+
 namespace needlesim::units {
 namespace {
 
@@ -102,12 +106,15 @@ Quantity parse(std::string_view text) {
   const char* end = s.data() + s.size();
   if (*begin == '+') ++begin;
   auto [ptr, ec] = std::from_chars(begin, end, value);
+  if (ec == std::errc::result_out_of_range)
+    throw std::invalid_argument("is a number out of range of a double (magnitudes from about 2.2e-308 to 1.8e308)");
   if (ec != std::errc() || ptr == begin) throw std::invalid_argument("does not start with a number");
   if (!std::isfinite(value)) throw std::invalid_argument("is not a finite number");
   std::string_view rest = trim(std::string_view(ptr, static_cast<std::size_t>(end - ptr)));
   Quantity q;
   q.value = value;
   if (rest.empty()) return q;  // dimensionless
+  q.unit = std::string(rest);
   if (rest == "G") {
     q.gauge = true;
     return q;
@@ -140,13 +147,14 @@ Quantity parse(std::string_view text) {
       std::string exp(rest.substr(j + 1, k - j - 1));
       if (exp.empty() || exp == "-" || exp == "+")
         throw std::invalid_argument("has an exponent without digits after '^'");
+      if (exp.size() > 3) throw std::invalid_argument("has an exponent '^" + exp + "' beyond any unit's");
       exponent = std::stoi(exp);
       j = k;
     }
     double f = 1.0;
     Dim ud{};
     if (!lookup(sym, f, ud))
-      throw std::invalid_argument("has an unknown unit '" + std::string(sym) + "'");
+      throw std::invalid_argument("has an unknown unit '" + printable(sym) + "'");
     if (divide) exponent = -exponent;
     factor *= std::pow(f, exponent);
     d = add(d, scale(ud, exponent));
@@ -208,6 +216,16 @@ std::string examples(const Dim& d) {
   if (d == dim::ForceTimePerArea) return "N s/m^2, N s/mm^2";
   if (d == Dim{-2, 1, -2, 0}) return "N/m^3, N/mm^3";
   return siName(d);
+}
+
+std::string inUnitOf(double si, const Dim& d, std::string_view written) {
+  try {
+    const Quantity q = parse(written);
+    const Quantity one = parse("1 " + q.unit);
+    if (!q.unit.empty() && !q.gauge && one.dim == d) return fmt::format("{:g} {}", si / one.value, q.unit);
+  } catch (const std::invalid_argument&) {
+  }
+  return fmt::format("{:g} {}", si, siName(d));
 }
 
 std::optional<GaugeSize> gaugeSize(int gauge) {

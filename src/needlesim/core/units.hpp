@@ -38,6 +38,7 @@ struct Quantity {
   double value = 0.0;  // SI
   Dim dim;
   bool gauge = false;  // written in needle gauge ("18 G"); value is then the gauge number
+  std::string unit;    // the unit as written ("mm", "%"); empty for a plain number
 };
 
 // Parses "<number> [unit]". Throws std::invalid_argument with a readable reason.
@@ -47,6 +48,9 @@ Quantity parse(std::string_view text);
 std::string siName(const Dim& d);
 // A few units a user may write for this dimension, e.g. "Pa, kPa, MPa".
 std::string examples(const Dim& d);
+// An SI value written in the unit of `written` (a quantity as the user wrote it, e.g. "1 m" or
+// "40 mm"): 0.06 and "1 mm" -> "60 mm". Plain SI with its unit when `written` has none.
+std::string inUnitOf(double si, const Dim& d, std::string_view written);
 
 // Needle gauge (Stubs / ISO 9626 regular wall): outer and inner diameter in m.
 struct GaugeSize {

@@ -6,8 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
+#include <numbers>
 
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
@@ -15,10 +14,13 @@
 #include "needlesim/scenario/measured_data.hpp"
 #include "needlesim/scenario/mesh_file.hpp"
 #include "needlesim/io/csv_reader.hpp"
+#include "needlesim/scenario/yaml_document.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 
 namespace needlesim::scenario {
 namespace {
+
+const std::string kScenarioFile = "a scenario file (see docs/scenario-format.md)";
 
 using materials::MaterialSpec;
 
@@ -297,6 +299,19 @@ InsertionSpec readInsertion(Section& s, const NeedleSpec& needle) {
   return I;
 }
 
+// The entry point must lie on the entry face, which spans the block's width in the insertion plane.
+void checkEntryPoint(Section& ins, const InsertionSpec& I, const TissueSpec& T) {
+  const double half = 0.5 * T.width;
+  if (std::abs(I.entry_offset) < half) return;
+  const std::string written = ins.has("entry_offset") ? ins.raw("entry_offset").Scalar() : std::string();
+  const auto inUserUnit = [&](double si) { return units::inUnitOf(si, units::dim::Length, written); };
+  throw ins.error("entry_offset", written,
+                  fmt::format("puts the entry point outside the entry face, which spans {} to {} about its centre "
+                              "(block.width = {})",
+                              inUserUnit(-half), inUserUnit(half), inUserUnit(T.width)),
+                  fmt::format("{} < entry_offset < {}", inUserUnit(-half), inUserUnit(half)));
+}
+
 Scenario readSections(Section top, const std::string& source);
 
 // Data files named in a scenario, relative to the scenario file: the record keeps them
@@ -340,6 +355,7 @@ Scenario readSections(Section top, const std::string& source) {
   sc.needle = readNeedle(needle);
   Section ins = top.sub("insertion");
   sc.insertion = readInsertion(ins, sc.needle);
+  checkEntryPoint(ins, sc.insertion, sc.tissue);
 
   Section model = top.sub("model");
   sc.model.engine = model.choice("engine");
@@ -359,14 +375,17 @@ Scenario readSections(Section top, const std::string& source) {
     st.tear_length = steer.optNumber("tear_length").value_or(0.0);  // 0: the needle radius
     st.fracture_energy = steer.number("fracture_energy");
     st.max_step = steer.number("max_step");
-    const double snaps = steer.number("snapshots");
-    if (snaps != std::floor(snaps))
-      throw steer.error("snapshots", fmt::format("{:g}", snaps), "must be a whole number", "1, 2, ... 100");
-    st.snapshots = static_cast<int>(snaps);
+    st.snapshots = static_cast<int>(steer.number("snapshots"));  // a whole number (schema)
   }
   Section rt = model.sub("realtime2d");
   {
     Realtime2dModelSpec& r = sc.model.realtime2d;
+    // The engine's path-node coupling needs the needle within 45 deg of the entry-face normal.
+    if (sc.model.engine == "realtime2d" && sc.insertion.entry_angle < 0.25 * std::numbers::pi - 1e-12)
+      throw ins.error("entry_angle", fmt::format("{:g} deg", sc.insertion.entry_angle * 180.0 / std::numbers::pi),
+                      "is below the 45 deg that engine realtime2d supports (its path-node coupling needs the needle "
+                      "within 45 deg of the entry-face normal)",
+                      "45 deg to 90 deg for engine realtime2d");
     if (auto h = rt.optNumber("element_size")) {
       if (rt.has("nodes_depth") || rt.has("nodes_lateral"))
         throw rt.error("element_size", "", "give element_size or the node counts, not both",
@@ -380,8 +399,8 @@ Scenario readSections(Section top, const std::string& source) {
                                    r.nodes_lateral, sc.tissue.length * 1e3, sc.tissue.width * 1e3),
                        "at least 2 x 3 and at most 4 million nodes");
     } else {
-      r.nodes_depth = static_cast<int>(std::lround(rt.number("nodes_depth")));
-      r.nodes_lateral = static_cast<int>(std::lround(rt.number("nodes_lateral")));
+      r.nodes_depth = static_cast<int>(rt.number("nodes_depth"));  // whole numbers (schema)
+      r.nodes_lateral = static_cast<int>(rt.number("nodes_lateral"));
     }
     r.refinement = rt.number("refinement");
     r.plane_strain = rt.choice("plane") == "strain";
@@ -450,13 +469,8 @@ Scenario readSections(Section top, const std::string& source) {
     m.flip = mpmSec.number("flip");
     m.time_step_factor = mpmSec.number("time_step_factor");
     m.mass_scaling = mpmSec.number("mass_scaling");
-    const double margin = mpmSec.number("margin"), threads = mpmSec.number("threads");
-    if (margin != std::floor(margin))
-      throw mpmSec.error("margin", fmt::format("{:g}", margin), "must be a whole number of cells", "2, 3, ... 100");
-    if (threads != std::floor(threads))
-      throw mpmSec.error("threads", fmt::format("{:g}", threads), "must be a whole number", "0 (all cores), 1, 2, ...");
-    m.margin = static_cast<int>(margin);
-    m.threads = static_cast<int>(threads);
+    m.margin = static_cast<int>(mpmSec.number("margin"));  // whole numbers (schema)
+    m.threads = static_cast<int>(mpmSec.number("threads"));
     Section faces = mpmSec.sub("faces");
     const char* names[6] = {"entry", "exit", "y_min", "y_max", "z_min", "z_max"};
     for (int f = 0; f < 6; ++f) m.faces[static_cast<std::size_t>(f)] = faces.choice(names[f]);
@@ -587,14 +601,11 @@ Scenario readSections(Section top, const std::string& source) {
 
 Scenario readText(std::string_view yaml, const std::string& source_name) {
   auto file = std::make_shared<const std::string>(source_name);
-  YAML::Node root;
-  try {
-    root = YAML::Load(std::string(yaml));
-  } catch (const YAML::Exception& e) {
-    SourceLocation loc{source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
-                       e.mark.is_null() ? 0 : e.mark.column + 1};
-    throw InputError(loc, "", "", "is not valid YAML: " + e.msg, "YAML 'key: value' sections (see docs/scenario-format.md)");
-  }
+  // A summary.json (JSON, a '{' first) holds the scenario under "scenario": its keys are checked
+  // when the scenario is read, not while parsing.
+  const auto first = yaml.find_first_not_of(" \t\r\n");
+  const bool json = first != std::string_view::npos && yaml[first] == '{';
+  YAML::Node root = loadYamlDocument(yaml, source_name, kScenarioFile, json ? "" : "scenario");
   if (!root || root.IsNull())
     throw InputError(SourceLocation{source_name, 0, 0}, "", "", "is empty",
                      "a scenario with tissue, needle and insertion sections");
@@ -610,13 +621,7 @@ Scenario readText(std::string_view yaml, const std::string& source_name) {
 }
 
 Scenario readFile(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in)
-    throw InputError(SourceLocation{path.string(), 0, 0}, "", "", "cannot be opened (missing or unreadable)",
-                     "a readable scenario file");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return readText(ss.str(), path.string());
+  return readText(readYamlFile(path, kScenarioFile), path.string());
 }
 
 Scenario defaultScenario() {

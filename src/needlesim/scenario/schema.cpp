@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/nearest_name.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::scenario {
@@ -38,6 +39,24 @@ FieldDoc positive(std::string sec, std::string key, units::Dim d, std::string de
 FieldDoc nonneg(std::string sec, std::string key, units::Dim d, std::string def, std::string help) {
   return q(std::move(sec), std::move(key), d, std::move(def), 0.0, kInf, false, false,
            std::move(help));
+}
+// A count: a whole number in [lo, hi].
+FieldDoc count(std::string sec, std::string key, std::string def, double lo, double hi, std::string help) {
+  FieldDoc f = q(std::move(sec), std::move(key), D::None, std::move(def), lo, hi, false, false, std::move(help));
+  f.whole = true;
+  return f;
+}
+// Plausibility bounds on sizes: a length above them is a slip of the unit ("55 Mm"), not tissue.
+// Tissue samples, phantoms and organs of needle-insertion studies are centimetres to tens of
+// centimetres (a human torso is under 0.5 m across), so a block side is at most 1 m. The longest
+// clinical needles (spinal, biopsy, brachytherapy) are about 0.3 m long, so a needle is at most
+// 1 m long; the thickest gauge of the table is 10 G (3.4 mm) and trocars reach about 10 mm, so an
+// outer diameter is at most 20 mm.
+constexpr double kMaxBlockSide = 1.0;
+constexpr double kMaxNeedleLength = 1.0;
+constexpr double kMaxNeedleDiameter = 0.02;
+FieldDoc extent(std::string sec, std::string key, double hi, std::string help, bool required = true) {
+  return q(std::move(sec), std::move(key), D::Length, "", 0.0, hi, true, false, std::move(help), required);
 }
 FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::string help,
                bool required = false, std::string child = {}, std::vector<std::string> choices = {}) {
@@ -76,9 +95,9 @@ std::vector<FieldDoc> build() {
   add(other("tissue", "inclusions", Kind::List, "",
             "bodies embedded in the block (a tumour to target, a vessel): engines mpm, explicit and realtime2d",
             false, "inclusion"));
-  add(positive("block", "length", D::Length, "", "extent along the insertion axis (entry face to exit face)", true));
-  add(positive("block", "width", D::Length, "", "extent across the insertion axis, in the insertion plane", true));
-  add(positive("block", "height", D::Length, "", "extent out of the insertion plane", true));
+  add(extent("block", "length", kMaxBlockSide, "extent along the insertion axis (entry face to exit face)"));
+  add(extent("block", "width", kMaxBlockSide, "extent across the insertion axis, in the insertion plane"));
+  add(extent("block", "height", kMaxBlockSide, "extent out of the insertion plane"));
 
   // --- layer
   add(other("layer", "name", Kind::String, "layer<i>", "label in results"));
@@ -148,9 +167,9 @@ std::vector<FieldDoc> build() {
   add(positive("interaction", "toughness", D::ForcePerLength, "", "rupture toughness G_c (seed 002 eq 19, seed 004 Table I)"));
 
   // --- needle
-  add(positive("needle", "outer_diameter", D::Length, "", "outer diameter, or a gauge such as 18 G", true));
+  add(extent("needle", "outer_diameter", kMaxNeedleDiameter, "outer diameter, or a gauge such as 18 G"));
   add(nonneg("needle", "inner_diameter", D::Length, "from the gauge, else 0 mm", "bore diameter (0 = solid)"));
-  add(positive("needle", "length", D::Length, "", "free length from the base to the tip", true));
+  add(extent("needle", "length", kMaxNeedleLength, "free length from the base to the tip"));
   add(q("needle", "bevel_angle", D::Angle, "20 deg", 0.0, 90.0 * deg, true, false, "tip angle alpha of the bevel or cone"));
   add(other("needle", "tip", Kind::Choice, "bevel", "tip type", false, {}, {"bevel", "conical", "blunt"}));
   add(positive("needle", "youngs_modulus", D::Pressure, "200 GPa", "needle material (stainless steel; Nitinol is 50 GPa in seed 002)"));
@@ -159,7 +178,8 @@ std::vector<FieldDoc> build() {
 
   // --- insertion
   add(q("insertion", "entry_angle", D::Angle, "90 deg", 0.0, 90.0 * deg, true, false, "angle between needle and entry face (90 deg = perpendicular)"));
-  add(q("insertion", "entry_offset", D::Length, "0 mm", -kInf, kInf, false, false, "entry point from the centre of the entry face, in the insertion plane"));
+  add(q("insertion", "entry_offset", D::Length, "0 mm", -kInf, kInf, false, false,
+        "entry point from the centre of the entry face, in the insertion plane; inside the face (|offset| < block.width / 2)"));
   add(q("insertion", "start_depth", D::Length, "0 mm", -kInf, kInf, false, false, "tip position along the needle axis at t = 0 (negative = outside)"));
   add(q("insertion", "bevel_orientation", D::Angle, "0 deg", -kInf, kInf, false, false, "initial axial orientation of the bevel"));
   add(other("insertion", "profile", Kind::List, "", "motion segments, each one of insert / pause / retract / rotate", true, "segment"));
@@ -215,11 +235,11 @@ std::vector<FieldDoc> build() {
              "energy: fracture energy G_f per torn area in W_R = a G_f l (eq 44); with the tear length it sets the "
              "share 1 - a G_f / P_input of the push that cuts sideways (docs/models/bevel-tip-energy.md choice 10)"));
   add(positive("steering", "max_step", D::Length, "1 mm", "energy: largest advance of one increment"));
-  add(q("steering", "snapshots", D::None, "5", 1.0, 100.0, false, false, "needle shapes recorded along the insertion"));
+  add(count("steering", "snapshots", "5", 1.0, 100.0, "needle shapes recorded along the insertion"));
   add(other("model", "realtime2d", Kind::Section, "", "parameters of the real-time 2D FE engine", false, "realtime2d"));
   add(positive("realtime2d", "element_size", D::Length, "", "element size of a uniform mesh (instead of the node counts)"));
-  add(q("realtime2d", "nodes_depth", D::None, "21", 2.0, 2000.0, false, false, "nodes along the insertion axis (block.length)"));
-  add(q("realtime2d", "nodes_lateral", D::None, "31", 3.0, 2000.0, false, false, "nodes across it (block.width); a node row lies on the path"));
+  add(count("realtime2d", "nodes_depth", "21", 2.0, 2000.0, "nodes along the insertion axis (block.length)"));
+  add(count("realtime2d", "nodes_lateral", "31", 3.0, 2000.0, "nodes across it (block.width); a node row lies on the path"));
   add(q("realtime2d", "refinement", D::None, "1", 1.0, 100.0, false, false,
         "coarsest / finest lateral element size; the finest elements lie on the needle path"));
   add(other("realtime2d", "plane", Kind::Choice, "strain", "plane strain or plane stress", false, {}, {"strain", "stress"}));
@@ -227,7 +247,8 @@ std::vector<FieldDoc> build() {
   add(other("realtime2d", "mass", Kind::Choice, "consistent", "mass matrix (seed 003 eq 3.7)", false, {}, {"consistent", "lumped"}));
   add(nonneg("realtime2d", "rayleigh_alpha", D::Frequency, "0.01 1/s", "mass-proportional Rayleigh damping (seed 003 eq 3.8)"));
   add(nonneg("realtime2d", "rayleigh_beta", D::Time, "0.1 s", "stiffness-proportional Rayleigh damping (seed 003 eq 3.8)"));
-  add(q("realtime2d", "newmark_gamma", D::None, "0.5", 0.0, 1.0, false, false, "Newmark gamma (delta of seed 003 eq 3.2)"));
+  add(q("realtime2d", "newmark_gamma", D::None, "0.5", 0.5, 1.0, false, false,
+        "Newmark gamma (delta of seed 003 eq 3.2); below 1/2 the scheme amplifies every mode"));
   add(q("realtime2d", "newmark_beta", D::None, "0.25", 0.0, 1.0, true, false, "Newmark beta (seed 003 eq 3.3)"));
   add(other("realtime2d", "boundary", Kind::Choice, "held",
             "held: all sides but the entry face fixed (seed 003 section 3.5); springs: spring supports there", false, {},
@@ -274,8 +295,8 @@ std::vector<FieldDoc> build() {
   add(q("mpm", "time_step_factor", D::None, "0.4", 0.0, 1.0, true, false, "k_t of seed 000 eq 26 (time step = k_t times the eq 25 limit)"));
   add(q("mpm", "mass_scaling", D::None, "1", 1.0, 1e12, false, false,
         "factor on every particle mass (seed 000 eq 28 discussion: 1e4); the time step grows with its square root"));
-  add(q("mpm", "margin", D::None, "3", 2.0, 100.0, false, false, "grid cells beyond the tissue block on each side"));
-  add(q("mpm", "threads", D::None, "0", 0.0, 1024.0, false, false, "OpenMP threads (0 = all cores)"));
+  add(count("mpm", "margin", "3", 2.0, 100.0, "grid cells beyond the tissue block on each side"));
+  add(count("mpm", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores)"));
   add(other("mpm", "faces", Kind::Section, "exit fixed, others free", "boundary condition of each face of the block", false, "mpm_faces"));
   for (const char* f : {"entry", "exit", "y_min", "y_max", "z_min", "z_max"}) {
     const std::string k = f;
@@ -364,7 +385,7 @@ std::vector<FieldDoc> build() {
   add(nonneg("explicit_cohesive", "sleeve_radius", D::Length, "0 mm",
              "radius of the sleeve seam, between the needle's inner and outer radius; 0 = the wall's mid radius"));
   add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
-  add(q("explicit", "threads", D::None, "0", 0.0, 1024.0, false, false, "OpenMP threads (0 = all cores)"));
+  add(count("explicit", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores)"));
 
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));
@@ -383,10 +404,10 @@ std::vector<FieldDoc> build() {
             "parameter changed by each percent; latin-hypercube: samples between min and max",
             false, {}, {"grid", "list", "one-at-a-time", "latin-hypercube"}));
   add(other("study", "vary", Kind::List, "", "the fields to vary", true, "parameter"));
-  // The upper bound is study::kMaxCases.
-  add(q("study", "samples", D::None, "10", 1.0, 1e5, false, false, "number of latin-hypercube samples"));
-  add(q("study", "seed", D::None, "1", 0.0, 1e18, false, false, "random seed of the latin hypercube"));
-  add(q("study", "parallel", D::None, "0", 0.0, 1024.0, false, false, "cases run at once per process (0 = all cores)"));
+  // The upper bound of samples is study::kMaxCases.
+  add(count("study", "samples", "10", 1.0, 1e5, "number of latin-hypercube samples"));
+  add(count("study", "seed", "1", 0.0, 1e18, "random seed of the latin hypercube"));
+  add(count("study", "parallel", "0", 0.0, 1024.0, "cases run at once per process (0 = all cores)"));
   add(other("study", "directory", Kind::String, "results/<name>", "study folder: one folder per case, study.csv, report.html"));
   add(other("parameter", "field", Kind::String, "", "scenario field to vary, e.g. tissue.friction.C_p or insertion.profile[0].insert.speed", true));
   add(other("parameter", "values", Kind::List, "", "grid / list: the values, with units (e.g. [2 mm/s, 5 mm/s])"));
@@ -426,7 +447,8 @@ std::string FieldDoc::rangeText() const {
   if (!hasLo && !hasHi) return "any";
   if (hasLo && !hasHi) return fmt::format("{} {}{}", lo_open ? ">" : ">=", num(lo), unit);
   if (!hasLo && hasHi) return fmt::format("{} {}{}", hi_open ? "<" : "<=", num(hi), unit);
-  return fmt::format("{}{}, {}{}{}", lo_open ? "(" : "[", num(lo), num(hi), hi_open ? ")" : "]", unit);
+  return fmt::format("{}{}{}, {}{}{}", whole ? "a whole number in " : "", lo_open ? "(" : "[", num(lo), num(hi),
+                     hi_open ? ")" : "]", unit);
 }
 
 bool FieldDoc::inRange(double v) const {
@@ -444,6 +466,27 @@ const FieldDoc& field(const std::string& section, const std::string& key) {
   for (const auto& f : schema())
     if (f.section == section && f.key == key) return f;
   throw Error("internal: field " + section + "." + key + " is not in the schema");
+}
+
+const FieldDoc* findField(const std::string& section, const std::string& key) {
+  for (const auto& f : schema())
+    if (f.section == section && f.key == key) return &f;
+  return nullptr;
+}
+
+InputError unknownFieldError(SourceLocation where, const std::string& field_path, const std::string& key,
+                             const std::string& section) {
+  std::string allowed;
+  std::vector<std::string> known;
+  for (const auto* f : fieldsOf(section)) {
+    allowed += (allowed.empty() ? "" : ", ") + f->key;
+    known.push_back(f->key);
+  }
+  const std::string near = nearestName(key, known);
+  return InputError(std::move(where), field_path, key,
+                    "is not a known field of section '" + section + "'" +
+                        (near.empty() ? std::string() : " (did you mean '" + near + "'?)"),
+                    allowed);
 }
 
 std::vector<const FieldDoc*> fieldsOf(const std::string& section) {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/core/error.hpp"
 #include "needlesim/core/units.hpp"
 
 namespace needlesim::scenario {
@@ -22,6 +23,7 @@ struct FieldDoc {
   double lo = -std::numeric_limits<double>::infinity();
   double hi = std::numeric_limits<double>::infinity();
   bool lo_open = false, hi_open = false;  // open interval ends
+  bool whole = false;                     // Number that counts something: no fraction allowed
   std::vector<std::string> choices;       // Choice
   std::string child;                      // Section/List: section type of the child(ren)
   std::string help;
@@ -34,6 +36,11 @@ const std::vector<FieldDoc>& schema();
 // Throws needlesim::Error if the (section, key) pair is not in the schema (a programming error).
 const FieldDoc& field(const std::string& section, const std::string& key);
 std::vector<const FieldDoc*> fieldsOf(const std::string& section);
+// The field `key` of section type `section`, or nullptr when the section has no such field.
+const FieldDoc* findField(const std::string& section, const std::string& key);
+// The error for a key that section type `section` does not know, listing the keys it has.
+InputError unknownFieldError(SourceLocation where, const std::string& field_path, const std::string& key,
+                             const std::string& section);
 // The section types in the order they are documented.
 std::vector<std::string> sectionTypes();
 

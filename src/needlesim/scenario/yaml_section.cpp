@@ -102,6 +102,12 @@ units::Quantity Section::parseQuantity(const std::string& key, const FieldDoc& f
   return qv;
 }
 
+// Why a quantity field refuses a dimensionless value: no unit at all, or a fraction ("55 %").
+static std::string noUnitProblem(const units::Quantity& qv) {
+  if (qv.unit.empty()) return "has no unit";
+  return "has the unit '" + qv.unit + "', which is a fraction (a plain number), not a unit of this field";
+}
+
 double Section::number(const std::string& key) {
   auto v = optNumber(key);
   if (!v) {
@@ -142,7 +148,7 @@ std::optional<double> Section::optNumber(const std::string& key) {
                   units::examples(f.dim));
   if (f.kind == Kind::Quantity) {
     if (qv.dim == units::dim::None)
-      throw errorAt(n, fieldPath(key), text, "has no unit",
+      throw errorAt(n, fieldPath(key), text, noUnitProblem(qv),
                     "a number with a unit of " + units::siName(f.dim) + ", e.g. " + units::examples(f.dim));
     if (!(qv.dim == f.dim))
       throw errorAt(n, fieldPath(key), text,
@@ -159,6 +165,8 @@ std::optional<double> Section::optNumber(const std::string& key) {
                       ? fmt::format("is out of range ({:g} {} in SI)", qv.value, units::siName(f.dim))
                       : fmt::format("is out of range ({:g})", qv.value),
                   f.rangeText());
+  if (f.whole && qv.value != std::floor(qv.value))
+    throw errorAt(n, fieldPath(key), text, "must be a whole number (it counts something)", f.rangeText());
   rememberNumber(key, f, qv.value);
   return qv.value;
 }
@@ -178,7 +186,7 @@ units::Quantity Section::lengthOrGauge(const std::string& key) {
     return qv;
   }
   if (qv.dim == units::dim::None)
-    throw errorAt(n, fieldPath(key), n.Scalar(), "has no unit", "a length such as 1.27 mm, or a gauge such as 18 G");
+    throw errorAt(n, fieldPath(key), n.Scalar(), noUnitProblem(qv), "a length such as 1.27 mm, or a gauge such as 18 G");
   if (!(qv.dim == units::dim::Length))
     throw errorAt(n, fieldPath(key), n.Scalar(), "has the wrong unit", "a length (m, mm) or a gauge (G)");
   if (!f.inRange(qv.value)) throw errorAt(n, fieldPath(key), n.Scalar(), "is out of range", f.rangeText());
@@ -274,12 +282,7 @@ Section Section::element(const YAML::Node& node, const std::string& key, std::si
 void Section::checkKeys() const {
   for (auto it = node_.begin(); it != node_.end(); ++it) {
     std::string k = it->first.as<std::string>();
-    bool known = false;
-    for (const auto* f : fieldsOf(type_)) known = known || f->key == k;
-    if (known) continue;
-    std::string allowed;
-    for (const auto* f : fieldsOf(type_)) allowed += (allowed.empty() ? "" : ", ") + f->key;
-    throw errorAt(it->first, fieldPath(k), k, "is not a known field of section '" + type_ + "'", allowed);
+    if (!findField(type_, k)) throw unknownFieldError(location(it->first), fieldPath(k), k, type_);
   }
 }
 

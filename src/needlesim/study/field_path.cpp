@@ -6,7 +6,6 @@
 #include <charconv>
 
 #include "needlesim/core/nearest_name.hpp"
-#include "needlesim/core/printable.hpp"
 #include "needlesim/scenario/schema.hpp"
 
 namespace needlesim::study {
@@ -51,7 +50,7 @@ class PathScanner {
     throw FieldPathError(pos_ + 1, badPart() + " " + problem, allowed);
   }
   [[noreturn]] void failAtCharacter(const std::string& problem, const std::string& allowed) const {
-    throw FieldPathError(pos_ + 1, "'" + printableText(p_.substr(pos_, 1)) + "' " + problem, allowed);
+    throw FieldPathError(pos_ + 1, "'" + printable(p_.substr(pos_, 1)) + "' " + problem, allowed);
   }
 
   // The text from the bad character up to the next separator, quoted (or "the end").
@@ -60,7 +59,7 @@ class PathScanner {
     std::size_t end = pos_ + 1;
     while (end < p_.size() && end - pos_ < 20 && std::string(".[]").find(p_[end]) == std::string::npos)
       ++end;
-    return "'" + printableText(p_.substr(pos_, end - pos_)) + "'";
+    return "'" + printable(p_.substr(pos_, end - pos_)) + "'";
   }
 
   PathStep step() {
@@ -85,7 +84,7 @@ class PathScanner {
     if (pos_ == begin) fail("is not an index", "a whole number 0, 1, 2, ... (no sign, no name) inside [ ]");
     std::size_t value = 0;
     if (std::from_chars(p_.data() + begin, p_.data() + pos_, value).ec != std::errc())
-      throw FieldPathError(begin + 1, fmt::format("index {} is too large", printableText(p_.substr(begin, pos_ - begin))),
+      throw FieldPathError(begin + 1, fmt::format("index {} is too large", printable(p_.substr(begin, pos_ - begin))),
                            "an index below the list's length");
     if (pos_ == p_.size() || p_[pos_] != ']') fail("follows the index where ']' must close it", "digits 0-9, then ]");
     ++pos_;
@@ -114,7 +113,7 @@ const scenario::FieldDoc& schemaField(const std::string& type, const PathStep& s
   for (const auto* f : fields) names.push_back(f->key);
   std::string near = nearestName(st.key, names);
   throw FieldPathError(st.key_position,
-                       fmt::format("'{}' is not a field of section '{}'{}", printableText(st.key), type,
+                       fmt::format("'{}' is not a field of section '{}'{}", printable(st.key), type,
                                    near.empty() ? "" : " (did you mean '" + near + "'?)"),
                        joinKeys(fields));
 }
@@ -154,7 +153,7 @@ std::vector<PathStep> parseScenarioFieldPath(const std::string& path) {
 
 InputError fieldPathInputError(const FieldPathError& e, SourceLocation where, const std::string& field,
                                const std::string& path) {
-  return InputError(std::move(where), field, printableText(path),
+  return InputError(std::move(where), field, path,
                     fmt::format("is not a field path of the scenario: at character {}, {}", e.position(), e.problem()),
                     e.allowed());
 }

@@ -5,10 +5,12 @@
 #include <cmath>
 #include <fstream>
 #include <set>
+#include <optional>
 #include <sstream>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "needlesim/scenario/yaml_document.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 #include "needlesim/study/field_path.hpp"
 #include "needlesim/study/samplers.hpp"
@@ -20,14 +22,7 @@ using scenario::Section;
 
 namespace {
 
-std::string readAll(const fs::path& p, const std::string& what) {
-  if (fs::is_directory(p)) throw InputError(SourceLocation{p.string(), 0, 0}, "", "", "is a folder", what);
-  std::ifstream in(p, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{p.string(), 0, 0}, "", "", "cannot be opened (missing or unreadable)", what);
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
-}
+const std::string kStudyFile = "a study file (see docs/studies.md)";
 
 std::vector<std::string> scalarList(Section& s, const std::string& key) {
   std::vector<std::string> out;
@@ -70,6 +65,42 @@ YAML::Node nodeAt(YAML::Node root, const std::string& path) {
     }
   }
   return n;
+}
+
+// A copy of the container `n` whose entries are the same nodes as n's, except `replacement`
+// at step's key (a map) or index (a sequence): nothing reached from `n` is changed.
+YAML::Node copyWith(const YAML::Node& n, const std::string& key, std::optional<std::size_t> index,
+                    const YAML::Node& replacement) {
+  if (index) {
+    YAML::Node seq(YAML::NodeType::Sequence);
+    for (std::size_t i = 0; i < n.size(); ++i) seq.push_back(i == *index ? replacement : n[i]);
+    return seq;
+  }
+  YAML::Node map(YAML::NodeType::Map);
+  bool replaced = false;
+  if (n.IsMap())
+    for (const auto& kv : n) {
+      const bool here = kv.first.IsScalar() && kv.first.Scalar() == key;
+      map.force_insert(kv.first, here ? replacement : kv.second);
+      replaced = replaced || here;
+    }
+  if (!replaced) map.force_insert(key, replacement);
+  return map;
+}
+
+// `at` with the field at steps[i..] set to `value`. The containers on the path are copied, not
+// edited: an anchor's node may appear in several places (`friction: *f`), and an edit of one
+// path must leave the others as they are.
+YAML::Node withValueAlone(const YAML::Node& at, const std::vector<PathStep>& steps, std::size_t i,
+                          const std::string& value) {
+  if (i == steps.size()) return YAML::Node(value);
+  const PathStep& st = steps[i];
+  YAML::Node child;  // a missing section is made on the way
+  if (at.IsMap() && at[st.key]) child = at[st.key];
+  if (!st.index) return copyWith(at, st.key, std::nullopt, withValueAlone(child, steps, i + 1, value));
+  const YAML::Node entry = child[*st.index];
+  const YAML::Node list = copyWith(child, st.key, st.index, withValueAlone(entry, steps, i + 1, value));
+  return copyWith(at, st.key, std::nullopt, list);
 }
 
 // A count field (samples): a whole number.
@@ -124,23 +155,22 @@ Method methodOf(const std::string& m) {
 
 bool isStudyFile(const fs::path& path) {
   try {
-    YAML::Node root = YAML::LoadFile(path.string());
-    return root.IsMap() && root["vary"] && root["scenario"];
+    // A scenario's own sections end the search early, and so do more keys than a study has
+    // (the reader then names the first unknown one).
+    const auto keys =
+        scenario::topLevelKeys(scenario::readYamlFile(path, kStudyFile), {"tissue", "needle", "insertion"}, 100);
+    return keys.count("vary") && keys.count("scenario") && !keys.count("tissue") && !keys.count("needle") &&
+           !keys.count("insertion");
   } catch (const std::exception&) {
-    return false;  // not readable as YAML: the scenario reader reports why
+    return false;  // not a readable YAML document: the scenario reader reports why
   }
 }
 
 StudySpec readStudyFile(const fs::path& path) {
-  std::string text = readAll(path, "a readable study file");
+  if (fs::is_directory(path)) throw InputError(SourceLocation{path.string(), 0, 0}, "", "", "is a folder", kStudyFile);
   auto file = std::make_shared<const std::string>(path.string());
-  YAML::Node root;
-  try {
-    root = YAML::Load(text);
-  } catch (const YAML::Exception& e) {
-    throw InputError(SourceLocation{path.string(), e.mark.line + 1, e.mark.column + 1}, "", "",
-                     "is not valid YAML: " + e.msg, "a study (see docs/studies.md)");
-  }
+  YAML::Node root =
+      scenario::loadYamlDocument(scenario::readYamlFile(path, kStudyFile), path.string(), kStudyFile, "study");
   if (!root || root.IsNull())
     throw InputError(SourceLocation{path.string(), 0, 0}, "", "", "is empty", "a study with scenario and vary");
   Section top(root, "study", "", file);
@@ -227,8 +257,8 @@ void checkFieldPath(const std::string& baseYaml, const std::string& path) { node
 std::string caseYaml(const std::string& baseYaml, const Case& c) {
   YAML::Node root = YAML::Load(baseYaml);
   for (const auto& [field, value] : c.assignments) {
-    YAML::Node n = nodeAt(root, field);
-    n = value;
+    nodeAt(YAML::Clone(root), field);  // refuses a path the scenario cannot hold
+    root = withValueAlone(root, parseScenarioFieldPath(field), 0, value);
   }
   YAML::Emitter out;
   out << root;
@@ -251,12 +281,9 @@ static std::string siText(double v, const units::Dim& d) {
 namespace {
 
 YAML::Node loadBase(const StudySpec& spec, const std::string& baseYaml) {
-  try {
-    return YAML::Load(baseYaml);
-  } catch (const YAML::Exception& e) {
-    throw InputError(SourceLocation{spec.scenario_file.string(), e.mark.line + 1, e.mark.column + 1}, "", "",
-                     "is not valid YAML: " + e.msg, "a scenario (see docs/scenario-format.md)");
-  }
+  // The base file's own problems (a key given twice, a tag, not UTF-8) are named at its lines.
+  return scenario::loadYamlDocument(baseYaml, spec.scenario_file.string(), "a scenario file (see docs/scenario-format.md)",
+                                    "scenario");
 }
 
 // Every field path must lead to a place in the base scenario (list entries it writes).
