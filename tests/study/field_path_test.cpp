@@ -137,7 +137,7 @@ TEST(StudyFieldPath, GrammarErrorsNameThePositionAndWhatIsAllowed) {
   e = pathError("");
   expectHas(e.what(), {"the path is empty"});
   e = pathError("tissue.\x1b[2Jfriction");
-  expectHas(e.what(), {"\\x1B"});  // a control byte is escaped, never echoed
+  expectHas(e.what(), {"\\x1b"});  // a control byte is escaped, never echoed
 }
 
 TEST(StudyFieldPath, SchemaErrorsNameTheNearestKeyAndTheKeysAllowed) {
@@ -188,7 +188,7 @@ TEST(StudyFieldPath, ScenarioOrStudyThatIsAFolderIsNamed) {
   fs::create_directories(dir / "scen");
   std::ofstream(dir / "study.yaml") << "scenario: scen\nvary:\n  - {field: tissue.friction.C_p, values: [3 N/m]}\n";
   expectHas(studyError(dir / "study.yaml"), {"study.yaml:1:", "scenario", "is a folder", "give a scenario file"});
-  expectHas(studyError(dir / "scen"), {"scen", "is a folder", "a readable study file"});
+  expectHas(studyError(dir / "scen"), {"scen", "is a folder", "a study file"});
 }
 
 TEST(StudyFieldPath, CaseCountIsBounded) {
