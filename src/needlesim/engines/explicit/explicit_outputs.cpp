@@ -363,7 +363,7 @@ void ExplicitRun::reportNotes(const std::string& status) {
   else if (!cohesive_)
     sink_.note("No pre-cut seam (an imported mesh, an oblique entry or a rotated bevel): the needle indents the tissue.");
   if (ratioMax_ > 0.1)
-    sink_.note("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static; lower the mass "
+    sink_.warning("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static; lower the mass "
                "scaling or the speed.");
   sink_.note("Status: " + status);
 }
