@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
@@ -75,8 +76,9 @@ void printResults(const RunOutcome& outcome, const RunArgs& args, const io::Chec
   fmt::print("results: {}/ (summary.json, report.html, CSV time series)\n", outcome.folder.string());
 }
 
-void runCommand(const RunArgs& args) {
-  Scenario sc = args.file.empty() ? scenario::defaultScenario() : scenario::readFile(args.file);
+// The checked target the results go to (before the run: InputError for a path
+// that cannot be written or is in use) and its checkpoint folder.
+std::pair<fs::path, fs::path> resolveTarget(const RunArgs& args, const Scenario& sc) {
   Target target = chooseTarget(args, sc);
   // The checkpoint belongs to the target as named (for the automatic one,
   // results/<name>, whichever free -2, -3 ... name the results then get).
@@ -87,6 +89,12 @@ void runCommand(const RunArgs& args) {
   else if (fs::exists(target.path) && !args.overwrite)
     throw InputError(SourceLocation{}, target.field, target.path.string(), "results folder already exists",
                      "a new folder, or --overwrite to replace it");
+  return {target.path, ckFolder};
+}
+
+void runCommand(const RunArgs& args) {
+  Scenario sc = args.file.empty() ? scenario::defaultScenario() : scenario::readFile(args.file);
+  const auto [targetPath, ckFolder] = resolveTarget(args, sc);
   const EngineInfo* engine = findEngine(sc.model.engine);
   const bool checkpoints = engine && engine->checkpoints && sc.output.checkpoint_interval > 0;
   if (args.resume && !(engine && engine->checkpoints))
@@ -96,7 +104,7 @@ void runCommand(const RunArgs& args) {
   io::Checkpoint checkpoint({ckFolder, io::scenarioFingerprint(sc), sc.output.checkpoint_interval, 0, args.resume,
                              !args.quiet});
   if (args.resume) checkpoint.check(sc.model.engine);
-  io::removeStaleStages(target.path.parent_path().empty() ? fs::path(".") : target.path.parent_path());
+  io::removeStaleStages(targetPath.parent_path().empty() ? fs::path(".") : targetPath.parent_path());
   if (!args.quiet)
     fmt::print("needlesim: {} '{}' ({}) with engine '{}'\n", args.resume ? "resuming" : "running", sc.name, sc.source,
                sc.model.engine);
@@ -106,10 +114,10 @@ void runCommand(const RunArgs& args) {
   if (checkpoints || args.resume) opts.checkpoint = &checkpoint;
   installStopHandlers();
   try {
-    const RunOutcome outcome = runScenario(sc, target.path, args.overwrite, opts);
+    const RunOutcome outcome = runScenario(sc, targetPath, args.overwrite, opts);
     if (!args.quiet) printResults(outcome, args, checkpoint, ckFolder);
   } catch (const RunInterrupted& e) {
-    throw RunInterrupted(e.what() + afterInterruption(args, target.path, ckFolder), e.signal());
+    throw RunInterrupted(e.what() + afterInterruption(args, targetPath, ckFolder), e.signal());
   }
 }
 }  // namespace

@@ -11,6 +11,7 @@
 #include <nlohmann/json.hpp>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/io/results_folder.hpp"
@@ -198,4 +199,13 @@ TEST(ResultsFolder, OnlyAFolderWithANeedlesimSummaryIsAResultsFolder) {
     EXPECT_THROW(folder.commit(true, 0.1), Error);  // --overwrite does not reach a user's folder
   }
   EXPECT_TRUE(fs::exists(d / "thesis" / "thesis.tex"));
+}
+
+TEST(MemorySink, KeepsWarningsApartFromNotes) {
+  MemorySink sink;
+  ResultSink& asSink = sink;
+  asSink.note("a note");
+  asSink.warning("the run was not quasi-static");
+  EXPECT_EQ(sink.notes, std::vector<std::string>{"a note"});
+  EXPECT_EQ(sink.warnings, std::vector<std::string>{"the run was not quasi-static"});
 }
