@@ -62,8 +62,10 @@ std::string afterInterruption(const RunArgs& args, const fs::path& target, const
   std::string msg = "; nothing was written to " + target.string();
   if (!io::isCheckpointFolder(ckFolder) || !fs::exists(ckFolder / "state.bin"))
     return msg + " and nothing else was kept: run it again for results";
-  return msg + fmt::format("; the checkpoint {} is kept: continue with needlesim run {}--out {} --resume",
-                           ckFolder.string(), args.file.empty() ? "" : args.file + " ", target.string());
+  std::string again = "needlesim run";
+  if (!args.file.empty()) again += " " + args.file;
+  if (!args.out.empty()) again += " --out " + target.string();  // else the scenario names the same target again
+  return msg + fmt::format("; the checkpoint {} is kept: continue with {} --resume", ckFolder.string(), again);
 }
 
 void printResults(const RunOutcome& outcome, const RunArgs& args, const io::Checkpoint& checkpoint,
