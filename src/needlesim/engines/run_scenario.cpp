@@ -42,7 +42,7 @@ RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, 
     throw;
   } catch (const RunInterrupted&) {
     throw;
-  } catch (const Error& e) {  // a file that could not be written: nothing is committed
+  } catch (const Error& e) {  // a file that could not be written, a set-up that failed: nothing is committed
     throw Error(std::string(e.what()) + "; the run is not committed (no results folder " + folder.target().string() +
                 ")");
   }
