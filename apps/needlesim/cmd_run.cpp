@@ -6,6 +6,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <utility>
 
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
@@ -19,6 +20,8 @@
 namespace needlesim::app {
 
 namespace {
+namespace fs = std::filesystem;
+
 struct RunArgs {
   std::string file;
   std::string out;
@@ -26,6 +29,99 @@ struct RunArgs {
   bool quiet = false;
   bool resume = false;
 };
+
+// Where the results go and which input named it (for messages).
+struct Target {
+  fs::path path;
+  std::string field;  // "--out" or "output.directory"; empty for the automatic results/<name>
+};
+
+Target chooseTarget(const RunArgs& args, const Scenario& sc) {
+  if (!args.out.empty()) return {io::outputPath(args.out, "--out"), "--out"};
+  if (!sc.output.directory.empty()) return {io::outputPath(sc.output.directory, "output.directory"), "output.directory"};
+  return {fs::path("results") / sc.name, ""};
+}
+
+// A fresh run over the checkpoint of an interrupted one: only with --overwrite,
+// and only a folder needlesim wrote as a checkpoint is deleted.
+void clearCheckpointInTheWay(const fs::path& ckFolder, bool overwrite) {
+  if (!overwrite)
+    throw InputError(SourceLocation{ckFolder.string(), 0, 0}, "", "",
+                     "the checkpoint of an interrupted run of this scenario is in the way",
+                     "needlesim run --resume to continue it, or --overwrite (or deleting the folder) to start afresh");
+  if (!io::isCheckpointFolder(ckFolder))
+    throw InputError(SourceLocation{}, "--overwrite", ckFolder.string(),
+                     "is " + io::describeContents(ckFolder) + ", not a needlesim checkpoint folder; it is not deleted",
+                     "--overwrite deletes only a checkpoint folder needlesim wrote (state.bin and .h5 copies); move "
+                     "it away or choose another --out");
+  fs::remove_all(ckFolder);
+}
+
+// What an interrupted run leaves and how to go on, for the error line.
+std::string afterInterruption(const RunArgs& args, const fs::path& target, const fs::path& ckFolder) {
+  std::string msg = "; nothing was written to " + target.string();
+  if (!io::isCheckpointFolder(ckFolder) || !fs::exists(ckFolder / "state.bin"))
+    return msg + " and nothing else was kept: run it again for results";
+  std::string again = "needlesim run";
+  if (!args.file.empty()) again += " " + args.file;
+  if (!args.out.empty()) again += " --out " + target.string();  // else the scenario names the same target again
+  return msg + fmt::format("; the checkpoint {} is kept: continue with {} --resume", ckFolder.string(), again);
+}
+
+void printResults(const RunOutcome& outcome, const RunArgs& args, const io::Checkpoint& checkpoint,
+                  const fs::path& ckFolder) {
+  for (const auto& r : outcome.results)
+    fmt::print("  {:<24} {:>12.6g} {:<6} {}\n", r.key, r.value, r.unit == "1" ? "" : r.unit, r.meaning);
+  if (args.resume)
+    fmt::print("resumed from t = {:.6g} s (step {}) of {}\n", checkpoint.resumedTime(), checkpoint.resumedSteps(),
+               ckFolder.string());
+  fmt::print("results: {}/ (summary.json, report.html, CSV time series)\n", outcome.folder.string());
+}
+
+// The checked target the results go to (before the run: InputError for a path
+// that cannot be written or is in use) and its checkpoint folder.
+std::pair<fs::path, fs::path> resolveTarget(const RunArgs& args, const Scenario& sc) {
+  Target target = chooseTarget(args, sc);
+  // The checkpoint belongs to the target as named (for the automatic one,
+  // results/<name>, whichever free -2, -3 ... name the results then get).
+  const fs::path ckFolder = io::Checkpoint::folderFor(target.path);
+  io::checkOutputTarget(target.path, target.field.empty() ? "name" : target.field, sc.source,
+                        args.overwrite && !target.field.empty());
+  if (target.field.empty()) target.path = io::freeResultsPath(target.path);
+  else if (fs::exists(target.path) && !args.overwrite)
+    throw InputError(SourceLocation{}, target.field, target.path.string(), "results folder already exists",
+                     "a new folder, or --overwrite to replace it");
+  return {target.path, ckFolder};
+}
+
+void runCommand(const RunArgs& args) {
+  Scenario sc = args.file.empty() ? scenario::defaultScenario() : scenario::readFile(args.file);
+  const auto [targetPath, ckFolder] = resolveTarget(args, sc);
+  const EngineInfo* engine = findEngine(sc.model.engine);
+  const bool checkpoints = engine && engine->checkpoints && sc.output.checkpoint_interval > 0;
+  if (args.resume && !(engine && engine->checkpoints))
+    throw InputError(SourceLocation{sc.source, 0, 0}, "--resume", sc.model.engine,
+                     "this engine does not write checkpoints, so there is nothing to resume", "engine mpm");
+  if (!args.resume && checkpoints && fs::exists(ckFolder)) clearCheckpointInTheWay(ckFolder, args.overwrite);
+  io::Checkpoint checkpoint({ckFolder, io::scenarioFingerprint(sc), sc.output.checkpoint_interval, 0, args.resume,
+                             !args.quiet});
+  if (args.resume) checkpoint.check(sc.model.engine);
+  io::removeStaleStages(targetPath.parent_path().empty() ? fs::path(".") : targetPath.parent_path());
+  if (!args.quiet)
+    fmt::print("needlesim: {} '{}' ({}) with engine '{}'\n", args.resume ? "resuming" : "running", sc.name, sc.source,
+               sc.model.engine);
+  RunOptions opts;
+  opts.progress = !args.quiet;
+  opts.printWarnings = !args.quiet;
+  if (checkpoints || args.resume) opts.checkpoint = &checkpoint;
+  installStopHandlers();
+  try {
+    const RunOutcome outcome = runScenario(sc, targetPath, args.overwrite, opts);
+    if (!args.quiet) printResults(outcome, args, checkpoint, ckFolder);
+  } catch (const RunInterrupted& e) {
+    throw RunInterrupted(e.what() + afterInterruption(args, targetPath, ckFolder), e.signal());
+  }
+}
 }  // namespace
 
 void registerRunCommand(CLI::App& app) {
@@ -33,61 +129,13 @@ void registerRunCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("run", "Run a scenario (the built-in default when no file is given)");
   cmd->add_option("scenario", args->file, "scenario file (YAML); omit for the built-in default");
   cmd->add_option("-o,--out", args->out, "results folder (default: output.directory, else results/<name>)");
-  cmd->add_flag("--overwrite", args->overwrite, "replace an existing results folder once the new one is complete");
-  cmd->add_flag("-q,--quiet", args->quiet, "no progress and no summary on the terminal");
+  cmd->add_flag("--overwrite", args->overwrite,
+                "replace an existing needlesim results folder once the new one is complete (nothing else is deleted)");
+  cmd->add_flag("-q,--quiet", args->quiet, "no progress, warnings or summary on the terminal");
   cmd->add_flag("--resume", args->resume,
                 "continue an interrupted run from its checkpoint (<results folder>.checkpoint, written every "
-                "output.checkpoint_interval)");
-  cmd->callback([args] {
-    Scenario sc = args->file.empty() ? scenario::defaultScenario() : scenario::readFile(args->file);
-    namespace fs = std::filesystem;
-    fs::path target;
-    bool explicitTarget = true;
-    if (!args->out.empty()) target = args->out;
-    else if (!sc.output.directory.empty()) target = sc.output.directory;
-    else {
-      target = fs::path("results") / sc.name;
-      explicitTarget = false;
-    }
-    // The checkpoint belongs to the target as named (for the automatic one,
-    // results/<name>, whichever free -2, -3 ... name the results then get).
-    const fs::path ckFolder = io::Checkpoint::folderFor(target);
-    if (!explicitTarget) target = io::freeResultsPath(target);
-    else if (fs::exists(target) && !args->overwrite)
-      throw InputError(SourceLocation{}, "--out", target.string(), "results folder already exists",
-                       "a new folder, or --overwrite to replace it");
-    const EngineInfo* engine = findEngine(sc.model.engine);
-    const bool checkpoints = engine && engine->checkpoints && sc.output.checkpoint_interval > 0;
-    if (args->resume && !(engine && engine->checkpoints))
-      throw InputError(SourceLocation{sc.source, 0, 0}, "--resume", sc.model.engine,
-                       "this engine does not write checkpoints, so there is nothing to resume", "engine mpm");
-    if (!args->resume && checkpoints && fs::exists(ckFolder)) {
-      if (!args->overwrite)
-        throw InputError(SourceLocation{ckFolder.string(), 0, 0}, "", "",
-                         "the checkpoint of an interrupted run of this scenario is in the way",
-                         "needlesim run --resume to continue it, or --overwrite (or deleting the folder) to start afresh");
-      fs::remove_all(ckFolder);
-    }
-    io::Checkpoint checkpoint({ckFolder, io::scenarioFingerprint(sc), sc.output.checkpoint_interval, 0, args->resume,
-                               !args->quiet});
-    if (args->resume) checkpoint.check(sc.model.engine);
-    if (!args->quiet)
-      fmt::print("needlesim: {} '{}' ({}) with engine '{}'\n", args->resume ? "resuming" : "running", sc.name,
-                 sc.source, sc.model.engine);
-    RunOptions opts;
-    opts.progress = !args->quiet;
-    if (checkpoints || args->resume) opts.checkpoint = &checkpoint;
-    RunOutcome outcome = runScenario(sc, target, args->overwrite, opts);
-    if (args->resume) io::removeAbandonedStages(target);  // what the killed run had staged
-    if (!args->quiet) {
-      for (const auto& r : outcome.results)
-        fmt::print("  {:<24} {:>12.6g} {:<6} {}\n", r.key, r.value, r.unit == "1" ? "" : r.unit, r.meaning);
-      if (args->resume)
-        fmt::print("resumed from t = {:.6g} s (step {}) of {}\n", checkpoint.resumedTime(), checkpoint.resumedSteps(),
-                   ckFolder.string());
-      fmt::print("results: {}/ (summary.json, report.html, CSV time series)\n", target.string());
-    }
-  });
+                "output.checkpoint_interval and when stopped with Ctrl-C)");
+  cmd->callback([args] { runCommand(*args); });
 }
 
 void registerCheckCommand(CLI::App& app) {

@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
 #include "needlesim/core/version.hpp"
 
 int main(int argc, char** argv) {
@@ -27,6 +28,9 @@ int main(int argc, char** argv) {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
     return app.exit(e);
+  } catch (const needlesim::RunInterrupted& e) {
+    fmt::print(stderr, "stopped: {}\n", e.what());
+    return e.signal() > 0 ? 128 + e.signal() : 1;  // 130 for Ctrl-C, 143 for SIGTERM, as a shell reports them
   } catch (const needlesim::InputError& e) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 2;

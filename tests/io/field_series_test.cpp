@@ -1,11 +1,18 @@
 #include <gtest/gtest.h>
 #include <hdf5.h>
 
+#include <sys/resource.h>
+#include <sys/wait.h>
+
+#include <csignal>
 #include <filesystem>
 #include <fstream>
+#include <functional>
 #include <nlohmann/json.hpp>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/io/results_folder.hpp"
 #include "needlesim/scenario/reader.hpp"
@@ -90,4 +97,115 @@ TEST(ResultsFolder, AStoppedRunKeepsItsResultsMarkedAsStopped) {
   EXPECT_TRUE(fs::exists(d / "run" / "tissue.h5"));
   // No staging folder is left behind.
   for (auto& e : fs::directory_iterator(d)) EXPECT_EQ(e.path().filename(), "run");
+}
+
+namespace {
+// Runs `body` in a child process whose files may grow to `limit` bytes (a full
+// disk: writes past it fail with EFBIG, SIGXFSZ ignored). The child ends with
+// exit(), so HDF5's and the C library's exit-time clean-up run as in needlesim.
+// Returns the child's exit code, or -signal when a signal ended it.
+int withFileSizeLimit(rlim_t limit, const std::function<int()>& body) {
+  const pid_t child = fork();
+  if (child == 0) {
+    std::signal(SIGXFSZ, SIG_IGN);
+    rlimit lim{limit, limit};
+    setrlimit(RLIMIT_FSIZE, &lim);
+    std::exit(body());
+  }
+  int status = 0;
+  waitpid(child, &status, 0);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status);
+}
+
+// Status of a write that had to fail: 0 when it threw an Error whose message names `file`
+// and says "disk full / write failed", 1 when it did not throw, 2 for another message.
+int expectWriteFailure(const std::string& file, const std::function<void()>& write) {
+  try {
+    write();
+  } catch (const Error& e) {
+    const std::string m = e.what();
+    return m.find(file) != std::string::npos && m.find("disk full / write failed: File too large") != std::string::npos
+               ? 0
+               : 2;
+  }
+  return 1;
+}
+}  // namespace
+
+TEST(FieldSeries, AFullDiskIsAnErrorNamingTheFileWithoutACrashAtExit) {
+  fs::path d = scratch("full");
+  const int code = withFileSizeLimit(64 * 1024, [&] {
+    return expectWriteFailure("particles.h5", [&] {
+      io::FieldSeries fsr(d / "particles.h5", d / "particles.xdmf", 3);
+      std::vector<double> points(3 * 1000, 0.5);
+      fsr.setMesh(points, io::CellType::Points, {});
+      for (int k = 0; k < 100; ++k) {
+        fsr.beginStep(k * 0.1);
+        fsr.stepPoints(points);
+        fsr.endStep();
+      }
+      fsr.close();
+    });
+  });
+  EXPECT_EQ(code, 0) << "1: no error raised, 2: another message, < 0: killed by signal " << -code;
+}
+
+TEST(AtomicFile, AFullDiskIsAnErrorNamingTheFileAndLeavesNoTemporary) {
+  fs::path d = scratch("atomic_full");
+  const int code = withFileSizeLimit(1024, [&] {
+    return expectWriteFailure("forces.csv", [&] { io::writeFileAtomic(d / "forces.csv", std::string(4096, 'x')); });
+  });
+  EXPECT_EQ(code, 0) << "1: no error raised, 2: another message, < 0: killed by signal " << -code;
+  EXPECT_TRUE(fs::is_empty(d));
+}
+
+TEST(ResultsFolder, WarningsGoToSummaryAndTheTopOfTheReport) {
+  fs::path d = scratch("warnings");
+  Scenario sc = scenario::defaultScenario();
+  {
+    io::ResultsFolder folder(sc, d / "run");
+    folder.note("an ordinary note");
+    folder.warning("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static <x>");
+    folder.commit(false, 0.1);
+  }
+  nlohmann::json s = nlohmann::json::parse(std::ifstream(d / "run" / "summary.json"));
+  ASSERT_EQ(s["warnings"].size(), 1u);
+  EXPECT_NE(s["warnings"][0].get<std::string>().find("not quasi-static"), std::string::npos);
+  EXPECT_EQ(s["notes"].size(), 1u);
+  std::ifstream in(d / "run" / "report.html");
+  const std::string html((std::istreambuf_iterator<char>(in)), {});
+  const auto box = html.find("<div class=\"warnings\"");
+  ASSERT_NE(box, std::string::npos);
+  EXPECT_LT(box, html.find("<table>"));  // above the results
+  EXPECT_NE(html.find("not quasi-static &lt;x&gt;", box), std::string::npos);
+}
+
+TEST(ResultsFolder, OnlyAFolderWithANeedlesimSummaryIsAResultsFolder) {
+  fs::path d = scratch("kinds");
+  Scenario sc = scenario::defaultScenario();
+  {
+    io::ResultsFolder folder(sc, d / "run/");  // a trailing separator names the same folder
+    EXPECT_EQ(folder.target(), d / "run");
+    folder.commit(false, 0.1);
+  }
+  EXPECT_TRUE(io::isResultsFolder(d / "run"));
+  fs::create_directories(d / "thesis");
+  std::ofstream(d / "thesis" / "thesis.tex") << "\\documentclass{report}";
+  std::ofstream(d / "thesis" / "summary.json") << "{\"status\": \"draft\"}";  // not needlesim's
+  EXPECT_FALSE(io::isResultsFolder(d / "thesis"));
+  EXPECT_EQ(io::describeContents(d / "thesis"), "a folder holding summary.json, thesis.tex");
+  {
+    io::ResultsFolder folder(sc, d / "thesis");
+    EXPECT_THROW(folder.commit(true, 0.1), Error);  // --overwrite does not reach a user's folder
+  }
+  EXPECT_TRUE(fs::exists(d / "thesis" / "thesis.tex"));
+}
+
+TEST(MemorySink, KeepsWarningsApartFromNotes) {
+  MemorySink sink;
+  ResultSink& asSink = sink;
+  asSink.note("a note");
+  asSink.warning("the run was not quasi-static");
+  EXPECT_EQ(sink.notes, std::vector<std::string>{"a note"});
+  EXPECT_EQ(sink.warnings, std::vector<std::string>{"the run was not quasi-static"});
 }

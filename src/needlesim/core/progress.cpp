@@ -4,9 +4,46 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
+#include <csignal>
 #include <cstdio>
+#include <cstring>
 
 namespace needlesim {
+
+namespace {
+std::atomic<int> gStopSignal{0};
+static_assert(std::atomic<int>::is_always_lock_free, "the stop flag is set from a signal handler");
+
+extern "C" void onStopSignal(int signal) {
+  if (gStopSignal.load() == signal) {  // asked twice: stop now, as without the handler
+    std::signal(signal, SIG_DFL);
+    std::raise(signal);
+    return;
+  }
+  gStopSignal.store(signal);
+}
+}  // namespace
+
+void installStopHandlers() {
+  struct sigaction sa {};
+  sa.sa_handler = onStopSignal;
+  sigemptyset(&sa.sa_mask);
+  sa.sa_flags = SA_RESTART;  // system calls (file writes) go on
+  for (int s : {SIGINT, SIGTERM}) sigaction(s, &sa, nullptr);
+}
+
+bool stopRequested() { return gStopSignal.load(std::memory_order_relaxed) != 0; }
+int stopSignal() { return gStopSignal.load(); }
+void requestStop(int signal) { gStopSignal.store(signal); }
+void clearStopRequest() { gStopSignal.store(0); }
+
+void throwIfStopRequested(const std::string& what) {
+  const int s = stopSignal();
+  if (s == 0) return;
+  const char* name = s == SIGINT ? "SIGINT (Ctrl-C)" : s == SIGTERM ? "SIGTERM" : strsignal(s);
+  throw RunInterrupted(fmt::format("{}: interrupted by {}", what, name), s);
+}
 
 bool Progress::stderrIsTerminal() { return isatty(fileno(stderr)) != 0; }
 
@@ -19,6 +56,10 @@ Progress::Progress(std::string label, bool enabled)
 Progress::~Progress() { finish(); }
 
 void Progress::update(double fraction, const std::string& detail) {
+  if (stopRequested()) {
+    finish();
+    throwIfStopRequested(label_);
+  }
   if (!enabled_) return;
   auto now = std::chrono::steady_clock::now();
   if (drawn_ && now - last_ < std::chrono::milliseconds(100)) return;

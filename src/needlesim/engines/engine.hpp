@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"  // RunInterrupted
 #include "needlesim/io/html_report.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/scenario/scenario.hpp"
@@ -26,6 +27,11 @@ class ResultSink {
                       const std::string& meaning) = 0;
   virtual void plot(io::Plot plot) = 0;
   virtual void note(const std::string& text) = 0;
+  // Something the user must see: the results may not mean what they seem
+  // (not quasi-static, energy balance off, values clipped, stopped early).
+  // A results folder prints it at once and lists it in summary.json
+  // ("warnings") and at the top of the report; other sinks keep it as a note.
+  virtual void warning(const std::string& text) { note("warning: " + text); }
   // A field time series for ParaView (<name>.h5 + <name>.xdmf), streamed step
   // by step; nullptr when this sink keeps no fields (tests, sweeps without fields).
   virtual io::FieldSeries* fields(const std::string& /*name*/, int /*dim*/) { return nullptr; }
@@ -39,14 +45,11 @@ struct RunOptions {
   io::Checkpoint* checkpoint = nullptr;
   // Test hook: the engine stops after this many steps (counted from the start
   // of the run, not of the resumed part) by throwing RunInterrupted, as if the
-  // process had been killed there (0 = off).
+  // process had been killed there (0 = off). A stop request (Ctrl-C, SIGTERM;
+  // core/progress.hpp) throws RunInterrupted too, after a final checkpoint.
   long long stopAfterSteps = 0;
-};
-
-// Thrown by an engine at RunOptions::stopAfterSteps; nothing is committed.
-class RunInterrupted : public Error {
- public:
-  using Error::Error;
+  // Print each warning on stderr as it is raised (results folders; --quiet: off).
+  bool printWarnings = true;
 };
 
 using EngineFn = std::function<void(const Scenario&, ResultSink&, const RunOptions&)>;

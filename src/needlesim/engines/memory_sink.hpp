@@ -22,12 +22,14 @@ class MemorySink : public ResultSink {
   }
   void plot(io::Plot p) override { plots.push_back(std::move(p)); }
   void note(const std::string& text) override { notes.push_back(text); }
+  void warning(const std::string& text) override { warnings.push_back(text); }
 
   std::map<std::string, io::Table> tables;
   std::map<std::string, Value> results;
   std::vector<std::string> order;
   std::vector<io::Plot> plots;
   std::vector<std::string> notes;
+  std::vector<std::string> warnings;
 };
 
 // Runs the scenario's engine into memory (no files). Throws InputError for an

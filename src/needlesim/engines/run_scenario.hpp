@@ -15,7 +15,9 @@ struct RunOutcome {
   double wall_seconds = 0.0;
 };
 
-// Throws InputError if the engine is not in this build, SolverError if it stops.
+// Throws InputError if the engine is not in this build, SolverError if it stops
+// (its results up to there committed as "stopped"), RunInterrupted on a stop
+// request and Error when a file cannot be written (both: nothing committed).
 RunOutcome runScenario(const Scenario& scenario, const std::filesystem::path& target, bool overwrite,
                        const RunOptions& options);
 

@@ -10,7 +10,7 @@
 
 namespace needlesim::io {
 namespace {
-constexpr std::string_view kMagic = "NSSTATE\n";
+constexpr std::string_view kMagic = kStateFileMagic;
 constexpr std::string_view kAllowed = "a state file written by this needlesim version; delete it to start afresh";
 }  // namespace
 

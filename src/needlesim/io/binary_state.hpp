@@ -96,6 +96,9 @@ class BinaryReader {
   std::size_t pos_ = 0;
 };
 
+// The first bytes of every state file.
+inline constexpr std::string_view kStateFileMagic = "NSSTATE\n";
+
 // The framed bytes of a state file (see the file comment).
 std::string frameState(std::string_view kind, std::uint32_t version, std::string_view payload);
 // Reads and checks a state file; returns a reader over its payload. Throws

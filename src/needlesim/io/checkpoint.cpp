@@ -123,41 +123,29 @@ void Checkpoint::remove() {
 }
 
 namespace {
-// Whether process `p` still runs: it exists and is not a zombie (a killed
-// process stays one until its parent, or init, collects it).
-bool processRuns(pid_t p) {
-  if (::kill(p, 0) == -1 && errno == ESRCH) return false;
-  std::ifstream stat("/proc/" + std::to_string(p) + "/stat");
-  std::string line;
-  if (!std::getline(stat, line)) return true;  // cannot tell: keep its folder
-  const auto close = line.rfind(')');
-  return !(close != std::string::npos && close + 2 < line.size() && (line[close + 2] == 'Z' || line[close + 2] == 'X'));
+// state.bin, <series>.<n>.h5, or a temporary of either (<file>.tmp.<pid>).
+bool isCheckpointEntry(const fs::directory_entry& e) {
+  std::string n = e.path().filename().string();
+  if (const auto tmp = n.rfind(".tmp."); tmp != std::string::npos) n.resize(tmp);
+  if (!e.is_regular_file()) return false;
+  return n == "state.bin" || (n.size() > 3 && n.ends_with(".h5"));
+}
+
+bool startsWithStateMagic(const fs::path& file) {
+  std::ifstream in(file, std::ios::binary);
+  std::string head(kStateFileMagic.size(), '\0');
+  in.read(head.data(), static_cast<std::streamsize>(head.size()));
+  return in && head == kStateFileMagic;
 }
 }  // namespace
 
-int removeAbandonedStages(const fs::path& target) {
-  fs::path t = target.has_filename() ? target : target.parent_path();
-  const fs::path parent = t.has_parent_path() ? t.parent_path() : fs::path(".");
-  std::string base(1, '.');  // (not "." + string: GCC 12's -Wrestrict false positive on that operator+)
-  base += t.filename().string();
-  int removed = 0;
+bool isCheckpointFolder(const fs::path& dir) {
   std::error_code ec;
-  for (const auto& e : fs::directory_iterator(parent, ec)) {
-    const std::string n = e.path().filename().string();
-    const auto at = n.rfind(".partial-");
-    if (n.rfind(base, 0) != 0 || at == std::string::npos || at < base.size()) continue;
-    // Between the name and ".partial-": nothing, or "-<digits>" (the automatic -2, -3 ...).
-    const std::string mid = n.substr(base.size(), at - base.size());
-    if (!mid.empty() && (mid[0] != '-' || mid.size() < 2 || mid.find_first_not_of("0123456789", 1) != std::string::npos))
-      continue;
-    const std::string pid = n.substr(at + 9);
-    if (pid.empty() || pid.size() > 9 || pid.find_first_not_of("0123456789") != std::string::npos) continue;
-    const auto p = static_cast<pid_t>(std::stol(pid));
-    if (p == ::getpid() || processRuns(p)) continue;
-    fs::remove_all(e.path(), ec);
-    if (!ec) ++removed;
-  }
-  return removed;
+  if (!fs::is_directory(dir, ec)) return false;
+  for (const auto& e : fs::directory_iterator(dir, ec))
+    if (!isCheckpointEntry(e)) return false;
+  if (ec) return false;
+  return !fs::exists(dir / "state.bin") || startsWithStateMagic(dir / "state.bin");
 }
 
 std::string scenarioFingerprint(const Scenario& sc) {

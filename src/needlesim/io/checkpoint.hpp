@@ -79,11 +79,10 @@ class Checkpoint {
   long long resumedSteps_ = 0;
 };
 
-// The staging folders (.<name>.partial-<pid>, results_folder.hpp) that runs
-// into `target` left when they were killed: those of <target>'s name or of
-// <name>-2, -3 ... whose process no longer exists. Deleted by `needlesim run
-// --resume` once the resumed run is committed; returns how many.
-int removeAbandonedStages(const std::filesystem::path& target);
+// Whether `dir` is a checkpoint folder needlesim wrote (before --overwrite
+// deletes it): every entry is state.bin (starting with the state-file magic),
+// a <series>.<n>.h5 copy or a temporary of one of them.
+bool isCheckpointFolder(const std::filesystem::path& dir);
 
 // Identifies a scenario for --resume: FNV-1a 64 (hex) of the scenario as
 // understood (Scenario::understood, every field) and of the text of its file

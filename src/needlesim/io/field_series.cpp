@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <hdf5.h>
 
+#include <cerrno>
 #include <cmath>
 #include <unistd.h>
 
@@ -40,6 +41,31 @@ const char* topologyName(CellType t) {
   return "Polyvertex";
 }
 
+// An HDF5 identifier closed once, on every path out of the scope that made it.
+struct H5Handle {
+  hid_t id;
+  herr_t (*closer)(hid_t);
+  H5Handle(hid_t h, herr_t (*c)(hid_t)) : id(h), closer(c) {}
+  H5Handle(const H5Handle&) = delete;
+  H5Handle& operator=(const H5Handle&) = delete;
+  herr_t close() {
+    const hid_t h = id;
+    id = -1;
+    return h >= 0 ? closer(h) : 0;
+  }
+  ~H5Handle() { close(); }
+};
+
+// HDF5 prints its error stack on stderr by default (thousands of lines when a
+// disk fills); needlesim checks every call and reports one Error instead.
+void silenceHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
+
+// After a failed write HDF5 keeps a half-closed file in its tables, and its
+// clean-up at exit crashes on it (H5F__close_cb). Every file is closed
+// explicitly (FieldSeries::close and the destructor), so the library's own
+// clean-up at exit is switched off, before the first HDF5 call.
+[[maybe_unused]] const bool kNoHdf5CleanupAtExit = H5dont_atexit() >= 0;
+
 int nodesPerCell(CellType t) {
   switch (t) {
     case CellType::Points: return 1;
@@ -64,31 +90,41 @@ struct FieldSeries::Impl {
   std::vector<Step> steps;
   bool open = false;
 
-  void write(const std::string& path, const std::vector<double>& v, std::size_t rows, std::size_t cols) {
+  // Any failed HDF5 call: an Error naming the file (errno as the failing write left it).
+  void check(long long status) const {
+    if (status < 0) throwWriteFailure(h5path, errno);
+  }
+  // Creates dataset `path` (rows x cols) of `fileType` and writes `data` of `memType` into it.
+  void writeArray(const std::string& path, hid_t fileType, hid_t memType, const void* data, std::size_t rows,
+                  std::size_t cols) {
     hsize_t dims[2] = {rows, cols};
-    hid_t space = H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr);
-    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
-    H5Pset_create_intermediate_group(lcpl, 1);
-    hid_t ds = H5Dcreate2(file, path.c_str(), H5T_IEEE_F64LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
-    if (ds < 0) throw Error("cannot create dataset " + path + " in " + h5path.string());
+    H5Handle space{H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose};
+    H5Handle lcpl{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
+    check(space.id);
+    check(lcpl.id);
+    check(H5Pset_create_intermediate_group(lcpl.id, 1));
+    H5Handle ds{H5Dcreate2(file, path.c_str(), fileType, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
+    check(ds.id);
+    check(H5Dwrite(ds.id, memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data));
+    check(ds.close());
+  }
+  void write(const std::string& path, const std::vector<double>& v, std::size_t rows, std::size_t cols) {
     // Never write NaN: a field with a NaN means the solver failed to detect its own divergence.
     for (double x : v)
       if (!std::isfinite(x)) throw SolverError("field " + path + " holds a non-finite value; the run diverged");
-    H5Dwrite(ds, H5T_NATIVE_DOUBLE, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    H5Dclose(ds);
-    H5Pclose(lcpl);
-    H5Sclose(space);
+    writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), rows, cols);
   }
   void writeInt(const std::string& path, const std::vector<int>& v, std::size_t rows, std::size_t cols) {
-    hsize_t dims[2] = {rows, cols};
-    hid_t space = H5Screate_simple(2, dims, nullptr);
-    hid_t lcpl = H5Pcreate(H5P_LINK_CREATE);
-    H5Pset_create_intermediate_group(lcpl, 1);
-    hid_t ds = H5Dcreate2(file, path.c_str(), H5T_STD_I32LE, space, lcpl, H5P_DEFAULT, H5P_DEFAULT);
-    H5Dwrite(ds, H5T_NATIVE_INT, H5S_ALL, H5S_ALL, H5P_DEFAULT, v.data());
-    H5Dclose(ds);
-    H5Pclose(lcpl);
-    H5Sclose(space);
+    writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, v.data(), rows, cols);
+  }
+  void flush() const { check(H5Fflush(file, H5F_SCOPE_GLOBAL)); }
+  // Closes the file once (the handle is forgotten first, whatever H5Fclose
+  // answers); false when the close failed (the last data did not reach the disk).
+  bool close() {
+    if (file < 0) return true;
+    const hid_t f = file;
+    file = -1;
+    return H5Fclose(f) >= 0;
   }
 
   std::string xdmf() const {
@@ -130,13 +166,16 @@ FieldSeries::FieldSeries(std::filesystem::path h5, std::filesystem::path xdmf, i
   impl_->h5path = std::move(h5);
   impl_->xdmfpath = std::move(xdmf);
   impl_->dim = dim;
+  silenceHdf5Errors();
   if (impl_->h5path.has_parent_path()) std::filesystem::create_directories(impl_->h5path.parent_path());
   impl_->file = H5Fcreate(impl_->h5path.c_str(), H5F_ACC_TRUNC, H5P_DEFAULT, H5P_DEFAULT);
-  if (impl_->file < 0) throw Error("cannot create " + impl_->h5path.string());
+  impl_->check(impl_->file);
 }
 
-FieldSeries::~FieldSeries() {
-  if (impl_->file >= 0) H5Fclose(impl_->file);
+FieldSeries::~FieldSeries() { impl_->close(); }
+
+void FieldSeries::close() {
+  if (!impl_->close()) throwWriteFailure(impl_->h5path, errno);
 }
 
 void FieldSeries::setMesh(const std::vector<double>& points, CellType type, const std::vector<int>& conn) {
@@ -185,7 +224,7 @@ void FieldSeries::cellData(const std::string& name, const std::vector<double>& v
 
 void FieldSeries::endStep() {
   auto& I = *impl_;
-  H5Fflush(I.file, H5F_SCOPE_GLOBAL);
+  I.flush();
   writeFileAtomic(I.xdmfpath, I.xdmf());
   I.open = false;
 }
@@ -197,15 +236,16 @@ void FieldSeries::saveState(BinaryWriter& w, const std::filesystem::path& h5copy
   namespace fs = std::filesystem;
   const auto& I = *impl_;
   if (I.open) throw Error("internal: FieldSeries::saveState inside a step");
-  H5Fflush(I.file, H5F_SCOPE_GLOBAL);
+  I.flush();
   fs::path tmp = h5copy;
   tmp += ".tmp." + std::to_string(::getpid());
   std::error_code ec;
   fs::copy_file(I.h5path, tmp, fs::copy_options::overwrite_existing, ec);
   if (!ec) fs::rename(tmp, h5copy, ec);
   if (ec) {
+    const int err = ec.value();
     fs::remove(tmp, ec);
-    throw Error("cannot copy " + I.h5path.string() + " to " + h5copy.string() + " (disk full?)");
+    throwWriteFailure(h5copy, err);
   }
   w.tag("field_series");
   w.pod(static_cast<std::int32_t>(I.dim));
@@ -263,11 +303,10 @@ void FieldSeries::restore(BinaryReader& r, const std::filesystem::path& h5copy) 
   if (!fs::is_regular_file(h5copy))
     throw InputError(SourceLocation{h5copy.string(), 0, 0}, "", "", "is missing (the checkpoint names it)",
                      "the checkpoint folder as the run left it; delete the folder to start afresh");
-  if (I.file >= 0) H5Fclose(I.file);
-  I.file = -1;
+  I.close();
   std::error_code ec;
   fs::copy_file(h5copy, I.h5path, fs::copy_options::overwrite_existing, ec);
-  if (ec) throw Error("cannot copy " + h5copy.string() + " to " + I.h5path.string() + ": " + ec.message());
+  if (ec) throwWriteFailure(I.h5path, ec.value());
   I.file = H5Fopen(I.h5path.c_str(), H5F_ACC_RDWR, H5P_DEFAULT);
   if (I.file < 0)
     throw InputError(SourceLocation{h5copy.string(), 0, 0}, "", "", "is not a readable HDF5 file (damaged)",

@@ -33,7 +33,12 @@ class FieldSeries {
   // Point or cell data: `components` values per point/cell (1 scalar, dim vector, 6 symmetric tensor).
   void pointData(const std::string& name, const std::vector<double>& values, int components);
   void cellData(const std::string& name, const std::vector<double>& values, int components);
+  // Flushes the step to the disk and rewrites the XDMF. Every write that fails
+  // (disk full, file size limit) throws Error naming the file.
   void endStep();
+  // Closes the HDF5 file (the destructor closes it too, silently); throws
+  // Error when the last data could not be written.
+  void close();
 
   std::size_t steps() const;
   const std::filesystem::path& xdmfPath() const;

@@ -80,6 +80,12 @@ std::string HtmlReport::render() const {
   std::string facts_html;
   for (const auto& [k, v] : facts)
     facts_html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", escape(k), escape(v));
+  std::string warnings_html;
+  if (!warnings.empty()) {
+    warnings_html = "<div class=\"warnings\" role=\"alert\"><strong>Warnings</strong><ul>\n";
+    for (const auto& w : warnings) warnings_html += "<li>" + escape(w) + "</li>\n";
+    warnings_html += "</ul></div>\n";
+  }
   std::string notes_html;
   for (const auto& n : notes) notes_html += "<p>" + escape(n) + "</p>\n";
   std::string canvases;
@@ -93,6 +99,7 @@ std::string HtmlReport::render() const {
           "h1{font-size:1.5em}table{border-collapse:collapse;margin:1em 0}\n"
           "th,td{border:1px solid #ccc;padding:4px 10px;text-align:left}th{background:#f4f4f4}\n"
           ".plot{position:relative;height:420px;margin:1.5em 0}footer{color:#777;font-size:.8em;margin-top:3em}\n"
+          ".warnings{background:#fff3cd;border:2px solid #e0a800;border-radius:4px;padding:.5em 1em;margin:1em 0}\n"
           "</style>\n";
   // Chart.js, MIT licence (c) Chart.js Contributors; from Debian's libjs-chart.js.
   html += "<script>/*! Chart.js (https://www.chartjs.org), from Debian's libjs-chart.js.\n"
@@ -112,6 +119,7 @@ std::string HtmlReport::render() const {
   html += "\n</script>\n</head><body>\n";
   html += "<h1>" + escape(title) + "</h1>\n";
   if (!subtitle.empty()) html += "<p>" + escape(subtitle) + "</p>\n";
+  html += warnings_html;
   if (!facts.empty()) html += "<table>\n" + facts_html + "</table>\n";
   html += notes_html;
   html += canvases;

@@ -26,6 +26,7 @@ struct HtmlReport {
   std::string subtitle;
   std::vector<std::pair<std::string, std::string>> facts;  // key results table
   std::vector<Plot> plots;
+  std::vector<std::string> warnings;  // shown in a highlighted box at the top (plain text)
   std::vector<std::string> notes;  // paragraphs (plain text, escaped on output)
 
   std::string render() const;

@@ -24,17 +24,22 @@ struct KeyResult {
 
 class ResultsFolder : public ResultSink {
  public:
-  ResultsFolder(const Scenario& scenario, std::filesystem::path target);
+  // target: normalised with outputPath. printWarnings: each warning on stderr as it is raised.
+  ResultsFolder(const Scenario& scenario, std::filesystem::path target, bool printWarnings = false);
 
   void table(const std::string& name, Table table) override;
   void result(const std::string& key, double value, const std::string& unit, const std::string& meaning) override;
   void plot(Plot plot) override;
   void note(const std::string& text) override;
+  void warning(const std::string& text) override;
   FieldSeries* fields(const std::string& name, int dim) override;
 
   // Writes everything and moves the folder into place; `replace` allows an
-  // existing target to be replaced (only after the new one is complete).
+  // existing needlesim results folder (isResultsFolder) to be replaced, only
+  // after the new one is complete; anything else at the target is refused.
   // A run that stopped early commits what it has with its `failure` message.
+  // A write that fails (disk full) throws Error naming the file and commits
+  // nothing (the destructor removes the staging folder).
   void commit(bool replace, double wall_seconds, const std::string& failure = {});
   ~ResultsFolder() override;
 
@@ -49,11 +54,45 @@ class ResultsFolder : public ResultSink {
   std::vector<KeyResult> results_;
   std::vector<Plot> plots_;
   std::vector<std::string> notes_;
+  std::vector<std::string> warnings_;
+  bool printWarnings_ = false;
   std::filesystem::path stage_;
   std::vector<std::unique_ptr<FieldSeries>> fields_;
   std::vector<std::string> field_names_;
   bool committed_ = false;
+
+  nlohmann::json writeTables() const;  // <table>.csv; the names written
+  nlohmann::json summaryJson(const nlohmann::json& files, double wall_seconds, const std::string& failure) const;
+  HtmlReport report(double wall_seconds, const std::string& failure) const;
+  void moveIntoPlace();
 };
+
+// --out or output.directory as a results target: lexically normal, without a
+// trailing separator ("out/" and "out/." are "out"). InputError for a path
+// with no folder name ("", ".", "..", "/").
+std::filesystem::path outputPath(const std::filesystem::path& given, const std::string& field);
+
+// Whether `dir` is a folder needlesim wrote: it holds a summary.json with the
+// "needlesim" version record and a "status". Only such a folder may be replaced.
+bool isResultsFolder(const std::filesystem::path& dir);
+
+// What is at `path`, for messages: "a file", "an empty folder", "a folder
+// holding thesis.tex, figures/ and 3 more".
+std::string describeContents(const std::filesystem::path& path);
+
+// Before a run: InputError naming `field` (--out, output.directory) when the
+// target cannot be written: a name too long for the file system (with the
+// staging and checkpoint suffixes), a path over PATH_MAX, a parent folder that
+// cannot be created or written (checked by creating and removing a probe file),
+// or, with `overwrite`, something at the target that is not a results folder.
+void checkOutputTarget(const std::filesystem::path& target, const std::string& field, const std::string& source,
+                       bool overwrite);
+
+// The staging folders (.<name>.partial-<pid>) in `parent` whose process no
+// longer runs (a run killed with SIGKILL, or a power cut): removed before a
+// run writes into `parent`. Only folders named exactly so are touched;
+// returns how many were removed.
+int removeStaleStages(const std::filesystem::path& parent);
 
 // results/<name>, or results/<name>-2, -3, ... if taken.
 std::filesystem::path freeResultsPath(const std::filesystem::path& base);

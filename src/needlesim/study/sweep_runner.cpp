@@ -84,6 +84,7 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
         sc.name = fmt::format("{}_case_{:04d}", spec.name, c.index);
         RunOptions ro;
         ro.progress = false;
+        ro.printWarnings = false;  // each case's warnings are in its summary.json and report
         runScenario(sc, caseFolder(rep.folder, c.index), false, ro);
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mtx);

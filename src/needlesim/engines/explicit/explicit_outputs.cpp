@@ -305,6 +305,16 @@ void ExplicitRun::reportEnergies() {
   sink_.result("time_step", solver_->timeStep(), "s", "last stable time step (after mass scaling)");
   sink_.result("added_mass", solver_->totalMass() / solver_->physicalMass() - 1.0, "1",
                "mass added by mass scaling / physical mass");
+  warnOnEnergyBalance(balanceMax_ / energyScale_);
+}
+
+// A tissue energy balance far from zero (round-off, 1e-14, when the step is
+// stable) means the results do not conserve energy.
+void ExplicitRun::warnOnEnergyBalance(double body) {
+  if (std::isfinite(body) && body > 0.01)
+    sink_.warning(fmt::format("The energy balance of the tissue is off by {:.3g} % of its largest energy term "
+                              "(energy_balance_error; energy.csv): check the time step and the contact settings.",
+                              100.0 * body));
 }
 
 void ExplicitRun::reportCohesive() {
@@ -363,7 +373,7 @@ void ExplicitRun::reportNotes(const std::string& status) {
   else if (!cohesive_)
     sink_.note("No pre-cut seam (an imported mesh, an oblique entry or a rotated bevel): the needle indents the tissue.");
   if (ratioMax_ > 0.1)
-    sink_.note("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static; lower the mass "
+    sink_.warning("Kinetic energy exceeded 10 % of the internal energy: the run was not quasi-static; lower the mass "
                "scaling or the speed.");
   sink_.note("Status: " + status);
 }

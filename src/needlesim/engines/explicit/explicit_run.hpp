@@ -66,6 +66,7 @@ class ExplicitRun {
   void finish(const std::string& status);
   void reportForces();
   void reportEnergies();
+  void warnOnEnergyBalance(double body);  // a warning when the energy balance is far from zero
   void reportCohesive();
   void reportNotes(const std::string& status);
   double crackedLength() const;

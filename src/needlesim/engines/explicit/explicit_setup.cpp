@@ -184,10 +184,10 @@ void ExplicitRun::checkInclusionResolution() {
     for (int n = 0; n < mesh_.nodes(); ++n)
       if (member[i][n]) inclusionNodes_[i].push_back(n);
     if (incs[i].radius < 2.0 * size[i])
-      sink_.note(fmt::format("explicit: inclusion {} (radius {:g} mm) spans fewer than 2 elements of the local size "
-                             "{:g} mm across its radius: its shape and stiffness are coarsely resolved; refine "
-                             "model.explicit.element_size or core_width around it.",
-                             incs[i].name, incs[i].radius * 1e3, size[i] * 1e3));
+      sink_.warning(fmt::format("explicit: inclusion {} (radius {:g} mm) spans fewer than 2 elements of the local "
+                                "size {:g} mm across its radius: its shape and stiffness are coarsely resolved; "
+                                "refine model.explicit.element_size or core_width around it.",
+                                incs[i].name, incs[i].radius * 1e3, size[i] * 1e3));
   }
 }
 

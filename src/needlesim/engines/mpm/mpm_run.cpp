@@ -274,10 +274,16 @@ void MpmRun::run() {
     while (!finished(solver_.time())) {
       step();
       const bool last = finished(solver_.time());
+      // A stop request (Ctrl-C, SIGTERM) gets a final checkpoint, so --resume goes on from this step.
+      const bool stop = !last && stopRequested();
+      if (ck && !last && (stop || ck->due(sum_.steps))) saveCheckpoint();
+      if (stop) {
+        progress.finish();
+        throwIfStopRequested(fmt::format("mpm at step {}, t = {:.6g} s", sum_.steps, solver_.time()));
+      }
       if ((sum_.steps & 31) == 0)
         progress.update(solver_.time() / duration_,
                         fmt::format("depth {:.2f} mm, F {:.3g} N", ms_.depth * 1e3, sum_.lastForce));
-      if (ck && !last && ck->due(sum_.steps)) saveCheckpoint();
       if (options_.stopAfterSteps > 0 && sum_.steps >= options_.stopAfterSteps && !last) {
         progress.finish();
         throw RunInterrupted(
@@ -286,7 +292,7 @@ void MpmRun::run() {
     }
   } catch (const SolverError&) {
     progress.finish();
-    sink_.note("The run stopped early (see the error); the results cover the time up to the failure.");
+    sink_.warning("The run stopped early (see the error); the results cover the time up to the failure.");
     if (!resumedNote_.empty()) sink_.note(resumedNote_);
     emit(true);
     throw;

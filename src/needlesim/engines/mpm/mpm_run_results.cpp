@@ -101,7 +101,7 @@ void MpmRun::emitForces(bool stopped) {
       sink_.result("mae_force", e.mae, "N", "MAE of the total force against the measured curve (eq 35)");
       sink_.result("measured_points", static_cast<double>(e.n), "1", "measured points inside the simulated depths");
     } else {
-      sink_.note("The measured force curve has no point inside the simulated depths: no RMSE/MAE.");
+      sink_.warning("The measured force curve has no point inside the simulated depths: no RMSE/MAE.");
     }
   }
   sink_.plot(std::move(byDepth));
@@ -134,7 +134,7 @@ void MpmRun::emitMarkers(bool stopped) {
       sink_.result("marker_measured_depths", static_cast<double>(rows.size()), "1",
                    "measured marker depths inside the simulated depths");
     } else {
-      sink_.note("The measured markers have no depth inside the simulated depths: no eq 37 errors.");
+      sink_.warning("The measured markers have no depth inside the simulated depths: no eq 37 errors.");
     }
     sink_.table("marker_errors", std::move(et));
   }
@@ -165,7 +165,7 @@ void MpmRun::runNotes(double seconds) {
   for (const auto& n : ignoredFieldNotes(sc_.tissue)) sink_.note(n);
   for (const auto& seg : sc_.insertion.segments)
     if (seg.kind == MotionSegment::Kind::Rotate && !seg.axial) {
-      sink_.note("In-plane base rotations are not modelled by mpm: the needle only translates along its axis.");
+      sink_.warning("In-plane base rotations are not modelled by mpm: the needle only translates along its axis.");
       break;
     }
 }

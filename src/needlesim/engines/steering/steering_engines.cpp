@@ -494,8 +494,8 @@ void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
                 {"U_T", r.U_T, "J", "needle-tissue interaction energy (eq 40)"}});
   if (r.U_C > 0) sink.result("U_C", r.U_C, "J", "tissue compression energy at the end (eq 39)");
   if (r.capped)
-    sink.note(fmt::format("Some increments hit max_step ({:g} mm): the roller was (nearly) parallel to the axis.",
-                          st.max_step * 1e3));
+    sink.warning(fmt::format("Some increments hit max_step ({:g} mm): the roller was (nearly) parallel to the axis.",
+                             st.max_step * 1e3));
   sink.note("Energy-based incremental model of seed 002 section 4 (eqs 27-49) with the choices of "
             "docs/models/bevel-tip-energy.md. 2D: only 180-degree bevel flips.");
   sink.table("increments", std::move(it));
