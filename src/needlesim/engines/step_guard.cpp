@@ -41,9 +41,8 @@ double roundUp(double n) {
   return std::ceil(n / unit) * unit;
 }
 
-// A moving segment of the profile: its field, value, duration and needle travel.
+// A moving segment of the profile: its field, value, duration and speed.
 struct Segment {
-  std::size_t index = 0;
   std::string field;  // insertion.profile[i].insert.speed
   std::string value;  // "100 m/s"
   double duration = 0.0;
@@ -64,12 +63,12 @@ std::vector<Segment> movingSegments(const InsertionSpec& ins) {
         depth = m.to_depth;
         if (!(travel > 0.0)) break;
         const char* kind = m.kind == MotionSegment::Kind::Insert ? "insert" : "retract";
-        out.push_back({i, fmt::format("{}.{}.speed", at, kind), speed(m.speed), travel / m.speed, m.speed});
+        out.push_back({fmt::format("{}.{}.speed", at, kind), speed(m.speed), travel / m.speed, m.speed});
         break;
       }
       case MotionSegment::Kind::Rotate:
         if (m.duration > 0.0)
-          out.push_back({i, at + ".rotate.rate", fmt::format("{:.3g} deg/s", m.rate * 180.0 / std::numbers::pi),
+          out.push_back({at + ".rotate.rate", fmt::format("{:.3g} deg/s", m.rate * 180.0 / std::numbers::pi),
                          m.duration, 0.0});
         break;
       case MotionSegment::Kind::Pause: break;
