@@ -158,10 +158,11 @@ void registerCheckCommand(CLI::App& app) {
           continue;
         }
         Scenario sc = scenario::readFile(f);
-        engineFor(sc);  // refuses what the engine does not model, as run would
-        fmt::print("{}: ok ({} layer{}, engine {}, {:.3g} s of motion, max depth {:.4g} mm)\n", f,
+        // refuses what the engine does not model and what its steps do not resolve, as run would
+        const StepEstimate estimate = preflight(sc);
+        fmt::print("{}: ok ({} layer{}, engine {}, {:.3g} s of motion, max depth {:.4g} mm; estimate: {})\n", f,
                    sc.tissue.layers.size(), sc.tissue.layers.size() == 1 ? "" : "s", sc.model.engine,
-                   sc.totalDuration(), sc.maxDepth() * 1e3);
+                   sc.totalDuration(), sc.maxDepth() * 1e3, estimate.text());
       } catch (const InputError& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         ++bad;

@@ -7,6 +7,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"  // RunInterrupted
+#include "needlesim/engines/step_guard.hpp"
 #include "needlesim/io/html_report.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/scenario/scenario.hpp"
@@ -53,6 +54,9 @@ struct RunOptions {
 };
 
 using EngineFn = std::function<void(const Scenario&, ResultSink&, const RunOptions&)>;
+// The engine's step guards and its estimate (engines/step_guard.hpp) without
+// running it: what `needlesim check` applies. Throws InputError as run would.
+using PreflightFn = std::function<StepEstimate(const Scenario&)>;
 
 struct EngineInfo {
   std::string name;
@@ -60,6 +64,7 @@ struct EngineInfo {
   EngineFn run;
   bool checkpoints = false;  // writes checkpoints and can resume (RunOptions::checkpoint)
   bool inclusions = false;   // models tissue.inclusions (else a scenario with them is refused)
+  PreflightFn preflight;
 };
 
 // All engines built into this binary (engines/registry.cpp).
@@ -69,5 +74,7 @@ const EngineInfo* findEngine(const std::string& name);
 // asks for: InputError (naming the file, the field and the engines that can) for an
 // unknown engine or a tissue feature it does not model. Used by run and check.
 const EngineInfo& engineFor(const Scenario& scenario);
+// engineFor, then its preflight: the step guards and the run's estimate.
+StepEstimate preflight(const Scenario& scenario);
 
 }  // namespace needlesim

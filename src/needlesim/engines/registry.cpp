@@ -9,18 +9,31 @@
 
 namespace needlesim {
 
+namespace {
+// A preflight from an engine's step plan: the step guards without running.
+template <StepPlan (*plan)(const Scenario&)>
+StepEstimate guarded(const Scenario& sc) {
+  return guardSteps(sc, plan(sc));
+}
+}  // namespace
+
 const std::vector<EngineInfo>& engineRegistry() {
+  using namespace engines;
   static const std::vector<EngineInfo> list{
-      {"lumped", "lumped insertion-force model (seed 003 section 3.2)", engines::runLumped},
-      {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", engines::runRealtime2d,
-       false, true},
-      {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", engines::runKinematic},
-      {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", engines::runEnergy},
-      {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)", engines::runBeamFoundation},
-      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", engines::runMpm, true,
-       true},
-      {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", engines::runExplicit,
-       false, true},
+      {"lumped", "lumped insertion-force model (seed 003 section 3.2)", runLumped, false, false,
+       guarded<lumpedStepPlan>},
+      {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", runRealtime2d, false,
+       true, guarded<realtime2dStepPlan>},
+      {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", runKinematic, false, false,
+       guarded<steeringStepPlan>},
+      {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", runEnergy, false, false,
+       guarded<steeringStepPlan>},
+      {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)",
+       runBeamFoundation, false, false, guarded<steeringStepPlan>},
+      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", runMpm, true, true,
+       guarded<mpmStepPlan>},
+      {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", runExplicit,
+       false, true, guarded<explicitStepPlan>},
   };
   return list;
 }
@@ -49,5 +62,7 @@ const EngineInfo& engineFor(const Scenario& sc) {
                      "no inclusions, or engine " + names([](const EngineInfo& e) { return e.inclusions; }));
   return *engine;
 }
+
+StepEstimate preflight(const Scenario& sc) { return engineFor(sc).preflight(sc); }
 
 }  // namespace needlesim

@@ -585,6 +585,7 @@ Scenario readSections(Section top, const std::string& source) {
   sc.output.directory = out.text("directory");
   sc.output.interval = out.number("interval");
   sc.output.checkpoint_interval = out.number("checkpoint_interval");
+  sc.output.max_steps = out.number("max_steps");
   sc.output.csv = out.boolean("csv");
   sc.output.html = out.boolean("html");
   if (sc.output.interval > 0.0 && sc.output.interval < sc.model.time_step)

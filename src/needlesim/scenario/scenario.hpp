@@ -269,6 +269,7 @@ struct OutputSpec {
   std::string directory;    // empty = results/<scenario name>
   double interval = 0.0;    // s, sampling interval of the time series (0 = every step)
   double checkpoint_interval = 600.0;  // s of wall-clock time between checkpoints (0 = none; io/checkpoint.hpp)
+  double max_steps = 1e6;   // run budget: the most steps an engine's estimate may reach (engines/step_guard.hpp)
   bool html = true;
   bool csv = true;
 };

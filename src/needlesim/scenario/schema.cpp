@@ -393,6 +393,7 @@ std::vector<FieldDoc> build() {
   add(nonneg("output", "checkpoint_interval", D::Time, "10 min",
              "wall-clock time between checkpoints of a long run, written beside the results folder for `needlesim run "
              "--resume` (0 = none; mpm only so far)"));
+  add(q("output", "max_steps", D::None, "1e6", 1.0, 1e15, false, false, "refuse a run whose step estimate (printed before the first step, and by `needlesim check`) is larger; raise it to allow a long run"));
   add(other("output", "csv", Kind::Bool, "true", "write CSV time series"));
   add(other("output", "html", Kind::Bool, "true", "write report.html"));
 

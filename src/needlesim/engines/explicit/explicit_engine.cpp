@@ -3,7 +3,10 @@
 #include <algorithm>
 #include <chrono>
 
+#include <fmt/format.h>
+
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/engines/explicit/explicit_run.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
 
@@ -69,15 +72,44 @@ void ExplicitRun::run(const RunOptions& options) {
   finish("completed");
 }
 
+StepPlan ExplicitRun::stepPlan() const {
+  StepPlan p;
+  p.engine = "explicit";
+  p.dt = solver_->timeStep();
+  p.dtSetBy = fmt::format("the stable step of the mesh: model.explicit.cfl {:g}, mass_scaling {:g}, elements down to "
+                          "{:.3g} mm",
+                          ex_.cfl, ex_.mass_scaling, solver_->minElementSize() * 1e3);
+  p.dtField = "model.explicit.mass_scaling";
+  p.dtValue = fmt::format("{:g}", ex_.mass_scaling);
+  p.stepAllowed = massScaledStep(p.dtField, ex_.mass_scaling, p.dt, "a lower model.explicit.cfl or a finer mesh");
+  p.adaptive = true;  // the stable step of the deforming mesh
+  p.fewerSteps = "a larger model.explicit.mass_scaling or element_size, or a tissue nu further from 0.5";
+  p.spacing = solver_->minElementSize();
+  p.spacingName = "the smallest element (model.explicit.element_size)";
+  p.updatesPerStep = solver_->mesh().elements();
+  // docs/performance.md: the seed 001 blocks run 0.5-1.4 M element updates per second of wall time
+  // (2,300-51,000 hex8, one or two threads, loaded machine).
+  p.updatesPerSecond = 1e6;
+  p.updates = "elements";
+  return p;
+}
+
 }  // namespace needlesim::explicit_fe
 
 namespace needlesim::engines {
+
+StepPlan explicitStepPlan(const Scenario& sc) {
+  MemorySink discard;
+  return explicit_fe::ExplicitRun(sc, discard).stepPlan();
+}
 
 void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
 #ifdef _OPENMP
   if (sc.model.explicit_fe.threads > 0) omp_set_num_threads(sc.model.explicit_fe.threads);
 #endif
-  explicit_fe::ExplicitRun(sc, sink).run(options);
+  explicit_fe::ExplicitRun run(sc, sink);
+  guardAndAnnounce(sc, run.stepPlan(), sink, options);
+  run.run(options);
 }
 
 }  // namespace needlesim::engines

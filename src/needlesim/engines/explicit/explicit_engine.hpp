@@ -6,5 +6,8 @@
 namespace needlesim::engines {
 
 void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options);
+// How it steps (engines/step_guard.hpp), from the set-up a run would build
+// (the mesh's stable step against its smallest element).
+StepPlan explicitStepPlan(const Scenario& sc);
 
 }  // namespace needlesim::engines

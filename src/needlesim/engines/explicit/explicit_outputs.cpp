@@ -233,6 +233,7 @@ void ExplicitRun::finish(const std::string& status) {
   if (cohesive_) ep.series.push_back({"cohesive_dissipation", seam_table_.column("time"), seam_table_.column("cohesive_dissipation")});
   sink_.plot(ep);
   reportForces();
+  if (status == "completed") warnZeroForce(sc_, peak_, sink_);
   reportEnergies();
   if (cohesive_) reportCohesive();
   reportNotes(status);

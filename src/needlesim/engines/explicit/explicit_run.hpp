@@ -37,6 +37,8 @@ class ExplicitRun {
   ExplicitRun(const Scenario& sc, ResultSink& sink);
   // The time loop with its records; writes the results also when the solver stops (then rethrows).
   void run(const RunOptions& options);
+  // How the run steps (engines/step_guard.hpp): the initial stable step against the smallest element.
+  StepPlan stepPlan() const;
 
  private:
   // set-up (explicit_setup.cpp)

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "needlesim/core/progress.hpp"
@@ -12,7 +13,18 @@
 
 namespace needlesim::engines {
 
+// The lumped model finds a puncture, and the layer the tip is in, from the tip
+// depth at each step: a step must not carry the tip through much of a layer.
+StepPlan lumpedStepPlan(const Scenario& sc) {
+  StepPlan p = fixedStepPlan(sc, "lumped");
+  p.spacing = sc.tissue.layers.front().thickness;
+  for (const auto& L : sc.tissue.layers) p.spacing = std::min(p.spacing, L.thickness);
+  p.spacingName = "the thinnest layer";
+  return p;
+}
+
 void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
+  guardAndAnnounce(sc, lumpedStepPlan(sc), sink, options);
   forces::LumpedForceModel model(sc.tissue, sc.needle, sc.insertion.entry_angle, sc.model.lumped.relaxation_time);
   MotionProfile motion(sc.insertion);
   const double dt = sc.model.time_step;
@@ -64,6 +76,7 @@ void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   progress.finish();
 
   sink.result("peak_force", peak, "N", "largest total force on the needle base");
+  warnZeroForce(sc, peak, sink);
   sink.result("peak_force_depth", peakDepth, "m", "tip depth at the peak force");
   if (exited) sink.result("exit_force", exitForce, "N", "total force as the tip reaches the exit face (full penetration)");
   sink.result("max_friction_force", maxFriction, "N", "largest friction force along the shaft");

@@ -42,6 +42,11 @@ Eigen::Vector3d needleTip(const MpmSetup& setup, double depth, const Eigen::Vect
 std::vector<std::vector<std::size_t>> addTissue(mpm::MpmSolver& solver, const Scenario& scenario,
                                                 const MpmSetup& setup);
 
+// How it steps (engines/step_guard.hpp): the first step of eqs 25-26 (the
+// tissue at rest) against the grid spacing; the wall time from the points.
+// Refuses, as mpmSetup, what mpm cannot honour.
+StepPlan mpmStepPlan(const Scenario& scenario);
+
 // Runs the 3D MPM insertion (seed 000 sections 3-4; docs/models/mpm.md).
 void runMpm(const Scenario& scenario, ResultSink& sink, const RunOptions& options);
 

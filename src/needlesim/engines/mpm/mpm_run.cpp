@@ -303,6 +303,9 @@ void MpmRun::run() {
   emit(false);
 }
 
-void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) { MpmRun(sc, sink, options).run(); }
+void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
+  guardAndAnnounce(sc, mpmStepPlan(sc), sink, options);
+  MpmRun(sc, sink, options).run();
+}
 
 }  // namespace needlesim::engines

@@ -47,6 +47,7 @@ std::vector<std::string> ignoredFieldNotes(const TissueSpec& t) {
 void MpmRun::emit(bool stopped) {
   const Summary& s = sum_;
   sink_.result("peak_force", s.peak, "N", "largest axial force on the needle (resisting insertion)");
+  if (!stopped) warnZeroForce(sc_, s.peak, sink_);
   sink_.result("peak_force_depth", s.peakDepth, "m", "tip depth at the peak force");
   sink_.result("final_force", s.lastForce, "N", "axial force on the needle at the final depth");
   sink_.result("final_tip_force", s.lastTip, "N", "axial force on the tip faces at the final depth");

@@ -262,6 +262,7 @@ class Realtime2dRun {
     sink_.result("max_tip_deflection_depth", maxDeflDepth_, "m", "tip depth at the largest tip deflection");
     sink_.result("final_tip_deflection", last.tip_deflection, "m", "elastic lateral tip deflection at the end");
     sink_.result("peak_force", peak_, "N", "largest axial force on the needle (resisting insertion)");
+    warnZeroForce(sc_, peak_, sink_);
     sink_.result("peak_force_depth", peakDepth_, "m", "tip depth at the peak force");
     sink_.result("final_force", last.axial_force, "N", "axial force on the needle at the end");
     sink_.result("max_depth", maxDepth_, "m", "deepest tip position along the reference axis");
@@ -382,7 +383,17 @@ class Realtime2dRun {
 
 }  // namespace
 
+// The needle couples to the tissue at the mesh's path nodes, evenly spaced
+// along the depth (mesh.cpp): a step must not carry the tip past them.
+StepPlan realtime2dStepPlan(const Scenario& sc) {
+  StepPlan p = fixedStepPlan(sc, "realtime2d");
+  p.spacing = sc.tissue.length / std::max(1, sc.model.realtime2d.nodes_depth - 1);
+  p.spacingName = "the node spacing along the depth (block.length / (model.realtime2d.nodes_depth - 1))";
+  return p;
+}
+
 void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
+  guardAndAnnounce(sc, realtime2dStepPlan(sc), sink, options);
   Realtime2dRun run(sc, sink, options);
   run.run();
   run.finish();

@@ -12,5 +12,7 @@ namespace needlesim::engines {
 realtime2d::SessionConfig realtime2dConfig(const Scenario& scenario);
 
 void runRealtime2d(const Scenario& scenario, ResultSink& sink, const RunOptions& options);
+// How it steps (engines/step_guard.hpp): model.time_step against the mesh spacing along the depth.
+StepPlan realtime2dStepPlan(const Scenario& scenario);
 
 }  // namespace needlesim::engines

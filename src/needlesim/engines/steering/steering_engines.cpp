@@ -332,9 +332,20 @@ SteeringInputs steeringInputs(const Scenario& sc) {
   return in;
 }
 
+StepPlan steeringStepPlan(const Scenario& sc) {
+  const SteeringInputs in = steeringInputs(sc);
+  StepPlan p;
+  p.engine = sc.model.engine;
+  p.fewerSteps = "a larger model.steering.increment";
+  for (const Control& c : in.plan)
+    p.steps += std::ceil(c.length / sc.model.steering.increment) + (c.duty_cycle > 0 ? 2.0 * c.length / c.cycle_length : 0.0);
+  return p;
+}
+
 // ---------------------------------------------------------------- kinematic
-void runKinematic(const Scenario& sc, ResultSink& sink, const RunOptions&) {
+void runKinematic(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   SteeringInputs in = steeringInputs(sc);
+  guardAndAnnounce(sc, steeringStepPlan(sc), sink, options);
   const SteeringModelSpec& st = sc.model.steering;
   // Webster et al. 2006: constant curvature towards the bevel (-y of the tip frame).
   // Without a given curvature: the beam-on-foundation steady curvature of the tip loads.
@@ -367,6 +378,7 @@ void runKinematic(const Scenario& sc, ResultSink& sink, const RunOptions&) {
 // ---------------------------------------------------------------- beam on foundation
 void runBeamFoundation(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   SteeringInputs in = steeringInputs(sc);
+  guardAndAnnounce(sc, steeringStepPlan(sc), sink, options);
   const SteeringModelSpec& st = sc.model.steering;
   const int n = static_cast<int>(std::ceil(in.insertion / st.increment - 1e-9));
   const double h = in.insertion / n;
@@ -410,6 +422,7 @@ void runBeamFoundation(const Scenario& sc, ResultSink& sink, const RunOptions& o
 // ---------------------------------------------------------------- energy (seed 002 section 4)
 void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   SteeringInputs in = steeringInputs(sc);
+  guardAndAnnounce(sc, steeringStepPlan(sc), sink, options);
   const SteeringModelSpec& st = sc.model.steering;
   steering::EnergyParams p;
   p.E = in.section.youngs_modulus;

@@ -51,6 +51,10 @@ struct SteeringInputs {
 // tissue, in-plane rotations, a 90 deg bevel, duty cycling without a spin rate).
 SteeringInputs steeringInputs(const Scenario& sc);
 
+// How the three engines step (engines/step_guard.hpp): in depth, by
+// model.steering.increment, and twice per duty cycle; the speed does not enter.
+StepPlan steeringStepPlan(const Scenario& sc);
+
 // Bevel orientation (rad) after `s` metres of insertion along the plan.
 double bevelAngleAt(const std::vector<steering::Control>& plan, double s);
 

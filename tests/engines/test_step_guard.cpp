@@ -1,0 +1,123 @@
+// The step guards of every engine (engines/step_guard.hpp): each engine's plan,
+// the refusals with the field, value and what is allowed, the estimate and
+// the budget, and the zero-force warning.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/engines/engine.hpp"
+#include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/engines/step_guard.hpp"
+#include "needlesim/scenario/reader.hpp"
+
+namespace needlesim {
+namespace {
+
+std::string exampleText(const std::string& f) {
+  std::stringstream in;
+  in << std::ifstream(std::string(NEEDLESIM_SOURCE_DIR) + "/examples/" + f).rdbuf();
+  return in.str();
+}
+
+// An example with `from` replaced by `to`.
+Scenario edited(const std::string& file, const std::string& from, const std::string& to) {
+  std::string text = exampleText(file);
+  const auto at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  if (at != std::string::npos) text.replace(at, from.size(), to);
+  return scenario::readText(text, file);
+}
+
+// The InputError preflight throws: its field and message.
+InputError refusal(const Scenario& sc) {
+  try {
+    preflight(sc);
+  } catch (const InputError& e) {
+    return e;
+  }
+  ADD_FAILURE() << "accepted " << sc.source;
+  return InputError({}, "", "", "", "");
+}
+
+void expectHas(const std::string& text, std::initializer_list<const char*> words) {
+  for (const char* w : words) EXPECT_NE(text.find(w), std::string::npos) << "missing '" << w << "' in:\n" << text;
+}
+
+// A later segment too fast for the step (the whole profile is not): named by its own speed field.
+TEST(StepGuard, ASegmentMovingTooFarPerStepIsNamedByItsSpeed) {
+  const Scenario sc = edited("gelatin_18G_3mms.yaml", "- pause: {duration: 5 s}",
+                             "- insert: {to: 75 mm, speed: 40 m/s}");
+  const InputError e = refusal(sc);
+  EXPECT_EQ(e.field(), "insertion.profile[1].insert.speed");
+  expectHas(e.what(), {"'40 m/s'", "lumped", "moves the needle 40 mm per time step of 1 ms",
+                       "half the thinnest layer (55 mm)", "at most 500 mm/s at this step",
+                       "model.time_step at most 12.5 us"});
+}
+
+TEST(StepGuard, ASegmentWithTooFewStepsIsRefused) {
+  const Scenario sc = edited("gelatin_18G_3mms.yaml", "- pause: {duration: 5 s}",
+                             "- insert: {to: 75 mm, speed: 1 m/s}");  // 5 ms: 5 steps of 1 ms
+  const InputError e = refusal(sc);
+  EXPECT_EQ(e.field(), "insertion.profile[1].insert.speed");
+  expectHas(e.what(), {"lasts 5 ms and gets 5 steps", "fewer than the 10", "at most 500 mm/s at this step",
+                       "model.time_step at most 500 us"});
+}
+
+TEST(StepGuard, Realtime2dStepAgainstItsNodeSpacing) {
+  // 80 mm over 20 intervals: 4 mm between path nodes; 3 m/s moves 3 mm a step of 1 ms (61 mm in 20 steps)
+  const Scenario sc =
+      edited("realtime2d/angled_base_rotation.yaml", "{to: 12 mm, speed: 3 mm/s}", "{to: 60 mm, speed: 3 m/s}");
+  const InputError e = refusal(sc);
+  EXPECT_EQ(e.field(), "insertion.profile[0].insert.speed");
+  expectHas(e.what(), {"realtime2d", "node spacing along the depth", "(4 mm)", "at most 2 m/s at this step"});
+}
+
+TEST(StepGuard, ARotationNeedsItsStepsToo) {
+  const Scenario sc = edited("realtime2d/angled_base_rotation.yaml", "rate: 2 deg/s", "rate: 1000 deg/s");
+  const InputError e = refusal(sc);  // 5 deg at 1000 deg/s: 5 ms, 5 steps
+  EXPECT_EQ(e.field(), "insertion.profile[1].rotate.rate");
+  expectHas(e.what(), {"'1e+03 deg/s'", "gets 5 steps", "a lower rate", "model.time_step at most 500 us"});
+}
+
+// The explicit engine stops (exit 3) when the needle penetrates half an element; its set-up refuses first.
+TEST(StepGuard, ExplicitRefusesASpeedItsStableStepCannotFollow) {
+  const Scenario sc = edited("explicit/deformable_needle_2d.yaml", "speed: 10 mm/s", "speed: 50 m/s");
+  const InputError e = refusal(sc);
+  expectHas(e.what(), {"explicit", "the smallest element", "model.explicit.mass_scaling"});
+  EXPECT_THROW(runInMemory(sc), InputError);
+}
+
+TEST(StepGuard, SteeringEnginesCountTheirIncrementsAgainstTheBudget) {
+  const Scenario ok = scenario::readText(exampleText("steering/table2_gelC_054_kinematic.yaml"), "kinematic.yaml");
+  EXPECT_EQ(preflight(ok).steps, 150.0);  // 150 mm in 1 mm increments; the speed does not enter
+  std::string text = exampleText("steering/table2_gelC_054_kinematic.yaml") + "output: {max_steps: 100}\n";
+  const InputError e = refusal(scenario::readText(text, "kinematic.yaml"));
+  EXPECT_EQ(e.field(), "output.max_steps");
+  expectHas(e.what(), {"'100'", "150 steps", "output.max_steps of at least 150", "model.steering.increment"});
+}
+
+TEST(StepGuard, EveryEngineHasAPreflight) {
+  for (const EngineInfo& e : engineRegistry()) EXPECT_TRUE(static_cast<bool>(e.preflight)) << e.name;
+}
+
+TEST(StepGuard, EstimateText) {
+  EXPECT_EQ((StepEstimate{391, true, 2304, "points", 0.3}).text(), "at least 391 steps x 2304 points, about 1 s");
+  EXPECT_EQ((StepEstimate{1.2e6, false, 0, "", 2400}).text(), "1.2e+06 steps, about 40 min");
+  EXPECT_EQ((StepEstimate{1, false, 0, "", NAN}).text(), "1 step");
+}
+
+TEST(StepGuard, ZeroForceWithTheTipInsideIsAWarning) {
+  const Scenario sc = scenario::defaultScenario();  // 70 mm deep
+  MemorySink zero, some;
+  warnZeroForce(sc, 0.0, zero);
+  ASSERT_EQ(zero.warnings.size(), 1u);
+  expectHas(zero.warnings.front(), {"stayed 0 N", "70 mm"});
+  warnZeroForce(sc, 0.5, some);
+  EXPECT_TRUE(some.warnings.empty());
+}
+
+}  // namespace
+}  // namespace needlesim
