@@ -25,10 +25,9 @@ struct FitArgs {
 void registerFitCommand(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   auto* cmd = app.add_subcommand("fit", "Fit tissue parameters to measured data (stress-strain, relaxation, insertion logs)");
-  cmd->add_option("data", a->data, "CSV data file(s) with a header 'name [unit], ...'")->required();
-  cmd->add_option("--law", a->law,
-                  "linear, neo-hookean, mooney-rivlin, yeoh, ogden, fung, auto, prony, "
-                  "toughness, friction, puncture, stiffness")->required();
+  // DATA and --law are checked in runFit, so a missing one is an InputError (exit 2) listing what is allowed.
+  cmd->add_option("data", a->data, "CSV data file(s) with a header 'name [unit], ...'");
+  cmd->add_option("--law", a->law, needlesim::fit::fitAnalysesList());
   cmd->add_option("--terms", a->terms, "Yeoh/Ogden terms (1-3) or Prony terms (1-5; default: chosen by AICc)");
   cmd->add_option("-o,--out", a->out, "output folder (default: DATA.fit next to the data)");
   cmd->add_flag("--overwrite", a->overwrite, "replace fit.json and report.html in an existing output folder");
