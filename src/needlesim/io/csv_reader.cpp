@@ -20,6 +20,8 @@ const char* const kHeaderHelp =
     "a header naming each column with its unit, 'name [unit]', 'name (unit)' or 'name_unit', "
     "separated by ',', ';' or tabs, e.g. 'strain [1], stress [kPa]'";
 const char* const kNumberHelp = "a finite decimal number such as 0.25 or -1.5e3";
+// Fits sum squares of values: beyond this magnitude (SI) they overflow.
+constexpr double kLargestValue = 1e100;
 
 std::string_view trim(std::string_view s) {
   while (!s.empty() && std::isspace(static_cast<unsigned char>(s.front()))) s.remove_prefix(1);
@@ -162,14 +164,21 @@ struct UnitScale {
   double scale = 1.0;
 };
 
-// SI dimension and scale of a unit written in a header; throws std::invalid_argument with the reason.
+// Spellings lab software uses for units needlesim writes otherwise.
+std::string_view canonicalUnit(std::string_view unit) {
+  const std::string u = lower(unit);
+  if (u == "pct" || u == "percent") return "%";
+  if (u == "sec") return "s";
+  return unit;
+}
+
+// SI dimension and scale of a unit written in a header; throws std::logic_error
+// (std::invalid_argument, or std::out_of_range for an exponent) with the reason.
 UnitScale resolveUnit(std::string_view unit) {
   if (unit.empty() || unit == "1" || unit == "-") return {};
-  const std::string u = lower(unit);
-  std::string text(unit);
-  if (u == "pct" || u == "percent") text = "%";
-  if (u == "sec") text = "s";
-  units::Quantity q = units::parse("1 " + text);
+  std::string text = "1 ";
+  text += canonicalUnit(unit);
+  const units::Quantity q = units::parse(text);
   if (q.gauge) throw std::invalid_argument("a needle gauge is not a unit for data");
   return {q.dim, q.value};
 }
@@ -179,7 +188,7 @@ bool resolvesAsUnit(std::string_view unit) {
   try {
     resolveUnit(unit);
     return true;
-  } catch (const std::invalid_argument&) {
+  } catch (const std::logic_error&) {
     return false;
   }
 }
@@ -219,7 +228,7 @@ CsvColumn readColumn(const Field& f, const std::string& file, int lineNo) {
     const UnitScale u = resolveUnit(nu.unit);
     c.dim = u.dim;
     c.scale = u.scale;
-  } catch (const std::invalid_argument& e) {
+  } catch (const std::logic_error& e) {
     throw InputError({file, lineNo, f.column}, "column '" + c.name + "'", c.unit, std::string("unknown unit: ") + e.what(),
                      "SI units with prefixes, e.g. Pa, kPa, N, mm, s, mm/s, %, 1");
   }
@@ -313,6 +322,16 @@ class NumberReader {
   FirstMark first_;
 };
 
+// The value in SI; refuses one too large to compute with (also after the unit's scale).
+double toSI(double value, const CsvColumn& c, const Field& f, const std::string& file, int lineNo) {
+  const double si = value * c.scale;
+  if (!(std::abs(si) <= kLargestValue))
+    throw InputError({file, lineNo, f.column}, "column '" + c.name + "'", f.text + (c.unit.empty() ? "" : " " + c.unit),
+                     "the value is too large to compute with",
+                     "magnitudes up to 1e100 in SI units (Pa, m, N, s)");
+  return si;
+}
+
 }  // namespace
 
 int CsvData::find(const std::vector<std::string>& names) const {
@@ -380,7 +399,7 @@ CsvData parseCsv(std::string_view text, const std::string& fileName) {
                            std::to_string(d.headerLine) + ") names " + std::to_string(d.columns.size()),
                        "one number per column, separated by " + separatorName(d.separator));
     for (std::size_t c = 0; c < fields.size(); ++c)
-      d.values[c].push_back(numbers->read(fields[c], d.columns[c].name, lineNo) * d.columns[c].scale);
+      d.values[c].push_back(toSI(numbers->read(fields[c], d.columns[c].name, lineNo), d.columns[c], fields[c], fileName, lineNo));
     d.lines.push_back(lineNo);
   }
   if (!numbers)
