@@ -151,3 +151,17 @@ TEST(CsvReader, MeasuredCurveFromExcelStyleFile) {
   EXPECT_EQ(excel.depth, plain.depth);
   EXPECT_EQ(excel.force, plain.force);
 }
+
+// Fits sum squares: a value whose square overflows is refused where it is written.
+TEST(CsvReader, ValuesTooLargeToComputeWithAreRefused) {
+  expectContains(errorOf("strain [1], stress [kPa]\n0.1, 1\n0.2, 1e308\n"),
+                 {"data.csv:3:", "column 'stress'", "'1e308 kPa'", "too large to compute with", "1e100"});
+  expectContains(errorOf("strain [1]; stress [Pa]\n0,1; -1e101\n"), {"data.csv:2:", "'-1e101 Pa'", "too large"});
+  EXPECT_DOUBLE_EQ(io::parseCsv("strain [1], stress [Pa]\n0.1, 1e99\n", "ok.csv").col(1)[0], 1e99);
+}
+
+TEST(CsvReader, UnitExponentBeyondAnIntIsAnUnknownUnit) {
+  expectContains(errorOf("strain [1], stress [m^99999999999]\n0.1, 1\n"), {"data.csv:1:", "column 'stress'", "unknown unit"});
+  // As a suffix it is not a unit, so it stays in the name.
+  EXPECT_EQ(io::parseCsv("stress_m^99999999999\n1\n", "n.csv").columns[0].name, "stress m^99999999999");
+}
