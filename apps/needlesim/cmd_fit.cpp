@@ -31,7 +31,9 @@ void registerFitCommand(CLI::App& app) {
   cmd->add_option("--terms", a->terms, "Yeoh/Ogden terms (1-3) or Prony terms (1-5; default: chosen by AICc)");
   cmd->add_option("-o,--out", a->out, "output folder (default: DATA.fit next to the data)");
   cmd->add_flag("--overwrite", a->overwrite, "replace fit.json and report.html in an existing output folder");
-  cmd->add_option("--loading", a->loading, "auto, compression (positive values are compressive) or tension");
+  cmd->add_option("--loading", a->loading,
+                  "auto, compression (each column's largest value is compressive) or tension; "
+                  "columns named 'compressive ...' hold positive magnitudes");
   cmd->add_option("--mode", a->mode, "homogeneous test: uniaxial (default), equibiaxial or shear");
   cmd->add_option("--stress", a->stress, "measure of a column named plainly 'stress': cauchy (seed convention) or nominal");
   cmd->add_option("--height", a->height, "sample height, for displacement data and K_T (e.g. '7.31 mm')");

@@ -222,7 +222,8 @@ CsvColumn readColumn(const Field& f, const std::string& file, int lineNo) {
   c.headerColumn = f.column;
   c.name = normalName(nu.name);
   if (c.name.empty())
-    throw InputError({file, lineNo, f.column}, "header", f.text, "a column has no name", kHeaderHelp);
+    throw InputError({file, lineNo, f.column}, "header", f.text,
+                     "a column has no name (an empty field, or a separator at the end of the line)", kHeaderHelp);
   c.unit = std::string(nu.unit);
   try {
     const UnitScale u = resolveUnit(nu.unit);
