@@ -397,8 +397,6 @@ void expectCorpusReads(const Target& t) {
       EXPECT_TRUE(readOnce(t, t.corpus[k], t.names[k])) << t.names[k] << " is refused: the corpus must be valid input";
     } catch (const Escaped& e) {
       ADD_FAILURE() << t.names[k] << ": " << e.what;
-    } catch (const InputError& e) {
-      ADD_FAILURE() << t.names[k] << ": " << e.what();
     }
   }
 }
