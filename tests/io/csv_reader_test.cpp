@@ -132,6 +132,9 @@ TEST(CsvReader, Utf16IsRefused) {
 
 TEST(CsvReader, RowsKeepTheirSeparatorInMessages) {
   expectContains(errorOf("strain [1]; stress [kPa]\n0,1, 1\n"), {"data.csv:2", "1 fields", "names 2", "separated by ';'"});
+  // Decimal commas in a comma-separated file split each number in two.
+  expectContains(errorOf("strain [1], stress [kPa]\n0,1,1,5\n"),
+                 {"data.csv:2", "4 fields", "names 2", "decimal commas need columns separated by ';' or tabs"});
 }
 
 TEST(CsvReader, FolderIsNotAFile) {

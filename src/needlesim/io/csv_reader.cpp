@@ -398,7 +398,10 @@ CsvData parseCsv(std::string_view text, const std::string& fileName) {
       throw InputError({fileName, lineNo, 0}, "row", std::string(t),
                        "the row has " + std::to_string(fields.size()) + " fields but the header (line " +
                            std::to_string(d.headerLine) + ") names " + std::to_string(d.columns.size()),
-                       "one number per column, separated by " + separatorName(d.separator));
+                       "one number per column, separated by " + separatorName(d.separator) +
+                           (d.separator == ',' && fields.size() > d.columns.size()
+                                ? "; numbers with decimal commas need columns separated by ';' or tabs"
+                                : ""));
     for (std::size_t c = 0; c < fields.size(); ++c)
       d.values[c].push_back(toSI(numbers->read(fields[c], d.columns[c].name, lineNo), d.columns[c], fields[c], fileName, lineNo));
     d.lines.push_back(lineNo);
