@@ -25,14 +25,15 @@ struct FitArgs {
 void registerFitCommand(CLI::App& app) {
   auto a = std::make_shared<FitArgs>();
   auto* cmd = app.add_subcommand("fit", "Fit tissue parameters to measured data (stress-strain, relaxation, insertion logs)");
-  cmd->add_option("data", a->data, "CSV data file(s) with a header 'name [unit], ...'")->required();
-  cmd->add_option("--law", a->law,
-                  "linear, neo-hookean, mooney-rivlin, yeoh, ogden, fung, auto, prony, "
-                  "toughness, friction, puncture, stiffness")->required();
+  // DATA and --law are checked in runFit, so a missing one is an InputError (exit 2) listing what is allowed.
+  cmd->add_option("data", a->data, "CSV data file(s) with a header 'name [unit], ...'");
+  cmd->add_option("--law", a->law, needlesim::fit::fitAnalysesList());
   cmd->add_option("--terms", a->terms, "Yeoh/Ogden terms (1-3) or Prony terms (1-5; default: chosen by AICc)");
   cmd->add_option("-o,--out", a->out, "output folder (default: DATA.fit next to the data)");
   cmd->add_flag("--overwrite", a->overwrite, "replace fit.json and report.html in an existing output folder");
-  cmd->add_option("--loading", a->loading, "auto, compression (positive values are compressive) or tension");
+  cmd->add_option("--loading", a->loading,
+                  "auto, compression (each column's largest value is compressive) or tension; "
+                  "columns named 'compressive ...' hold positive magnitudes");
   cmd->add_option("--mode", a->mode, "homogeneous test: uniaxial (default), equibiaxial or shear");
   cmd->add_option("--stress", a->stress, "measure of a column named plainly 'stress': cauchy (seed convention) or nominal");
   cmd->add_option("--height", a->height, "sample height, for displacement data and K_T (e.g. '7.31 mm')");

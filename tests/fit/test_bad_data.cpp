@@ -75,7 +75,7 @@ TEST(BadData, UnknownLawAndWrongUnits) {
   expectContains(errorOf("strain [1], stress [mm]\n0.1, 1\n"), {"data.csv:1:", "wrong dimension", "Pa"});
   expectContains(errorOf("strain [1], stress [kPaa]\n0.1, 1\n"), {"data.csv:1:", "unknown unit", "kPaa"});
   expectContains(errorOf("strain [1], stress [kPa\n0.1, 1\n"), {"data.csv:1:", "closing"});
-  expectContains(errorOf("strain [1]; stress [kPa]\n0.1; 1\n"), {"data.csv:1", "';' or tabs", "commas"});
+  expectContains(errorOf("strain [1]; stress [kPa], x [1]\n0.1; 1\n"), {"data.csv:1", "mixes column separators"});
   FitRequest rq;
   rq.data = {"x.csv"};
   rq.law = "elastic";

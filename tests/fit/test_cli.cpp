@@ -54,3 +54,14 @@ TEST(FitCli, BadDataExitsWithCode2AndNamesFileAndLine) {
   EXPECT_EQ(u.code, 2) << u.out;
   fs::remove(f);
 }
+
+TEST(FitCli, MissingLawExitsWithCode2AndListsTheLaws) {
+  if (!fs::exists(NEEDLESIM_BINARY)) GTEST_SKIP() << "needlesim binary not built";
+  CliRun r = run("\"" + ex("plastisol_compression.csv") + "\"");
+  EXPECT_EQ(r.code, 2) << r.out;
+  for (const char* w : {"--law", "is missing", "neo-hookean", "auto", "prony", "friction", "stiffness"})
+    EXPECT_NE(r.out.find(w), std::string::npos) << "missing '" << w << "' in: " << r.out;
+  CliRun noData = run("--law fung");
+  EXPECT_EQ(noData.code, 2) << noData.out;
+  EXPECT_NE(noData.out.find("no data file given"), std::string::npos) << noData.out;
+}

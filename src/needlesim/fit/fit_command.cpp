@@ -127,6 +127,12 @@ const std::vector<std::string>& fitAnalyses() {
   return v;
 }
 
+std::string fitAnalysesList() {
+  std::string list;
+  for (const auto& a : fitAnalyses()) list += (list.empty() ? "" : ", ") + a;
+  return list;
+}
+
 double parseQuantityOption(const std::string& option, const std::string& text, units::Dim dim) {
   units::Quantity q;
   try {
@@ -147,11 +153,11 @@ double parseQuantityOption(const std::string& option, const std::string& text, u
 
 FitOutcome runFit(const FitRequest& rq) {
   const auto& all = fitAnalyses();
-  if (std::find(all.begin(), all.end(), rq.law) == all.end()) {
-    std::string allowed;
-    for (const auto& a : all) allowed += (allowed.empty() ? "" : ", ") + a;
-    throw InputError({"command line", 0, 0}, "--law", rq.law, "unknown law or analysis", allowed);
-  }
+  if (rq.law.empty())
+    throw InputError({"command line", 0, 0}, "--law", "", "is missing: say which law to fit or analysis to run",
+                     "--law with one of " + fitAnalysesList());
+  if (std::find(all.begin(), all.end(), rq.law) == all.end())
+    throw InputError({"command line", 0, 0}, "--law", rq.law, "unknown law or analysis", fitAnalysesList());
   if (rq.data.empty()) throw InputError({"command line", 0, 0}, "DATA", "", "no data file given", "one or more CSV files");
   FitOutcome out;
   if (rq.write) {

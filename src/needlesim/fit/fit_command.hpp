@@ -16,6 +16,8 @@ namespace needlesim::fit {
 
 // Analyses accepted by --law.
 const std::vector<std::string>& fitAnalyses();
+// The same, as one line: "linear, neo-hookean, ...".
+std::string fitAnalysesList();
 
 struct FitRequest {
   std::vector<std::filesystem::path> data;

@@ -109,9 +109,67 @@ double modelValue(const std::string& law, const mat::Hyperelastic& h, const std:
   return 0.0;
 }
 
+// Columns named for compression hold compression as a positive magnitude (seed 002 eq 10 writes
+// lambda = 1 - epsilon): 'compressive strain', 'compressive stress', 'compression' (displacement).
+bool namedCompressive(const std::string& name) { return startsWith(name, "compressive") || name == "compression"; }
+
+std::string signedNameOf(const std::string& name) {
+  if (name == "compression") return "displacement";
+  return startsWith(name, "compressive ") ? name.substr(12) : name;
+}
+
+// A column of compressive magnitudes whose largest value is negative holds signed data
+// (compression negative): reading it as magnitudes would turn the loaded end into tension.
+void refuseSignedCompressiveColumn(const io::CsvData& csv, int column) {
+  const auto& v = csv.col(column);
+  const auto it = std::max_element(v.begin(), v.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+  if (it == v.end() || *it >= 0.0) return;
+  const auto& c = csv.columns[static_cast<std::size_t>(column)];
+  const int line = csv.lines[static_cast<std::size_t>(it - v.begin())];
+  throw InputError({csv.file, line, 0}, "column '" + c.name + "'", fmtNum(*it / c.scale) + " " + c.unit,
+                   "a column named '" + c.name +
+                       "' holds compression as a positive magnitude, but its largest value is negative: "
+                       "the data look signed (compression negative)",
+                   "positive magnitudes in '" + c.name + "' (a negative value there is read as tension), or the column named '" +
+                       signedNameOf(c.name) + "' with --loading compression to take the signs as written");
+}
+
+// The factor that makes compression negative: -1 for a column of compressive magnitudes;
+// otherwise the sign of the loaded end (the value of largest magnitude) is compression.
+// Values of the other sign (noise around zero) keep their sign relative to the curve.
+double compressionSign(const std::vector<double>& v, bool magnitudes) {
+  if (magnitudes) return -1.0;
+  const auto it = std::max_element(v.begin(), v.end(), [](double a, double b) { return std::abs(a) < std::abs(b); });
+  return it != v.end() && *it < 0.0 ? 1.0 : -1.0;
+}
+
 // Small-strain slope of the test in units of the initial shear modulus mu0.
 double slopeOverMu0(TestMode mode) {
   return mode == TestMode::Uniaxial ? 3.0 : mode == TestMode::Equibiaxial ? 6.0 : 1.0;
+}
+
+// Compression (a column named for it, or --loading compression): strain and stress are
+// made negative in compression. Columns named for compression hold magnitudes, so a
+// negative value there is a tensile point; other columns take the sign of their loaded end.
+void applyCompressionSigns(const io::CsvData& csv, int xColumn, int yColumn, Loading loading, std::vector<double>& x,
+                           std::vector<double>& y, std::vector<std::string>& notes) {
+  const auto named = [&](int c) { return c >= 0 && namedCompressive(csv.columns[static_cast<std::size_t>(c)].name); };
+  const bool xNamed = named(xColumn), yNamed = named(yColumn);
+  if (loading == Loading::Tension && (xNamed || yNamed)) {
+    const auto& c = csv.columns[static_cast<std::size_t>(xNamed ? xColumn : yColumn)];
+    throw InputError({csv.file, csv.headerLine, c.headerColumn}, "--loading", "tension",
+                     "contradicts the column named '" + c.name + "'",
+                     "--loading auto or compression for this file, or columns named '" + signedNameOf(c.name) +
+                         "' with signed values");
+  }
+  if (!(loading == Loading::Compression || xNamed || yNamed)) return;
+  for (int c : {xColumn, yColumn})
+    if (named(c)) refuseSignedCompressiveColumn(csv, c);
+  const double sx = compressionSign(x, xNamed), sy = compressionSign(y, yNamed);
+  for (double& v : x) v *= sx;
+  for (double& v : y) v *= sy;
+  notes.push_back("compression: values in columns named 'compressive ...' or 'compression' are magnitudes "
+                  "(a negative one is tension); other columns take the sign of their largest value as compressive");
 }
 
 }  // namespace
@@ -133,7 +191,7 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
   d.lines = csv.lines;
   const std::size_t n = csv.rows();
   std::vector<double> x(n);
-  bool compressionNamed = false;
+  int xColumn = -1, yColumn = -1;  // columns read as strain and stress (for compression)
   d.mode = opt.mode;
   int cg = csv.find({"shear strain", "gamma"});
   if (cg >= 0) d.mode = TestMode::Shear;
@@ -144,7 +202,7 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
   if (cs >= 0) {
     csv.checkDim(cs, units::dim::None, "strain");
     x = csv.col(cs);
-    compressionNamed = startsWith(csv.columns[cs].name, "compressive");
+    xColumn = cs;
     xKind = cg >= 0 ? "shear strain" : "strain";
   } else if (cl >= 0) {
     csv.checkDim(cl, units::dim::None, "stretch");
@@ -157,7 +215,7 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
                        "displacement data need the sample height to compute strain (seed 000 eq 29)",
                        "--height with a length, e.g. --height '18 mm'");
     for (std::size_t i = 0; i < n; ++i) x[i] = csv.col(cd)[i] / opt.sample.height;
-    compressionNamed = csv.columns[cd].name == "compression";
+    xColumn = cd;
     xKind = "displacement / height";
   } else {
     csv.require({"strain", "stretch", "displacement"}, units::dim::None, "strain, stretch or displacement");
@@ -181,7 +239,7 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
                         (d.measure == StressMeasure::Cauchy ? "Cauchy (true) stress, as the seeds' closed forms"
                                                             : "nominal stress"));
     }
-    compressionNamed = compressionNamed || startsWith(nm, "compressive");
+    yColumn = cy;
   } else if (cf >= 0) {
     csv.checkDim(cf, units::dim::Force, "force");
     double A = opt.sample.area > 0 ? opt.sample.area
@@ -196,15 +254,8 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
   } else {
     csv.require({"stress", "force"}, units::dim::Pressure, "stress or force");
   }
-  bool compression = opt.loading == Loading::Compression ||
-                     (opt.loading == Loading::Auto && compressionNamed);
-  if (compression) {
-    for (std::size_t i = 0; i < n; ++i) {
-      x[i] = -std::abs(x[i]);
-      y[i] = -std::abs(y[i]);
-    }
-    d.notes.push_back("compression: positive " + xKind + " and stress taken as compressive");
-  }
+  applyCompressionSigns(csv, xColumn, yColumn, opt.loading, x, y, d.notes);
+  if (const std::string note = csv.formatNote(); !note.empty()) d.notes.push_back(note);
   d.stretch.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     d.stretch[i] = 1.0 + x[i];
@@ -408,6 +459,7 @@ RelaxationData readRelaxation(const io::CsvData& csv, const SampleSize& sample) 
   int cy = csv.find({"stress", "cauchy stress", "nominal stress", "compressive stress", "tensile stress"});
   if (cy >= 0) {
     csv.checkDim(cy, units::dim::Pressure, "stress");
+    if (namedCompressive(csv.columns[cy].name)) refuseSignedCompressiveColumn(csv, cy);
     d.stress = csv.col(cy);
   } else {
     int cf = csv.require({"force", "stress"}, units::dim::Force, "force or stress");
@@ -431,6 +483,7 @@ RelaxationData readRelaxation(const io::CsvData& csv, const SampleSize& sample) 
   std::size_t iEnd = 0;
   int cs = csv.find({"strain", "compressive strain", "stretch", "displacement"});
   if (cs >= 0) {
+    if (namedCompressive(csv.columns[cs].name)) refuseSignedCompressiveColumn(csv, cs);
     const auto& s = csv.col(cs);
     double ref = csv.columns[cs].name == "stretch" ? 1.0 : 0.0;
     double mx = 0;
@@ -446,6 +499,7 @@ RelaxationData readRelaxation(const io::CsvData& csv, const SampleSize& sample) 
       }
     d.notes.push_back("no strain column: ramp end taken at the peak stress");
   }
+  if (const std::string note = csv.formatNote(); !note.empty()) d.notes.push_back(note);
   d.rampTime = d.time[iEnd];
   d.holdStart = iEnd;
   return d;
