@@ -464,3 +464,27 @@ TEST(Cli, WarningsReachTheTerminalTheSummaryAndTheReport) {
   EXPECT_EQ(quiet.code, 0) << quiet.out;
   EXPECT_EQ(quiet.out, "");
 }
+
+// `check` runs each engine's own refusals (not only the scenario reader's), so it
+// passes nothing that `run` refuses: the energy model is planar and takes only
+// 180-degree bevel flips.
+TEST(Cli, CheckRefusesWhatTheEngineRefusesAtRun) {
+  fs::path dir = scratch("engine_refusal");
+  fs::create_directories(dir);
+  std::ifstream in(example("steering/flip_s_curve.yaml"));
+  std::string yaml((std::istreambuf_iterator<char>(in)), {});
+  for (auto [from, to] : {std::pair<std::string, std::string>{"by: 180 deg", "by: 90 deg"},
+                          {"engine: kinematic", "engine: energy"}}) {
+    const auto pos = yaml.find(from);
+    ASSERT_NE(pos, std::string::npos) << from;
+    yaml.replace(pos, from.size(), to);
+  }
+  std::ofstream(dir / "quarter_turn.yaml") << yaml;
+  for (const std::string& cmd : {std::string("check "), "run --quiet --out " + (dir / "out").string() + " "}) {
+    auto r = runCli(cmd + (dir / "quarter_turn.yaml").string());
+    EXPECT_EQ(r.code, 2) << cmd << r.out;
+    EXPECT_NE(r.out.find("insertion.profile"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("180-degree flips"), std::string::npos) << r.out;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}

@@ -27,7 +27,7 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", runKinematic, false, false,
        guarded<steeringStepPlan>},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", runEnergy, false, false,
-       guarded<steeringStepPlan>},
+       guarded<energyStepPlan>},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)",
        runBeamFoundation, false, false, guarded<steeringStepPlan>},
       {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", runMpm, true, true,

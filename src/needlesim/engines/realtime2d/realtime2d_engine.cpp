@@ -386,6 +386,7 @@ class Realtime2dRun {
 // The needle couples to the tissue at the mesh's path nodes, evenly spaced
 // along the depth (mesh.cpp): a step must not carry the tip past them.
 StepPlan realtime2dStepPlan(const Scenario& sc) {
+  realtime2dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
   StepPlan p = fixedStepPlan(sc, "realtime2d");
   p.spacing = sc.tissue.length / std::max(1, sc.model.realtime2d.nodes_depth - 1);
   p.spacingName = "the node spacing along the depth (block.length / (model.realtime2d.nodes_depth - 1))";

@@ -420,9 +420,8 @@ void runBeamFoundation(const Scenario& sc, ResultSink& sink, const RunOptions& o
 }
 
 // ---------------------------------------------------------------- energy (seed 002 section 4)
-void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
-  SteeringInputs in = steeringInputs(sc);
-  guardAndAnnounce(sc, steeringStepPlan(sc), sink, options);
+// The energy model's parameters (seed 002 section 4); refuses what the planar model cannot do.
+steering::EnergyParams energyParams(const Scenario& sc, const SteeringInputs& in) {
   const SteeringModelSpec& st = sc.model.steering;
   steering::EnergyParams p;
   p.E = in.section.youngs_modulus;
@@ -443,7 +442,7 @@ void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
   p.max_step = st.max_step;
   p.frame = st.energy_frame == "path-window" ? steering::EnergyFrame::PathWindow : steering::EnergyFrame::Entry;
   // 2D: only 180-degree flips (seed 002 section 4 is planar)
-  double s0 = in.start, orient = 0.0;
+  double s0 = in.start;
   for (std::size_t i = 0; i < in.plan.size(); ++i) {
     const Control& c = in.plan[i];
     if (c.spin != 0 || c.duty_cycle > 0)
@@ -455,11 +454,23 @@ void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
                        "the energy model is 2D: bevel rotations must be 180-degree flips", "multiples of 180 deg");
     const long k = std::lround(turns);
     if (k % 2 != 0) p.flip_depths.push_back(s0);
-    orient += c.rotate;
     s0 += c.length;
   }
   if (!(p.insertion > p.initial_length))
     throw inputError(sc, "insertion.profile", "", "inserts less than the energy model's initial 1 mm", "> 1 mm");
+  return p;
+}
+
+StepPlan energyStepPlan(const Scenario& sc) {
+  energyParams(sc, steeringInputs(sc));  // the energy model's own refusals, for check as for run
+  return steeringStepPlan(sc);
+}
+
+void runEnergy(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
+  SteeringInputs in = steeringInputs(sc);
+  guardAndAnnounce(sc, steeringStepPlan(sc), sink, options);
+  const SteeringModelSpec& st = sc.model.steering;
+  const steering::EnergyParams p = energyParams(sc, in);
   std::vector<Eigen::Vector3d> raw;
   std::vector<steering::EnergyIncrement> incs;
   Progress progress("energy", options.progress);

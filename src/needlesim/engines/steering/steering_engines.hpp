@@ -54,6 +54,8 @@ SteeringInputs steeringInputs(const Scenario& sc);
 // How the three engines step (engines/step_guard.hpp): in depth, by
 // model.steering.increment, and twice per duty cycle; the speed does not enter.
 StepPlan steeringStepPlan(const Scenario& sc);
+// The energy model's plan, after its own refusals (2D: flips only, at least 1 mm inserted).
+StepPlan energyStepPlan(const Scenario& sc);
 
 // Bevel orientation (rad) after `s` metres of insertion along the plan.
 double bevelAngleAt(const std::vector<steering::Control>& plan, double s);
