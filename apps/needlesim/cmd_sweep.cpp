@@ -9,6 +9,7 @@
 
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
 
@@ -58,6 +59,7 @@ void registerSweepCommand(CLI::App& app) {
       fmt::print(stderr, "warning: this needlesim was built without MPI; every rank runs the whole study\n");
 #endif
     study::SweepReport rep;
+    installStopHandlers();  // Ctrl-C: running cases stop cleanly, finished ones stay for --resume
     try {
       rep = study::runSweep(spec, opt);
     } catch (...) {

@@ -488,3 +488,28 @@ TEST(Cli, CheckRefusesWhatTheEngineRefusesAtRun) {
   }
   EXPECT_FALSE(fs::exists(dir / "out"));
 }
+
+// Ctrl-C during a sweep stops the running case cleanly (nothing half-written),
+// keeps the finished cases, exits 130 and says how to continue; --resume runs
+// only what is missing.
+TEST(Cli, CtrlCStopsASweepAndResumeRunsWhatIsMissing) {
+  const fs::path dir = scratch("sweep_sigint");
+  fs::create_directories(dir);
+  std::ofstream(dir / "study.yaml") << "scenario: " << example("realtime2d/layered_target.yaml")
+                                    << "\nname: s\nmethod: list\nparallel: 1\ndirectory: " << (dir / "s").string()
+                                    << "\nvary:\n  - field: needle.length\n    values: [100 mm, 101 mm]\n";
+  const fs::path log = dir.parent_path() / "sweep_sigint.log";
+  const pid_t pid = startCli("sweep " + (dir / "study.yaml").string(), log);
+  ASSERT_TRUE(appears(dir / "s" / "cases", 30));
+  usleep(300000);  // inside the first case (about 2 s)
+  kill(pid, SIGINT);
+  EXPECT_EQ(waitFor(pid, 60), 130) << text(log);
+  EXPECT_NE(text(log).find("interrupted by SIGINT"), std::string::npos) << text(log);
+  EXPECT_NE(text(log).find("--resume"), std::string::npos) << text(log);
+  EXPECT_FALSE(fs::exists(dir / "s" / "cases" / "case_0001.error.txt"));  // an interruption is not a failure
+  EXPECT_TRUE(entriesWith(dir / "s" / "cases", ".partial-").empty());
+  auto r = runCli("sweep " + (dir / "study.yaml").string() + " --resume --quiet");
+  EXPECT_EQ(r.code, 0) << r.out;
+  EXPECT_TRUE(fs::exists(dir / "s" / "cases" / "case_0002" / "summary.json"));
+  fs::remove_all(dir);
+}

@@ -246,10 +246,13 @@ std::string readYamlFile(const std::filesystem::path& path, const std::string& w
   std::error_code ec;
   const auto bytes = std::filesystem::file_size(path, ec);
   if (!ec) checkSize(static_cast<std::size_t>(bytes), path.string(), what);
+  const auto cannot = [&](const std::string& why) {
+    return InputError(SourceLocation{path.string(), 0, 0}, "", "", why, what);
+  };
+  if (std::filesystem::is_directory(path, ec)) throw cannot("is a folder, not a file");
+  if (!std::filesystem::exists(path, ec)) throw cannot("does not exist");
   std::ifstream in(path, std::ios::binary);
-  if (!in || std::filesystem::is_directory(path, ec))
-    throw InputError(SourceLocation{path.string(), 0, 0}, "", "", "cannot be opened (missing, unreadable or a folder)",
-                     what);
+  if (!in) throw cannot("cannot be opened for reading (permissions?)");
   std::stringstream ss;
   ss << in.rdbuf();
   return ss.str();

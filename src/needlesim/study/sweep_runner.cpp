@@ -2,6 +2,7 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
+#include <csignal>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -37,6 +38,16 @@ fs::path studyFolder(const StudySpec& spec) {
 fs::path caseFolder(const fs::path& study, int index) { return study / "cases" / fmt::format("case_{:04d}", index); }
 
 bool caseComplete(const fs::path& folder) { return fs::exists(folder / "summary.json"); }
+
+// A failed case's message in cases/case_NNNN.error.txt; a write that fails (a full disk) is kept in
+// `unrecorded` for the sweep to report once its workers have stopped.
+void recordCaseError(const fs::path& study, int index, const std::string& what, std::vector<std::string>& unrecorded) {
+  try {
+    io::writeFileAtomic(study / "cases" / fmt::format("case_{:04d}.error.txt", index), what + "\n");
+  } catch (const std::exception& e) {
+    unrecorded.push_back(fmt::format("case {}: {} ({})", index, what, e.what()));
+  }
+}
 
 }  // namespace
 
@@ -74,8 +85,9 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   std::atomic<int> done{0};
   std::mutex mtx;
   Progress progress(fmt::format("sweep {} (rank {}/{})", spec.name, opt.rank, opt.ranks), opt.progress);
+  std::vector<std::string> unrecorded;  // failures whose error file could not be written
   auto work = [&] {
-    while (true) {
+    while (!stopRequested()) {
       std::size_t i = next.fetch_add(1);
       if (i >= todo.size()) return;
       const Case& c = *todo[i];
@@ -86,14 +98,16 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
         ro.progress = false;
         ro.printWarnings = false;  // each case's warnings are in its summary.json and report
         runScenario(sc, caseFolder(rep.folder, c.index), false, ro);
+      } catch (const RunInterrupted&) {
+        return;  // Ctrl-C: the case left nothing behind and is run again by --resume
       } catch (const std::exception& e) {
         std::lock_guard<std::mutex> lock(mtx);
         rep.failed.push_back(c.index);
-        io::writeFileAtomic(rep.folder / "cases" / fmt::format("case_{:04d}.error.txt", c.index), std::string(e.what()) + "\n");
+        recordCaseError(rep.folder, c.index, e.what(), unrecorded);
       }
       int d = ++done;
       std::lock_guard<std::mutex> lock(mtx);
-      progress.update(static_cast<double>(d) / todo.size(), fmt::format("{}/{} cases", d, todo.size()));
+      if (!stopRequested()) progress.update(static_cast<double>(d) / todo.size(), fmt::format("{}/{} cases", d, todo.size()));
     }
   };
   std::vector<std::thread> pool;
@@ -101,6 +115,15 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   work();
   for (auto& t : pool) t.join();
   progress.finish();
+  if (!unrecorded.empty())
+    throw Error(fmt::format("{} failed case(s) could not be recorded in {}: {}", unrecorded.size(),
+                            (rep.folder / "cases").string(), unrecorded.front()));
+  if (stopRequested())
+    throw RunInterrupted(fmt::format("sweep {}: interrupted by {} after {} of {} cases (each finished case is kept); "
+                                     "continue with needlesim sweep {} --resume",
+                                     spec.name, stopSignal() == SIGTERM ? "SIGTERM" : "SIGINT (Ctrl-C)", done.load(),
+                                     todo.size(), spec.file.string()),
+                         stopSignal());
   rep.ran = static_cast<int>(todo.size()) - static_cast<int>(rep.failed.size());
   std::sort(rep.failed.begin(), rep.failed.end());
   if (opt.rank == 0 && opt.ranks == 1) gatherSweep(spec, cases, rep);
