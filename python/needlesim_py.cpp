@@ -137,6 +137,8 @@ py::dict toDict(const MemorySink& s) {
   py::dict out;
   out["results"] = results;
   out["tables"] = tables;
+  out["notes"] = s.notes;
+  out["warnings"] = s.warnings;  // what the CLI prints as "warning: ..."
   return out;
 }
 

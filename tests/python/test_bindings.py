@@ -28,6 +28,9 @@ exit_force, unit = r["results"]["exit_force"]
 expected = 0.04335 + 0.055 * (3.791 + 285.053 * 0.003)  # seed 003 eq 5.1
 check(unit == "N" and abs(exit_force - expected) < 2e-3 * expected, "exit force %.5f N = %.5f N" % (exit_force, expected))
 check(len(r["tables"]["forces"]["force_total"]) > 100, "time series returned")
+check(r["warnings"] == [] and len(r["notes"]) > 0, "a plain run: notes and no warning")
+zw = needlesim.run(needlesim.load(os.path.join(src, "examples", "explicit", "target_inclusion_2d.yaml")))["warnings"]
+check(any("not quasi-static" in w for w in zw), "a run that is not quasi-static says so in 'warnings': %s" % zw)
 
 fast = s.with_values({"insertion.profile[0].insert.speed": "10 mm/s"})
 f10 = needlesim.run(fast)["results"]["exit_force"][0]
