@@ -54,12 +54,12 @@ TEST(StepGuardCli, LumpedInsertFasterThanAStepIsRefusedByRunAndCheck) {
   const fs::path out = scratch("lumped_fast");
   auto run = runCli("run " + f + " --quiet --out " + out.string());
   EXPECT_EQ(run.code, 2) << run.out;
-  expectHas(run.out, {"insertion.profile[0].insert.speed", "'100 m/s'", "moves the needle 100 mm per time step of 1 ms",
+  expectHas(run.out, {"lumped_fast.yaml:34:", "insertion.profile[0].insert.speed", "'100 m/s'", "moves the needle 100 mm per time step of 1 ms",
                       "at most 2 m/s at this step", "model.time_step at most 20 us"});
   EXPECT_FALSE(fs::exists(out));
   auto check = runCli("check " + f);
   EXPECT_EQ(check.code, 2) << check.out;
-  expectHas(check.out, {"insertion.profile[0].insert.speed", "'100 m/s'"});
+  expectHas(check.out, {"lumped_fast.yaml:34:", "insertion.profile[0].insert.speed", "'100 m/s'"});
 }
 
 // The same insert as the whole profile: the 1 ms step is longer than all of it, named by model.time_step.

@@ -270,3 +270,14 @@ TEST(ScenarioBadInput, MisspeltKeyNamesTheNearestKnownOne) {
   expectError(replaced(kBase, "  friction:", "  frcition:"),
               {"case.yaml:7:", "frcition", "did you mean 'friction'?", "allowed:"});
 }
+
+// Engines refuse fields after the reader (Scenario::where): the line of a given field, of a
+// section's first given field, and the file alone for a default.
+TEST(ScenarioBadInput, EngineRefusalsFindTheLineOfTheField) {
+  const Scenario sc = scenario::readText(kBase, "case.yaml");
+  EXPECT_EQ(sc.where("insertion.profile[0].insert.speed").str(), "case.yaml:15:34");
+  EXPECT_EQ(sc.where("tissue.friction.C_p").str(), "case.yaml:8:10");
+  EXPECT_EQ(sc.where("tissue.friction").line, 8);                  // a section: its first given field
+  EXPECT_EQ(sc.where("tissue.friction.coefficient").line, 8);      // a default inside a given section
+  EXPECT_EQ(sc.where("model.time_step").str(), "case.yaml");       // not given at all
+}

@@ -53,11 +53,11 @@ const EngineInfo& engineFor(const Scenario& sc) {
     return s;
   };
   if (!engine)
-    throw InputError(SourceLocation{sc.source, 0, 0}, "model.engine", sc.model.engine,
+    throw InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
                      "is reserved for an engine that this build does not have yet",
                      names([](const EngineInfo&) { return true; }));
   if (!sc.tissue.inclusions.empty() && !engine->inclusions)
-    throw InputError(SourceLocation{sc.source, 0, 0}, "tissue.inclusions", sc.tissue.inclusions.front().name,
+    throw InputError(sc.where("tissue.inclusions"), "tissue.inclusions", sc.tissue.inclusions.front().name,
                      "engine " + engine->name + " does not model bodies embedded in the tissue",
                      "no inclusions, or engine " + names([](const EngineInfo& e) { return e.inclusions; }));
   return *engine;

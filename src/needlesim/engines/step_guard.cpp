@@ -119,7 +119,7 @@ void checkStepAgainstMotion(const Scenario& sc, const StepPlan& plan, const std:
   double maxStep = plan.dt;
   for (const Segment& s : moving) maxStep = std::min(maxStep, longestStep(plan, s));
   if (!(plan.dt > maxStep)) return;
-  throw InputError(SourceLocation{sc.source, 0, 0}, plan.dtField, plan.dtValue,
+  throw InputError(sc.where(plan.dtField), plan.dtField, plan.dtValue,
                    fmt::format("{}: the time step {} (set by {}) is longer than the whole {} motion", plan.engine,
                                seconds(plan.dt), plan.dtSetBy, seconds(sc.totalDuration())),
                    fmt::format("{} (for at least {:g} steps per motion segment and at most half {} of travel per "
@@ -137,7 +137,7 @@ void checkSegments(const Scenario& sc, const StepPlan& plan) {
     if (!(plan.dt > maxStep)) continue;
     const std::string slower =
         s.speed > 0.0 ? fmt::format("at most {} at this step", speed(s.speed * maxStep / plan.dt)) : "a lower rate";
-    throw InputError(SourceLocation{sc.source, 0, 0}, s.field, s.value, plan.engine + ": " + whyUnresolved(plan, s),
+    throw InputError(sc.where(s.field), s.field, s.value, plan.engine + ": " + whyUnresolved(plan, s),
                      slower + ", or " + stepAllowed(plan, maxStep));
   }
 }
@@ -157,7 +157,7 @@ void checkBudget(const Scenario& sc, const StepPlan& plan, const StepEstimate& e
   if (!(e.steps > sc.output.max_steps)) return;
   const std::string step =
       plan.dt > 0.0 ? fmt::format(" (time step {}, set by {})", seconds(plan.dt), plan.dtSetBy) : "";
-  throw InputError(SourceLocation{sc.source, 0, 0}, "output.max_steps", fmt::format("{:g}", sc.output.max_steps),
+  throw InputError(sc.where("output.max_steps"), "output.max_steps", fmt::format("{:g}", sc.output.max_steps),
                    fmt::format("{}: the run's estimate, {}{}, is more than this budget", plan.engine, e.text(), step),
                    fmt::format("output.max_steps of at least {} to allow it; or fewer steps: {}",
                                count(roundUp(e.steps)), plan.fewerSteps));

@@ -329,10 +329,11 @@ void absoluteDataPaths(nlohmann::json& record, const std::string& source) {
 }
 
 Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared_ptr<const std::string> file) {
-  auto record = std::make_shared<nlohmann::json>(nlohmann::json::object());
+  auto record = std::make_shared<Section::Understood>();
   Scenario sc = readSections(Section(root, "scenario", "", file, record), source);
-  absoluteDataPaths(*record, source);
-  sc.understood = record->dump();
+  absoluteDataPaths(record->doc, source);
+  sc.understood = record->doc.dump();
+  sc.given_at = std::move(record->given_at);
   return sc;
 }
 

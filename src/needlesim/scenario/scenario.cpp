@@ -41,3 +41,25 @@ double Scenario::totalDuration() const {
 }
 
 }  // namespace needlesim
+
+namespace needlesim {
+
+SourceLocation Scenario::where(const std::string& field) const {
+  for (std::string f = field; !f.empty();) {
+    if (auto it = given_at.find(f); it != given_at.end()) return it->second;
+    const SourceLocation* first = nullptr;  // the first given field inside section or list `f`
+    for (auto it = given_at.lower_bound(f); it != given_at.end() && it->first.starts_with(f); ++it) {
+      const char next = it->first.size() > f.size() ? it->first[f.size()] : '\0';
+      const SourceLocation& at = it->second;
+      if ((next == '.' || next == '[') &&
+          (!first || at.line < first->line || (at.line == first->line && at.column < first->column)))
+        first = &at;
+    }
+    if (first) return *first;
+    const auto cut = f.find_last_of(".[");
+    f = cut == std::string::npos ? std::string() : f.substr(0, cut);
+  }
+  return SourceLocation{source, 0, 0};
+}
+
+}  // namespace needlesim

@@ -1,10 +1,12 @@
 #pragma once
 // The typed scenario every engine receives: plain structs in SI units.
 // Engines never parse YAML; scenario/reader.cpp builds this from a file.
+#include <map>
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "needlesim/core/error.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim {
@@ -282,6 +284,9 @@ struct Scenario {
   // scenario file's own schema with SI quantities: summary.json's "scenario",
   // readable again as a scenario. Empty for a Scenario built in code.
   std::string understood;
+  // Where the file gives each field (path as in docs/scenario-format.md, e.g.
+  // insertion.profile[0].insert.speed); see where().
+  std::map<std::string, SourceLocation> given_at;
   TissueSpec tissue;
   NeedleSpec needle;
   InsertionSpec insertion;
@@ -291,6 +296,9 @@ struct Scenario {
   // The tip depth at the end of the motion profile and the largest reached.
   double maxDepth() const;
   double totalDuration() const;
+  // The file, line and column that give `field`; for a section or list, its first
+  // given field; the file alone when the field is not given (a default).
+  SourceLocation where(const std::string& field) const;
 };
 
 }  // namespace needlesim

@@ -50,7 +50,11 @@ nlohmann::json::json_pointer pointerOf(const std::string& path, const std::strin
 }  // namespace
 
 void Section::remember(const std::string& key, nlohmann::json value) const {
-  if (record_) (*record_)[pointerOf(path_, key)] = std::move(value);
+  if (!record_) return;
+  record_->doc[pointerOf(path_, key)] = std::move(value);
+  const YAML::Node& node = node_;  // const: reading never adds the key
+  const YAML::Node given = node[key];
+  if (given && !given.Mark().is_null()) record_->given_at[fieldPath(key)] = location(given);
 }
 
 void Section::rememberNumber(const std::string& key, const FieldDoc& f, double value) const {

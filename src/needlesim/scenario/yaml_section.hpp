@@ -8,6 +8,7 @@
 #include <nlohmann/json.hpp>
 #include <yaml-cpp/yaml.h>
 
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -21,7 +22,12 @@ namespace needlesim::scenario {
 
 class Section {
  public:
-  using Record = std::shared_ptr<nlohmann::json>;
+  // The scenario as understood, and where each given field was written.
+  struct Understood {
+    nlohmann::json doc = nlohmann::json::object();
+    std::map<std::string, SourceLocation> given_at;  // field path -> file:line:column
+  };
+  using Record = std::shared_ptr<Understood>;
   Section(YAML::Node node, std::string type, std::string path, std::shared_ptr<const std::string> file,
           Record record = nullptr);
 
@@ -52,7 +58,8 @@ class Section {
                      const std::string& problem, const std::string& allowed) const;
   SourceLocation location(const YAML::Node& at) const;
   // Writes the value read for `key` into the record at this section's path
-  // (for values the reader takes from raw(), such as a library material name).
+  // (for values the reader takes from raw(), such as a library material name),
+  // and where the file gives it.
   void remember(const std::string& key, nlohmann::json value) const;
   std::string fieldPath(const std::string& key) const;
 

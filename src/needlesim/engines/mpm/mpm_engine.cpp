@@ -25,7 +25,7 @@ FaceBC faceOf(const std::string& s) {
 
 InputError refusal(const Scenario& sc, const std::string& field, const std::string& value, const std::string& problem,
                    const std::string& allowed) {
-  return InputError(SourceLocation{sc.source, 0, 0}, field, value, "mpm: " + problem, allowed);
+  return InputError(sc.where(field), field, value, "mpm: " + problem, allowed);
 }
 
 // The Coulomb coefficients of needle contact: per layer, then per inclusion.

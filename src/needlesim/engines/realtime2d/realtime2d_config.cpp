@@ -29,7 +29,7 @@ ElasticMaterial elasticOf(const materials::MaterialSpec& m, const Realtime2dMode
 
 [[noreturn]] void refuse(const Scenario& sc, const std::string& field, const std::string& problem,
                          const std::string& allowed) {
-  throw InputError(SourceLocation{sc.source, 0, 0}, field, "", "realtime2d: " + problem, allowed);
+  throw InputError(sc.where(field), field, "", "realtime2d: " + problem, allowed);
 }
 
 bool sameProny(const std::vector<materials::PronyTerm>& a, const std::vector<materials::PronyTerm>& b) {

@@ -23,7 +23,7 @@ constexpr double pi = std::numbers::pi;
 
 InputError inputError(const Scenario& sc, const std::string& field, const std::string& value,
                       const std::string& problem, const std::string& allowed) {
-  return InputError(SourceLocation{sc.source, 0, 0}, field, value, problem, allowed);
+  return InputError(sc.where(field), field, value, problem, allowed);
 }
 
 struct Result {
