@@ -1,5 +1,5 @@
 #pragma once
-// Running the needlesim binary from a test: exit code and everything it printed.
+// Running the needlesim binary (or a shell line) from a test: exit code and everything it printed.
 #include <array>
 #include <cstdio>
 #include <string>
@@ -8,12 +8,12 @@
 namespace needlesim::test {
 
 struct CliResult {
-  int code = -1;
+  int code = -1;    // exit code; -signal for a program ended by a signal
   std::string out;  // stdout and stderr together
 };
 
-inline CliResult runCli(const std::string& args) {
-  const std::string cmd = std::string(NEEDLESIM_BINARY) + " " + args + " 2>&1";
+inline CliResult runShell(const std::string& command) {
+  const std::string cmd = command + " 2>&1";
   CliResult r;
   FILE* p = popen(cmd.c_str(), "r");
   if (!p) return r;
@@ -21,7 +21,10 @@ inline CliResult runCli(const std::string& args) {
   while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
   const int status = pclose(p);
   r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  if (r.code >= 128) r.code = -(r.code - 128);  // sh reports a signal as 128 + its number
   return r;
 }
+
+inline CliResult runCli(const std::string& args) { return runShell(std::string(NEEDLESIM_BINARY) + " " + args); }
 
 }  // namespace needlesim::test

@@ -18,31 +18,14 @@
 
 #include "needlesim/io/checkpoint.hpp"
 #include "needlesim/io/results_folder.hpp"
+#include "cli_run.hpp"
 
 namespace fs = std::filesystem;
 
 namespace {
 
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr together
-};
-
-// Runs a shell command line; a program ended by a signal gives code -signal.
-Result runShell(const std::string& command) {
-  std::string cmd = command + " 2>&1";
-  Result r{-1, {}};
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  if (r.code >= 128) r.code = -(r.code - 128);  // sh reports a signal as 128 + its number
-  return r;
-}
-
-Result runCli(const std::string& args) { return runShell(std::string(NEEDLESIM_BINARY) + " " + args); }
+using needlesim::test::runCli;
+using needlesim::test::runShell;
 
 // Starts the CLI with `args` in a child process (stdout and stderr to `log`); its pid.
 pid_t startCli(const std::string& args, const fs::path& log) {

@@ -10,6 +10,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "expect_error.hpp"
 #include "needlesim/scenario/schema.hpp"
 
 using namespace needlesim;
@@ -31,25 +32,8 @@ insertion:
     - insert: {to: 60 mm, speed: 3 mm/s}
 )";
 
-std::string replaced(std::string s, const std::string& from, const std::string& to) {
-  auto pos = s.find(from);
-  EXPECT_NE(pos, std::string::npos) << from;
-  if (pos != std::string::npos) s.replace(pos, from.size(), to);
-  return s;
-}
-
-// Reads `yaml` expecting an InputError whose message holds every `parts`.
-std::string expectError(const std::string& yaml, std::initializer_list<std::string> parts) {
-  try {
-    scenario::readText(yaml, "case.yaml");
-  } catch (const InputError& e) {
-    std::string msg = e.what();
-    for (const auto& p : parts) EXPECT_NE(msg.find(p), std::string::npos) << "missing '" << p << "' in: " << msg;
-    return msg;
-  }
-  ADD_FAILURE() << "no error for:\n" << yaml;
-  return {};
-}
+using needlesim::test::expectError;
+using needlesim::test::replaced;
 
 }  // namespace
 

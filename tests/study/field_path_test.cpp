@@ -16,6 +16,7 @@
 #include "needlesim/core/nearest_name.hpp"
 #include "needlesim/study/field_path.hpp"
 #include "needlesim/study/study.hpp"
+#include "../app/cli_run.hpp"
 
 using namespace needlesim;
 using namespace needlesim::study;
@@ -73,22 +74,8 @@ void expectHas(const std::string& text, const std::vector<std::string>& parts) {
   for (const auto& p : parts) EXPECT_NE(text.find(p), std::string::npos) << "'" << p << "' not in: " << text;
 }
 
-struct CliResult {
-  int code;
-  std::string out;
-};
-
-CliResult runCli(const std::string& args) {
-  std::string cmd = std::string(NEEDLESIM_BINARY) + " " + args + " 2>&1";
-  CliResult r{-1, {}};
-  FILE* p = popen(cmd.c_str(), "r");
-  if (!p) return r;
-  std::array<char, 4096> buf{};
-  while (fgets(buf.data(), buf.size(), p)) r.out += buf.data();
-  int status = pclose(p);
-  r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
-  return r;
-}
+using needlesim::test::CliResult;
+using needlesim::test::runCli;
 
 }  // namespace
 
