@@ -27,7 +27,8 @@ int main(int argc, char** argv) {
   try {
     app.parse(argc, argv);
   } catch (const CLI::ParseError& e) {
-    return app.exit(e);
+    const int code = app.exit(e);  // prints the help, the version or what is wrong with the arguments
+    return code == 0 ? 0 : 2;      // bad arguments are bad input: exit 2, as for a scenario
   } catch (const needlesim::RunInterrupted& e) {
     fmt::print(stderr, "stopped: {}\n", e.what());
     return e.signal() > 0 ? 128 + e.signal() : 1;  // 130 for Ctrl-C, 143 for SIGTERM, as a shell reports them

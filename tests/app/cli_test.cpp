@@ -496,3 +496,15 @@ TEST(Cli, CtrlCStopsASweepAndResumeRunsWhatIsMissing) {
   EXPECT_TRUE(fs::exists(dir / "s" / "cases" / "case_0002" / "summary.json"));
   fs::remove_all(dir);
 }
+
+// Bad arguments are bad input (exit 2, with what is wrong); --help and --version succeed.
+TEST(Cli, BadArgumentsExitWith2AndSayWhatIsWrong) {
+  auto unknown = runCli("run --no-such-flag");
+  EXPECT_EQ(unknown.code, 2) << unknown.out;
+  EXPECT_NE(unknown.out.find("--no-such-flag"), std::string::npos) << unknown.out;
+  auto missing = runCli("check");
+  EXPECT_EQ(missing.code, 2) << missing.out;
+  EXPECT_NE(missing.out.find("file is required"), std::string::npos) << missing.out;
+  EXPECT_EQ(runCli("--help").code, 0);
+  EXPECT_EQ(runCli("--version").code, 0);
+}
