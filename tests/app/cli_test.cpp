@@ -508,3 +508,25 @@ TEST(Cli, BadArgumentsExitWith2AndSayWhatIsWrong) {
   EXPECT_EQ(runCli("--help").code, 0);
   EXPECT_EQ(runCli("--version").code, 0);
 }
+
+// A cohesive law that has no bilinear triangle (onset beyond the final separation) is bad
+// input, refused by check as by run with the line of the cohesive section.
+TEST(Cli, ACohesiveLawWithoutABilinearTriangleIsRefusedWithItsLine) {
+  fs::path dir = scratch("cohesive_law");
+  fs::create_directories(dir);
+  std::ifstream in(example("cohesive/seed004_table1_2d.yaml"));
+  std::string yaml((std::istreambuf_iterator<char>(in)), {});
+  const std::string at = "    cohesive:\n";
+  const auto pos = yaml.find(at);
+  ASSERT_NE(pos, std::string::npos);
+  yaml.insert(pos + at.size(), "      stiffness: 1 Pa/m\n");
+  std::ofstream(dir / "soft_law.yaml") << yaml;
+  for (const std::string& cmd : {std::string("check "), "run --quiet --out " + (dir / "out").string() + " "}) {
+    auto r = runCli(cmd + (dir / "soft_law.yaml").string());
+    EXPECT_EQ(r.code, 2) << cmd << r.out;
+    EXPECT_NE(r.out.find("soft_law.yaml:51:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("model.explicit.cohesive"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find("no bilinear law exists"), std::string::npos) << r.out;
+  }
+  EXPECT_FALSE(fs::exists(dir / "out"));
+}

@@ -245,8 +245,9 @@ CohesiveLaw ExplicitRun::cohesiveLawAt(const Vector3d& x) const {
   const materials::MaterialSpec& material = i >= 0 ? t.inclusions[i].material : layer.material;
   const double toughness = i >= 0 ? t.inclusions[i].toughness : layer.toughness;
   if (!(cs.fracture_energy > 0) && !(toughness > 0))
-    throw Error("explicit: " + where + ".toughness is not given and model.explicit.cohesive.fracture_energy is 0: "
-                "the cohesive zone through it needs G_c");
+    throw InputError(sc_.where("model.explicit.cohesive"), "model.explicit.cohesive.fracture_energy", "0",
+                     "explicit: " + where + ".toughness is not given, and the cohesive zone through it needs G_c",
+                     "a toughness in " + where + ", or model.explicit.cohesive.fracture_energy > 0");
   const auto mod = materials::smallStrainModuli(material);
   const double E = mod.youngs(), nu = mod.poisson(), Ep = E / (1 - nu * nu);
   CohesiveLaw law;
@@ -259,7 +260,8 @@ CohesiveLaw ExplicitRun::cohesiveLawAt(const Vector3d& x) const {
   try {
     law.validate();
   } catch (const Error& e) {
-    throw Error("model.explicit.cohesive (" + where + "): " + e.what());
+    throw InputError(sc_.where("model.explicit.cohesive"), "model.explicit.cohesive", where, e.what(),
+                     "strength, stiffness and G_c (fracture_energy or the toughness) that make a bilinear law");
   }
   return law;
 }
