@@ -37,8 +37,8 @@ struct Target {
 };
 
 Target chooseTarget(const RunArgs& args, const Scenario& sc) {
-  if (!args.out.empty()) return {io::outputPath(args.out, "--out"), "--out"};
-  if (!sc.output.directory.empty()) return {io::outputPath(sc.output.directory, "output.directory"), "output.directory"};
+  if (!args.out.empty()) return {io::outputPath(args.out, "--out", commandLine()), "--out"};
+  if (!sc.output.directory.empty()) return {io::outputPath(sc.output.directory, "output.directory", sc.where("output.directory")), "output.directory"};
   return {fs::path("results") / sc.name, ""};
 }
 
@@ -50,7 +50,7 @@ void clearCheckpointInTheWay(const fs::path& ckFolder, bool overwrite) {
                      "the checkpoint of an interrupted run of this scenario is in the way",
                      "needlesim run --resume to continue it, or --overwrite (or deleting the folder) to start afresh");
   if (!io::isCheckpointFolder(ckFolder))
-    throw InputError(SourceLocation{}, "--overwrite", ckFolder.string(),
+    throw InputError(commandLine(), "--overwrite", ckFolder.string(),
                      "is " + io::describeContents(ckFolder) + ", not a needlesim checkpoint folder; it is not deleted",
                      "--overwrite deletes only a checkpoint folder needlesim wrote (state.bin and .h5 copies); move "
                      "it away or choose another --out");
@@ -89,7 +89,8 @@ std::pair<fs::path, fs::path> resolveTarget(const RunArgs& args, const Scenario&
                         args.overwrite && !target.field.empty());
   if (target.field.empty()) target.path = io::freeResultsPath(target.path);
   else if (fs::exists(target.path) && !args.overwrite)
-    throw InputError(SourceLocation{}, target.field, target.path.string(), "results folder already exists",
+    throw InputError(target.field == "--out" ? commandLine() : sc.where(target.field), target.field,
+                     target.path.string(), "results folder already exists",
                      "a new folder, or --overwrite to replace it");
   return {target.path, ckFolder};
 }
@@ -169,7 +170,7 @@ void registerCheckCommand(CLI::App& app) {
       }
     }
     if (bad > 0)
-      throw InputError(SourceLocation{}, "", "", fmt::format("{} of {} files have errors (listed above)", bad, files->size()),
+      throw InputError(commandLine(), "", "", fmt::format("{} of {} files have errors (listed above)", bad, files->size()),
                        "fix them and run needlesim check again");
   });
 }

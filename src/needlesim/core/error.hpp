@@ -23,6 +23,9 @@ struct SourceLocation {
   std::string str() const;
 };
 
+// Where a command-line argument's error is: the command line itself.
+inline SourceLocation commandLine() { return SourceLocation{"command line", 0, 0}; }
+
 // `text` as it may be shown on a terminal: control bytes and bytes that are not UTF-8 are
 // escaped (\x1b, \n), and text longer than `max_chars` characters is cut there and ends with
 // "... (N bytes)". Every InputError message passes its parts through this.

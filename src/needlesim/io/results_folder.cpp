@@ -52,7 +52,7 @@ pid_t stagePid(const std::string& n) {
 
 InputError badTarget(const fs::path& target, const std::string& field, const std::string& source,
                      const std::string& problem, const std::string& allowed) {
-  return InputError(SourceLocation{field == "--out" ? std::string() : source, 0, 0}, field, target.string(), problem,
+  return InputError(field == "--out" ? commandLine() : SourceLocation{source, 0, 0}, field, target.string(), problem,
                     allowed);
 }
 
@@ -75,12 +75,12 @@ void checkParentWritable(const fs::path& target, const std::string& field, const
 }
 }  // namespace
 
-fs::path outputPath(const fs::path& given, const std::string& field) {
+fs::path outputPath(const fs::path& given, const std::string& field, const SourceLocation& where) {
   fs::path p = given.lexically_normal();
   while (!p.empty() && !p.has_filename() && p.has_relative_path()) p = p.parent_path();  // "out/" -> "out"
   const std::string name = p.filename().string();
   if (name.empty() || name == "." || name == "..")
-    throw InputError(SourceLocation{}, field, given.string(), "names no results folder (it ends in '.', '..' or '/')",
+    throw InputError(where, field, given.string(), "names no results folder (it ends in '.', '..' or '/')",
                      "a folder path such as results/run1");
   return p;
 }
@@ -161,7 +161,7 @@ fs::path freeResultsPath(const fs::path& base) {
 }
 
 ResultsFolder::ResultsFolder(const Scenario& scenario, fs::path target, bool printWarnings)
-    : scenario_(scenario), target_(outputPath(target, "--out")), printWarnings_(printWarnings) {
+    : scenario_(scenario), target_(outputPath(target, "--out", commandLine())), printWarnings_(printWarnings) {
   stage_ = target_.parent_path() / fmt::format(".{}.partial-{}", target_.filename().string(), ::getpid());
 }
 

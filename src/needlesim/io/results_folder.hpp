@@ -70,7 +70,7 @@ class ResultsFolder : public ResultSink {
 // --out or output.directory as a results target: lexically normal, without a
 // trailing separator ("out/" and "out/." are "out"). InputError for a path
 // with no folder name ("", ".", "..", "/").
-std::filesystem::path outputPath(const std::filesystem::path& given, const std::string& field);
+std::filesystem::path outputPath(const std::filesystem::path& given, const std::string& field, const SourceLocation& where);
 
 // Whether `dir` is a folder needlesim wrote: it holds a summary.json with the
 // "needlesim" version record and a "status". Only such a folder may be replaced.

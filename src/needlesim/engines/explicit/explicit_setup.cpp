@@ -78,9 +78,10 @@ void ExplicitRun::checkInput() const {
   if (sc_.tissue.layers.empty()) throw Error("explicit: the tissue needs at least one layer");
   for (std::size_t i = 0; i < sc_.tissue.inclusions.size(); ++i)
     if (sc_.tissue.inclusions[i].sliding)
-      throw Error(fmt::format("explicit: tissue.inclusions[{}].interface: sliding needs tissue-tissue contact, which "
-                              "explicit does not have; use interface: bonded or engine mpm",
-                              i));
+      throw InputError(sc_.where(fmt::format("tissue.inclusions[{}].interface", i)),
+                       fmt::format("tissue.inclusions[{}].interface", i), "sliding",
+                       "explicit: a sliding inclusion needs tissue-tissue contact, which explicit does not have",
+                       "interface: bonded, or engine mpm");
   if (!ex_.mesh.empty() && !ex_.imported_mesh)
     throw Error("explicit: model.explicit.mesh '" + ex_.mesh + "' was not read (the scenario reader loads it)");
 }
@@ -132,8 +133,9 @@ void ExplicitRun::buildBlock() {
   if (seamOn_) snapCoordinate(ys, seamY_);
   const ElementType type = elementTypeFromName(ex_.element.empty() ? (dim_ == 2 ? "quad4" : "hex8") : ex_.element);
   if (elementDim(type) != dim_)
-    throw Error("model.explicit.element " + elementName(type) + " does not match dimension " + std::to_string(dim_) +
-                "d");
+    throw InputError(sc_.where("model.explicit.element"), "model.explicit.element", elementName(type),
+                     "does not match dimension " + std::to_string(dim_) + "d",
+                     dim_ == 2 ? "quad4 or tri3 in 2d" : "hex8 or tet4 in 3d");
   if (dim_ == 2) {
     mesh_ = structuredBlock(xs, ys, type);
   } else {
@@ -150,9 +152,10 @@ void ExplicitRun::assignRegions() {
   if (ex_.imported_mesh) {
     const int regions = *std::max_element(mesh_.region.begin(), mesh_.region.end()) + 1;
     if (regions > layers)
-      throw Error(fmt::format("explicit: the imported mesh (model.explicit.mesh) has {} element groups but "
-                              "tissue.layers has {}: one layer per group, in increasing tag order",
-                              regions, layers));
+      throw InputError(sc_.where("model.explicit.mesh"), "model.explicit.mesh", ex_.mesh,
+                       fmt::format("explicit: the imported mesh has {} element groups but tissue.layers has {}",
+                                   regions, layers),
+                       "one layer per element group, in increasing tag order");
   }
   for (int e = 0; e < mesh_.elements(); ++e) {
     const Vector3d c = centroid(mesh_, e);
@@ -178,9 +181,10 @@ void ExplicitRun::checkInclusionResolution() {
   inclusionNodes_.assign(incs.size(), {});
   for (std::size_t i = 0; i < incs.size(); ++i) {
     if (size[i] == 0.0)
-      throw Error(fmt::format("explicit: tissue.inclusions[{}] ({}) contains no element centroid: refine the mesh "
-                              "there (model.explicit.element_size, core_width) or enlarge its radius",
-                              i, incs[i].name));
+      throw InputError(sc_.where(fmt::format("tissue.inclusions[{}].radius", i)),
+                       fmt::format("tissue.inclusions[{}].radius", i), fmt::format("{:g} mm", incs[i].radius * 1e3),
+                       fmt::format("explicit: inclusion '{}' contains no element centroid", incs[i].name),
+                       "a finer mesh there (model.explicit.element_size, core_width) or a larger radius");
     for (int n = 0; n < mesh_.nodes(); ++n)
       if (member[i][n]) inclusionNodes_[i].push_back(n);
     if (incs[i].radius < 2.0 * size[i])
@@ -219,8 +223,10 @@ SolverOptions ExplicitRun::solverOptions() const {
 // meets the needle on its own side (needle::queryNeedle's `side`).
 void ExplicitRun::setupSeam() {
   if (cohesive_ && !sleeve_ && (!seamOn_ || mesh_.type == ElementType::Tri3 || mesh_.type == ElementType::Tet4))
-    throw Error("model.explicit.cohesive needs the pre-cut seam of a quad4 (2d) or hex8 (3d) mesh (pre_cut: true, no "
-                "imported mesh, entry_angle 90 deg, bevel_orientation 0 or 180 deg)");
+    throw InputError(sc_.where("model.explicit.cohesive"), "model.explicit.cohesive", "enable: true",
+                     "needs the pre-cut seam of a generated quad4 (2d) or hex8 (3d) mesh",
+                     "pre_cut: true, no imported mesh, element quad4 or hex8, entry_angle 90 deg, bevel_orientation "
+                     "0 or 180 deg");
   // splitSeam gives the copies to the +y lip; the bevel faces +y when bevelSide.y > 0
   const int copySide = sleeve_ || bevelSide_.y() >= 0 ? 1 : -1;  // sleeve: core side -1, outer side +1
   for (auto [a, b] : seam_) {
