@@ -34,3 +34,6 @@ needlesim_embed_text(${NEEDLESIM_CHARTJS} kChartJs ${NEEDLESIM_CHARTJS_CPP})
 set(NEEDLESIM_DEFAULT_SCENARIO_CPP ${CMAKE_BINARY_DIR}/generated/embedded_default_scenario.cpp)
 needlesim_embed_text(${CMAKE_SOURCE_DIR}/examples/gelatin_18G_3mms.yaml kDefaultScenario
   ${NEEDLESIM_DEFAULT_SCENARIO_CPP})
+# The publications "seed NNN" refers to: reports list those they cite (io/references).
+set(NEEDLESIM_REFERENCES_CPP ${CMAKE_BINARY_DIR}/generated/embedded_references.cpp)
+needlesim_embed_text(${CMAKE_SOURCE_DIR}/docs/references.md kReferences ${NEEDLESIM_REFERENCES_CPP})

@@ -7,6 +7,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/html_report.hpp"
+#include "needlesim/io/references.hpp"
 #include "needlesim/io/table.hpp"
 
 using namespace needlesim::io;
@@ -53,4 +54,26 @@ TEST(HtmlReport, ThinsLongSeriesButKeepsThePeakAndDropsNaN) {
   EXPECT_EQ(data.find("NaN"), std::string::npos);
   EXPECT_EQ(data.find("null"), std::string::npos);
   EXPECT_LT(html.size(), 600000u);
+}
+
+// Every publication of docs/references.md is read, and a report lists the full citation of
+// each seed it names (and only those).
+TEST(HtmlReport, ListsTheCitationOfEverySeedItNames) {
+  const auto& c = needlesim::io::seedCitations();
+  ASSERT_EQ(c.size(), 5u);
+  EXPECT_NE(c.at("003").find("Needle tissue interaction modelling"), std::string::npos);
+  EXPECT_NE(c.at("004").find("Misra"), std::string::npos);
+  EXPECT_EQ(c.at("004").find('*'), std::string::npos);  // markdown emphasis dropped
+  EXPECT_NE(c.at("004").find("10.1109/BIOROB.2008.4762872 (https://doi.org/"), std::string::npos);
+
+  needlesim::io::HtmlReport r;
+  r.title = "t";
+  r.notes = {"Puncture force from seed 003 eq 3.16; tip loads as in seed 002."};
+  const std::string html = r.render();
+  EXPECT_NE(html.find("<h2>References</h2>"), std::string::npos);
+  EXPECT_NE(html.find("<li>seed 002: S. Misra"), std::string::npos);
+  EXPECT_NE(html.find("<li>seed 003: "), std::string::npos);
+  EXPECT_EQ(html.find("<li>seed 004: "), std::string::npos);
+  r.notes = {"no citation"};
+  EXPECT_EQ(r.render().find("<h2>References</h2>"), std::string::npos);
 }

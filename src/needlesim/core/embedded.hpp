@@ -5,4 +5,5 @@
 namespace needlesim::embedded {
 extern const std::string_view kChartJs;          // Chart.js (MIT), Debian libjs-chart.js
 extern const std::string_view kDefaultScenario;  // examples/gelatin_18G_3mms.yaml
+extern const std::string_view kReferences;       // docs/references.md
 }  // namespace needlesim::embedded

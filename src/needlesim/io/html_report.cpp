@@ -7,6 +7,7 @@
 
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/version.hpp"
+#include "needlesim/io/references.hpp"
 
 namespace needlesim::io {
 namespace {
@@ -53,6 +54,26 @@ std::vector<std::pair<double, double>> thin(const PlotSeries& s) {
 const char* kPalette[] = {"#1f77b4", "#d62728", "#2ca02c", "#ff7f0e", "#9467bd",
                           "#8c564b", "#e377c2", "#7f7f7f", "#bcbd22", "#17becf"};
 
+// Every text of the report a reader sees, to find the seeds it cites.
+std::string visibleText(const HtmlReport& r) {
+  std::string t = r.title + "\n" + r.subtitle + "\n";
+  for (const auto& [k, v] : r.facts) t += k + " " + v + "\n";
+  for (const auto& w : r.warnings) t += w + "\n";
+  for (const auto& n : r.notes) t += n + "\n";
+  for (const auto& p : r.plots) t += p.title + " " + p.xlabel + " " + p.ylabel + "\n";
+  return t;
+}
+
+// The full citations of the seeds the report names (docs/references.md).
+std::string referencesHtml(const HtmlReport& r) {
+  std::string items;
+  for (const auto& seed : citedSeeds(visibleText(r))) {
+    const auto it = seedCitations().find(seed);
+    if (it != seedCitations().end()) items += "<li>seed " + seed + ": " + escape(it->second) + "</li>\n";
+  }
+  return items.empty() ? std::string() : "<h2>References</h2>\n<ul class=\"references\">\n" + items + "</ul>\n";
+}
+
 }  // namespace
 
 std::string HtmlReport::render() const {
@@ -88,6 +109,7 @@ std::string HtmlReport::render() const {
   }
   std::string notes_html;
   for (const auto& n : notes) notes_html += "<p>" + escape(n) + "</p>\n";
+  const std::string references_html = referencesHtml(*this);
   std::string canvases;
   for (std::size_t i = 0; i < plots.size(); ++i)
     canvases += fmt::format("<div class=\"plot\"><canvas id=\"plot{}\"></canvas></div>\n", i);
@@ -123,6 +145,7 @@ std::string HtmlReport::render() const {
   if (!facts.empty()) html += "<table>\n" + facts_html + "</table>\n";
   html += notes_html;
   html += canvases;
+  html += references_html;
   html += fmt::format("<footer>needlesim {} ({}); plots drawn with Chart.js (MIT licence).</footer>\n", kVersion,
                       kGitRevision);
   html += "<script>\nconst plots = " + plotsJson.dump() + ";\n";
