@@ -38,11 +38,15 @@ int stopSignal() { return gStopSignal.load(); }
 void requestStop(int signal) { gStopSignal.store(signal); }
 void clearStopRequest() { gStopSignal.store(0); }
 
+std::string stopSignalName() {
+  const int s = stopSignal();
+  return s == SIGINT ? "SIGINT (Ctrl-C)" : s == SIGTERM ? "SIGTERM" : s == 0 ? "" : strsignal(s);
+}
+
 void throwIfStopRequested(const std::string& what) {
   const int s = stopSignal();
   if (s == 0) return;
-  const char* name = s == SIGINT ? "SIGINT (Ctrl-C)" : s == SIGTERM ? "SIGTERM" : strsignal(s);
-  throw RunInterrupted(fmt::format("{}: interrupted by {}", what, name), s);
+  throw RunInterrupted(fmt::format("{}: interrupted by {}", what, stopSignalName()), s);
 }
 
 bool Progress::stderrIsTerminal() { return isatty(fileno(stderr)) != 0; }

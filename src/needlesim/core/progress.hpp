@@ -28,6 +28,7 @@ class RunInterrupted : public Error {
 void installStopHandlers();
 bool stopRequested();
 int stopSignal();  // the signal that asked for the stop, 0 when none
+std::string stopSignalName();  // "SIGINT (Ctrl-C)", "SIGTERM", ... ("" when none)
 void requestStop(int signal);  // what the handlers call (tests call it directly)
 void clearStopRequest();
 // Throws RunInterrupted("<what>: interrupted by SIGINT ...") when a stop was requested.

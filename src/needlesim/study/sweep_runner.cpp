@@ -2,7 +2,6 @@
 #include <nlohmann/json.hpp>
 
 #include <atomic>
-#include <csignal>
 #include <cmath>
 #include <fstream>
 #include <map>
@@ -121,7 +120,7 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   if (stopRequested())
     throw RunInterrupted(fmt::format("sweep {}: interrupted by {} after {} of {} cases (each finished case is kept); "
                                      "continue with needlesim sweep {} --resume",
-                                     spec.name, stopSignal() == SIGTERM ? "SIGTERM" : "SIGINT (Ctrl-C)", done.load(),
+                                     spec.name, stopSignalName(), done.load(),
                                      todo.size(), spec.file.string()),
                          stopSignal());
   rep.ran = static_cast<int>(todo.size()) - static_cast<int>(rep.failed.size());
