@@ -21,6 +21,7 @@
 #include "needlesim/scenario/schema.hpp"
 #include "needlesim/study/field_path.hpp"
 #include "needlesim/study/study.hpp"
+#include "needlesim/study/with_values.hpp"
 
 namespace py = pybind11;
 using namespace needlesim;
@@ -112,18 +113,11 @@ std::string valueText(const std::string& path, const py::handle& v) {
 }
 
 PyScenario withValues(const PyScenario& s, const std::map<std::string, py::object>& values) {
-  study::Case c;
-  for (const auto& [path, object] : values) {
-    std::string value = valueText(path, object);
-    try {
-      study::checkFieldPath(s.text, path);
-    } catch (const study::FieldPathError& e) {
-      throw study::fieldPathInputError(e, SourceLocation{"<python with_values>", 0, 0}, "with_values key", path);
-    }
-    c.assignments.emplace_back(path, value);
-  }
-  std::string text = study::caseYaml(s.text, c);
-  return PyScenario{scenario::readText(text, "<python with_values>"), text};
+  std::vector<std::pair<std::string, std::string>> assignments;
+  for (const auto& [path, object] : values) assignments.emplace_back(path, valueText(path, object));
+  const SourceLocation where{"<python with_values>", 0, 0};
+  std::string text = study::withValuesYaml(s.text, assignments, where, "with_values key");
+  return PyScenario{scenario::readText(text, where.file), text};
 }
 
 py::dict toDict(const MemorySink& s) {
