@@ -4,11 +4,11 @@
 include(CMakePackageConfigHelpers)
 set(NEEDLESIM_CMAKE_DIR ${CMAKE_INSTALL_LIBDIR}/cmake/needlesim)
 
+# The program links the static needlesim_lib: it needs no library of the prefix at run time.
 install(TARGETS needlesim RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS needlesim_shared EXPORT needlesimTargets
   LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
-  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
-  INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+  RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(FILES ${PROJECT_SOURCE_DIR}/src/needlesim/needlesim.hpp DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/needlesim)
 install(EXPORT needlesimTargets NAMESPACE needlesim:: DESTINATION ${NEEDLESIM_CMAKE_DIR})
 

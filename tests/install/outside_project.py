@@ -4,7 +4,8 @@ examples (examples/cpp, a project of its own) against it with find_package(needl
 run each one and check what it prints, check that the installed program runs, and
 remove the prefix again.
 
-usage: outside_project.py BUILD_DIR SOURCE_DIR WORK_DIR VERSION [GENERATOR]
+usage: outside_project.py BUILD_DIR SOURCE_DIR WORK_DIR VERSION GENERATOR BUILD_TYPE [CXX_FLAGS]
+(the examples build with the build's type and flags, e.g. its sanitizers)
 """
 import os
 import re
@@ -13,7 +14,8 @@ import subprocess
 import sys
 
 build, source, work, version = sys.argv[1:5]
-generator = sys.argv[5] if len(sys.argv) > 5 else "Ninja"
+generator, build_type = sys.argv[5:7]
+cxx_flags = sys.argv[7] if len(sys.argv) > 7 else ""
 prefix = os.path.join(work, "prefix")
 examples = os.path.join(source, "examples")
 failures = []
@@ -46,12 +48,20 @@ try:
               "lib/cmake/needlesim/needlesimConfigVersion.cmake", "lib/cmake/needlesim/needlesimTargets.cmake"]:
         check(os.path.exists(os.path.join(prefix, f)), "installed " + f)
 
+    # Only the public API is exported: no needlesim:: symbol outside needlesim::api.
+    if shutil.which("nm"):
+        symbols = run(["nm", "-DC", "--defined-only", os.path.join(prefix, "lib", "libneedlesim.so")])
+        private = [l for l in symbols.splitlines() if "needlesim::" in l and "needlesim::api::" not in l]
+        api = [l for l in symbols.splitlines() if "needlesim::api::run(" in l]
+        check(not private and api, "libneedlesim.so exports needlesim::api and nothing else of needlesim",
+              "\n".join(private[:20]))
+
     out = run([os.path.join(prefix, "bin", "needlesim"), "--version"])
     check(version in out, "the installed program runs: needlesim --version says " + out.strip())
 
     ex_build = os.path.join(work, "examples")
     run(["cmake", "-S", os.path.join(examples, "cpp"), "-B", ex_build, "-G", generator,
-         "-DCMAKE_BUILD_TYPE=Release", "-DCMAKE_PREFIX_PATH=" + prefix])
+         "-DCMAKE_BUILD_TYPE=" + build_type, "-DCMAKE_CXX_FLAGS=" + cxx_flags, "-DCMAKE_PREFIX_PATH=" + prefix])
     run(["cmake", "--build", ex_build])
 
     def example(name, *args):
