@@ -233,3 +233,16 @@ TEST(ApiSweep, SmallGridRunsEveryCase) {
   EXPECT_TRUE(fs::exists(s.folder / "study.csv"));
   fs::remove_all(dir);
 }
+
+TEST(ApiErrors, SolverErrorsKeepTheirText) {
+  // A conditionally stable Newmark integrator (beta < gamma / 2) with a step above its limit.
+  const auto unstable = api::Scenario::fromFile(kExamples / "realtime2d/retraction.yaml")
+                            .with({{"model.realtime2d.newmark_beta", "0.05"},
+                                   {"model.realtime2d.nodes_depth", "11"},
+                                   {"model.realtime2d.nodes_lateral", "13"},
+                                   {"model.time_step", "5 ms"}});
+  auto inRun = messageOf<api::SolverError>([&] { api::run(unstable); });
+  EXPECT_NE(inRun.find("stability limit"), std::string::npos) << inRun;
+  auto inSession = messageOf<api::SolverError>([&] { api::Session{unstable}; });
+  EXPECT_EQ(inSession, inRun);
+}
