@@ -58,6 +58,10 @@ class NEEDLESIM_API Interrupted : public Error {
 NEEDLESIM_API std::string version();
 
 // ---------------------------------------------------------------- scenarios
+namespace detail {
+struct ScenarioAccess;  // the library's own access to a Scenario's contents
+}
+
 // A validated scenario (docs/scenario-format.md). Cheap to copy; immutable.
 class NEEDLESIM_API Scenario {
  public:
@@ -79,11 +83,10 @@ class NEEDLESIM_API Scenario {
   double duration() const;       // s, the insertion profile's total time
   const std::string& yaml() const;  // the YAML text it was read from
 
-  struct Impl;
-  explicit Scenario(std::shared_ptr<const Impl> impl);
-  const Impl& impl() const { return *impl_; }
-
  private:
+  struct Impl;
+  friend struct detail::ScenarioAccess;
+  explicit Scenario(std::shared_ptr<const Impl> impl);
   std::shared_ptr<const Impl> impl_;
 };
 

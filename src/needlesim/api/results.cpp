@@ -82,7 +82,7 @@ const Table& Results::table(const std::string& name) const {
 
 Results run(const Scenario& scenario) {
   return detail::translated([&] {
-    MemorySink sink = runInMemory(scenario.impl().scenario);
+    MemorySink sink = runInMemory(detail::ScenarioAccess::typed(scenario));
     Results r;
     r.status = "complete";
     for (const auto& [key, v] : sink.results) r.values[key] = Value{v.value, v.unit, v.meaning};
@@ -98,7 +98,7 @@ Results run(const Scenario& scenario, const std::filesystem::path& folder, const
     RunOptions options;
     options.progress = settings.progress;
     options.printWarnings = settings.printWarnings;
-    RunOutcome o = runScenario(scenario.impl().scenario, folder, settings.overwrite, options);
+    RunOutcome o = runScenario(detail::ScenarioAccess::typed(scenario), folder, settings.overwrite, options);
     Results r;
     r.folder = o.folder;
     for (const auto& k : o.results) r.values[k.key] = Value{k.value, k.unit, k.meaning};

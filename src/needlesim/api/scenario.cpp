@@ -11,7 +11,7 @@ namespace needlesim::api {
 namespace {
 Scenario fromText(std::string text, const std::string& source) {
   needlesim::Scenario typed = scenario::readText(text, source);
-  return Scenario(std::make_shared<const Scenario::Impl>(Scenario::Impl{std::move(typed), std::move(text)}));
+  return detail::ScenarioAccess::make(std::move(typed), std::move(text));
 }
 }  // namespace
 

@@ -47,7 +47,7 @@ struct Session::Impl {
   explicit Impl(const Scenario& s) : scenario(s) { build(); }
 
   void build() {
-    const needlesim::Scenario& sc = scenario.impl().scenario;
+    const needlesim::Scenario& sc = detail::ScenarioAccess::typed(scenario);
     if (sc.model.engine == "realtime2d") {
       fe.emplace(engines::realtime2dConfig(sc));
     } else if (sc.model.engine == "lumped") {
