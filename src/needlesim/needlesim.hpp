@@ -22,8 +22,8 @@
 namespace needlesim::api {
 
 // ---------------------------------------------------------------- errors
-// Every failure is an api::Error; its what() is the message the needlesim program
-// prints (for input: file:line:col, the field, the value and what is allowed).
+// Every error needlesim reports is an api::Error; its what() is the message the needlesim
+// program prints (for input: file:line:col, the field, the value and what is allowed).
 class NEEDLESIM_API Error : public std::runtime_error {
  public:
   using std::runtime_error::runtime_error;
@@ -33,7 +33,7 @@ class NEEDLESIM_API Error : public std::runtime_error {
 class NEEDLESIM_API InputError : public Error {
  public:
   InputError(const std::string& message, std::string file, int line, std::string field);
-  const std::string& file() const { return file_; }   // "" when not from a file
+  const std::string& file() const { return file_; }   // or the source: "<yaml>", "<C++ API>"
   int line() const { return line_; }                 // 1-based; 0 = unknown
   const std::string& field() const { return field_; } // the field or argument at fault
  private:
