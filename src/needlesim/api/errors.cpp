@@ -13,11 +13,9 @@ namespace detail {
 
 void argumentError(const std::string& call, const std::string& argument, const std::string& value,
                    const std::string& problem, const std::string& allowed) {
-  translated([&]() -> int {
-    throw needlesim::InputError(SourceLocation{"<C++ API>", 0, 0}, "needlesim::api::" + call + "(" + argument + ")",
+  const needlesim::InputError e(SourceLocation{"<C++ API>", 0, 0}, "needlesim::api::" + call + "(" + argument + ")",
                                 value, problem, allowed);
-  });
-  throw Error("unreachable");
+  throw InputError(e.what(), e.where().file, e.where().line, e.field());
 }
 
 }  // namespace detail

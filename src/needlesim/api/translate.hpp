@@ -24,7 +24,8 @@ auto translated(Body&& body) -> decltype(body()) {
   }
 }
 
-// An InputError about an argument of an API call: "<api> needlesim::api::<call>: <argument> '<value>' <problem>; allowed: ...".
+// An InputError about an argument of an API call, worded like every input error:
+// "<C++ API>: needlesim::api::<call>(<argument>): <problem> (got '<value>'); allowed: <allowed>".
 [[noreturn]] void argumentError(const std::string& call, const std::string& argument, const std::string& value,
                                 const std::string& problem, const std::string& allowed);
 
