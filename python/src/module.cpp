@@ -194,6 +194,11 @@ PYBIND11_MODULE(_core, m) {
       .def_property_readonly("engine", [](const PyScenario& s) { return s.scenario.model.engine; })
       .def_property_readonly("duration", [](const PyScenario& s) { return s.scenario.totalDuration(); })
       .def_property_readonly("yaml", [](const PyScenario& s) { return s.text; })
+      .def("__repr__",
+           [](const PyScenario& s) {
+             return fmt::format("<Scenario '{}' ({}), {:g} s, from {}>", s.scenario.name, s.scenario.model.engine,
+                                s.scenario.totalDuration(), s.scenario.source);
+           })
       .def("motion_at", &motionAt, py::arg("t"),
            "The insertion profile at time t [s]: a MotionSample with depth [m], velocity [m/s], rotation [rad] (in "
            "the plane) and roll [rad] (about the axis, from the bevel orientation), the arguments of Session.step.")

@@ -67,7 +67,8 @@ struct StepArgs {
 class SessionBase {
  public:
   SessionBase(const Scenario& sc, double maxTravel, std::string travelLimit)
-      : engine_(sc.model.engine), dt_(sc.model.time_step), maxTravel_(maxTravel), travelLimit_(std::move(travelLimit)) {}
+      : engine_(sc.model.engine), name_(sc.name), dt_(sc.model.time_step), maxTravel_(maxTravel),
+        travelLimit_(std::move(travelLimit)) {}
   virtual ~SessionBase() = default;
 
   SessionStep step(double depth, std::optional<double> dt, std::optional<double> velocity, double rotation, double roll,
@@ -75,11 +76,16 @@ class SessionBase {
     StepArgs a{depth, dt.value_or(dt_), velocity, rotation, roll, lateral};
     checkArgs(a);
     SessionStep s = advance(a);
+    time_ += a.dt;
+    s.time = time_;
     last_ = a.depth;
     return s;
   }
   const std::string& engine() const { return engine_; }
+  const std::string& name() const { return name_; }
   double defaultDt() const { return dt_; }
+  double time() const { return time_; }
+  std::optional<double> depth() const { return last_; }
 
   // realtime2d only; the lumped model has no tissue mesh.
   virtual py::array_t<double> referencePoints() const { throw noMesh("points"); }
@@ -111,8 +117,8 @@ class SessionBase {
                        fmt::format("at most {:g} mm per step ({}); take smaller steps", 1e3 * maxTravel_, travelLimit_));
   }
 
-  std::string engine_;
-  double dt_, maxTravel_;
+  std::string engine_, name_;
+  double dt_, maxTravel_, time_ = 0.0;
   std::string travelLimit_;
 };
 
@@ -132,9 +138,7 @@ class LumpedSession final : public SessionBase {
     requireAxial("lateral", a.lateral);
     const double v = a.velocity.value_or(last_ ? (a.depth - *last_) / a.dt : 0.0);
     const forces::ForceBreakdown f = model_.step(a.depth, v, a.dt);
-    time_ += a.dt;
     SessionStep s;
-    s.time = time_;
     s.depth = a.depth;
     s.force_total = f.total();
     s.force_stiffness = f.stiffness;
@@ -155,7 +159,6 @@ class LumpedSession final : public SessionBase {
 
   forces::LumpedForceModel model_;
   needle::InsertionFrame frame_;
-  double time_ = 0.0;
 };
 
 class Realtime2dSession final : public SessionBase {
@@ -203,7 +206,6 @@ class Realtime2dSession final : public SessionBase {
     const realtime2d::BasePose pose = session_.poseAtDepth(a.depth, a.lateral, a.rotation, a.roll);
     const realtime2d::StepResult& o = session_.step(pose, a.dt);
     SessionStep s;
-    s.time = o.time;
     s.depth = o.depth;
     s.force_total = o.axial_force;
     s.force_stiffness = o.stiffness_force;
@@ -230,6 +232,11 @@ std::unique_ptr<SessionBase> openSession(const PyScenario& s) {
   throw InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
                    "cannot be stepped by the caller (needlesim.Session)",
                    "realtime2d or lumped; other engines run with needlesim.run");
+}
+
+std::string sessionRepr(const SessionBase& s) {
+  return fmt::format("<Session {} '{}': t={:.6g} s, {}>", s.engine(), s.name(), s.time(),
+                     s.depth() ? fmt::format("depth={:.6g} mm", 1e3 * *s.depth()) : std::string("not stepped yet"));
 }
 
 std::string stepRepr(const SessionStep& s) {
@@ -273,6 +280,9 @@ void bindSessions(py::module_& m) {
       .def(py::init(&openSession), py::arg("scenario"))
       .def_property_readonly("engine", &SessionBase::engine)
       .def_property_readonly("dt", &SessionBase::defaultDt)
+      .def_property_readonly("time", &SessionBase::time)
+      .def_property_readonly("depth", &SessionBase::depth)
+      .def("__repr__", &sessionRepr)
       .def("step", &SessionBase::step, py::arg("depth"), py::arg("dt") = py::none(), py::arg("velocity") = py::none(),
            py::arg("rotation") = 0.0, py::arg("roll") = 0.0, py::arg("lateral") = 0.0)
       .def_property_readonly("points", &SessionBase::referencePoints)

@@ -10,6 +10,8 @@ from conftest import SOURCE_DIR, eq_5_1
 
 def test_load_a_scenario_file(gelatin):
     assert gelatin.name == "gelatin_18G_3mms" and gelatin.engine == "lumped"
+    assert repr(gelatin) == "<Scenario 'gelatin_18G_3mms' (lumped), 53.3333 s, from %s>" % (
+        SOURCE_DIR / "examples" / "gelatin_18G_3mms.yaml")
 
 
 def test_exit_force_is_eq_5_1(gelatin):

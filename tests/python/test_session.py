@@ -137,7 +137,10 @@ def test_other_engines_cannot_be_stepped(example):
     assert "quick_needle_block.yaml:" in str(e.value)
 
 
-def test_step_and_motion_reprs(coarse):
+def test_step_session_and_motion_reprs(coarse):
     session = needlesim.Session(coarse)
+    assert repr(session) == "<Session realtime2d 'realtime2d_thesis_10mms': t=0 s, not stepped yet>"
     assert repr(session.step(coarse.motion_at(0.001).depth)).startswith("<SessionStep t=0.001 s depth=-0.99 mm")
+    assert repr(session) == "<Session realtime2d 'realtime2d_thesis_10mms': t=0.001 s, depth=-0.99 mm>"
+    assert session.time == pytest.approx(0.001) and session.depth == pytest.approx(-0.99e-3)
     assert repr(coarse.motion_at(1.0)) == "<MotionSample t=1 s depth=9 mm velocity=10 mm/s rotation=0 rad roll=0 rad>"
