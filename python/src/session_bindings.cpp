@@ -276,7 +276,9 @@ void bindSessions(py::module_& m) {
       .def_readonly("tip_load", &SessionStep::tip_load)
       .def("__repr__", &stepRepr);
 
-  py::class_<SessionBase>(m, "Session")
+  py::class_<SessionBase>(m, "Session",
+                          "A realtime2d or lumped scenario's engine, stepped by the caller (docs/python.md). "
+                          "realtime2d also gives its tissue mesh (points, cells), node displacements and needle shape.")
       .def(py::init(&openSession), py::arg("scenario"))
       .def_property_readonly("engine", &SessionBase::engine)
       .def_property_readonly("dt", &SessionBase::defaultDt)
@@ -284,11 +286,16 @@ void bindSessions(py::module_& m) {
       .def_property_readonly("depth", &SessionBase::depth)
       .def("__repr__", &sessionRepr)
       .def("step", &SessionBase::step, py::arg("depth"), py::arg("dt") = py::none(), py::arg("velocity") = py::none(),
-           py::arg("rotation") = 0.0, py::arg("roll") = 0.0, py::arg("lateral") = 0.0)
-      .def_property_readonly("points", &SessionBase::referencePoints)
-      .def_property_readonly("displacement", &SessionBase::displacement)
-      .def_property_readonly("cells", &SessionBase::cells)
-      .def("needle_shape", &SessionBase::needleShape, py::arg("count") = 41);
+           py::arg("rotation") = 0.0, py::arg("roll") = 0.0, py::arg("lateral") = 0.0,
+           "Advance to tip depth [m] (along the reference axis from the entry point) over dt [s] (default: the "
+           "scenario's model.time_step); rotation [rad] in the plane, roll [rad] about the axis from the bevel "
+           "orientation and lateral [m] base offset (realtime2d); velocity [m/s] (lumped; default: depth change / dt). "
+           "Returns a SessionStep. Bad arguments raise needlesim.InputError.")
+      .def_property_readonly("points", &SessionBase::referencePoints, "tissue nodes, n x 2 [m] (centred frame)")
+      .def_property_readonly("displacement", &SessionBase::displacement, "node displacements, n x 2 [m]")
+      .def_property_readonly("cells", &SessionBase::cells, "quadrilaterals, m x 4 node indices")
+      .def("needle_shape", &SessionBase::needleShape, py::arg("count") = 41,
+           "the needle's centre line from base to tip, count x 2 [m]");
 
   py::class_<MotionSample>(m, "MotionSample")
       .def_readonly("time", &MotionSample::time)
