@@ -29,6 +29,7 @@ print(r.units["forces"]["force_total"], "%.4f" % r.results["exit_force"].value)
 def clean_env():
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "PYTHONSTARTUP")}
     env["PIP_NO_INPUT"] = "1"
+    env["PIP_CONFIG_FILE"] = os.devnull  # no find-links or index of this machine's pip configuration
     return env
 
 
@@ -55,7 +56,8 @@ def check_import(python, venv, cwd):
 def test_pip_install_from_the_checkout(tmp_path):
     python = make_venv(tmp_path / "venv")
     env_build = {"NEEDLESIM_CMAKE_BUILD_DIR": BUILD_DIR, "NEEDLESIM_CMAKE": CMAKE}
-    p = subprocess.run([str(python), "-m", "pip", "install", "--no-build-isolation", "--no-index", str(SOURCE_DIR)],
+    p = subprocess.run([str(python), "-m", "pip", "install", "--no-build-isolation", "--no-index", "--no-cache-dir",
+                        str(SOURCE_DIR)],
                        capture_output=True, text=True, env=dict(clean_env(), **env_build), cwd=tmp_path)
     assert p.returncode == 0, p.stdout[-4000:] + p.stderr[-4000:]
     assert "Successfully installed needlesim-" in p.stdout
