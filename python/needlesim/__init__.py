@@ -74,11 +74,18 @@ def run(scenario, out=None, *, overwrite=False, fields=False):
     if out is not None and not isinstance(out, (str, os.PathLike)):
         raise TypeError("needlesim.run: out must be a str or a pathlib.Path, got %s" % type(out).__name__)
     if out is not None and os.fspath(out) != "":
-        return open_results(_core.run_to_folder(scenario, out, overwrite))
+        return _run_to_folder(scenario, out, overwrite)
     if fields:
         with tempfile.TemporaryDirectory(prefix="needlesim-") as tmp:
-            results = open_results(_core.run_to_folder(scenario, os.path.join(tmp, "run")))
+            results = _run_to_folder(scenario, os.path.join(tmp, "run"), False)
             results.load()
             results.folder = None
             return results
     return Results.from_memory(scenario, _core.run_in_memory(scenario))
+
+
+def _run_to_folder(scenario, out, overwrite):
+    """The results folder read back, with the tables exactly as the engine made them."""
+    written = _core.run_to_folder(scenario, out, overwrite)
+    tables = {name: Table(name, cols, data) for name, (cols, data) in written["tables"].items()}
+    return open_results(written["folder"], tables=tables)

@@ -154,10 +154,10 @@ class Results:
         return "\n".join(lines) + ">"
 
 
-def open_results(folder):
+def open_results(folder, tables=None):
     """A results folder (written by `needlesim run`, `needlesim sweep` or needlesim.run(out=...))
-    as Results: key results from summary.json, tables from its CSV files, fields
-    from its XDMF + HDF5 files (read when used)."""
+    as Results: key results from summary.json, tables from its CSV files (or
+    `tables`, {name: Table}, when given), fields from its XDMF + HDF5 files (read when used)."""
     folder = pathlib.Path(folder)
     summary_path = folder / "summary.json"
     if not summary_path.is_file():
@@ -167,7 +167,8 @@ def open_results(folder):
     files = summary.get("files", [])
     results = {k: Quantity(v.get("value"), v.get("unit", ""), v.get("meaning", ""))
                for k, v in summary.get("results", {}).items()}
-    tables = {pathlib.Path(f).stem: read_csv_table(folder / f) for f in files if f.endswith(".csv")}
+    if tables is None:
+        tables = {pathlib.Path(f).stem: read_csv_table(folder / f) for f in files if f.endswith(".csv")}
     fields = {pathlib.Path(f).stem: FieldSeries(folder / f) for f in files if f.endswith(".xdmf")}
     scenario = summary.get("scenario", {})
     return Results(summary.get("engine", ""), scenario.get("name", folder.name), results, tables, fields,

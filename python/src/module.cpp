@@ -154,16 +154,26 @@ py::dict runInMemoryDict(const PyScenario& s) {
   return toDict(sink);
 }
 
-// Runs into the results folder `out`; returns the folder's path (Python reads it back).
-std::string runToFolder(const PyScenario& s, const py::object& outArg, bool overwrite) {
+// Runs into the results folder `out`: {'folder': its path, 'tables': as run_in_memory's, exact}
+// (Python reads the rest back from the folder).
+py::dict runToFolder(const PyScenario& s, const py::object& outArg, bool overwrite) {
   if (!py::isinstance<py::str>(outArg) && !isPathLike(outArg))
     throw py::type_error("needlesim.run: out must be a str or a pathlib.Path");
   const std::string out = isPathLike(outArg) ? pathText(outArg) : outArg.cast<std::string>();
   RunOptions ro;
   ro.progress = false;
   ro.printWarnings = false;  // they are in Results.warnings
-  py::gil_scoped_release release;
-  return runScenario(s.scenario, out, overwrite, ro).folder.string();
+  RunOutcome o;
+  {
+    py::gil_scoped_release release;
+    o = runScenario(s.scenario, out, overwrite, ro);
+  }
+  py::dict tables;
+  for (const auto& [name, t] : o.tables) tables[py::str(name)] = tableTuple(t);
+  py::dict d;
+  d["folder"] = o.folder.string();
+  d["tables"] = tables;
+  return d;
 }
 
 }  // namespace
@@ -214,7 +224,8 @@ PYBIND11_MODULE(_core, m) {
         "Runs the scenario's engine in memory: {'results': {key: (value, unit, meaning)}, 'tables': {name: "
         "([(column, unit)], rows x columns array)}, 'notes': [...], 'warnings': [...]}.");
   m.def("run_to_folder", &runToFolder, py::arg("scenario"), py::arg("out"), py::arg("overwrite") = false,
-        "Runs the scenario's engine into the results folder `out` (a str or pathlib.Path); returns its path.");
+        "Runs the scenario's engine into the results folder `out` (a str or pathlib.Path): {'folder': its path, "
+        "'tables': {name: ([(column, unit)], rows x columns array)}}.");
   m.def("schema", [] { return scenario::schemaText(); });
   m.def(
       "engines",

@@ -74,6 +74,8 @@ def test_a_results_folder_reads_back_the_same_numbers(gelatin, lumped_run, tmp_p
             assert r.results[key].unit == q.unit and r.results[key].value == pytest.approx(q.value, rel=1e-12)
         for name, t in lumped_run.tables.items():
             np.testing.assert_allclose(r.tables[name].data, t.data, rtol=1e-9, atol=1e-15)  # CSV: 10 digits
+    for name, t in lumped_run.tables.items():  # the run's own tables, not the CSV's digits
+        np.testing.assert_array_equal(folder.tables[name].data, t.data)
     assert repr(folder).endswith("folder: %s>" % (tmp_path / "run"))
 
 
