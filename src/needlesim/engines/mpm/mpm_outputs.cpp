@@ -1,6 +1,7 @@
 #include "needlesim/engines/mpm/mpm_outputs.hpp"
 
 #include "needlesim/engines/mpm/marker_errors.hpp"
+#include "needlesim/needle/surface_mesh.hpp"
 
 #include <fmt/format.h>
 
@@ -22,6 +23,19 @@ double vonMises(const Mat3& s) {
 }
 
 constexpr double kSeparation = 1.5;  // grid cells (FractureTracker)
+
+// The surface of the solver's needle as placed: solid, of its radius, length and tip.
+needle::SurfaceMesh needleSurfaceOf(const mpm::RigidBody& n) {
+  needle::NeedleShape shape;
+  shape.radius = n.radius;
+  shape.length = n.length;
+  shape.tipAngle = n.tipAngle;
+  shape.tip = n.tip == mpm::RigidBody::Tip::Bevel     ? TipType::Bevel
+              : n.tip == mpm::RigidBody::Tip::Conical ? TipType::Conical
+                                                      : TipType::Blunt;
+  const needle::NeedlePose pose{n.axisPoint(), n.axis, n.bevelSide};
+  return needle::needleSurface3D(shape, pose, 24, 4);
+}
 
 }  // namespace
 
@@ -191,8 +205,21 @@ void ParticleFields::write(const MpmSolver& solver, double t) {
   }
   fs_->beginStep(t);
   fs_->stepPoints(pts_);
-  fs_->pointData("displacement", disp_, 3);
-  fs_->pointData("von_mises", vm_, 1);
+  fs_->pointData("displacement", disp_, 3, "m");
+  fs_->pointData("von_mises", vm_, 1, "Pa");
+  fs_->endStep();
+}
+
+NeedleFields::NeedleFields(io::FieldSeries* series, const mpm::RigidBody& needle) : fs_(series) {
+  if (!fs_) return;
+  const needle::SurfaceMesh surface = needleSurfaceOf(needle);
+  fs_->setMesh(surface.points, io::CellType::Triangle, surface.cells);
+}
+
+void NeedleFields::write(const mpm::RigidBody& needle, double t) {
+  if (!fs_) return;
+  fs_->beginStep(t);
+  fs_->stepPoints(needleSurfaceOf(needle).points);
   fs_->endStep();
 }
 

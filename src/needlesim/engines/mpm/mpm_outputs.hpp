@@ -1,7 +1,7 @@
 #pragma once
 // What the mpm engine records besides the forces: markers that follow
 // material points (eq 36), the numerical fracture (section 3.4), the particle
-// fields for ParaView and the force error against a measured curve (eq 35).
+// and needle fields for ParaView and the force error against a measured curve (eq 35).
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -75,6 +75,18 @@ class ParticleFields {
  private:
   io::FieldSeries* fs_;
   std::vector<double> x0_, pts_, disp_, vm_;
+};
+
+// The needle series for ParaView: the rigid needle's triangulated surface
+// (needle/surface_mesh) at each field step, in the particles' frame.
+class NeedleFields {
+ public:
+  NeedleFields(io::FieldSeries* series, const mpm::RigidBody& needle);
+  io::FieldSeries* series() const { return fs_; }
+  void write(const mpm::RigidBody& needle, double t);
+
+ private:
+  io::FieldSeries* fs_;
 };
 
 // Seed 000 eq 35 against a measured force-depth curve: the simulated force
