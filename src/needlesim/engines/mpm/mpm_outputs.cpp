@@ -180,12 +180,13 @@ void FractureTracker::results(ResultSink& sink) const {
 
 // ---------------------------------------------------------------- particle fields
 
-ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver) : fs_(series) {
+ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver, const Vec3& shift)
+    : fs_(series), shift_(shift) {
   if (!fs_) return;
   const std::size_t np = solver.size();
   x0_.resize(3 * np);
   for (std::size_t p = 0; p < np; ++p)
-    for (int c = 0; c < 3; ++c) x0_[3 * p + static_cast<std::size_t>(c)] = solver.position(p)[c];
+    for (int c = 0; c < 3; ++c) x0_[3 * p + static_cast<std::size_t>(c)] = solver.position(p)[c] - shift_[c];
   pts_.resize(3 * np);
   disp_.resize(3 * np);
   vm_.resize(np);
@@ -195,7 +196,7 @@ ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver)
 void ParticleFields::write(const MpmSolver& solver, double t) {
   if (!fs_) return;
   for (std::size_t p = 0; p < solver.size(); ++p) {
-    const Vec3 x = solver.position(p);
+    const Vec3 x = solver.position(p) - shift_;
     for (int c = 0; c < 3; ++c) {
       const std::size_t i = 3 * p + static_cast<std::size_t>(c);
       pts_[i] = x[c];
@@ -210,16 +211,22 @@ void ParticleFields::write(const MpmSolver& solver, double t) {
   fs_->endStep();
 }
 
-NeedleFields::NeedleFields(io::FieldSeries* series, const mpm::RigidBody& needle) : fs_(series) {
+NeedleFields::NeedleFields(io::FieldSeries* series, const mpm::RigidBody& needle, const Vec3& shift)
+    : fs_(series), shift_(shift) {
   if (!fs_) return;
-  const needle::SurfaceMesh surface = needleSurfaceOf(needle);
-  fs_->setMesh(surface.points, io::CellType::Triangle, surface.cells);
+  fs_->setMesh(surfacePoints(needle), io::CellType::Triangle, needleSurfaceOf(needle).cells);
+}
+
+std::vector<double> NeedleFields::surfacePoints(const mpm::RigidBody& needle) const {
+  std::vector<double> points = needleSurfaceOf(needle).points;
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] -= shift_[static_cast<Eigen::Index>(i % 3)];
+  return points;
 }
 
 void NeedleFields::write(const mpm::RigidBody& needle, double t) {
   if (!fs_) return;
   fs_->beginStep(t);
-  fs_->stepPoints(needleSurfaceOf(needle).points);
+  fs_->stepPoints(surfacePoints(needle));
   fs_->endStep();
 }
 

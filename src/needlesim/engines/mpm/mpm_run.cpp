@@ -92,8 +92,9 @@ MpmRun::MpmRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
       forces_(false, engineForceColumns()),
       energy_(energyColumns(setup_.config.bodies)),
       markers_(spec_.markers, solver_, setup_.entry),
-      fields_(spec_.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr, solver_),
-      needleFields_(spec_.field_interval > 0.0 ? sink.fields("needle", 3) : nullptr, solver_.rigid(kNeedle)),
+      fields_(spec_.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr, solver_, setup_.shift),
+      needleFields_(spec_.field_interval > 0.0 ? sink.fields("needle", 3) : nullptr, solver_.rigid(kNeedle),
+                    setup_.shift),
       inclusions_(sc.tissue.inclusions, setup_.frame) {
   for (const auto& pts : inclusionPoints_) inclusionStart_.push_back(meanPosition(solver_, pts));
   fracture_.init(solver_, setup_.entry, setup_.frame.axial);
