@@ -25,7 +25,8 @@ import traceback
 from paraview import simple
 from paraview import vtk
 
-VECTOR_NAMES = ("displacement", "velocity")  # vector arrays needlesim writes (docs/results.md)
+# Vector arrays needlesim writes (docs/results.md); any array of 2 components is a 2D vector too.
+VECTOR_NAMES = ("displacement", "velocity")
 
 
 def say(text):
@@ -54,12 +55,11 @@ def array_names(data_information, association):
             for i in range(info.GetNumberOfArrays())]
 
 
-def check_file(path, errors, failures):
-    """Opens `path` and reads every step; returns (reader, last time, displacement array or None,
+def check_file(name, errors, failures):
+    """Opens file `name` and reads every step; returns (reader, last time, displacement array or None,
     scalar to colour by or None), or None when it does not open."""
-    name = path
     try:
-        reader = simple.OpenDataFile(path)
+        reader = simple.OpenDataFile(name)
     except Exception as e:  # ParaView raises for a file its reader cannot parse
         failures.append(f"{name}: does not open: {e}")
         return None
@@ -68,21 +68,21 @@ def check_file(path, errors, failures):
         return None
     reader.UpdatePipelineInformation()
     steps = list(reader.TimestepValues) if reader.TimestepValues else [0.0]
-    for t in steps:
+    for t in steps:  # every step, the last one last
         reader.UpdatePipeline(t)
         for line in errors.take():
             failures.append(f"{name}: t = {t:g} s: {line.strip()}")
-    info = reader.GetDataInformation()
-    npoints, ncells = info.GetNumberOfPoints(), info.GetNumberOfCells()
+        info = reader.GetDataInformation()
+        npoints, ncells = info.GetNumberOfPoints(), info.GetNumberOfCells()
+        if npoints == 0 or ncells == 0:
+            failures.append(f"{name}: t = {t:g} s: {npoints} points and {ncells} cells")
     say(f"{name}: reader {reader.GetXMLName()}, {len(steps)} steps, last t = {steps[-1]:g} s: "
         f"{npoints} points, {ncells} cells")
-    if npoints == 0 or ncells == 0:
-        failures.append(f"{name}: {npoints} points and {ncells} cells at the last step")
     displacement, scalar = None, None
     for association in ("POINTS", "CELLS"):
         for array, components in array_names(info, association):
             say(f"  {association.lower()[:-1]} array '{array}': {components} components")
-            if array.split(" ")[0] in VECTOR_NAMES and components != 3:
+            if (array.split(" ")[0] in VECTOR_NAMES and components != 3) or components == 2:
                 failures.append(f"{name}: vector '{array}' has {components} components, not 3")
             if array.startswith("displacement") and association == "POINTS":
                 displacement = array
