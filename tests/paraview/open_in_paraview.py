@@ -6,15 +6,17 @@ Run with ParaView's Python (Debian python3-paraview, scripts/bootstrap.sh):
 
 Headless machines: the Debian ParaView 5.11 build renders through X only
 (--force-offscreen-rendering and pvbatch still open an X display and abort
-without one), so the test runs pvpython under xvfb-run (Debian xvfb).
+without one), so pvpython runs against a virtual X server: xvfb-run (Debian
+xvfb) as above, or the private Xvfb that field_files_test.sh starts.
 
 For each folder: every *.xdmf opens through the default reader (OpenDataFile,
 the reader the GUI picks), every time step is read (a reader error at any
-step fails), and at the last step every dataset must have points and cells and
-every vector array 3 components. A displacement gets Warp By Vector (scale -1:
-the points are the moved ones, so it gives the reference configuration, shown
-as a grey wireframe). One PNG per folder at the last step: the tissue coloured
-by von Mises stress (particles as points) and the needle in dark grey.
+step fails), every step must have points and cells, and at the last step
+every vector array 3 components (any array of 2 components fails). A
+displacement gets Warp By Vector (scale -1: the points are the moved ones, so
+it gives the reference configuration, shown as a grey wireframe). One PNG per
+folder at the last step: the tissue coloured by von Mises stress (particles as
+points) and the needle in dark grey.
 Exit code 1 with one line per failure.
 """
 import argparse
@@ -50,7 +52,10 @@ class ReaderErrors:
 
 
 def array_names(data_information, association):
-    info = data_information.GetPointDataInformation() if association == "POINTS" else data_information.GetCellDataInformation()
+    if association == "POINTS":
+        info = data_information.GetPointDataInformation()
+    else:
+        info = data_information.GetCellDataInformation()
     return [(info.GetArrayInformation(i).GetName(), info.GetArrayInformation(i).GetNumberOfComponents())
             for i in range(info.GetNumberOfArrays())]
 
