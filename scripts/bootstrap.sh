@@ -1,5 +1,7 @@
 #!/usr/bin/env bash
-# Installs the Debian packages needlesim needs to build, test and run.
+# Installs the Debian packages needlesim needs to build, test and run
+# (python3-paraview, xvfb, libgl1-mesa-dri, python3-meshio, python3-h5py: the field-file test,
+# tests/paraview).
 # Safe to run again: it asks apt only for what is missing.
 set -euo pipefail
 PKGS=(
@@ -12,6 +14,7 @@ PKGS=(
   python3-numpy python3-pytest python3-h5py python3-matplotlib
   python3-venv python3-pip python3-setuptools python3-wheel
   calculix-ccx
+  python3-paraview xvfb libgl1-mesa-dri python3-meshio python3-h5py
 )
 missing=()
 for p in "${PKGS[@]}"; do

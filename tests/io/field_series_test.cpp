@@ -39,6 +39,42 @@ std::vector<double> readDataset(const fs::path& h5, const std::string& name) {
   H5Fclose(f);
   return v;
 }
+// The dataset's shape (rows, columns; columns 1 for a one-dimensional dataset).
+std::pair<hsize_t, hsize_t> shapeOf(const fs::path& h5, const std::string& name) {
+  hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  hid_t sp = H5Dget_space(ds);
+  hsize_t dims[2] = {0, 1};
+  H5Sget_simple_extent_dims(sp, dims, nullptr);
+  H5Sclose(sp);
+  H5Dclose(ds);
+  H5Fclose(f);
+  return {dims[0], dims[1]};
+}
+// The string attribute `units` of a dataset ("" when it has none).
+std::string unitsOf(const fs::path& h5, const std::string& name) {
+  hid_t f = H5Fopen(h5.c_str(), H5F_ACC_RDONLY, H5P_DEFAULT);
+  hid_t ds = H5Dopen2(f, name.c_str(), H5P_DEFAULT);
+  std::string unit;
+  if (H5Aexists(ds, "units") > 0) {
+    hid_t a = H5Aopen(ds, "units", H5P_DEFAULT);
+    hid_t t = H5Aget_type(a);
+    char* text = nullptr;
+    if (H5Tis_variable_str(t) > 0 && H5Aread(a, t, &text) >= 0 && text) {
+      unit = text;
+      H5free_memory(text);
+    }
+    H5Tclose(t);
+    H5Aclose(a);
+  }
+  H5Dclose(ds);
+  H5Fclose(f);
+  return unit;
+}
+std::string readText(const fs::path& p) {
+  std::ifstream x(p);
+  return std::string((std::istreambuf_iterator<char>(x)), {});
+}
 }  // namespace
 
 TEST(FieldSeries, WritesMeshStepsAndAnXdmfParaViewReads) {
@@ -50,22 +86,79 @@ TEST(FieldSeries, WritesMeshStepsAndAnXdmfParaViewReads) {
     for (int k = 0; k < 2; ++k) {
       fsr.beginStep(0.5 * k);
       std::vector<double> u(12, 0.1 * k);
-      fsr.pointData("displacement", u, 2);
-      fsr.cellData("von_mises", {1.0 * k, 2.0 * k}, 1);
+      fsr.pointData("displacement", u, 2, "m");
+      fsr.cellData("von_mises", {1.0 * k, 2.0 * k}, 1, "Pa");
       fsr.endStep();
     }
     EXPECT_EQ(fsr.steps(), 2u);
   }
-  auto u1 = readDataset(d / "tissue.h5", "/step000001/point/displacement");
-  ASSERT_EQ(u1.size(), 12u);
-  EXPECT_DOUBLE_EQ(u1[5], 0.1);
-  auto vm = readDataset(d / "tissue.h5", "/step000001/cell/von_mises");
+  const fs::path h5 = d / "tissue.h5";
+  // 2D vectors and points carry a zero third component, as ParaView's Warp By Vector needs.
+  auto u1 = readDataset(h5, "/step000001/point/displacement");
+  ASSERT_EQ(u1.size(), 18u);
+  EXPECT_EQ(shapeOf(h5, "/step000001/point/displacement"), (std::pair<hsize_t, hsize_t>{6, 3}));
+  EXPECT_DOUBLE_EQ(u1[3], 0.1);
+  EXPECT_DOUBLE_EQ(u1[4], 0.1);
+  EXPECT_DOUBLE_EQ(u1[5], 0.0);
+  EXPECT_EQ(readDataset(h5, "/mesh/points"),
+            (std::vector<double>{0, 0, 0, 1, 0, 0, 2, 0, 0, 0, 1, 0, 1, 1, 0, 2, 1, 0}));
+  auto vm = readDataset(h5, "/step000001/cell/von_mises");
   EXPECT_EQ(vm, (std::vector<double>{1.0, 2.0}));
-  std::ifstream x(d / "tissue.xdmf");
-  std::string xdmf((std::istreambuf_iterator<char>(x)), {});
-  EXPECT_NE(xdmf.find("TopologyType=\"Quadrilateral\" NumberOfElements=\"2\""), std::string::npos);
+  EXPECT_EQ(unitsOf(h5, "/step000001/point/displacement"), "m");
+  EXPECT_EQ(unitsOf(h5, "/step000001/cell/von_mises"), "Pa");
+  EXPECT_EQ(unitsOf(h5, "/mesh/points"), "m");
+  EXPECT_EQ(unitsOf(h5, "/mesh/cells"), "1");
+  const std::string xdmf = readText(d / "tissue.xdmf");
+  EXPECT_NE(xdmf.find("TopologyType=\"Quadrilateral\" NumberOfElements=\"2\" NodesPerElement=\"4\""),
+            std::string::npos);
+  EXPECT_NE(xdmf.find("<Geometry GeometryType=\"XYZ\">\n<DataItem Dimensions=\"6 3\""), std::string::npos);
   EXPECT_NE(xdmf.find("<Time Value=\"0.5\"/>"), std::string::npos);
+  EXPECT_NE(xdmf.find("<Attribute Name=\"displacement [m]\" AttributeType=\"Vector\" Center=\"Node\">\n"
+                      "<DataItem Dimensions=\"6 3\""),
+            std::string::npos);
+  EXPECT_NE(xdmf.find("<Attribute Name=\"von_mises [Pa]\" AttributeType=\"Scalar\" Center=\"Cell\">"),
+            std::string::npos);
   EXPECT_NE(xdmf.find("tissue.h5:/step000001/point/displacement"), std::string::npos);
+}
+
+// ParaView's XDMF3 reader needs NodesPerElement for a polyline (else it aborts the file).
+TEST(FieldSeries, APolylineNamesItsNodesPerElement) {
+  fs::path d = scratch("line");
+  {
+    io::FieldSeries fsr(d / "needle.h5", d / "needle.xdmf", 2);
+    fsr.setMesh({0, 0, 1, 0, 2, 0}, io::CellType::Line, {0, 1, 1, 2});
+    fsr.beginStep(0.0);
+    fsr.stepPoints({0, 1, 1, 1, 2, 1});
+    fsr.endStep();
+  }
+  const std::string xdmf = readText(d / "needle.xdmf");
+  EXPECT_NE(xdmf.find("<Topology TopologyType=\"Polyline\" NumberOfElements=\"2\" NodesPerElement=\"2\">\n"
+                      "<DataItem Dimensions=\"2 2\" NumberType=\"Int\" Format=\"HDF\">needle.h5:/mesh/cells</DataItem>"),
+            std::string::npos)
+      << xdmf;
+  EXPECT_EQ(readDataset(d / "needle.h5", "/step000000/points"), (std::vector<double>{0, 1, 0, 1, 1, 0, 2, 1, 0}));
+}
+
+// Particles get one Polyvertex cell each (without connectivity ParaView shows 0 cells).
+TEST(FieldSeries, ParticlesAreOnePolyvertexEach) {
+  fs::path d = scratch("particles");
+  {
+    io::FieldSeries fsr(d / "particles.h5", d / "particles.xdmf", 3);
+    fsr.setMesh({0, 0, 0, 1, 0, 0, 0, 1, 0}, io::CellType::Points, {});
+    fsr.beginStep(0.25);
+    fsr.pointData("displacement", std::vector<double>(9, 0.5), 3, "m");
+    fsr.endStep();
+    EXPECT_THROW(fsr.stepPoints({0, 0, 0}), Error);  // as many points as the mesh
+  }
+  EXPECT_EQ(readDataset(d / "particles.h5", "/mesh/cells"), (std::vector<double>{0, 1, 2}));
+  const std::string xdmf = readText(d / "particles.xdmf");
+  EXPECT_NE(xdmf.find("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"3\" NodesPerElement=\"1\">\n"
+                      "<DataItem Dimensions=\"3\" NumberType=\"Int\" Format=\"HDF\">particles.h5:/mesh/cells</DataItem>"),
+            std::string::npos)
+      << xdmf;
+  EXPECT_NE(xdmf.find("<DataItem Dimensions=\"3 3\" NumberType=\"Float\" Precision=\"8\" "
+                      "Format=\"HDF\">particles.h5:/step000000/point/displacement</DataItem>"),
+            std::string::npos);
 }
 
 TEST(FieldSeries, RefusesToWriteNaN) {
@@ -73,7 +166,7 @@ TEST(FieldSeries, RefusesToWriteNaN) {
   io::FieldSeries fsr(d / "p.h5", d / "p.xdmf", 3);
   fsr.setMesh({0, 0, 0, 1, 1, 1}, io::CellType::Points, {});
   fsr.beginStep(0.0);
-  EXPECT_THROW(fsr.pointData("v", {1.0, NAN}, 1), SolverError);
+  EXPECT_THROW(fsr.pointData("v", {1.0, NAN}, 1, "Pa"), SolverError);
 }
 
 TEST(ResultsFolder, AStoppedRunKeepsItsResultsMarkedAsStopped) {
@@ -85,7 +178,7 @@ TEST(ResultsFolder, AStoppedRunKeepsItsResultsMarkedAsStopped) {
     ASSERT_NE(f, nullptr);
     f->setMesh({0, 0, 1, 0, 0, 1}, io::CellType::Triangle, {0, 1, 2});
     f->beginStep(0.0);
-    f->pointData("u", {0, 0, 0, 0, 0, 0}, 2);
+    f->pointData("u", {0, 0, 0, 0, 0, 0}, 2, "m");
     f->endStep();
     folder.result("x", 1.0, "m", "a value");
     folder.commit(false, 0.1, "time step too large for the mesh: reduce model.time_step");

@@ -164,6 +164,7 @@ void resumedRunIsIdentical(int threads, const std::string& depth, const std::str
   for (std::size_t i = xr.find("<Time "); i != std::string::npos; i = xr.find("<Time ", i + 1)) ++frames;
   EXPECT_GE(frames, 3u);
   EXPECT_EQ(xr, xs);
+  EXPECT_EQ(slurp(ref / "needle.xdmf"), slurp(res / "needle.xdmf"));  // the needle series resumes too
   // The resumed run says so.
   bool said = false;
   for (const auto& n : resSummary.at("notes"))

@@ -17,9 +17,10 @@ namespace {
 struct Attr {
   std::string name;
   bool cell;
-  int components;
+  int components;  // as stored: a 2D series' vectors have 3
   std::string dataset;
   std::size_t count;
+  std::string unit;
 };
 
 struct Step {
@@ -66,6 +67,9 @@ void silenceHdf5Errors() { H5Eset_auto2(H5E_DEFAULT, nullptr, nullptr); }
 // clean-up at exit is switched off, before the first HDF5 call.
 [[maybe_unused]] const bool kNoHdf5CleanupAtExit = H5dont_atexit() >= 0;
 
+// The section of a checkpoint that holds a series (its layout: steps with the units of their arrays).
+constexpr const char* kStateTag = "field_series_v2";
+
 int nodesPerCell(CellType t) {
   switch (t) {
     case CellType::Points: return 1;
@@ -76,6 +80,20 @@ int nodesPerCell(CellType t) {
     case CellType::Line: return 2;
   }
   return 1;
+}
+
+// Pairs (x, y) as triples (x, y, 0): the points and vectors of a 2D series, as
+// ParaView's filters (Warp By Vector, Glyph) need 3 components.
+std::vector<double> withZeroZ(const std::vector<double>& xy) {
+  std::vector<double> xyz;
+  xyz.reserve(xy.size() / 2 * 3);
+  for (std::size_t i = 0; i + 1 < xy.size(); i += 2) xyz.insert(xyz.end(), {xy[i], xy[i + 1], 0.0});
+  return xyz;
+}
+
+// The array's name in the XDMF, which ParaView and meshio show: the dataset's name and its unit.
+std::string xdmfAttributeName(const std::string& name, const std::string& unit) {
+  return fmt::format("{} [{}]", name, unit);
 }
 
 }  // namespace
@@ -94,9 +112,24 @@ struct FieldSeries::Impl {
   void check(long long status) const {
     if (status < 0) throwWriteFailure(h5path, errno);
   }
-  // Creates dataset `path` (rows x cols) of `fileType` and writes `data` of `memType` into it.
+  // The string attribute `units` of dataset `ds` (variable-length UTF-8: h5py reads it as str).
+  void writeUnits(hid_t ds, const std::string& unit) {
+    H5Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
+    check(type.id);
+    check(H5Tset_size(type.id, H5T_VARIABLE));
+    check(H5Tset_cset(type.id, H5T_CSET_UTF8));
+    H5Handle space{H5Screate(H5S_SCALAR), H5Sclose};
+    check(space.id);
+    H5Handle attr{H5Acreate2(ds, "units", type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    check(attr.id);
+    const char* text = unit.c_str();
+    check(H5Awrite(attr.id, type.id, &text));
+    check(attr.close());
+  }
+  // Creates dataset `path` (rows x cols) of `fileType`, writes `data` of `memType` into it and
+  // gives it the attribute units = `unit`.
   void writeArray(const std::string& path, hid_t fileType, hid_t memType, const void* data, std::size_t rows,
-                  std::size_t cols) {
+                  std::size_t cols, const std::string& unit) {
     hsize_t dims[2] = {rows, cols};
     H5Handle space{H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose};
     H5Handle lcpl{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
@@ -106,16 +139,22 @@ struct FieldSeries::Impl {
     H5Handle ds{H5Dcreate2(file, path.c_str(), fileType, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
     check(ds.id);
     check(H5Dwrite(ds.id, memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data));
+    writeUnits(ds.id, unit);
     check(ds.close());
   }
-  void write(const std::string& path, const std::vector<double>& v, std::size_t rows, std::size_t cols) {
+  void write(const std::string& path, const std::vector<double>& v, std::size_t rows, std::size_t cols,
+             const std::string& unit) {
     // Never write NaN: a field with a NaN means the solver failed to detect its own divergence.
     for (double x : v)
       if (!std::isfinite(x)) throw SolverError("field " + path + " holds a non-finite value; the run diverged");
-    writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), rows, cols);
+    writeArray(path, H5T_IEEE_F64LE, H5T_NATIVE_DOUBLE, v.data(), rows, cols, unit);
+  }
+  // Point coordinates: 3 per point in the file (a 2D series gets z = 0).
+  void writePoints(const std::string& path, const std::vector<double>& v, std::size_t count) {
+    write(path, dim == 2 ? withZeroZ(v) : v, count, 3, "m");
   }
   void writeInt(const std::string& path, const std::vector<int>& v, std::size_t rows, std::size_t cols) {
-    writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, v.data(), rows, cols);
+    writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, v.data(), rows, cols, "1");
   }
   void flush() const { check(H5Fflush(file, H5F_SCOPE_GLOBAL)); }
   // Closes the file once (the handle is forgotten first, whatever H5Fclose
@@ -126,35 +165,48 @@ struct FieldSeries::Impl {
     file = -1;
     return H5Fclose(f) >= 0;
   }
+  // One array of the current step: a vector of a 2D series is stored with 3 components (z = 0).
+  void addArray(const std::string& name, const std::vector<double>& v, int comp, bool cell, const std::string& unit) {
+    auto& st = steps.back();
+    const std::string ds = fmt::format("/step{:06d}/{}/{}", steps.size() - 1, cell ? "cell" : "point", name);
+    const std::size_t count = v.size() / static_cast<std::size_t>(comp);
+    const bool planarVector = dim == 2 && comp == 2;
+    write(ds, planarVector ? withZeroZ(v) : v, count, planarVector ? 3 : comp, unit);
+    st.attrs.push_back(Attr{name, cell, planarVector ? 3 : comp, ds, count, unit});
+  }
 
+  std::string topologyXml(std::size_t np) const {
+    const std::string h5 = h5path.filename().string();
+    const std::size_t n = type == CellType::Points ? np : ncells;
+    const int per = nodesPerCell(type);
+    const std::string dims = per == 1 ? std::to_string(n) : fmt::format("{} {}", n, per);  // as the dataset's rank
+    return fmt::format(
+        "<Topology TopologyType=\"{}\" NumberOfElements=\"{}\" NodesPerElement=\"{}\">\n<DataItem Dimensions=\"{}\" "
+        "NumberType=\"Int\" Format=\"HDF\">{}:/mesh/cells</DataItem>\n</Topology>\n",
+        topologyName(type), n, per, dims, h5);
+  }
+  std::string attributeXml(const Attr& a) const {
+    const char* kind = a.components == 1 ? "Scalar" : a.components == 6 ? "Tensor6" : "Vector";
+    return fmt::format(
+        "<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n<DataItem Dimensions=\"{}{}\" "
+        "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:{}</DataItem>\n</Attribute>\n",
+        xdmfAttributeName(a.name, a.unit), kind, a.cell ? "Cell" : "Node", a.count,
+        a.components == 1 ? "" : fmt::format(" {}", a.components), h5path.filename().string(), a.dataset);
+  }
   std::string xdmf() const {
-    std::string h5 = h5path.filename().string();
-    std::string geomType = dim == 2 ? "XY" : "XYZ";
+    const std::string h5 = h5path.filename().string();
     std::string s = "<?xml version=\"1.0\" ?>\n<Xdmf Version=\"3.0\">\n<Domain>\n"
                     "<Grid Name=\"series\" GridType=\"Collection\" CollectionType=\"Temporal\">\n";
     for (std::size_t k = 0; k < steps.size(); ++k) {
       const Step& st = steps[k];
       s += fmt::format("<Grid Name=\"step{}\" GridType=\"Uniform\">\n<Time Value=\"{:.12g}\"/>\n", k, st.time);
-      std::size_t np = st.points.empty() ? npoints : st.npoints;
-      if (type == CellType::Points)
-        s += fmt::format("<Topology TopologyType=\"Polyvertex\" NumberOfElements=\"{}\" NodesPerElement=\"1\"/>\n", np);
-      else
-        s += fmt::format(
-            "<Topology TopologyType=\"{}\" NumberOfElements=\"{}\">\n<DataItem Dimensions=\"{} {}\" NumberType=\"Int\" "
-            "Format=\"HDF\">{}:/mesh/cells</DataItem>\n</Topology>\n",
-            topologyName(type), ncells, ncells, nodesPerCell(type), h5);
+      const std::size_t np = st.points.empty() ? npoints : st.npoints;
+      s += topologyXml(np);
       s += fmt::format(
-          "<Geometry GeometryType=\"{}\">\n<DataItem Dimensions=\"{} {}\" NumberType=\"Float\" Precision=\"8\" "
+          "<Geometry GeometryType=\"XYZ\">\n<DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
           "Format=\"HDF\">{}:{}</DataItem>\n</Geometry>\n",
-          geomType, np, dim, h5, st.points.empty() ? "/mesh/points" : st.points);
-      for (const auto& a : st.attrs) {
-        const char* at = a.components == 1 ? "Scalar" : a.components == 6 ? "Tensor6" : "Vector";
-        s += fmt::format(
-            "<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n<DataItem Dimensions=\"{}{}\" "
-            "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:{}</DataItem>\n</Attribute>\n",
-            a.name, at, a.cell ? "Cell" : "Node", a.count, a.components == 1 ? "" : fmt::format(" {}", a.components), h5,
-            a.dataset);
-      }
+          np, h5, st.points.empty() ? "/mesh/points" : st.points);
+      for (const auto& a : st.attrs) s += attributeXml(a);
       s += "</Grid>\n";
     }
     s += "</Grid>\n</Domain>\n</Xdmf>\n";
@@ -181,13 +233,16 @@ void FieldSeries::close() {
 void FieldSeries::setMesh(const std::vector<double>& points, CellType type, const std::vector<int>& conn) {
   auto& I = *impl_;
   I.type = type;
-  I.npoints = points.size() / I.dim;
-  I.write("/mesh/points", points, I.npoints, I.dim);
-  if (type != CellType::Points) {
-    I.ncells = conn.size() / nodesPerCell(type);
-    I.writeInt("/mesh/cells", conn, I.ncells, nodesPerCell(type));
-  } else {
+  I.npoints = points.size() / static_cast<std::size_t>(I.dim);
+  I.writePoints("/mesh/points", points, I.npoints);
+  if (type == CellType::Points) {  // one Polyvertex cell per point
+    std::vector<int> own(I.npoints);
+    for (std::size_t p = 0; p < own.size(); ++p) own[p] = static_cast<int>(p);
     I.ncells = I.npoints;
+    I.writeInt("/mesh/cells", own, I.ncells, 1);
+  } else {
+    I.ncells = conn.size() / static_cast<std::size_t>(nodesPerCell(type));
+    I.writeInt("/mesh/cells", conn, I.ncells, static_cast<std::size_t>(nodesPerCell(type)));
   }
   I.meshSet = true;
 }
@@ -200,26 +255,21 @@ void FieldSeries::beginStep(double time) {
 
 void FieldSeries::stepPoints(const std::vector<double>& points) {
   auto& I = *impl_;
+  const std::size_t count = points.size() / static_cast<std::size_t>(I.dim);
+  if (count != I.npoints)
+    throw Error(fmt::format("internal: FieldSeries::stepPoints got {} points for a mesh of {}", count, I.npoints));
   auto& st = I.steps.back();
   st.points = fmt::format("/step{:06d}/points", I.steps.size() - 1);
-  st.npoints = points.size() / I.dim;
-  I.write(st.points, points, st.npoints, I.dim);
+  st.npoints = count;
+  I.writePoints(st.points, points, count);
 }
 
-void FieldSeries::pointData(const std::string& name, const std::vector<double>& v, int comp) {
-  auto& I = *impl_;
-  auto& st = I.steps.back();
-  std::string ds = fmt::format("/step{:06d}/point/{}", I.steps.size() - 1, name);
-  I.write(ds, v, v.size() / comp, comp);
-  st.attrs.push_back(Attr{name, false, comp, ds, v.size() / comp});
+void FieldSeries::pointData(const std::string& name, const std::vector<double>& v, int comp, const std::string& unit) {
+  impl_->addArray(name, v, comp, false, unit);
 }
 
-void FieldSeries::cellData(const std::string& name, const std::vector<double>& v, int comp) {
-  auto& I = *impl_;
-  auto& st = I.steps.back();
-  std::string ds = fmt::format("/step{:06d}/cell/{}", I.steps.size() - 1, name);
-  I.write(ds, v, v.size() / comp, comp);
-  st.attrs.push_back(Attr{name, true, comp, ds, v.size() / comp});
+void FieldSeries::cellData(const std::string& name, const std::vector<double>& v, int comp, const std::string& unit) {
+  impl_->addArray(name, v, comp, true, unit);
 }
 
 void FieldSeries::endStep() {
@@ -247,7 +297,7 @@ void FieldSeries::saveState(BinaryWriter& w, const std::filesystem::path& h5copy
     fs::remove(tmp, ec);
     throwWriteFailure(h5copy, err);
   }
-  w.tag("field_series");
+  w.tag(kStateTag);
   w.pod(static_cast<std::int32_t>(I.dim));
   w.pod(static_cast<std::int32_t>(I.type));
   w.pod(static_cast<std::uint64_t>(I.npoints));
@@ -265,6 +315,7 @@ void FieldSeries::saveState(BinaryWriter& w, const std::filesystem::path& h5copy
       w.pod(static_cast<std::int32_t>(a.components));
       w.str(a.dataset);
       w.pod(static_cast<std::uint64_t>(a.count));
+      w.str(a.unit);
     }
   }
 }
@@ -272,7 +323,7 @@ void FieldSeries::saveState(BinaryWriter& w, const std::filesystem::path& h5copy
 void FieldSeries::restore(BinaryReader& r, const std::filesystem::path& h5copy) {
   namespace fs = std::filesystem;
   auto& I = *impl_;
-  r.tag("field_series");
+  r.tag(kStateTag);
   if (r.pod<std::int32_t>() != I.dim) r.fail("its field series has another dimension than this run's");
   const auto type = r.pod<std::int32_t>();
   if (type < 0 || type > static_cast<std::int32_t>(CellType::Line)) r.fail("unknown cell type in its field series");
@@ -296,6 +347,7 @@ void FieldSeries::restore(BinaryReader& r, const std::filesystem::path& h5copy) 
       at.components = r.pod<std::int32_t>();
       at.dataset = r.str();
       at.count = static_cast<std::size_t>(r.pod<std::uint64_t>());
+      at.unit = r.str();
       st.attrs.push_back(std::move(at));
     }
     steps.push_back(std::move(st));

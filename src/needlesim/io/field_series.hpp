@@ -1,8 +1,12 @@
 #pragma once
 // Field time series for ParaView: one HDF5 file with the arrays and one XDMF
-// file that describes them (open the .xdmf in ParaView). The XDMF is
-// rewritten atomically after every step, so a run that stops part-way leaves
-// every completed step readable.
+// file that describes them (open the .xdmf in ParaView; meshio's XDMF
+// TimeSeriesReader reads it too). The XDMF is rewritten atomically after every
+// step, so a run that stops part-way leaves every completed step readable.
+// Layout (docs/results.md "Field files"): points with 3 coordinates (a 2D series
+// has z = 0), connectivity for every cell type (one Polyvertex per point for
+// CellType::Points), vectors of a 2D series with 3 components (z = 0), every
+// dataset with a string attribute `units`, every XDMF array named "name [unit]".
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -28,11 +32,12 @@ class FieldSeries {
   void setMesh(const std::vector<double>& points, CellType type, const std::vector<int>& connectivity);
 
   void beginStep(double time);
-  // Moved points for this step (particles; or the deformed mesh). Optional.
+  // Moved points for this step (particles; or the deformed mesh), as many as the mesh's. Optional.
   void stepPoints(const std::vector<double>& points);
-  // Point or cell data: `components` values per point/cell (1 scalar, dim vector, 6 symmetric tensor).
-  void pointData(const std::string& name, const std::vector<double>& values, int components);
-  void cellData(const std::string& name, const std::vector<double>& values, int components);
+  // Point or cell data: `components` values per point/cell (1 scalar, dim vector, 6 symmetric
+  // tensor) in `unit` (SI, as the tables: "m", "m/s", "Pa", "1").
+  void pointData(const std::string& name, const std::vector<double>& values, int components, const std::string& unit);
+  void cellData(const std::string& name, const std::vector<double>& values, int components, const std::string& unit);
   // Flushes the step to the disk and rewrites the XDMF. Every write that fails
   // (disk full, file size limit) throws Error naming the file.
   void endStep();

@@ -192,14 +192,14 @@ void ExplicitRun::writeFields() {
     solver_->cellFields(sig, vm, ls, J);
     fields_->beginStep(solver_->time());
     fields_->stepPoints(xcur);
-    fields_->pointData("displacement", u, dim_);
-    fields_->pointData("velocity", solver_->velocity(), dim_);
+    fields_->pointData("displacement", u, dim_, "m");
+    fields_->pointData("velocity", solver_->velocity(), dim_, "m/s");
     contactOut_->update(*solver_);
-    fields_->pointData("contact_pressure", contactOut_->pressure(), 1);
-    fields_->cellData("cauchy_stress", sig, 6);
-    fields_->cellData("von_mises", vm, 1);
-    fields_->cellData("log_strain", ls, 6);
-    fields_->cellData("J", J, 1);
+    fields_->pointData("contact_pressure", contactOut_->pressure(), 1, "Pa");
+    fields_->cellData("cauchy_stress", sig, 6, "Pa");
+    fields_->cellData("von_mises", vm, 1, "Pa");
+    fields_->cellData("log_strain", ls, 6, "1");
+    fields_->cellData("J", J, 1, "1");
     fields_->endStep();
   }
   if (!needleFields_) return;

@@ -1,6 +1,7 @@
 #include "needlesim/engines/mpm/mpm_outputs.hpp"
 
 #include "needlesim/engines/mpm/marker_errors.hpp"
+#include "needlesim/needle/surface_mesh.hpp"
 
 #include <fmt/format.h>
 
@@ -22,6 +23,19 @@ double vonMises(const Mat3& s) {
 }
 
 constexpr double kSeparation = 1.5;  // grid cells (FractureTracker)
+
+// The surface of the solver's needle as placed: solid, of its radius, length and tip.
+needle::SurfaceMesh needleSurfaceOf(const mpm::RigidBody& n) {
+  needle::NeedleShape shape;
+  shape.radius = n.radius;
+  shape.length = n.length;
+  shape.tipAngle = n.tipAngle;
+  shape.tip = n.tip == mpm::RigidBody::Tip::Bevel     ? TipType::Bevel
+              : n.tip == mpm::RigidBody::Tip::Conical ? TipType::Conical
+                                                      : TipType::Blunt;
+  const needle::NeedlePose pose{n.axisPoint(), n.axis, n.bevelSide};
+  return needle::needleSurface3D(shape, pose, 24, 4);
+}
 
 }  // namespace
 
@@ -166,12 +180,13 @@ void FractureTracker::results(ResultSink& sink) const {
 
 // ---------------------------------------------------------------- particle fields
 
-ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver) : fs_(series) {
+ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver, const Vec3& shift)
+    : fs_(series), shift_(shift) {
   if (!fs_) return;
   const std::size_t np = solver.size();
   x0_.resize(3 * np);
   for (std::size_t p = 0; p < np; ++p)
-    for (int c = 0; c < 3; ++c) x0_[3 * p + static_cast<std::size_t>(c)] = solver.position(p)[c];
+    for (int c = 0; c < 3; ++c) x0_[3 * p + static_cast<std::size_t>(c)] = solver.position(p)[c] - shift_[c];
   pts_.resize(3 * np);
   disp_.resize(3 * np);
   vm_.resize(np);
@@ -181,7 +196,7 @@ ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver)
 void ParticleFields::write(const MpmSolver& solver, double t) {
   if (!fs_) return;
   for (std::size_t p = 0; p < solver.size(); ++p) {
-    const Vec3 x = solver.position(p);
+    const Vec3 x = solver.position(p) - shift_;
     for (int c = 0; c < 3; ++c) {
       const std::size_t i = 3 * p + static_cast<std::size_t>(c);
       pts_[i] = x[c];
@@ -191,8 +206,27 @@ void ParticleFields::write(const MpmSolver& solver, double t) {
   }
   fs_->beginStep(t);
   fs_->stepPoints(pts_);
-  fs_->pointData("displacement", disp_, 3);
-  fs_->pointData("von_mises", vm_, 1);
+  fs_->pointData("displacement", disp_, 3, "m");
+  fs_->pointData("von_mises", vm_, 1, "Pa");
+  fs_->endStep();
+}
+
+NeedleFields::NeedleFields(io::FieldSeries* series, const mpm::RigidBody& needle, const Vec3& shift)
+    : fs_(series), shift_(shift) {
+  if (!fs_) return;
+  fs_->setMesh(surfacePoints(needle), io::CellType::Triangle, needleSurfaceOf(needle).cells);
+}
+
+std::vector<double> NeedleFields::surfacePoints(const mpm::RigidBody& needle) const {
+  std::vector<double> points = needleSurfaceOf(needle).points;
+  for (std::size_t i = 0; i < points.size(); ++i) points[i] -= shift_[static_cast<Eigen::Index>(i % 3)];
+  return points;
+}
+
+void NeedleFields::write(const mpm::RigidBody& needle, double t) {
+  if (!fs_) return;
+  fs_->beginStep(t);
+  fs_->stepPoints(surfacePoints(needle));
   fs_->endStep();
 }
 

@@ -1,7 +1,7 @@
 #pragma once
 // What the mpm engine records besides the forces: markers that follow
 // material points (eq 36), the numerical fracture (section 3.4), the particle
-// fields for ParaView and the force error against a measured curve (eq 35).
+// and needle fields for ParaView and the force error against a measured curve (eq 35).
 #include <cmath>
 #include <cstdint>
 #include <string>
@@ -65,16 +65,32 @@ struct FractureTracker {
   void results(ResultSink& sink) const;
 };
 
-// The particle series for ParaView: displacement and von Mises stress.
+// The particle series for ParaView: displacement and von Mises stress, the points in the
+// tissue frame (the solver's minus `shift`, MpmSetup::shift), as forces.csv and the other engines.
 class ParticleFields {
  public:
-  ParticleFields(io::FieldSeries* series, const MpmSolver& solver);
+  ParticleFields(io::FieldSeries* series, const MpmSolver& solver, const Vec3& shift);
   io::FieldSeries* series() const { return fs_; }
   void write(const MpmSolver& solver, double t);
 
  private:
   io::FieldSeries* fs_;
+  Vec3 shift_;
   std::vector<double> x0_, pts_, disp_, vm_;
+};
+
+// The needle series for ParaView: the rigid needle's triangulated surface
+// (needle/surface_mesh) at each field step, in the tissue frame as the particles.
+class NeedleFields {
+ public:
+  NeedleFields(io::FieldSeries* series, const mpm::RigidBody& needle, const Vec3& shift);
+  io::FieldSeries* series() const { return fs_; }
+  void write(const mpm::RigidBody& needle, double t);
+
+ private:
+  std::vector<double> surfacePoints(const mpm::RigidBody& needle) const;
+  io::FieldSeries* fs_;
+  Vec3 shift_;
 };
 
 // Seed 000 eq 35 against a measured force-depth curve: the simulated force

@@ -92,7 +92,9 @@ MpmRun::MpmRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
       forces_(false, engineForceColumns()),
       energy_(energyColumns(setup_.config.bodies)),
       markers_(spec_.markers, solver_, setup_.entry),
-      fields_(spec_.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr, solver_),
+      fields_(spec_.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr, solver_, setup_.shift),
+      needleFields_(spec_.field_interval > 0.0 ? sink.fields("needle", 3) : nullptr, solver_.rigid(kNeedle),
+                    setup_.shift),
       inclusions_(sc.tissue.inclusions, setup_.frame) {
   for (const auto& pts : inclusionPoints_) inclusionStart_.push_back(meanPosition(solver_, pts));
   fracture_.init(solver_, setup_.entry, setup_.frame.axial);
@@ -108,8 +110,20 @@ MpmRun::MpmRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
 // profile's axial angle includes insertion.bevel_orientation).
 void MpmRun::placeAt(double t) {
   ms_ = motion_.at(t);
-  const Vec3 side = setup_.frame.bevelSide(ms_.axial_angle - setup_.frame.bevelOrientation);
-  placeNeedle(solver_.rigid(kNeedle), setup_, ms_.depth, side, ms_.velocity);
+  placeNeedle(solver_.rigid(kNeedle), setup_, ms_.depth, bevelSideAt(ms_), ms_.velocity);
+}
+
+MpmRun::Vec3 MpmRun::bevelSideAt(const MotionState& m) const {
+  return setup_.frame.bevelSide(m.axial_angle - setup_.frame.bevelOrientation);
+}
+
+// The particles and the needle where the motion puts it at the recorded depth (the solver
+// places it at the start of each step).
+void MpmRun::writeFields(double t) {
+  fields_.write(solver_, t);
+  mpm::RigidBody shown = solver_.rigid(kNeedle);
+  placeNeedle(shown, setup_, ms_.depth, bevelSideAt(ms_), ms_.velocity);
+  needleFields_.write(shown, t);
 }
 
 bool MpmRun::finished(double t) const { return !(t < duration_ - 1e-12 * std::max(1.0, duration_)); }
@@ -128,7 +142,7 @@ void MpmRun::startFresh() {
   energy_.addRow(zero);
   markers_.record(solver_, 0.0, ms_.depth);
   recordInclusions(0.0);
-  fields_.write(solver_, 0.0);
+  writeFields(0.0);
 }
 
 void MpmRun::recordInclusions(double t) {
@@ -190,7 +204,7 @@ void MpmRun::step() {
     while (next_.nextMarkerDepth <= ms_.depth + 1e-12) next_.nextMarkerDepth += spec_.marker_depth_step;
   }
   if (fields_.series() && (t >= next_.nextField - 1e-12 || last)) {
-    fields_.write(solver_, t);
+    writeFields(t);
     while (next_.nextField <= t + 1e-12) next_.nextField += spec_.field_interval;
   }
 }
@@ -202,9 +216,10 @@ void MpmRun::step() {
 // again from the scenario exactly as in the first run.
 namespace {
 constexpr std::uint32_t kEngineLayout = 2;
-io::Checkpoint::Series seriesOf(const mpm_outputs::ParticleFields& fields) {
+io::Checkpoint::Series seriesOf(const mpm_outputs::ParticleFields& fields, const mpm_outputs::NeedleFields& needle) {
   io::Checkpoint::Series series;
   if (fields.series()) series.emplace_back("particles", fields.series());
+  if (needle.series()) series.emplace_back("needle", needle.series());
   return series;
 }
 }  // namespace
@@ -227,11 +242,11 @@ void MpmRun::saveCheckpoint() {
   w.pod(static_cast<std::uint64_t>(fracture_.total));
   for (const double x : {fracture_.onsetDepth, fracture_.onsetTime, fracture_.deepest, fracture_.widest}) w.pod(x);
   solver_.saveState(w);
-  options_.checkpoint->write("mpm", w, seriesOf(fields_), solver_.time(), sum_.steps);
+  options_.checkpoint->write("mpm", w, seriesOf(fields_, needleFields_), solver_.time(), sum_.steps);
 }
 
 void MpmRun::loadCheckpoint() {
-  io::BinaryReader r = options_.checkpoint->load("mpm", seriesOf(fields_));
+  io::BinaryReader r = options_.checkpoint->load("mpm", seriesOf(fields_, needleFields_));
   r.tag("mpm_engine");
   if (r.pod<std::uint32_t>() != kEngineLayout) r.fail("holds an mpm engine state of another layout (another version)");
   const io::Table forces = tableLike(r, forces_.table());

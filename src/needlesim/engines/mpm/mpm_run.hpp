@@ -40,6 +40,8 @@ class MpmRun {
   };
 
   void placeAt(double t);
+  Vec3 bevelSideAt(const MotionState& m) const;
+  void writeFields(double t);
   void startFresh();
   void step();
   void recordRow(double t, const mpm::StepReport& rep);
@@ -72,6 +74,7 @@ class MpmRun {
   mpm_outputs::MarkerSet markers_;
   mpm_outputs::FractureTracker fracture_;
   mpm_outputs::ParticleFields fields_;
+  mpm_outputs::NeedleFields needleFields_;
   results::InclusionMotion inclusions_;
   Impulses imp_;
   Summary sum_;

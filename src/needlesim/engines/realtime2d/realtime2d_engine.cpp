@@ -148,15 +148,16 @@ class Realtime2dRun {
     markerTable_ = io::Table(cols);
   }
 
-  // ParaView series in the centred tissue frame: the tissue (displacement, von Mises) and
-  // the needle centre line.
+  // ParaView series in the centred tissue frame: the tissue (the displaced nodes, displacement,
+  // von Mises) and the needle centre line.
   void openFields() {
     const Mesh& mesh = session_.mesh();
     tissueSeries_ = sink_.fields("tissue", 2);
     needleSeries_ = sink_.fields("needle", 2);
     const Eigen::Matrix2Xd centred = mesh.nodes.colwise() - session_.cornerShift();
+    reference_.assign(centred.data(), centred.data() + centred.size());
     if (tissueSeries_)
-      tissueSeries_->setMesh(std::vector<double>(centred.data(), centred.data() + centred.size()), io::CellType::Quad,
+      tissueSeries_->setMesh(reference_, io::CellType::Quad,
                              std::vector<int>(mesh.quads.data(), mesh.quads.data() + mesh.quads.size()));
     session_.needleShape(kShapePoints, needle_);
     std::vector<int> conn;
@@ -165,6 +166,7 @@ class Realtime2dRun {
       needleSeries_->setMesh(std::vector<double>(needle_.data(), needle_.data() + needle_.size()), io::CellType::Line,
                              conn);
     ubuf_.resize(static_cast<std::size_t>(2 * mesh.nodeCount()));
+    moved_.resize(ubuf_.size());
     vm_.resize(static_cast<std::size_t>(mesh.elementCount()));
   }
 
@@ -187,6 +189,7 @@ class Realtime2dRun {
   void writeTissueField(double t) {
     const auto& u = session_.displacement();
     std::copy(u.data(), u.data() + u.size(), ubuf_.begin());
+    for (std::size_t i = 0; i < ubuf_.size(); ++i) moved_[i] = reference_[i] + ubuf_[i];
     const Eigen::Matrix4Xd sig = session_.tissue().elementStresses();
     for (Eigen::Index e = 0; e < sig.cols(); ++e) {  // von Mises of (sxx, syy, szz, sxy)
       const double a = sig(0, e), b = sig(1, e), z = sig(3, e), xy = sig(2, e);
@@ -194,8 +197,9 @@ class Realtime2dRun {
           std::sqrt(0.5 * ((a - b) * (a - b) + (b - z) * (b - z) + (z - a) * (z - a)) + 3.0 * xy * xy);
     }
     tissueSeries_->beginStep(t);
-    tissueSeries_->pointData("displacement", ubuf_, 2);
-    tissueSeries_->cellData("von_mises", vm_, 1);
+    tissueSeries_->stepPoints(moved_);
+    tissueSeries_->pointData("displacement", ubuf_, 2, "m");
+    tissueSeries_->cellData("von_mises", vm_, 1, "Pa");
     tissueSeries_->endStep();
   }
 
@@ -377,6 +381,7 @@ class Realtime2dRun {
   io::FieldSeries* needleSeries_ = nullptr;
   Eigen::Matrix2Xd needle_{2, kShapePoints};
   std::vector<double> ubuf_, vm_;
+  std::vector<double> reference_, moved_;  // tissue nodes in the field frame: at rest, and displaced
   double peak_ = 0.0, peakDepth_ = 0.0, maxDefl_ = 0.0, maxDeflDepth_ = 0.0, maxDepth_ = 0.0;
   std::vector<double> punctures_;
 };

@@ -1,0 +1,64 @@
+#!/usr/bin/env bash
+# The field-file test (CTest label `paraview`, tests/CMakeLists.txt): every field file
+# needlesim writes opens in ParaView's default reader and in meshio.
+#
+#   field_files_test.sh write    NEEDLESIM SOURCE_DIR WORK_DIR   runs one small scenario per engine that writes fields
+#   field_files_test.sh paraview NEEDLESIM SOURCE_DIR WORK_DIR   opens them with pvpython, one PNG per engine in WORK_DIR/png
+#   field_files_test.sh meshio   NEEDLESIM SOURCE_DIR WORK_DIR   reads them with meshio and h5py
+#
+# Packages (scripts/bootstrap.sh): python3-paraview (pvpython), xvfb, python3-meshio, python3-h5py.
+# Headless: Debian's ParaView 5.11 renders through X only; pvpython --force-offscreen-rendering
+# and pvbatch still open an X display and abort without one. So pvpython runs against a private
+# Xvfb server (Xvfb -displayfd picks a free display; the server is stopped on exit).
+set -euo pipefail
+mode=$1 needlesim=$2 source_dir=$3 work=$4
+here="$source_dir/tests/paraview"
+results="$work/results"
+engines=(explicit_2d explicit_3d realtime2d mpm)
+
+write_fields() {
+  rm -rf "$results"
+  mkdir -p "$results"
+  for e in explicit_2d explicit_3d realtime2d; do
+    "$needlesim" run -q "$here/scenarios/$e.yaml" -o "$results/$e"
+  done
+  "$needlesim" run -q "$source_dir/examples/mpm/quick_needle_block.yaml" -o "$results/mpm"
+}
+
+need() {  # program, Debian package
+  command -v "$1" > /dev/null || { echo "$1 not found: install the Debian package $2 (scripts/bootstrap.sh)"; exit 1; }
+}
+
+open_in_paraview() {
+  need pvpython python3-paraview
+  need Xvfb xvfb
+  local display_file="$work/xvfb.display"
+  rm -f "$display_file"
+  Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3> "$display_file" > "$work/xvfb.log" 2>&1 &
+  xvfb_pid=$!
+  trap 'kill "$xvfb_pid" 2> /dev/null || true' EXIT
+  for _ in $(seq 100); do [ -s "$display_file" ] && break; sleep 0.1; done
+  [ -s "$display_file" ] || { echo "Xvfb did not start:"; cat "$work/xvfb.log"; exit 1; }
+  rm -rf "$work/png"
+  cd "$results"
+  local rc=0
+  DISPLAY=":$(head -n1 "$display_file")" pvpython "$here/open_in_paraview.py" --png-dir "$work/png" "${engines[@]}" || rc=$?
+  kill "$xvfb_pid"
+  wait "$xvfb_pid" 2> /dev/null || true
+  trap - EXIT
+  return $rc
+}
+
+read_with_meshio() {
+  local python=/usr/bin/python3  # Debian's interpreter, where python3-meshio and python3-h5py live
+  [ -x "$python" ] || python=python3
+  cd "$results"
+  "$python" "$here/read_with_meshio.py" "${engines[@]}"
+}
+
+case "$mode" in
+  write) write_fields ;;
+  paraview) open_in_paraview ;;
+  meshio) read_with_meshio ;;
+  *) echo "unknown mode '$mode' (write, paraview or meshio)"; exit 2 ;;
+esac
