@@ -52,6 +52,9 @@ void registerSweepCommand(CLI::App& app) {
     opt.out = a->out;
     opt.progress = !a->quiet;
     bool mpi = false;
+    if (a->overwrite && launchedByMpi())
+      throw InputError(commandLine(), "--overwrite", "", "cannot be used under mpirun: the ranks share the study folder",
+                       "remove the study folder, or choose another --out");
 #ifdef NEEDLESIM_WITH_MPI
     if (launchedByMpi()) {
       MPI_Init(nullptr, nullptr);

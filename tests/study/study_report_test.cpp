@@ -4,6 +4,7 @@
 // --resume, --overwrite, and a user's folder left alone.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -217,4 +218,37 @@ TEST(StudyFolder, SweepOutOnTheCommandLine) {
   auto replaced = test::runShell(sweep + " --overwrite --out " + (dir / "cli_out").string());
   EXPECT_EQ(replaced.code, 0) << replaced.out;
   EXPECT_NE(replaced.out.find("2 cases, 2 run now, 0 reused"), std::string::npos) << replaced.out;
+  // Ranks of mpirun share the folder: none of them may delete it.
+  auto ranks = test::runShell("OMPI_COMM_WORLD_SIZE=2 " + sweep + " --overwrite --out " + (dir / "cli_out").string());
+  EXPECT_EQ(ranks.code, 2) << ranks.out;
+  EXPECT_NE(ranks.out.find("--overwrite: cannot be used under mpirun"), std::string::npos) << ranks.out;
+  EXPECT_TRUE(fs::exists(dir / "cli_out" / "study.csv"));
+}
+
+// Up to 8 values are listed as written; more numbers by their smallest and largest.
+TEST(StudyReport, InputLinesListFewValuesAndTheRangeOfMany) {
+  const fs::path dir = scratch("input_lines");
+  std::ofstream(dir / "study.yaml") << "scenario: " << NEEDLESIM_SOURCE_DIR << "/examples/gelatin_18G_3mms.yaml\n"
+                                    << "method: latin-hypercube\nsamples: 12\nseed: 7\nvary:\n"
+                                       "  - {field: tissue.friction.C_p, min: 2 N/m, max: 4 N/m}\n";
+  const StudySpec lhs = readStudyFile(dir / "study.yaml");
+  std::ifstream in(lhs.scenario_file);
+  const std::string base((std::istreambuf_iterator<char>(in)), {});
+  const std::vector<Case> cases = expandCases(lhs, base);
+  double lo = 1e9, hi = -1e9;
+  for (const auto& c : cases) {
+    lo = std::min(lo, c.values_si[0]);
+    hi = std::max(hi, c.values_si[0]);
+  }
+  const StudyResults r{lhs, cases, io::Table({{"case", "1"}, {"complete", "1"}, {inputColumnName("tissue.friction.C_p"), "N/m"}})};
+  EXPECT_EQ(inputLines(r), std::vector<std::string>{fmt::format("12 values: from {:.6g} N/m to {:.6g} N/m", lo, hi)});
+  EXPECT_GT(lo, 2.0);
+  EXPECT_LT(hi, 4.0);
+
+  std::ofstream(dir / "grid.yaml") << "scenario: " << NEEDLESIM_SOURCE_DIR << "/examples/gelatin_18G_3mms.yaml\n"
+                                   << "vary:\n  - {field: tissue.friction.C_p, values: [3 N/m, 3000 mN/m, 2 N/m]}\n";
+  const StudySpec grid = readStudyFile(dir / "grid.yaml");
+  const std::vector<Case> gridCases = expandCases(grid, base);
+  const StudyResults g{grid, gridCases, io::Table({{"case", "1"}, {"complete", "1"}, {inputColumnName("tissue.friction.C_p"), "N/m"}})};
+  EXPECT_EQ(inputLines(g), std::vector<std::string>{"3 values: 3 N/m, 3000 mN/m, 2 N/m"});
 }

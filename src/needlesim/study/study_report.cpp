@@ -120,21 +120,21 @@ std::string constantLine(const StudyResults& r, const OutputColumns& outputs) {
 std::vector<std::string> inputLines(const StudyResults& r) {
   std::vector<std::string> lines;
   for (std::size_t k = 0; k < r.spec.parameters.size(); ++k) {
-    std::vector<std::string> distinct;  // in the order of the cases
+    std::vector<std::string> distinct;  // as written, in the order of the cases
     std::set<std::string> seen;
-    std::size_t lo = 0, hi = 0;  // the cases with the smallest and largest value
-    for (std::size_t i = 0; i < r.cases.size(); ++i) {
-      const std::string& text = r.cases[i].assignments[k].second;
-      if (seen.insert(text).second) distinct.push_back(text);
-      const double v = r.cases[i].values_si[k];
-      if (std::isfinite(v) && !(r.cases[lo].values_si[k] <= v)) lo = i;
-      if (std::isfinite(v) && !(r.cases[hi].values_si[k] >= v)) hi = i;
-    }
+    for (const auto& c : r.cases)
+      if (seen.insert(c.assignments[k].second).second) distinct.push_back(c.assignments[k].second);
+    std::vector<double> numbers;
+    for (const auto& c : r.cases)
+      if (std::isfinite(c.values_si[k])) numbers.push_back(c.values_si[k]);
     std::string values;
-    if (distinct.size() <= kListedValues) {
-      for (const auto& d : distinct) values += (values.empty() ? "" : ", ") + d;
+    if (distinct.size() > kListedValues && numbers.size() == r.cases.size()) {
+      const auto [lo, hi] = std::minmax_element(numbers.begin(), numbers.end());
+      values = "from " + valueText(*lo, inputUnit(r, k)) + " to " + valueText(*hi, inputUnit(r, k));
     } else {
-      values = "from " + r.cases[lo].assignments[k].second + " to " + r.cases[hi].assignments[k].second;
+      for (std::size_t i = 0; i < std::min(distinct.size(), kListedValues); ++i)
+        values += (i ? ", " : "") + distinct[i];
+      if (distinct.size() > kListedValues) values += ", ...";
     }
     lines.push_back(fmt::format("{} value{}: {}", distinct.size(), distinct.size() == 1 ? "" : "s", values));
   }

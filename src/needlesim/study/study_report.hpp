@@ -48,9 +48,10 @@ OutputColumns splitOutputs(const StudyResults& r);
 // when no output is constant.
 std::string constantLine(const StudyResults& r, const OutputColumns& outputs);
 
-// One line per varied field: how many values it takes and which ("4 values:
-// 2.5 mm/s, 3.33 mm/s, ...", or the smallest and largest of many), as written
-// in the study file (or by the sampler).
+// One line per varied field: how many values it takes and which: up to 8 as
+// written in the study file (or by the sampler), "4 values: 2.5 mm/s, 3.33
+// mm/s, 5 mm/s, 10 mm/s"; more numbers by their smallest and largest, "40
+// values: from 0.0276861 N to 0.0672617 N".
 std::vector<std::string> inputLines(const StudyResults& r);
 
 // The report.html of the study: the inputs and the constants as facts, a

@@ -52,7 +52,7 @@ StudyTarget chooseStudyFolder(const StudySpec& spec, const SweepOptions& opt) {
 fs::path prepareStudyFolder(const StudySpec& spec, const SweepOptions& opt) {
   const StudyTarget t = chooseStudyFolder(spec, opt);
   if (opt.resume && opt.overwrite)
-    throw InputError(commandLine(), "--overwrite", "", "cannot go with --resume (or mpirun, whose ranks resume)",
+    throw InputError(commandLine(), "--overwrite", "", "cannot go with --resume",
                      "--resume to reuse the completed cases, or --overwrite to replace the study");
   io::checkOutputTarget(t.path, t.field, t.where.file, false);
   if (!fs::exists(t.path)) return t.path;
