@@ -2,6 +2,7 @@
 // arguments; the analyses live in src/needlesim/fit (fit_command.hpp).
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <memory>
 
@@ -29,8 +30,11 @@ void registerFitCommand(CLI::App& app) {
   cmd->add_option("data", a->data, "CSV data file(s) with a header 'name [unit], ...'");
   cmd->add_option("--law", a->law, needlesim::fit::fitAnalysesList());
   cmd->add_option("--terms", a->terms, "Yeoh/Ogden terms (1-3) or Prony terms (1-5; default: chosen by AICc)");
-  cmd->add_option("-o,--out", a->out, "output folder (default: DATA.fit next to the data)");
-  cmd->add_flag("--overwrite", a->overwrite, "replace fit.json and report.html in an existing output folder");
+  cmd->add_option("-o,--out", a->out,
+                  "results folder (default: results/fit_<data file stems>_<law>, with -2, -3 ... if taken)");
+  cmd->add_flag("--overwrite", a->overwrite,
+                "replace an existing needlesim results folder at --out once the new one is complete (nothing else "
+                "is deleted)");
   cmd->add_option("--loading", a->loading,
                   "auto, compression (each column's largest value is compressive) or tension; "
                   "columns named 'compressive ...' hold positive magnitudes");
@@ -92,7 +96,7 @@ void registerFitCommand(CLI::App& app) {
     rq.speed = q("--speed", a->speed, u::Velocity, 0.0);
     rq.dropFraction = a->dropFraction;
     fit::FitOutcome o = fit::runFit(rq);
-    fmt::print("needlesim fit: {} ({})\n{}", a->law, a->data.front(), o.table);
-    fmt::print("written: {}/fit.json, {}/report.html\n", o.outDir.string(), o.outDir.string());
+    fmt::print("needlesim fit: {} ({})\n{}", a->law, fmt::join(a->data, ", "), o.table);
+    fmt::print("results: {}/ (fit.json, report.html)\n", o.outDir.string());
   });
 }

@@ -81,18 +81,14 @@ void printResults(const RunOutcome& outcome, const RunArgs& args, const io::Chec
 // The checked target the results go to (before the run: InputError for a path
 // that cannot be written or is in use) and its checkpoint folder.
 std::pair<fs::path, fs::path> resolveTarget(const RunArgs& args, const Scenario& sc) {
-  Target target = chooseTarget(args, sc);
+  const Target target = chooseTarget(args, sc);
   // The checkpoint belongs to the target as named (for the automatic one,
   // results/<name>, whichever free -2, -3 ... name the results then get).
   const fs::path ckFolder = io::Checkpoint::folderFor(target.path);
-  io::checkOutputTarget(target.path, target.field.empty() ? "name" : target.field, sc.source,
-                        args.overwrite && !target.field.empty());
-  if (target.field.empty()) target.path = io::freeResultsPath(target.path);
-  else if (fs::exists(target.path) && !args.overwrite)
-    throw InputError(target.field == "--out" ? commandLine() : sc.where(target.field), target.field,
-                     target.path.string(), "results folder already exists",
-                     "a new folder, or --overwrite to replace it");
-  return {target.path, ckFolder};
+  const SourceLocation where = target.field.empty() ? SourceLocation{sc.source, 0, 0}
+                               : target.field == "--out" ? commandLine()
+                                                         : sc.where(target.field);
+  return {io::resolveResultsTarget(target.path, target.field, where, args.overwrite), ckFolder};
 }
 
 void runCommand(const RunArgs& args) {

@@ -22,7 +22,9 @@ namespace needlesim::app {
 namespace {
 struct SweepArgs {
   std::string file;
+  std::string out;
   bool resume = false;
+  bool overwrite = false;
   bool quiet = false;
   int parallel = -1;
 };
@@ -35,7 +37,10 @@ void registerSweepCommand(CLI::App& app) {
   auto a = std::make_shared<SweepArgs>();
   auto* cmd = app.add_subcommand("sweep", "Run a parameter study (grid, list, one-at-a-time, latin hypercube)");
   cmd->add_option("study", a->file, "study file (YAML; see docs/studies.md)")->required();
+  cmd->add_option("-o,--out", a->out, "study folder (default: the study file's directory, else results/<name>)");
   cmd->add_flag("--resume", a->resume, "reuse completed cases of an earlier, interrupted or failed run");
+  cmd->add_flag("--overwrite", a->overwrite,
+                "replace an earlier study in the study folder (only a folder a sweep wrote is deleted)");
   cmd->add_option("-j,--parallel", a->parallel, "cases at once per process (default: study.parallel, else all cores)");
   cmd->add_flag("-q,--quiet", a->quiet, "no progress on the terminal");
   cmd->callback([a] {
@@ -43,8 +48,13 @@ void registerSweepCommand(CLI::App& app) {
     if (a->parallel >= 0) spec.parallel = a->parallel;
     study::SweepOptions opt;
     opt.resume = a->resume;
+    opt.overwrite = a->overwrite;
+    opt.out = a->out;
     opt.progress = !a->quiet;
     bool mpi = false;
+    if (a->overwrite && launchedByMpi())
+      throw InputError(commandLine(), "--overwrite", "", "cannot be used under mpirun: the ranks share the study folder",
+                       "remove the study folder, or choose another --out");
 #ifdef NEEDLESIM_WITH_MPI
     if (launchedByMpi()) {
       MPI_Init(nullptr, nullptr);
@@ -89,8 +99,8 @@ void registerSweepCommand(CLI::App& app) {
     }
 #endif
     if (!a->quiet || !rep.failed.empty()) {
-      fmt::print("study '{}': {} cases, {} run now, {} reused; results in {}/ (study.csv, report.html)\n", spec.name,
-                 rep.cases, rep.ran, rep.reused, rep.folder.string());
+      fmt::print("study '{}': {} cases, {} run now, {} reused; results in {}/ (study.csv, report.html)\n{}", spec.name,
+                 rep.cases, rep.ran, rep.reused, rep.folder.string(), rep.overview);
     }
     if (!rep.failed.empty()) {
       std::string list;

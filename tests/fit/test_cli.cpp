@@ -1,6 +1,7 @@
 // `needlesim fit` end to end through the binary: exit codes and files.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -15,12 +16,13 @@ struct CliRun {
   std::string out;
 };
 CliRun run(const std::string& args) {
-  fs::path log = fs::temp_directory_path() / "needlesim_fit_cli.log";
+  // one log per test process: ctest runs the tests of this file at the same time
+  fs::path log = fs::temp_directory_path() / ("needlesim_fit_cli_" + std::to_string(::getpid()) + ".log");
   std::string cmd = std::string("\"") + NEEDLESIM_BINARY + "\" fit " + args + " > \"" + log.string() + "\" 2>&1";
   int status = std::system(cmd.c_str());
-  std::ifstream in(log);
   std::stringstream ss;
-  ss << in.rdbuf();
+  ss << std::ifstream(log).rdbuf();
+  fs::remove(log);
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -1, ss.str()};
 }
 std::string ex(const std::string& f) { return std::string(NEEDLESIM_SOURCE_DIR) + "/examples/data/" + f; }

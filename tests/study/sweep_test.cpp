@@ -103,7 +103,7 @@ vary:
   auto rows = readCsv(dir / "out" / "study.csv", h);
   ASSERT_EQ(rows.size(), 6u);
   for (const auto& r : rows) {
-    double v = r[col(h, "insertion.profile[0].insert.speed")], C = r[col(h, "tissue.friction.C_p")];
+    double v = r[col(h, "input: insertion.profile[0].insert.speed")], C = r[col(h, "input: tissue.friction.C_p")];
     double expected = 0.04335 + 0.055 * (C + 285.053 * v);
     EXPECT_NEAR(r[col(h, "exit_force")], expected, 2e-3 * expected) << "v " << v << " C " << C;
   }

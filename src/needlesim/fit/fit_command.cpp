@@ -3,13 +3,17 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <cstdint>
 #include <stdexcept>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/version.hpp"
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/io/html_report.hpp"
+#include "needlesim/io/results_folder.hpp"
 
 namespace needlesim::fit {
 
@@ -111,6 +115,77 @@ io::Plot residualPlot(const FitResult& f, bool prony) {
   return p;
 }
 
+// A data file's stem as a part of a folder name: letters, digits, '.', '-', '_'
+// and UTF-8 bytes stay, anything else (spaces, '+', ',') becomes '_'.
+std::string folderNamePart(const fs::path& file) {
+  std::string stem = file.stem().string();
+  for (char& c : stem) {
+    const auto b = static_cast<unsigned char>(c);
+    if (!(std::isalnum(b) || b >= 0x80 || c == '.' || c == '-' || c == '_')) c = '_';
+  }
+  return stem;
+}
+
+// `text` cut to at most `n` bytes without splitting a UTF-8 character.
+std::string cutUtf8(const std::string& text, std::size_t n) {
+  if (text.size() <= n) return text;
+  while (n > 0 && (static_cast<unsigned char>(text[n]) & 0xC0) == 0x80) --n;
+  return text.substr(0, n);
+}
+
+// 8 hex digits of FNV-1a (64 bit) of `text`: stable across runs and machines.
+std::string shortHash(const std::string& text) {
+  std::uint64_t h = 14695981039346656037ull;
+  for (char c : text) {
+    h ^= static_cast<unsigned char>(c);
+    h *= 1099511628211ull;
+  }
+  return fmt::format("{:08x}", static_cast<std::uint32_t>(h ^ (h >> 32)));
+}
+
+// The stems joined by '+', bounded by kMaxFitNameStems (fitResultsName).
+std::string joinedStems(const std::vector<fs::path>& data) {
+  std::vector<std::string> stems;
+  std::string all;
+  for (const auto& d : data) {
+    stems.push_back(folderNamePart(d));
+    all += (all.empty() ? "" : "+") + stems.back();
+  }
+  if (all.size() <= kMaxFitNameStems) return all;
+  std::string kept = cutUtf8(stems.front(), kMaxFitNameStems);
+  std::size_t n = 1;
+  while (n < stems.size() && kept.size() + 1 + stems[n].size() <= kMaxFitNameStems) kept += "+" + stems[n++];
+  if (n < stems.size()) kept += fmt::format("+{}_more", stems.size() - n);
+  return kept + "-" + shortHash(all);
+}
+
+// The checked results folder of a fit (before the analysis runs): --out, or
+// results/<fitResultsName> with the first free -2, -3 ...
+fs::path fitTarget(const FitRequest& rq) {
+  if (!rq.out.empty())
+    return io::resolveResultsTarget(io::outputPath(rq.out, "--out", commandLine()), "--out", commandLine(),
+                                    rq.overwrite);
+  return io::resolveResultsTarget(fs::path("results") / fitResultsName(rq.data, rq.law), "", commandLine(), false);
+}
+
+// fit.json and report.html, staged beside `target` and moved into place when
+// both are written; a staging folder left by a failed write is removed.
+void writeFitFolder(const fs::path& target, bool overwrite, const json& j, const io::HtmlReport& rep) {
+  io::removeStaleStages(target.parent_path().empty() ? fs::path(".") : target.parent_path());
+  io::checkReplaceable(target, overwrite);
+  const fs::path stage = io::stagingFolder(target);
+  try {
+    fs::create_directories(stage);
+    io::writeFileAtomic(stage / "fit.json", j.dump(2) + "\n");
+    io::writeFileAtomic(stage / "report.html", rep.render());
+    io::moveStageIntoPlace(stage, target);
+  } catch (...) {
+    std::error_code ec;
+    fs::remove_all(stage, ec);
+    throw;
+  }
+}
+
 io::CsvData readOne(const FitRequest& rq) {
   if (rq.data.size() != 1)
     throw InputError({}, "DATA", std::to_string(rq.data.size()) + " files",
@@ -131,6 +206,10 @@ std::string fitAnalysesList() {
   std::string list;
   for (const auto& a : fitAnalyses()) list += (list.empty() ? "" : ", ") + a;
   return list;
+}
+
+std::string fitResultsName(const std::vector<fs::path>& data, const std::string& law) {
+  return "fit_" + joinedStems(data) + "_" + law;
 }
 
 double parseQuantityOption(const std::string& option, const std::string& text, units::Dim dim) {
@@ -160,24 +239,17 @@ FitOutcome runFit(const FitRequest& rq) {
     throw InputError({"command line", 0, 0}, "--law", rq.law, "unknown law or analysis", fitAnalysesList());
   if (rq.data.empty()) throw InputError({"command line", 0, 0}, "DATA", "", "no data file given", "one or more CSV files");
   FitOutcome out;
-  if (rq.write) {
-    out.outDir = rq.out;
-    if (out.outDir.empty()) {
-      fs::path d = rq.data.front();
-      out.outDir = d.parent_path() / (d.stem().string() + ".fit");
-    }
-    if (fs::exists(out.outDir) && !rq.overwrite)
-      throw InputError({"command line", 0, 0}, "--out", out.outDir.string(), "the output folder already exists",
-                       "a new folder (--out DIR), or --overwrite to replace its fit.json and report.html");
-  }
+  if (rq.write) out.outDir = fitTarget(rq);
   json j;
   j["tool"] = "needlesim fit";
+  j["needlesim"] = {{"version", kVersion}, {"git_revision", kGitRevision}};
+  j["status"] = "complete";
   j["analysis"] = rq.law;
   j["data"] = json::array();
   for (const auto& d : rq.data) j["data"].push_back(d.string());
   io::HtmlReport rep;
   rep.title = "needlesim fit: " + rq.law;
-  rep.subtitle = rq.data.front().filename().string();
+  for (const auto& d : rq.data) rep.subtitle += (rep.subtitle.empty() ? "" : ", ") + d.filename().string();
   std::string table;
 
   if (isHyperLaw(rq.law) || rq.law == "auto" || rq.law == "stiffness") {
@@ -366,11 +438,7 @@ FitOutcome runFit(const FitRequest& rq) {
   }
   out.json = j;
   out.table = table;
-  if (rq.write) {
-    fs::create_directories(out.outDir);
-    io::writeFileAtomic(out.outDir / "fit.json", j.dump(2) + "\n");
-    io::writeFileAtomic(out.outDir / "report.html", rep.render());
-  }
+  if (rq.write) writeFitFolder(out.outDir, rq.overwrite, j, rep);
   return out;
 }
 

@@ -1,7 +1,8 @@
 #pragma once
 // `needlesim fit`: reads data files, runs one analysis, writes fit.json and
-// report.html into a new output folder and returns the table to print. The
-// CLI (apps/needlesim/cmd_fit.cpp) only parses arguments into a FitRequest.
+// report.html into a results folder (staged and moved into place like the
+// folder of `needlesim run`) and returns the table to print. The CLI
+// (apps/needlesim/cmd_fit.cpp) only parses arguments into a FitRequest.
 #include <filesystem>
 #include <string>
 #include <vector>
@@ -23,8 +24,8 @@ struct FitRequest {
   std::vector<std::filesystem::path> data;
   std::string law;  // linear .. fung, auto, prony, toughness, friction, puncture, stiffness
   int terms = 0;
-  std::filesystem::path out;  // empty: <first data file without extension>.fit next to it
-  bool overwrite = false;
+  std::filesystem::path out;  // --out; empty: results/<fitResultsName(data, law)> (-2, -3 ... if taken)
+  bool overwrite = false;     // replace a results folder at `out`
   bool write = true;  // false: compute only (tests)
   UniaxialReadOptions uniaxial;
   // insertion analyses
@@ -46,6 +47,19 @@ struct FitOutcome {
 };
 
 FitOutcome runFit(const FitRequest& request);
+
+// The most characters the data files' stems take in fitResultsName.
+inline constexpr std::size_t kMaxFitNameStems = 64;
+
+// The default results folder name of a fit: "fit_" + the data files' stems in
+// order, joined by '+', + "_" + the analysis (fit_plastisol_compression_auto,
+// fit_gelatin_3mms+gelatin_5mms_friction). Characters other than letters,
+// digits, '.', '-', '_' and non-ASCII ones become '_'. Stems longer than
+// kMaxFitNameStems together keep the whole stems that fit (at least the
+// first, cut to that length) and end in "+N_more" for the N left out and
+// "-HASH", 8 hex digits of the full list of stems, so that no two lists share
+// a name by being cut alike.
+std::string fitResultsName(const std::vector<std::filesystem::path>& data, const std::string& law);
 
 // Parses a command-line quantity like "18 mm" into SI, checking its dimension;
 // InputError naming the option otherwise.

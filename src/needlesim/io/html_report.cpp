@@ -74,6 +74,28 @@ std::string referencesHtml(const HtmlReport& r) {
   return items.empty() ? std::string() : "<h2>References</h2>\n<ul class=\"references\">\n" + items + "</ul>\n";
 }
 
+std::string tableHtml(const HtmlTable& t) {
+  std::string h = "<div class=\"tablewrap\"><table class=\"cases\">\n";
+  if (!t.caption.empty()) h += "<caption>" + escape(t.caption) + "</caption>\n";
+  if (!t.groups.empty()) {
+    h += "<tr class=\"groups\">";
+    for (std::size_t g = 0; g < t.groups.size(); ++g)
+      h += fmt::format("<th colspan=\"{}\"{}>{}</th>", t.groups[g].second,
+                       t.groups[g].first.empty() ? "" : fmt::format(" class=\"g{}\"", g % 2),
+                       escape(t.groups[g].first));
+    h += "</tr>\n";
+  }
+  h += "<tr>";
+  for (const auto& c : t.header) h += "<th>" + escape(c) + "</th>";
+  h += "</tr>\n";
+  for (const auto& row : t.rows) {
+    h += "<tr>";
+    for (const auto& c : row) h += "<td>" + escape(c) + "</td>";
+    h += "</tr>\n";
+  }
+  return h + "</table></div>\n";
+}
+
 }  // namespace
 
 std::string HtmlReport::render() const {
@@ -121,6 +143,9 @@ std::string HtmlReport::render() const {
           "h1{font-size:1.5em}table{border-collapse:collapse;margin:1em 0}\n"
           "th,td{border:1px solid #ccc;padding:4px 10px;text-align:left}th{background:#f4f4f4}\n"
           ".plot{position:relative;height:420px;margin:1.5em 0}footer{color:#777;font-size:.8em;margin-top:3em}\n"
+          ".tablewrap{overflow-x:auto}table.cases td{text-align:right}tr.groups th{text-align:center}"
+          "tr.groups th.g1{background:#dde8f5}tr.groups th.g0{background:#e6f2dc}"
+          "caption{text-align:left;font-weight:bold;padding:.3em 0}\n"
           ".warnings{background:#fff3cd;border:2px solid #e0a800;border-radius:4px;padding:.5em 1em;margin:1em 0}\n"
           "</style>\n";
   // Chart.js, MIT licence (c) Chart.js Contributors; from Debian's libjs-chart.js.
@@ -144,6 +169,7 @@ std::string HtmlReport::render() const {
   html += warnings_html;
   if (!facts.empty()) html += "<table>\n" + facts_html + "</table>\n";
   html += notes_html;
+  for (const auto& t : tables) html += tableHtml(t);
   html += canvases;
   html += references_html;
   html += fmt::format("<footer>needlesim {} ({}); plots drawn with Chart.js (MIT licence).</footer>\n", kVersion,

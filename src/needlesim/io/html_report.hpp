@@ -21,6 +21,15 @@ struct Plot {
   bool logx = false, logy = false;
 };
 
+// A table of text cells (escaped on output); `groups` is a row above the
+// header that names consecutive columns together: (label, how many columns).
+struct HtmlTable {
+  std::string caption;
+  std::vector<std::pair<std::string, std::size_t>> groups;
+  std::vector<std::string> header;
+  std::vector<std::vector<std::string>> rows;
+};
+
 struct HtmlReport {
   std::string title;
   std::string subtitle;
@@ -28,6 +37,7 @@ struct HtmlReport {
   std::vector<Plot> plots;
   std::vector<std::string> warnings;  // shown in a highlighted box at the top (plain text)
   std::vector<std::string> notes;  // paragraphs (plain text, escaped on output)
+  std::vector<HtmlTable> tables;   // after the notes, before the plots
 
   std::string render() const;
 };

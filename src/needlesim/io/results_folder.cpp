@@ -85,16 +85,23 @@ fs::path outputPath(const fs::path& given, const std::string& field, const Sourc
   return p;
 }
 
-bool isResultsFolder(const fs::path& dir) {
+namespace {
+// Whether `file` is a record needlesim wrote: JSON with its version record and a "status".
+bool isNeedlesimRecord(const fs::path& file) {
   std::error_code ec;
-  if (!fs::is_regular_file(dir / "summary.json", ec)) return false;
+  if (!fs::is_regular_file(file, ec)) return false;
   try {
-    const auto s = nlohmann::json::parse(std::ifstream(dir / "summary.json"));
+    const auto s = nlohmann::json::parse(std::ifstream(file));
     return s.is_object() && s.contains("status") && s.contains("needlesim") && s["needlesim"].is_object() &&
            s["needlesim"].contains("version");
   } catch (const std::exception&) {
     return false;
   }
+}
+}  // namespace
+
+bool isResultsFolder(const fs::path& dir) {
+  return isNeedlesimRecord(dir / "summary.json") || isNeedlesimRecord(dir / "fit.json");
 }
 
 std::string describeContents(const fs::path& path) {
@@ -127,8 +134,8 @@ void checkOutputTarget(const fs::path& target, const std::string& field, const s
   if (overwrite && fs::exists(target, ec) && !isResultsFolder(target))
     throw badTarget(target, field, source,
                     "is " + describeContents(target) + ", not a needlesim results folder; --overwrite will not delete it",
-                    "--overwrite replaces only a folder written by needlesim (with its summary.json); choose another "
-                    "path for the results");
+                    "--overwrite replaces only a folder written by needlesim (with its summary.json, or fit.json for a "
+                    "fit); choose another path for the results");
   checkParentWritable(target, field, source);
 }
 
@@ -160,9 +167,44 @@ fs::path freeResultsPath(const fs::path& base) {
   throw Error("no free results folder name next to " + base.string());
 }
 
+fs::path resolveResultsTarget(const fs::path& chosen, const std::string& field, const SourceLocation& where,
+                              bool overwrite) {
+  checkOutputTarget(chosen, field.empty() ? "name" : field, where.file, overwrite && !field.empty());
+  if (field.empty()) return freeResultsPath(chosen);
+  if (fs::exists(chosen) && !overwrite)
+    throw InputError(where, field, chosen.string(), "results folder already exists",
+                     "a new folder, or --overwrite to replace it");
+  return chosen;
+}
+
+fs::path stagingFolder(const fs::path& target) {
+  return target.parent_path() / fmt::format(".{}.partial-{}", target.filename().string(), ::getpid());
+}
+
+void checkReplaceable(const fs::path& target, bool replace) {
+  std::error_code ec;
+  if (fs::exists(target, ec) && !replace)
+    throw Error("results folder " + target.string() +
+                " already exists; choose another with --out or pass --overwrite to replace it");
+  if (fs::exists(target, ec) && !isResultsFolder(target))
+    throw Error("cannot replace " + target.string() + ": it is " + describeContents(target) +
+                ", not a needlesim results folder");
+}
+
+void moveStageIntoPlace(const fs::path& stage, const fs::path& target) {
+  if (!fs::exists(target)) {
+    fs::rename(stage, target);
+    return;
+  }
+  const fs::path old = parentOf(target) / fmt::format(".{}.old-{}", target.filename().string(), ::getpid());
+  fs::rename(target, old);
+  fs::rename(stage, target);
+  fs::remove_all(old);
+}
+
 ResultsFolder::ResultsFolder(const Scenario& scenario, fs::path target, bool printWarnings)
     : scenario_(scenario), target_(outputPath(target, "--out", commandLine())), printWarnings_(printWarnings) {
-  stage_ = target_.parent_path() / fmt::format(".{}.partial-{}", target_.filename().string(), ::getpid());
+  stage_ = stagingFolder(target_);
 }
 
 ResultsFolder::~ResultsFolder() {
@@ -196,13 +238,7 @@ void ResultsFolder::warning(const std::string& text) {
 }
 
 void ResultsFolder::commit(bool replace, double wall_seconds, const std::string& failure) {
-  std::error_code ec;
-  if (fs::exists(target_, ec) && !replace)
-    throw Error("results folder " + target_.string() +
-                " already exists; choose another with --out or pass --overwrite to replace it");
-  if (fs::exists(target_, ec) && !isResultsFolder(target_))
-    throw Error("cannot replace " + target_.string() + ": it is " + describeContents(target_) +
-                ", not a needlesim results folder");
+  checkReplaceable(target_, replace);
   fs::create_directories(stage_);
   for (auto& f : fields_) f->close();  // the last HDF5 data reaches the disk, or Error
   fields_.clear();
@@ -218,6 +254,8 @@ void ResultsFolder::commit(bool replace, double wall_seconds, const std::string&
   moveIntoPlace();
   committed_ = true;
 }
+
+void ResultsFolder::moveIntoPlace() { moveStageIntoPlace(stage_, target_); }
 
 nlohmann::json ResultsFolder::writeTables() const {
   nlohmann::json files = nlohmann::json::array();
@@ -265,17 +303,5 @@ HtmlReport ResultsFolder::report(double wall_seconds, const std::string& failure
   return rep;
 }
 
-// The staging folder becomes the target; a replaced results folder is moved
-// aside first and deleted only once the new one is in place.
-void ResultsFolder::moveIntoPlace() {
-  if (!fs::exists(target_)) {
-    fs::rename(stage_, target_);
-    return;
-  }
-  const fs::path old = parentOf(target_) / fmt::format(".{}.old-{}", target_.filename().string(), ::getpid());
-  fs::rename(target_, old);
-  fs::rename(stage_, target_);
-  fs::remove_all(old);
-}
 
 }  // namespace needlesim::io

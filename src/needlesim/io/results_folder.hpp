@@ -72,8 +72,9 @@ class ResultsFolder : public ResultSink {
 // with no folder name ("", ".", "..", "/").
 std::filesystem::path outputPath(const std::filesystem::path& given, const std::string& field, const SourceLocation& where);
 
-// Whether `dir` is a folder needlesim wrote: it holds a summary.json with the
-// "needlesim" version record and a "status". Only such a folder may be replaced.
+// Whether `dir` is a folder needlesim wrote: it holds a summary.json (`run`) or
+// fit.json (`fit`) with the "needlesim" version record and a "status". Only such
+// a folder may be replaced.
 bool isResultsFolder(const std::filesystem::path& dir);
 
 // What is at `path`, for messages: "a file", "an empty folder", "a folder
@@ -96,6 +97,27 @@ int removeStaleStages(const std::filesystem::path& parent);
 
 // results/<name>, or results/<name>-2, -3, ... if taken.
 std::filesystem::path freeResultsPath(const std::filesystem::path& base);
+
+// The folder a command writes its results to, checked before the work starts
+// (checkOutputTarget). `chosen` is the folder a user named with `field`
+// ("--out", "output.directory") at `where`: one that exists is refused unless
+// `overwrite` (and then only a results folder may be replaced). Without a
+// chosen folder (empty `field`), `chosen` is the automatic results/<name>, and
+// the first free name of freeResultsPath is returned.
+std::filesystem::path resolveResultsTarget(const std::filesystem::path& chosen, const std::string& field,
+                                           const SourceLocation& where, bool overwrite);
+
+// The hidden staging folder of `target`: .<name>.partial-<pid> beside it.
+std::filesystem::path stagingFolder(const std::filesystem::path& target);
+
+// Error unless `target` is free, or `replace` is given and it is a results
+// folder (isResultsFolder): what a commit checks before it writes.
+void checkReplaceable(const std::filesystem::path& target, bool replace);
+
+// The complete staging folder `stage` becomes `target`; a results folder at
+// the target (checkReplaceable) is moved aside first and deleted only once the
+// new one is in place.
+void moveStageIntoPlace(const std::filesystem::path& stage, const std::filesystem::path& target);
 
 // The scenario as understood (Scenario::understood): every field in the scenario
 // file's schema, quantities in SI with their unit; `needlesim run summary.json`

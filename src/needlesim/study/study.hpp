@@ -69,6 +69,8 @@ std::string caseYaml(const std::string& baseYaml, const Case& c);
 struct SweepOptions {
   bool progress = true;
   bool resume = false;  // reuse cases whose folder is complete
+  bool overwrite = false;  // replace an earlier study in the study folder (only a study folder, isStudyFolder)
+  std::filesystem::path out;  // --out: the study folder, over the study file's `directory`
   int rank = 0, ranks = 1;  // MPI: this process runs cases with (index - 1) % ranks == rank
 };
 
@@ -76,10 +78,20 @@ struct SweepReport {
   std::filesystem::path folder;
   int cases = 0, ran = 0, reused = 0;
   std::vector<int> failed;  // case indices that failed (rerun with --resume)
+  std::string overview;     // the inputs, outputs and constants for the terminal (studyOverview)
 };
 
+// Whether `dir` holds nothing but what a sweep writes (cases/ with case
+// folders, their error files and staging folders; study.csv, study.json,
+// report.html): a folder a sweep may resume in or replace. An empty folder is one.
+bool isStudyFolder(const std::filesystem::path& dir);
+
 // Runs the cases of this rank, then (rank 0) gathers every case's summary
-// into study.csv, study.json and report.html in the study folder.
+// into study.csv, study.json and report.html in the study folder. The study
+// folder is options.out (--out), else the study file's `directory`, else
+// results/<name>, checked like a run's results folder (checkOutputTarget);
+// one that exists is used with options.resume, replaced with
+// options.overwrite (both only if isStudyFolder) and refused otherwise.
 SweepReport runSweep(const StudySpec& spec, const SweepOptions& options);
 void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepReport& report);
 

@@ -6,17 +6,20 @@
 #include <fstream>
 #include <map>
 #include <mutex>
+#include <regex>
 #include <sstream>
 #include <thread>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/core/version.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/io/atomic_file.hpp"
-#include "needlesim/io/html_report.hpp"
+#include "needlesim/io/results_folder.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
+#include "needlesim/study/study_report.hpp"
 
 namespace needlesim::study {
 namespace fs = std::filesystem;
@@ -30,8 +33,52 @@ std::string readText(const fs::path& p) {
   return ss.str();
 }
 
-fs::path studyFolder(const StudySpec& spec) {
-  return spec.directory.empty() ? fs::path("results") / spec.name : fs::path(spec.directory);
+// The study folder and which input named it: --out, the study file's directory, or its name.
+struct StudyTarget {
+  fs::path path;
+  std::string field;
+  SourceLocation where;
+};
+
+StudyTarget chooseStudyFolder(const StudySpec& spec, const SweepOptions& opt) {
+  const SourceLocation inFile{spec.file.string(), 0, 0};
+  if (!opt.out.empty()) return {io::outputPath(opt.out, "--out", commandLine()), "--out", commandLine()};
+  if (!spec.directory.empty()) return {io::outputPath(spec.directory, "directory", inFile), "directory", inFile};
+  return {fs::path("results") / spec.name, "name", inFile};
+}
+
+// The checked study folder: free, or an earlier study's folder to resume in
+// or (with --overwrite) to remove; anything else there is refused.
+fs::path prepareStudyFolder(const StudySpec& spec, const SweepOptions& opt) {
+  const StudyTarget t = chooseStudyFolder(spec, opt);
+  if (opt.resume && opt.overwrite)
+    throw InputError(commandLine(), "--overwrite", "", "cannot go with --resume",
+                     "--resume to reuse the completed cases, or --overwrite to replace the study");
+  io::checkOutputTarget(t.path, t.field, t.where.file, false);
+  if (!fs::exists(t.path)) return t.path;
+  if (!isStudyFolder(t.path))
+    throw InputError(t.where, t.field, t.path.string(),
+                     "is " + io::describeContents(t.path) + ", not a needlesim study folder; nothing is written there",
+                     "a new folder, or the folder of an earlier run of this study (with --resume or --overwrite)");
+  if (opt.resume) return t.path;
+  if (!opt.overwrite)
+    throw InputError(t.where, t.field, t.path.string(), "the study folder already exists",
+                     "--resume to reuse its completed cases, --overwrite to replace it, or another folder (--out)");
+  fs::remove_all(t.path);
+  return t.path;
+}
+
+// Names in cases/: case_NNNN, case_NNNN.error.txt and the staging, replaced and temporary names made from them.
+bool isCaseEntry(const std::string& name) {
+  static const std::regex pattern(
+      R"(\.?case_[0-9]+(\.error\.txt(\.tmp\.[0-9]+)?|\.partial-[0-9]+|\.old-[0-9]+)?)");
+  return std::regex_match(name, pattern);
+}
+
+// Names in a study folder: cases/, study.csv, study.json, report.html, and their temporary names.
+bool isStudyEntry(const std::string& name) {
+  static const std::regex pattern(R"((cases|(study\.csv|study\.json|report\.html)(\.tmp\.[0-9]+)?))");
+  return std::regex_match(name, pattern);
 }
 
 fs::path caseFolder(const fs::path& study, int index) { return study / "cases" / fmt::format("case_{:04d}", index); }
@@ -50,16 +97,26 @@ void recordCaseError(const fs::path& study, int index, const std::string& what, 
 
 }  // namespace
 
+bool isStudyFolder(const fs::path& dir) {
+  std::error_code ec;
+  if (!fs::is_directory(dir, ec) || fs::is_symlink(dir, ec)) return false;
+  for (const auto& e : fs::directory_iterator(dir, ec)) {
+    const std::string name = e.path().filename().string();
+    if (!isStudyEntry(name)) return false;
+    if (name != "cases") continue;
+    if (!e.is_directory() || e.is_symlink()) return false;
+    for (const auto& c : fs::directory_iterator(e.path(), ec))
+      if (!isCaseEntry(c.path().filename().string())) return false;
+  }
+  return !ec;
+}
+
 SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   std::string baseYaml = readText(spec.scenario_file);
   std::vector<Case> cases = expandCases(spec, baseYaml);
   SweepReport rep;
-  rep.folder = studyFolder(spec);
+  rep.folder = prepareStudyFolder(spec, opt);
   rep.cases = static_cast<int>(cases.size());
-  if (opt.rank == 0 && fs::exists(rep.folder / "study.json") && !opt.resume)
-    throw InputError(SourceLocation{spec.file.string(), 0, 0}, "directory", rep.folder.string(),
-                     "the study folder already holds a finished study",
-                     "another directory, or --resume to reuse its completed cases");
   fs::create_directories(rep.folder / "cases");
 
   // This rank's cases; completed ones are reused on --resume.
@@ -67,10 +124,7 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   for (const auto& c : cases) {
     if ((c.index - 1) % opt.ranks != opt.rank) continue;
     fs::path f = caseFolder(rep.folder, c.index);
-    if (caseComplete(f)) {
-      if (!opt.resume)
-        throw InputError(SourceLocation{spec.file.string(), 0, 0}, "directory", f.string(),
-                         "a case folder already exists", "--resume to reuse completed cases, or another directory");
+    if (caseComplete(f)) {  // only in a study folder that --resume reuses (prepareStudyFolder)
       ++rep.reused;
       continue;
     }
@@ -129,25 +183,36 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   return rep;
 }
 
-void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepReport& rep) {
-  // Result keys and units from the completed cases, in first-seen order.
+namespace {
+
+// Result keys and units of the completed cases, in first-seen order, and each case's results.
+struct CaseResults {
   std::vector<std::pair<std::string, std::string>> keys;
   std::map<int, nlohmann::json> results;
   std::vector<int> missing;
+};
+
+CaseResults readCaseResults(const std::vector<Case>& cases, const fs::path& folder) {
+  CaseResults r;
   for (const auto& c : cases) {
-    fs::path f = caseFolder(rep.folder, c.index) / "summary.json";
+    fs::path f = caseFolder(folder, c.index) / "summary.json";
     if (!fs::exists(f)) {
-      missing.push_back(c.index);
+      r.missing.push_back(c.index);
       continue;
     }
     nlohmann::json s = nlohmann::json::parse(std::ifstream(f));
     for (auto& [k, v] : s["results"].items()) {
       bool seen = false;
-      for (const auto& kk : keys) seen = seen || kk.first == k;
-      if (!seen) keys.emplace_back(k, v.value("unit", "1"));
+      for (const auto& kk : r.keys) seen = seen || kk.first == k;
+      if (!seen) r.keys.emplace_back(k, v.value("unit", "1"));
     }
-    results[c.index] = s["results"];
+    r.results[c.index] = s["results"];
   }
+  return r;
+}
+
+// study.csv: case, complete, the inputs (in the study file's order), the outputs.
+io::Table studyTable(const StudySpec& spec, const std::vector<Case>& cases, CaseResults& found) {
   std::vector<io::Column> cols{{"case", "1"}, {"complete", "1"}};
   for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
     units::Dim d{};
@@ -156,60 +221,68 @@ void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepRep
         d = units::parse(c.assignments[k].second).dim;
         break;
       }
-    cols.push_back({spec.parameters[k].field, units::siName(d)});
+    cols.push_back({inputColumnName(spec.parameters[k].field), units::siName(d)});
   }
-  for (const auto& [k, u] : keys) cols.push_back({k, u});
+  for (const auto& [k, u] : found.keys) cols.push_back({k, u});
   io::Table table(cols);
   for (const auto& c : cases) {
-    std::vector<double> row{static_cast<double>(c.index), results.count(c.index) ? 1.0 : 0.0};
+    std::vector<double> row{static_cast<double>(c.index), found.results.count(c.index) ? 1.0 : 0.0};
     for (double v : c.values_si) row.push_back(v);
-    for (const auto& [k, u] : keys) {
+    for (const auto& [k, u] : found.keys) {
       double v = NAN;
-      if (results.count(c.index) && results[c.index].contains(k) && results[c.index][k]["value"].is_number())
-        v = results[c.index][k]["value"].get<double>();
+      if (found.results.count(c.index) && found.results[c.index].contains(k) &&
+          found.results[c.index][k]["value"].is_number())
+        v = found.results[c.index][k]["value"].get<double>();
       row.push_back(v);
     }
     table.addRow(row);
   }
-  io::writeFileAtomic(rep.folder / "study.csv", table.csv());
+  return table;
+}
 
-  nlohmann::json j = {{"name", spec.name},
-                      {"study_file", spec.file.string()},
-                      {"scenario", spec.scenario_file.string()},
-                      {"cases", cases.size()},
-                      {"complete", cases.size() - missing.size()},
-                      {"rerun", missing}};
+// study.json: the study, its inputs and outputs (the constant ones with their value) and every case's assignments.
+nlohmann::json studyJson(const StudyResults& r, const std::vector<int>& missing) {
+  const OutputColumns outputs = splitOutputs(r);
+  const auto& cols = r.table.columns();
+  nlohmann::json inputs = nlohmann::json::array(), varying = nlohmann::json::array(),
+                 constant = nlohmann::json::object();
+  for (const auto& p : r.spec.parameters) inputs.push_back(p.field);
+  for (std::size_t c : outputs.varying) varying.push_back(cols[c].name);
+  for (std::size_t c : outputs.constant) {
+    std::size_t row = 0;
+    while (r.table.at(row, 1) != 1.0) ++row;  // the first complete case
+    constant[cols[c].name] = {{"value", r.table.at(row, c)}, {"unit", cols[c].unit}};
+  }
+  nlohmann::json j = {{"needlesim", {{"version", kVersion}, {"git_revision", kGitRevision}}},
+                      {"name", r.spec.name},
+                      {"study_file", r.spec.file.string()},
+                      {"scenario", r.spec.scenario_file.string()},
+                      {"cases", r.cases.size()},
+                      {"complete", r.cases.size() - missing.size()},
+                      {"rerun", missing},
+                      {"inputs", inputs},
+                      {"outputs", varying},
+                      {"constant_outputs", constant}};
   nlohmann::json list = nlohmann::json::array();
-  for (const auto& c : cases) {
+  for (const auto& c : r.cases) {
     nlohmann::json a = nlohmann::json::object();
     for (const auto& [f, v] : c.assignments) a[f] = v;
     list.push_back({{"case", c.index}, {"folder", fmt::format("cases/case_{:04d}", c.index)}, {"set", a}});
   }
   j["case_list"] = list;
-  io::writeFileAtomic(rep.folder / "study.json", j.dump(2) + "\n");
+  return j;
+}
 
-  io::HtmlReport html;
-  html.title = "needlesim study: " + spec.name;
-  html.subtitle = "base scenario " + spec.scenario_file.string();
-  html.facts.emplace_back("cases", std::to_string(cases.size()));
-  html.facts.emplace_back("complete", std::to_string(cases.size() - missing.size()));
-  if (!missing.empty()) {
-    std::string m;
-    for (int i : missing) m += (m.empty() ? "" : ", ") + std::to_string(i);
-    html.facts.emplace_back("to rerun (needlesim sweep --resume)", m);
-  }
-  for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
-    std::vector<double> x = table.column(spec.parameters[k].field);
-    for (const auto& [key, unit] : keys) {
-      io::Plot p{key + " against " + spec.parameters[k].field, spec.parameters[k].field + " [" + cols[2 + k].unit + "]",
-                 key + " [" + unit + "]", {}};
-      p.series.push_back({key, x, table.column(key), true, false});
-      html.plots.push_back(std::move(p));
-    }
-  }
-  html.notes.push_back("One point per case; each case's own folder (cases/case_NNNN) has its summary, time series and report.");
-  io::writeFileAtomic(rep.folder / "report.html", html.render());
-  rep.failed = missing;
+}  // namespace
+
+void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepReport& rep) {
+  CaseResults found = readCaseResults(cases, rep.folder);
+  const StudyResults results{spec, cases, studyTable(spec, cases, found)};
+  io::writeFileAtomic(rep.folder / "study.csv", results.table.csv());
+  io::writeFileAtomic(rep.folder / "study.json", studyJson(results, found.missing).dump(2) + "\n");
+  io::writeFileAtomic(rep.folder / "report.html", studyReport(results, found.missing).render());
+  rep.overview = studyOverview(results);
+  rep.failed = found.missing;
 }
 
 }  // namespace needlesim::study
