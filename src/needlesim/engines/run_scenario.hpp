@@ -13,6 +13,7 @@ struct RunOutcome {
   std::filesystem::path folder;
   std::vector<io::KeyResult> results;
   double wall_seconds = 0.0;
+  std::vector<std::string> files;  // written into the folder: summary.json, CSVs, report.html, fields
 };
 
 // Throws InputError if the engine is not in this build, SolverError if it stops

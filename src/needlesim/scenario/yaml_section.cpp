@@ -65,6 +65,20 @@ void Section::rememberNumber(const std::string& key, const FieldDoc& f, double v
     remember(key, value);
 }
 
+std::vector<std::pair<std::string, int>> Section::unitsWritten() const {
+  return record_ ? record_->units_written : std::vector<std::pair<std::string, int>>{};
+}
+
+void Section::countUnit(const units::Quantity& written) const {
+  if (!record_ || written.gauge || !units::displayDimensionOfUnit(written.unit)) return;
+  for (auto& [unit, n] : record_->units_written)
+    if (unit == written.unit) {
+      ++n;
+      return;
+    }
+  record_->units_written.emplace_back(written.unit, 1);
+}
+
 InputError Section::errorAt(const YAML::Node& at, const std::string& field, const std::string& value,
                             const std::string& problem, const std::string& allowed) const {
   return InputError(location(at), field, value, problem, allowed);
@@ -172,6 +186,7 @@ std::optional<double> Section::optNumber(const std::string& key) {
   if (f.whole && qv.value != std::floor(qv.value))
     throw errorAt(n, fieldPath(key), text, "must be a whole number (it counts something)", f.rangeText());
   rememberNumber(key, f, qv.value);
+  countUnit(qv);
   return qv.value;
 }
 
@@ -195,6 +210,7 @@ units::Quantity Section::lengthOrGauge(const std::string& key) {
     throw errorAt(n, fieldPath(key), n.Scalar(), "has the wrong unit", "a length (m, mm) or a gauge (G)");
   if (!f.inRange(qv.value)) throw errorAt(n, fieldPath(key), n.Scalar(), "is out of range", f.rangeText());
   rememberNumber(key, f, qv.value);
+  countUnit(qv);
   return qv;
 }
 

@@ -26,6 +26,9 @@ class Section {
   struct Understood {
     nlohmann::json doc = nlohmann::json::object();
     std::map<std::string, SourceLocation> given_at;  // field path -> file:line:column
+    // How often each unit of a display dimension (units::displayDimensions) was written,
+    // in the order first written: the scenario's display units (output.units).
+    std::vector<std::pair<std::string, int>> units_written;
   };
   using Record = std::shared_ptr<Understood>;
   Section(YAML::Node node, std::string type, std::string path, std::shared_ptr<const std::string> file,
@@ -62,11 +65,14 @@ class Section {
   // and where the file gives it.
   void remember(const std::string& key, nlohmann::json value) const;
   std::string fieldPath(const std::string& key) const;
+  // The units of display dimensions written so far in the whole file, with their counts.
+  std::vector<std::pair<std::string, int>> unitsWritten() const;
 
  private:
   units::Quantity parseQuantity(const std::string& key, const FieldDoc& f, const YAML::Node& n,
                                 const std::string& text);
   void rememberNumber(const std::string& key, const FieldDoc& f, double value) const;
+  void countUnit(const units::Quantity& written) const;
   YAML::Node node_;
   std::string type_;
   std::string path_;
