@@ -15,6 +15,7 @@
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/html_report.hpp"
 #include "needlesim/io/table.hpp"
+#include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
 
@@ -129,11 +130,25 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   return rep;
 }
 
+namespace {
+// The units the study's report shows values in: those its cases' scenario chose
+// (output.units of a case's summary.json, all cases share them); SI without one.
+units::DisplayUnits caseDisplayUnits(const nlohmann::json& summary) {
+  units::DisplayUnits display;
+  const nlohmann::json::json_pointer at("/scenario/output/units");
+  if (!summary.contains(at) || !summary[at].is_object()) return display;
+  for (const auto& [dimension, unit] : summary[at].items())
+    if (unit.is_string()) display.set(dimension, unit.get<std::string>());
+  return display;
+}
+}  // namespace
+
 void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepReport& rep) {
   // Result keys and units from the completed cases, in first-seen order.
   std::vector<std::pair<std::string, std::string>> keys;
   std::map<int, nlohmann::json> results;
   std::vector<int> missing;
+  units::DisplayUnits display;
   for (const auto& c : cases) {
     fs::path f = caseFolder(rep.folder, c.index) / "summary.json";
     if (!fs::exists(f)) {
@@ -147,6 +162,7 @@ void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepRep
       if (!seen) keys.emplace_back(k, v.value("unit", "1"));
     }
     results[c.index] = s["results"];
+    if (display.empty()) display = caseDisplayUnits(s);
   }
   std::vector<io::Column> cols{{"case", "1"}, {"complete", "1"}};
   for (std::size_t k = 0; k < spec.parameters.size(); ++k) {
@@ -204,7 +220,7 @@ void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepRep
       io::Plot p{key + " against " + spec.parameters[k].field, spec.parameters[k].field + " [" + cols[2 + k].unit + "]",
                  key + " [" + unit + "]", {}};
       p.series.push_back({key, x, table.column(key), true, false});
-      html.plots.push_back(std::move(p));
+      html.plots.push_back(results::inDisplayUnits(std::move(p), display));
     }
   }
   html.notes.push_back("One point per case; each case's own folder (cases/case_NNNN) has its summary, time series and report.");
