@@ -9,7 +9,7 @@
 
 namespace needlesim::results {
 
-void markLayerBoundaries(io::Plot& plot, const Scenario& scenario) {
+void markLayerBoundaries(io::Plot& plot, const Scenario& scenario, double axis_origin) {
   const auto& layers = scenario.tissue.layers;
   if (layers.size() < 2) return;
   const std::string unit = axisUnit(plot.xlabel);
@@ -18,7 +18,7 @@ void markLayerBoundaries(io::Plot& plot, const Scenario& scenario) {
   double depth = 0.0;
   for (std::size_t i = 0; i + 1 < layers.size(); ++i) {
     depth += layers[i].thickness;
-    plot.xmarkers.push_back({depth * alongNeedle * toAxis, fmt::format("{} | {}", layers[i].name, layers[i + 1].name)});
+    plot.xmarkers.push_back({(depth * alongNeedle - axis_origin) * toAxis, fmt::format("{} | {}", layers[i].name, layers[i + 1].name)});
   }
 }
 

@@ -8,7 +8,8 @@
 namespace needlesim::results {
 
 // Adds the markers to `plot`, whose x axis is the tip depth in the unit its label names
-// ("tip depth [mm]"). Nothing for a tissue of one layer.
-void markLayerBoundaries(io::Plot& plot, const Scenario& scenario);
+// ("tip depth [mm]"), less `axis_origin` (m; the depth at x = 0 of a plot against the needle's
+// displacement). Nothing for a tissue of one layer.
+void markLayerBoundaries(io::Plot& plot, const Scenario& scenario, double axis_origin = 0.0);
 
 }  // namespace needlesim::results
