@@ -402,8 +402,10 @@ std::vector<FieldDoc> build() {
             false, "units"));
   for (const auto& d : units::displayDimensions()) {
     std::vector<std::string> allowed(d.units.begin(), d.units.end());
+    std::string words(d.name);
+    std::replace(words.begin(), words.end(), '_', ' ');
     add(other("units", std::string(d.name), Kind::Choice, "",
-              fmt::format("unit of {} results ({}) on the terminal and in report.html", d.name, d.si), false, {},
+              fmt::format("unit of {} results (SI: {}) on the terminal and in report.html", words, d.si), false, {},
               allowed));
   }
 
