@@ -9,6 +9,8 @@ PKGS=(
   libjs-chart.js
   libopenmpi-dev openmpi-bin
   pybind11-dev python3-dev
+  python3-numpy python3-pytest python3-h5py python3-matplotlib
+  python3-venv python3-pip python3-setuptools python3-wheel
   calculix-ccx
 )
 missing=()

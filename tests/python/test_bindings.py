@@ -1,117 +1,116 @@
-"""Python bindings: a scenario runs in memory with the seed 003 numbers, parameters
-can be varied, bad input (field paths, files, step arguments) raises needlesim.InputError,
-paths with ':' and pathlib.Path load as files, the force model steps."""
-import os
+"""Scenarios: loading files and text, parameter variation with with_values, the
+seed 003 numbers of a run in memory, bad input raising needlesim.InputError."""
 import pathlib
-import sys
-import tempfile
+
+import pytest
 
 import needlesim
-
-src = os.environ["NEEDLESIM_SOURCE_DIR"]
-failures = 0
+from conftest import SOURCE_DIR, eq_5_1
 
 
-def check(cond, what):
-    global failures
-    if not cond:
-        failures += 1
-        print("FAIL:", what)
-    else:
-        print("ok:", what)
+def test_load_a_scenario_file(gelatin):
+    assert gelatin.name == "gelatin_18G_3mms" and gelatin.engine == "lumped"
+    assert repr(gelatin) == "<Scenario 'gelatin_18G_3mms' (lumped), 53.3333 s, from %s>" % (
+        SOURCE_DIR / "examples" / "gelatin_18G_3mms.yaml")
 
 
-s = needlesim.load(os.path.join(src, "examples", "gelatin_18G_3mms.yaml"))
-check(s.name == "gelatin_18G_3mms" and s.engine == "lumped", "load a scenario file")
-r = needlesim.run(s)
-exit_force, unit = r["results"]["exit_force"]
-expected = 0.04335 + 0.055 * (3.791 + 285.053 * 0.003)  # seed 003 eq 5.1
-check(unit == "N" and abs(exit_force - expected) < 2e-3 * expected, "exit force %.5f N = %.5f N" % (exit_force, expected))
-check(len(r["tables"]["forces"]["force_total"]) > 100, "time series returned")
-check(r["warnings"] == [] and len(r["notes"]) > 0, "a plain run: notes and no warning")
-zw = needlesim.run(needlesim.load(os.path.join(src, "examples", "explicit", "target_inclusion_2d.yaml")))["warnings"]
-check(any("not quasi-static" in w for w in zw), "a run that is not quasi-static says so in 'warnings': %s" % zw)
-
-fast = s.with_values({"insertion.profile[0].insert.speed": "10 mm/s"})
-f10 = needlesim.run(fast)["results"]["exit_force"][0]
-check(abs(f10 - (0.04335 + 0.055 * (3.791 + 285.053 * 0.010))) < 2e-3, "with_values changes the speed")
-
-try:
-    s.with_values({"tissue.friction.C_p": "-1 N/m"})
-    check(False, "negative friction rejected")
-except needlesim.InputError as e:
-    check("tissue.friction.C_p" in str(e), "negative friction rejected: " + str(e)[:80])
+def test_exit_force_is_eq_5_1(gelatin):
+    exit_force, unit = needlesim.run(gelatin).results["exit_force"]
+    assert unit == "N"
+    assert exit_force == pytest.approx(eq_5_1(0.055, 0.003), rel=2e-3)
 
 
-
-def raises(cls, words, call, what):
-    """call() raises exactly `cls` (a needlesim exception) with every word in its message."""
-    try:
-        call()
-    except Exception as e:  # noqa: BLE001 - the class is what is checked
-        msg = str(e)
-        ok = type(e) is cls and all(w in msg for w in words)
-        check(ok, "%s: %s %s" % (what, type(e).__name__, msg[:160]))
-        return
-    check(False, what + ": no exception")
+def test_a_plain_run_has_notes_and_no_warning(gelatin):
+    r = needlesim.run(gelatin)
+    assert r.warnings == [] and len(r.notes) > 0
 
 
-check(issubclass(needlesim.InputError, ValueError), "InputError is a ValueError")
-check(issubclass(needlesim.SolverError, RuntimeError), "SolverError is a RuntimeError")
+def test_a_run_that_is_not_quasi_static_says_so(example):
+    r = needlesim.run(example("explicit/target_inclusion_2d.yaml"))
+    assert any("not quasi-static" in w for w in r.warnings), r.warnings
 
-# Field paths of with_values: strict grammar, schema keys, list lengths of the base.
-speed = "insertion.profile[%s].insert.speed"
-raises(needlesim.InputError, ["has no entry [99999999999]", "an index from 0 to"],
-       lambda: s.with_values({speed % "99999999999": "1 mm/s"}), "with_values huge index")
-raises(needlesim.InputError, ["'x' is not an index", "character 19"],
-       lambda: s.with_values({speed % "x": "1 mm/s"}), "with_values index x")
-raises(needlesim.InputError, ["'-1' is not an index"], lambda: s.with_values({speed % "-1": "1 mm/s"}),
-       "with_values index -1")
-raises(needlesim.InputError, ["'junk' follows ']'"],
-       lambda: s.with_values({"insertion.profile[0]junk.insert.speed": "1 mm/s"}), "with_values junk after ]")
-raises(needlesim.InputError, ["did you mean 'C_p'?", "b_p"], lambda: s.with_values({"tissue.friction.Cp": "3 N/m"}),
-       "with_values typo")
-raises(needlesim.InputError, ["with_values(tissue.friction.C_p)", "nan", "finite"],
-       lambda: s.with_values({"tissue.friction.C_p": float("nan")}), "with_values NaN value")
-check("poisson: 0.31" in s.with_values({"needle.poisson": 0.31}).yaml, "with_values takes a number")
-check("relaxation_time: 0.5 s" in s.with_values({"model.lumped.relaxation_time": "0.5 s"}).yaml,
-      "with_values writes a section the base omits")
 
-# load: a path with ':' is a file, pathlib.Path is accepted, a missing .yaml is "file not found".
-with tempfile.TemporaryDirectory() as d:
-    colon = os.path.join(d, "a:b.yaml")
-    with open(os.path.join(src, "examples", "gelatin_18G_3mms.yaml")) as f, open(colon, "w") as g:
-        g.write(f.read())
-    check(needlesim.load(colon).name == "gelatin_18G_3mms", "load a file whose path holds ':'")
-    check(needlesim.load(pathlib.Path(colon)).name == "gelatin_18G_3mms", "load a pathlib.Path")
-    raises(needlesim.InputError, ["file not found"], lambda: needlesim.load(os.path.join(d, "x:missing.yaml")),
-           "load a missing .yaml")
-    raises(needlesim.InputError, ["file not found"], lambda: needlesim.load(pathlib.Path(d) / "missing"),
-           "load a missing pathlib.Path")
-    raises(needlesim.InputError, ["is a folder"], lambda: needlesim.load(d), "load a folder")
-raises(needlesim.InputError, ["<python>:1:", "not valid YAML"], lambda: needlesim.load("tissue: [1"),
-       "load bad YAML text")
+def test_with_values_changes_the_speed(gelatin):
+    fast = gelatin.with_values({"insertion.profile[0].insert.speed": "10 mm/s"})
+    assert needlesim.run(fast).results["exit_force"].value == pytest.approx(eq_5_1(0.055, 0.010), abs=2e-3)
 
-m = needlesim.LumpedForceModel(s)
-raises(needlesim.InputError, ["LumpedForceModel.step(depth)", "nan", "finite"],
-       lambda: m.step(float("nan"), 1e-3, 1e-3), "step with NaN depth")
-raises(needlesim.InputError, ["LumpedForceModel.step(velocity)", "inf", "finite"],
-       lambda: m.step(0.0, float("inf"), 1e-3), "step with infinite velocity")
-raises(needlesim.InputError, ["LumpedForceModel.step(dt)", "'0'", "> 0"], lambda: m.step(0.0, 1e-3, 0.0),
-       "step with dt 0")
-raises(needlesim.InputError, ["LumpedForceModel.step(dt)", "'-0.001'", "> 0"], lambda: m.step(0.0, 1e-3, -1e-3),
-       "step with negative dt")
-m.reset()
-total = 0.0
-for k in range(20000):  # 20 mm at 1 mm/s, 1 kHz
-    total, stiff, cut, fric = m.step(k * 1e-6, 1e-3, 1e-3)
-check(abs(total - (0.04335 + 0.02 * (3.791 + 285.053 * 1e-3))) < 1e-3, "LumpedForceModel.step at 20 mm: %.5f N" % total)
 
-with tempfile.TemporaryDirectory() as d:
-    out = needlesim.run(s, out=os.path.join(d, "run"))
-    check(os.path.exists(os.path.join(out["folder"], "summary.json")), "run to a results folder")
-    out = needlesim.run(s, out=pathlib.Path(d) / "run_path")
-    check(os.path.exists(os.path.join(out["folder"], "summary.json")), "run to a pathlib.Path results folder")
+def test_with_values_takes_numbers_and_writes_sections_the_base_omits(gelatin):
+    assert "poisson: 0.31" in gelatin.with_values({"needle.poisson": 0.31}).yaml
+    assert "relaxation_time: 0.5 s" in gelatin.with_values({"model.lumped.relaxation_time": "0.5 s"}).yaml
 
-print("%d failed" % failures)
-sys.exit(1 if failures else 0)
+
+def test_exception_classes():
+    assert issubclass(needlesim.InputError, ValueError)
+    assert issubclass(needlesim.SolverError, RuntimeError)
+
+
+SPEED = "insertion.profile[%s].insert.speed"
+
+
+@pytest.mark.parametrize("values, words", [
+    ({"tissue.friction.C_p": "-1 N/m"}, ["tissue.friction.C_p"]),
+    ({SPEED % "99999999999": "1 mm/s"}, ["has no entry [99999999999]", "an index from 0 to"]),
+    ({SPEED % "x": "1 mm/s"}, ["'x' is not an index", "character 19"]),
+    ({SPEED % "-1": "1 mm/s"}, ["'-1' is not an index"]),
+    ({"insertion.profile[0]junk.insert.speed": "1 mm/s"}, ["'junk' follows ']'"]),
+    ({"tissue.friction.Cp": "3 N/m"}, ["did you mean 'C_p'?", "b_p"]),
+    ({"tissue.friction.C_p": float("nan")}, ["with_values(tissue.friction.C_p)", "nan", "finite"]),
+])
+def test_bad_with_values_raise_input_error(gelatin, values, words):
+    with pytest.raises(needlesim.InputError) as e:
+        gelatin.with_values(values)
+    assert all(w in str(e.value) for w in words), str(e.value)
+
+
+def test_load_paths_with_colons_and_pathlib(tmp_path):
+    colon = tmp_path / "a:b.yaml"
+    colon.write_text((SOURCE_DIR / "examples" / "gelatin_18G_3mms.yaml").read_text())
+    assert needlesim.load(str(colon)).name == "gelatin_18G_3mms"
+    assert needlesim.load(colon).name == "gelatin_18G_3mms"
+
+
+@pytest.mark.parametrize("what, words", [
+    (lambda d: str(d / "x:missing.yaml"), ["file not found"]),
+    (lambda d: d / "missing", ["file not found"]),
+    (lambda d: str(d), ["is a folder"]),
+    (lambda d: "tissue: [1", ["<python>:1:", "not valid YAML"]),
+])
+def test_load_refuses_bad_input(tmp_path, what, words):
+    with pytest.raises(needlesim.InputError) as e:
+        needlesim.load(what(tmp_path))
+    assert all(w in str(e.value) for w in words), str(e.value)
+
+
+@pytest.mark.parametrize("args, words", [
+    ((float("nan"), 1e-3, 1e-3), ["LumpedForceModel.step(depth)", "nan", "finite"]),
+    ((0.0, float("inf"), 1e-3), ["LumpedForceModel.step(velocity)", "inf", "finite"]),
+    ((0.0, 1e-3, 0.0), ["LumpedForceModel.step(dt)", "'0'", "> 0"]),
+    ((0.0, 1e-3, -1e-3), ["LumpedForceModel.step(dt)", "'-0.001'", "> 0"]),
+])
+def test_lumped_force_model_refuses_bad_steps(gelatin, args, words):
+    with pytest.raises(needlesim.InputError) as e:
+        needlesim.LumpedForceModel(gelatin).step(*args)
+    assert all(w in str(e.value) for w in words), str(e.value)
+
+
+def test_lumped_force_model_steps_to_eq_5_1(gelatin):
+    m = needlesim.LumpedForceModel(gelatin)
+    for k in range(20000):  # 20 mm at 1 mm/s, 1 kHz
+        total, stiffness, cutting, friction = m.step(k * 1e-6, 1e-3, 1e-3)
+    assert total == pytest.approx(eq_5_1(0.02, 1e-3), abs=1e-3)
+    assert total == pytest.approx(stiffness + cutting + friction)
+
+
+@pytest.mark.parametrize("to_path", [str, pathlib.Path])
+def test_run_to_a_results_folder(gelatin, tmp_path, to_path):
+    r = needlesim.run(gelatin, out=to_path(tmp_path / "run"))
+    assert (r.folder / "summary.json").is_file()
+    assert r.folder == tmp_path / "run"
+
+
+def test_run_to_an_existing_folder_needs_overwrite(gelatin, tmp_path):
+    needlesim.run(gelatin, out=tmp_path / "run")
+    with pytest.raises(Exception, match="already exists"):
+        needlesim.run(gelatin, out=tmp_path / "run")
+    assert needlesim.run(gelatin, out=tmp_path / "run", overwrite=True).status == "complete"

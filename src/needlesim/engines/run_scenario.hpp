@@ -12,6 +12,7 @@ namespace needlesim {
 struct RunOutcome {
   std::filesystem::path folder;
   std::vector<io::KeyResult> results;
+  std::vector<std::pair<std::string, io::Table>> tables;  // as written to <name>.csv
   double wall_seconds = 0.0;
   std::vector<std::string> files;  // written into the folder: summary.json, CSVs, report.html, fields
 };

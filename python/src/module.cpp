@@ -1,5 +1,7 @@
-// Python bindings: scenarios, any engine run in memory or to a results folder,
-// parameter variation, and the lumped force model for kHz loops.
+// needlesim._core, the compiled part of the Python package (python/needlesim):
+// scenarios, any engine run in memory or to a results folder, parameter
+// variation, the lumped force model for kHz loops; sessions in session_bindings.cpp.
+#include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
@@ -21,16 +23,26 @@
 #include "needlesim/scenario/schema.hpp"
 #include "needlesim/study/field_path.hpp"
 #include "needlesim/study/study.hpp"
+#include "needlesim/study/with_values.hpp"
+#include "bindings.hpp"
 
 namespace py = pybind11;
-using namespace needlesim;
+
+namespace needlesim::python {
+
+void requireFinite(const std::string& call, const std::string& arg, double v, const std::string& allowed) {
+  if (!std::isfinite(v))
+    throw InputError(SourceLocation{"<python>", 0, 0}, call + "(" + arg + ")", fmt::format("{}", v), "must be a finite number",
+                     allowed);
+}
+
+void requirePositive(const std::string& call, const std::string& arg, double v, const std::string& allowed) {
+  requireFinite(call, arg, v, allowed);
+  if (!(v > 0.0))
+    throw InputError(SourceLocation{"<python>", 0, 0}, call + "(" + arg + ")", fmt::format("{}", v), "must be > 0", allowed);
+}
 
 namespace {
-
-struct PyScenario {
-  Scenario scenario;
-  std::string text;  // the YAML it came from (for with_values)
-};
 
 constexpr const char* kLoadDoc = R"(Read and validate a scenario.
 
@@ -83,19 +95,6 @@ PyScenario load(const py::object& pathOrYaml) {
                        std::string(py::str(py::type::of(pathOrYaml).attr("__name__"))));
 }
 
-// Arguments of the Python entry points: finite numbers, positive steps.
-void requireFinite(const std::string& call, const std::string& arg, double v, const std::string& allowed) {
-  if (!std::isfinite(v))
-    throw InputError(SourceLocation{"<python>", 0, 0}, call + "(" + arg + ")", fmt::format("{}", v), "must be a finite number",
-                     allowed);
-}
-
-void requirePositive(const std::string& call, const std::string& arg, double v, const std::string& allowed) {
-  requireFinite(call, arg, v, allowed);
-  if (!(v > 0.0))
-    throw InputError(SourceLocation{"<python>", 0, 0}, call + "(" + arg + ")", fmt::format("{}", v), "must be > 0", allowed);
-}
-
 // with_values: the base YAML with fields set; a bad field path is an InputError
 // naming the path and the bad part's position.
 // A with_values value as YAML text: a str as written ("3 N/m"), a bool, or a finite number.
@@ -112,28 +111,32 @@ std::string valueText(const std::string& path, const py::handle& v) {
 }
 
 PyScenario withValues(const PyScenario& s, const std::map<std::string, py::object>& values) {
-  study::Case c;
-  for (const auto& [path, object] : values) {
-    std::string value = valueText(path, object);
-    try {
-      study::checkFieldPath(s.text, path);
-    } catch (const study::FieldPathError& e) {
-      throw study::fieldPathInputError(e, SourceLocation{"<python with_values>", 0, 0}, "with_values key", path);
-    }
-    c.assignments.emplace_back(path, value);
-  }
-  std::string text = study::caseYaml(s.text, c);
-  return PyScenario{scenario::readText(text, "<python with_values>"), text};
+  std::vector<std::pair<std::string, std::string>> assignments;
+  for (const auto& [path, object] : values) assignments.emplace_back(path, valueText(path, object));
+  const SourceLocation where{"<python with_values>", 0, 0};
+  std::string text = study::withValuesYaml(s.text, assignments, where, "with_values key");
+  return PyScenario{scenario::readText(text, where.file), text};
 }
 
+// A table as (columns [(name, unit)], rows x columns float64 array).
+py::tuple tableTuple(const io::Table& t) {
+  py::list columns;
+  for (const auto& c : t.columns()) columns.append(py::make_tuple(c.name, c.unit));
+  py::array_t<double> data({t.rows(), t.columns().size()});
+  auto a = data.mutable_unchecked<2>();
+  for (std::size_t r = 0; r < t.rows(); ++r)
+    for (std::size_t c = 0; c < t.columns().size(); ++c) a(r, c) = t.at(r, c);
+  return py::make_tuple(columns, data);
+}
+
+// What needlesim.Results is made of (python/needlesim/results.py).
 py::dict toDict(const MemorySink& s) {
   py::dict results, tables;
-  for (const auto& [k, v] : s.results) results[py::str(k)] = py::make_tuple(v.value, v.unit);
-  for (const auto& [name, t] : s.tables) {
-    py::dict cols;
-    for (const auto& c : t.columns()) cols[py::str(c.name)] = t.column(c.name);
-    tables[py::str(name)] = cols;
+  for (const auto& k : s.order) {
+    const auto& v = s.results.at(k);
+    results[py::str(k)] = py::make_tuple(v.value, v.unit, v.meaning);
   }
+  for (const auto& [name, t] : s.tables) tables[py::str(name)] = tableTuple(t);
   py::dict out;
   out["results"] = results;
   out["tables"] = tables;
@@ -142,10 +145,45 @@ py::dict toDict(const MemorySink& s) {
   return out;
 }
 
-}  // namespace
+py::dict runInMemoryDict(const PyScenario& s) {
+  MemorySink sink;
+  {
+    py::gil_scoped_release release;
+    sink = runInMemory(s.scenario);
+  }
+  return toDict(sink);
+}
 
-PYBIND11_MODULE(needlesim, m) {
-  m.doc() = "needlesim: needle insertion into soft tissue (forces, deflection, steering, deformation)";
+// Runs into the results folder `out`: {'folder': its path, 'tables': as run_in_memory's, exact}
+// (Python reads the rest back from the folder).
+py::dict runToFolder(const PyScenario& s, const py::object& outArg, bool overwrite) {
+  if (!py::isinstance<py::str>(outArg) && !isPathLike(outArg))
+    throw py::type_error("needlesim.run: out must be a str or a pathlib.Path");
+  const std::string out = isPathLike(outArg) ? pathText(outArg) : outArg.cast<std::string>();
+  RunOptions ro;
+  ro.progress = false;
+  ro.printWarnings = false;  // they are in Results.warnings
+  RunOutcome o;
+  {
+    py::gil_scoped_release release;
+    o = runScenario(s.scenario, out, overwrite, ro);
+  }
+  py::dict tables;
+  for (const auto& [name, t] : o.tables) tables[py::str(name)] = tableTuple(t);
+  py::dict d;
+  d["folder"] = o.folder.string();
+  d["tables"] = tables;
+  return d;
+}
+
+}  // namespace
+}  // namespace needlesim::python
+
+using namespace needlesim;
+using namespace needlesim::python;
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "needlesim's compiled core; use the package needlesim (python/needlesim/__init__.py)";
   m.attr("__version__") = kVersion;
   m.attr("git_revision") = kGitRevision;
 
@@ -166,6 +204,14 @@ PYBIND11_MODULE(needlesim, m) {
       .def_property_readonly("engine", [](const PyScenario& s) { return s.scenario.model.engine; })
       .def_property_readonly("duration", [](const PyScenario& s) { return s.scenario.totalDuration(); })
       .def_property_readonly("yaml", [](const PyScenario& s) { return s.text; })
+      .def("__repr__",
+           [](const PyScenario& s) {
+             return fmt::format("<Scenario '{}' ({}), {:g} s, from {}>", s.scenario.name, s.scenario.model.engine,
+                                s.scenario.totalDuration(), s.scenario.source);
+           })
+      .def("motion_at", &motionAt, py::arg("t"),
+           "The insertion profile at time t [s]: a MotionSample with depth [m], velocity [m/s], rotation [rad] (in "
+           "the plane) and roll [rad] (about the axis, from the bevel orientation), the arguments of Session.step.")
       .def("with_values", &withValues, py::arg("values"),
            "A copy with fields set, e.g. {'tissue.friction.C_p': '3 N/m', 'insertion.profile[0].insert.speed': "
            "'5 mm/s', 'model.lumped.relaxation_time': '0.1 s'}; validated like a file. Keys are field paths as in a study "
@@ -174,32 +220,21 @@ PYBIND11_MODULE(needlesim, m) {
 
   m.def("load", &load, py::arg("path_or_yaml"), kLoadDoc);
   m.def("default_scenario", [] { return PyScenario{scenario::defaultScenario(), std::string(embedded::kDefaultScenario)}; });
-  m.def(
-      "run",
-      [](const PyScenario& s, const py::object& outArg, bool overwrite) -> py::object {
-        if (!py::isinstance<py::str>(outArg) && !isPathLike(outArg))
-          throw py::type_error("needlesim.run: out must be a str or a pathlib.Path");
-        const std::string out = isPathLike(outArg) ? pathText(outArg) : outArg.cast<std::string>();
-        if (out.empty()) {
-          py::gil_scoped_release release;
-          MemorySink sink = runInMemory(s.scenario);
-          py::gil_scoped_acquire acquire;
-          return toDict(sink);
-        }
-        RunOptions ro;
-        ro.progress = false;
-        RunOutcome o = runScenario(s.scenario, out, overwrite, ro);
-        py::dict results;
-        for (const auto& r : o.results) results[py::str(r.key)] = py::make_tuple(r.value, r.unit);
-        py::dict d;
-        d["results"] = results;
-        d["folder"] = o.folder.string();
-        return d;
-      },
-      py::arg("scenario"), py::arg("out") = "", py::arg("overwrite") = false,
-      "Run the scenario's engine. Without `out`: in memory, returns {'results': {key: (value, unit)}, 'tables': "
-      "{name: {column: [values]}}}. With `out` (a str or pathlib.Path): writes the results folder.");
+  m.def("run_in_memory", &runInMemoryDict, py::arg("scenario"),
+        "Runs the scenario's engine in memory: {'results': {key: (value, unit, meaning)}, 'tables': {name: "
+        "([(column, unit)], rows x columns array)}, 'notes': [...], 'warnings': [...]}.");
+  m.def("run_to_folder", &runToFolder, py::arg("scenario"), py::arg("out"), py::arg("overwrite") = false,
+        "Runs the scenario's engine into the results folder `out` (a str or pathlib.Path): {'folder': its path, "
+        "'tables': {name: ([(column, unit)], rows x columns array)}}.");
   m.def("schema", [] { return scenario::schemaText(); });
+  m.def(
+      "engines",
+      [] {
+        std::vector<std::string> names;
+        for (const auto& e : engineRegistry()) names.push_back(e.name);
+        return names;
+      },
+      "The names of the engines in this build (model.engine).");
 
   py::class_<forces::LumpedForceModel>(m, "LumpedForceModel",
                                        "Seed 003 lumped insertion force, stepped by the caller (haptic loops)")
@@ -220,4 +255,6 @@ PYBIND11_MODULE(needlesim, m) {
           py::arg("depth"), py::arg("velocity"), py::arg("dt"),
           "Advance to tip depth [m] at velocity [m/s] over dt [s]; returns (total, stiffness, cutting, friction) [N].")
       .def("reset", &forces::LumpedForceModel::reset);
+
+  bindSessions(m);
 }

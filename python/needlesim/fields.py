@@ -1,0 +1,253 @@
+"""A field time series of a results folder (<name>.xdmf + <name>.h5, io/field_series)
+as NumPy arrays. The XDMF file is the index: each step's time, geometry, topology
+and attributes name their HDF5 datasets, which are read with h5py (Debian
+python3-h5py) as stored, with any number of components (a scalar is 1-D, a
+vector or tensor rows x components)."""
+import pathlib
+import xml.etree.ElementTree as ET
+
+import numpy as np
+
+
+def _h5py():
+    try:
+        import h5py
+    except ImportError as e:  # pragma: no cover - depends on the machine
+        raise ImportError("needlesim reads field files with h5py: install Debian's python3-h5py "
+                          "(scripts/bootstrap.sh)") from e
+    return h5py
+
+
+class _Ref:
+    """An HDF5 dataset named by an XDMF DataItem ("file.h5:/path")."""
+
+    def __init__(self, xdmf, item):
+        if item.get("Format", "XML") != "HDF":
+            raise ValueError("%s: a DataItem in format '%s'; needlesim reads HDF data items"
+                             % (xdmf, item.get("Format", "XML")))
+        text = (item.text or "").strip()
+        file, sep, dataset = text.partition(":/")
+        if not sep:
+            raise ValueError("%s: DataItem '%s' does not name 'file.h5:/dataset'" % (xdmf, text))
+        self.file = pathlib.Path(xdmf).parent / file
+        self.dataset = "/" + dataset
+
+
+class _Store:
+    """The series' HDF5 datasets, read on first use and kept."""
+
+    def __init__(self):
+        self._cache = {}
+
+    def array(self, ref):
+        key = (str(ref.file), ref.dataset)
+        if key not in self._cache:
+            with _h5py().File(ref.file, "r") as f:
+                if ref.dataset not in f:
+                    raise KeyError("%s has no dataset %s" % (ref.file, ref.dataset))
+                self._cache[key] = f[ref.dataset][()]
+        return self._cache[key]
+
+    def attributes(self, ref):
+        key = ("attrs", str(ref.file), ref.dataset)
+        if key not in self._cache:
+            with _h5py().File(ref.file, "r") as f:
+                self._cache[key] = {k: _text(v) for k, v in f[ref.dataset].attrs.items()}
+        return self._cache[key]
+
+
+def _text(v):
+    if isinstance(v, bytes):
+        return v.decode("utf-8", "replace")
+    if isinstance(v, np.ndarray) and v.dtype.kind in "SO" and v.size == 1:
+        return _text(v.reshape(-1)[0])
+    return v
+
+
+class _Arrays:
+    """Named arrays of one step (point or cell data), read when used."""
+
+    def __init__(self, store, refs):
+        self._store = store
+        self._refs = refs
+
+    def __getitem__(self, name):
+        try:
+            return self._store.array(self._refs[name])
+        except KeyError:
+            if name in self._refs:
+                raise
+            raise KeyError("no array '%s' in this step; it has: %s" % (name, ", ".join(self._refs) or "none")) from None
+
+    def __contains__(self, name):
+        return name in self._refs
+
+    def __iter__(self):
+        return iter(self._refs)
+
+    def __len__(self):
+        return len(self._refs)
+
+    def keys(self):
+        return list(self._refs)
+
+    def items(self):
+        return [(k, self[k]) for k in self._refs]
+
+    def __repr__(self):
+        return "{%s}" % ", ".join("'%s': array%s" % (k, self[k].shape) for k in self._refs)
+
+
+class FieldStep:
+    """One time step: `time` [s], `points` (n x dim), `cells` (connectivity, or None
+    for points without cells), `point_data[name]` and `cell_data[name]` (arrays)."""
+
+    def __init__(self, store, time, cell_type, geometry, topology, point_refs, cell_refs):
+        self._store = store
+        self.time = time
+        self.cell_type = cell_type
+        self._geometry = geometry
+        self._topology = topology
+        self.point_data = _Arrays(store, point_refs)
+        self.cell_data = _Arrays(store, cell_refs)
+
+    @property
+    def points(self):
+        return self._store.array(self._geometry)
+
+    @property
+    def cells(self):
+        return None if self._topology is None else self._store.array(self._topology)
+
+    def _load(self):
+        _ = self.points, self.cells
+        for arrays in (self.point_data, self.cell_data):
+            for name in arrays:
+                _ = arrays[name]
+
+    def __repr__(self):
+        return "<FieldStep t=%.6g s: %d points; point data %s; cell data %s>" % (
+            self.time, len(self.points), list(self.point_data), list(self.cell_data))
+
+
+class FieldSeries:
+    """A field time series read from its XDMF file (and the HDF5 file it names).
+
+    times        1-D array of the steps' times [s]
+    steps        list of FieldStep; series[k] is steps[k]
+    points       the first step's points (n x dim); cells its connectivity
+    cell_type    XDMF topology: "Quadrilateral", "Triangle", "Tetrahedron", "Hexahedron", "Polyline", "Polyvertex"
+    point_data(name) / cell_data(name): the named array of every step stacked (steps x ...)
+    units        {array name: unit} where the HDF5 datasets carry a "unit" (or "units") attribute
+    """
+
+    def __init__(self, xdmf):
+        self.path = pathlib.Path(xdmf)
+        self.name = self.path.stem
+        self._store = _Store()
+        self.steps = self._read_index()
+
+    def _read_index(self):
+        try:
+            root = ET.parse(self.path).getroot()
+        except (ET.ParseError, OSError) as e:
+            raise ValueError("%s: not a readable XDMF file (%s)" % (self.path, e)) from None
+        grids = root.findall("./Domain/Grid")
+        steps = []
+        for grid in grids:
+            members = grid.findall("./Grid") if grid.get("GridType") == "Collection" else [grid]
+            steps.extend(self._step(g, k) for k, g in enumerate(members))
+        return steps
+
+    def _step(self, grid, k):
+        time = grid.find("./Time")
+        t = float(time.get("Value")) if time is not None and time.get("Value") is not None else float(k)
+        topology = grid.find("./Topology")
+        cell_type = topology.get("TopologyType", topology.get("Type", "")) if topology is not None else "Polyvertex"
+        topo_item = topology.find("./DataItem") if topology is not None else None
+        geometry = grid.find("./Geometry/DataItem")
+        if geometry is None:
+            raise ValueError("%s: step %d has no geometry" % (self.path, k))
+        point_refs, cell_refs = {}, {}
+        for attr in grid.findall("./Attribute"):
+            refs = cell_refs if attr.get("Center", "Node") == "Cell" else point_refs
+            refs[attr.get("Name")] = _Ref(self.path, attr.find("./DataItem"))
+        return FieldStep(self._store, t, cell_type, _Ref(self.path, geometry),
+                         None if topo_item is None else _Ref(self.path, topo_item), point_refs, cell_refs)
+
+    @property
+    def times(self):
+        return np.array([s.time for s in self.steps])
+
+    @property
+    def points(self):
+        return self.steps[0].points if self.steps else np.empty((0, 0))
+
+    @property
+    def cells(self):
+        return self.steps[0].cells if self.steps else None
+
+    @property
+    def cell_type(self):
+        return self.steps[0].cell_type if self.steps else ""
+
+    @property
+    def dim(self):
+        return self.points.shape[1] if self.points.ndim == 2 else 1
+
+    def point_data_names(self):
+        return sorted({n for s in self.steps for n in s.point_data})
+
+    def cell_data_names(self):
+        return sorted({n for s in self.steps for n in s.cell_data})
+
+    def point_data(self, name):
+        return self._stacked(name, "point_data")
+
+    def cell_data(self, name):
+        return self._stacked(name, "cell_data")
+
+    def _stacked(self, name, kind):
+        arrays = [getattr(s, kind)[name] for s in self.steps if name in getattr(s, kind)]
+        if not arrays:
+            raise KeyError("field series '%s' has no %s '%s'; it has: %s" % (
+                self.name, kind.replace("_", " "), name,
+                ", ".join(getattr(self, kind + "_names")()) or "none"))
+        if len(arrays) != len(self.steps) or len({a.shape for a in arrays}) != 1:
+            raise ValueError("'%s' changes shape or is missing in some steps of '%s': use steps[k].%s['%s']"
+                             % (name, self.name, kind, name))
+        return np.stack(arrays)
+
+    @property
+    def units(self):
+        units = {}
+        for step in self.steps[:1]:
+            for refs in (step.point_data._refs, step.cell_data._refs):
+                for name, ref in refs.items():
+                    attrs = self._store.attributes(ref)
+                    unit = attrs.get("unit", attrs.get("units"))
+                    if unit is not None:
+                        units[name] = unit
+        return units
+
+    def load(self):
+        """Read every array into memory."""
+        for s in self.steps:
+            s._load()
+        return self
+
+    def __len__(self):
+        return len(self.steps)
+
+    def __getitem__(self, k):
+        return self.steps[k]
+
+    def __iter__(self):
+        return iter(self.steps)
+
+    def __repr__(self):
+        if not self.steps:
+            return "<FieldSeries '%s': no steps>" % self.name
+        return "<FieldSeries '%s': %d steps, t = %.6g..%.6g s, %d points (%s); point data %s; cell data %s>" % (
+            self.name, len(self.steps), self.steps[0].time, self.steps[-1].time, len(self.points), self.cell_type,
+            self.point_data_names(), self.cell_data_names())

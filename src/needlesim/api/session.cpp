@@ -1,0 +1,147 @@
+// api::Session: the realtime2d engine's Session or the lumped force model, stepped by the caller.
+#include <cmath>
+#include <optional>
+
+#include <fmt/format.h>
+
+#include "needlesim/api/scenario_impl.hpp"
+#include "needlesim/api/translate.hpp"
+#include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
+#include "needlesim/forces/lumped_model.hpp"
+
+namespace needlesim::api {
+
+namespace {
+
+constexpr const char* kSteppable = "lumped or realtime2d (model.engine)";
+
+// The phases of both models share their numbering (forces::Phase, realtime2d::Phase).
+std::string phaseName(int phase) {
+  static const char* names[] = {"outside", "pressing", "cutting", "inside", "through"};
+  return phase >= 0 && phase < 5 ? names[phase] : "unknown";
+}
+
+void requireFinite(const std::string& argument, double v, const std::string& allowed) {
+  if (!std::isfinite(v)) detail::argumentError("Session::step", argument, fmt::format("{}", v), "must be a finite number", allowed);
+}
+
+void checkCommand(const Command& c, double dt) {
+  requireFinite("command.depth", c.depth, "a tip depth in m");
+  requireFinite("command.lateral", c.lateral, "a lateral base offset in m");
+  requireFinite("command.rotation", c.rotation, "a rotation of the insertion plane in rad");
+  requireFinite("command.roll", c.roll, "a roll of the bevel in rad");
+  requireFinite("dt", dt, "a time step > 0 s");
+  if (!(dt > 0.0)) detail::argumentError("Session::step", "dt", fmt::format("{}", dt), "must be > 0", "a time step > 0 s");
+}
+
+}  // namespace
+
+struct Session::Impl {
+  Scenario scenario;
+  std::optional<realtime2d::Session> fe;            // engine realtime2d
+  std::optional<forces::LumpedForceModel> lumped;  // engine lumped
+  double previousDepth = 0.0;
+  bool stepped = false;
+  State state;
+
+  explicit Impl(const Scenario& s) : scenario(s) { build(); }
+
+  void build() {
+    const needlesim::Scenario& sc = detail::ScenarioAccess::typed(scenario);
+    if (sc.model.engine == "realtime2d") {
+      fe.emplace(engines::realtime2dConfig(sc));
+    } else if (sc.model.engine == "lumped") {
+      lumped.emplace(sc.tissue, sc.needle, sc.insertion.entry_angle, sc.model.lumped.relaxation_time);
+    } else {
+      throw needlesim::InputError(SourceLocation{"<C++ API Session>", 0, 0}, "model.engine", sc.model.engine,
+                                  "cannot be stepped by a Session", kSteppable);
+    }
+    state = State{};
+    state.phase = phaseName(0);
+    stepped = false;
+  }
+
+  void stepFe(const Command& c, double dt) {
+    const realtime2d::StepResult& o = fe->step(fe->poseAtDepth(c.depth, c.lateral, c.rotation, c.roll), dt);
+    state.depth = o.depth;
+    state.axial_force = o.axial_force;
+    state.lateral_force = o.lateral_force;
+    state.stiffness_force = o.stiffness_force;
+    state.cutting_force = o.cutting_force;
+    state.friction_force = o.friction_force;
+    state.tip_x = o.tip_position.x();
+    state.tip_y = o.tip_position.y();
+    state.tip_deflection = o.tip_deflection;
+    state.phase = phaseName(static_cast<int>(o.phase));
+  }
+
+  void stepLumped(const Command& c, double dt) {
+    if (c.lateral != 0.0 || c.rotation != 0.0 || c.roll != 0.0)
+      detail::argumentError("Session::step", "command", fmt::format("lateral {}, rotation {}, roll {}", c.lateral, c.rotation, c.roll),
+                            "steers the needle, which the lumped model (a straight rigid needle) cannot",
+                            "0 for lumped; a scenario with model.engine: realtime2d for lateral, rotation and roll");
+    const double velocity = stepped ? (c.depth - previousDepth) / dt : 0.0;
+    const forces::ForceBreakdown f = lumped->step(c.depth, velocity, dt);
+    state.depth = c.depth;
+    state.axial_force = f.total();
+    state.lateral_force = 0.0;
+    state.stiffness_force = f.stiffness;
+    state.cutting_force = f.cutting;
+    state.friction_force = f.friction;
+    state.tip_x = c.depth;
+    state.tip_y = 0.0;
+    state.tip_deflection = 0.0;
+    state.phase = phaseName(static_cast<int>(f.phase));
+  }
+
+  const realtime2d::Session& feOnly(const std::string& call) const {
+    if (!fe)
+      detail::argumentError(call, "", "engine " + scenario.engine(), "has no tissue mesh or needle shape",
+                            "a Session of a scenario with model.engine: realtime2d");
+    return *fe;
+  }
+};
+
+Session::Session(const Scenario& scenario) : impl_(detail::translated([&] { return std::make_unique<Impl>(scenario); })) {}
+Session::~Session() = default;
+Session::Session(Session&&) noexcept = default;
+Session& Session::operator=(Session&&) noexcept = default;
+
+const State& Session::step(const Command& command, double dt) {
+  return detail::translated([&]() -> const State& {
+    checkCommand(command, dt);
+    if (impl_->fe)
+      impl_->stepFe(command, dt);
+    else
+      impl_->stepLumped(command, dt);
+    impl_->state.time += dt;
+    impl_->previousDepth = command.depth;
+    impl_->stepped = true;
+    return impl_->state;
+  });
+}
+
+const State& Session::state() const { return impl_->state; }
+void Session::reset() { detail::translated([&] { impl_->build(); }); }
+std::string Session::engine() const { return impl_->scenario.engine(); }
+
+std::vector<double> Session::nodePositions() const {
+  const realtime2d::Session& fe = impl_->feOnly("Session::nodePositions");
+  const Eigen::Matrix2Xd centred = fe.mesh().nodes.colwise() - fe.cornerShift();
+  return std::vector<double>(centred.data(), centred.data() + centred.size());
+}
+
+std::vector<double> Session::nodeDisplacements() const {
+  const Eigen::VectorXd& u = impl_->feOnly("Session::nodeDisplacements").displacement();
+  return std::vector<double>(u.data(), u.data() + u.size());
+}
+
+std::vector<double> Session::needleShape(int points) const {
+  const realtime2d::Session& fe = impl_->feOnly("Session::needleShape");
+  if (points < 2) detail::argumentError("Session::needleShape", "points", std::to_string(points), "is too few", "2 or more points");
+  Eigen::Matrix2Xd shape(2, points);
+  fe.needleShape(points, shape);
+  return std::vector<double>(shape.data(), shape.data() + shape.size());
+}
+
+}  // namespace needlesim::api

@@ -1,0 +1,248 @@
+// The public C++ API (needlesim/needlesim.hpp) as a program outside the project uses it:
+// this test program links only the shared library needlesim::needlesim.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <string>
+
+#include <unistd.h>
+
+#include "needlesim/needlesim.hpp"
+
+namespace api = needlesim::api;
+namespace fs = std::filesystem;
+
+namespace {
+
+const fs::path kExamples = fs::path(NEEDLESIM_SOURCE_DIR) / "examples";
+
+// Seed 003 eq 5.1 (section 5.1, 10 wt% gelatin, 18 G): force on the needle with `length` [m]
+// of shaft in the tissue at speed v [m/s]: cutting + (C_p + b_p v) length.
+double eq51(double length, double v) { return 0.04335 + length * (3.791 + 285.053 * v); }
+
+// The message of the api error `call` throws (and that it is of type E).
+template <class E, class F>
+std::string messageOf(F&& call) {
+  try {
+    call();
+  } catch (const E& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected an exception";
+  return "";
+}
+
+fs::path freshTemp(const std::string& name) {
+  const fs::path d = fs::temp_directory_path() / ("needlesim_api_test_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(d);
+  fs::create_directories(d);
+  return d;
+}
+
+// The realtime2d thesis scenario cut short (insert to `to`) on a coarser mesh (11 x 15
+// nodes: a quick set-up), with a forces row every step.
+api::Scenario shortRealtime2d(const std::string& to) {
+  return api::Scenario::fromFile(kExamples / "realtime2d/thesis_gelatin_18G_3mms.yaml")
+      .with({{"insertion.profile[0].insert.to", to},
+             {"output.interval", "1 ms"},
+             {"model.realtime2d.nodes_depth", "11"},
+             {"model.realtime2d.nodes_lateral", "15"}});
+}
+
+}  // namespace
+
+TEST(ApiScenario, ReadsFileAndDefault) {
+  const auto s = api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml");
+  EXPECT_EQ(s.name(), "gelatin_18G_3mms");
+  EXPECT_EQ(s.engine(), "lumped");
+  // 70 mm in and 75 mm out at 3 mm/s, and a 5 s pause.
+  EXPECT_NEAR(s.duration(), 70.0 / 3.0 + 5.0 + 75.0 / 3.0, 1e-9);
+  EXPECT_NE(s.yaml().find("C_p: 3.791 N/m"), std::string::npos);
+  EXPECT_EQ(api::Scenario::builtIn().name(), "gelatin_18G_3mms");
+  EXPECT_EQ(api::Scenario::fromYaml(s.yaml()).duration(), s.duration());
+}
+
+TEST(ApiRun, LumpedExitForceMatchesSeed003Eq51) {
+  const api::Results r = api::run(api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml"));
+  EXPECT_EQ(r.status, "complete");
+  const api::Value& exit = r.value("exit_force");
+  EXPECT_EQ(exit.unit, "N");
+  EXPECT_NEAR(exit.value, eq51(0.055, 0.003), 2e-3 * eq51(0.055, 0.003));
+  const api::Table& forces = r.table("forces");
+  EXPECT_EQ(forces.unit("force_total"), "N");
+  EXPECT_GT(forces.rows(), 100u);
+  EXPECT_EQ(forces.column("time").size(), forces.rows());
+  EXPECT_TRUE(r.folder.empty());
+  EXPECT_TRUE(r.warnings.empty());
+}
+
+TEST(ApiRun, WithChangesTheSpeed) {
+  const auto fast = api::Scenario::builtIn().with("insertion.profile[0].insert.speed", "10 mm/s");
+  EXPECT_NE(fast.yaml().find("10 mm/s"), std::string::npos);
+  EXPECT_NEAR(api::run(fast).value("exit_force").value, eq51(0.055, 0.010), 2e-3);
+}
+
+TEST(ApiRun, ToAFolderWritesTablesAndFieldFiles) {
+  const fs::path dir = freshTemp("folder");
+  const auto sc = shortRealtime2d("2 mm").with("model.realtime2d.field_interval", "0.5 s");
+  const api::Results r = api::run(sc, dir / "run");
+  EXPECT_EQ(r.status, "complete");
+  EXPECT_EQ(r.folder, dir / "run");
+  EXPECT_TRUE(fs::exists(r.folder / "summary.json"));
+  ASSERT_EQ(r.fieldFiles.size(), 2u);
+  EXPECT_EQ(r.fieldFiles[0].filename(), "needle.xdmf");
+  EXPECT_EQ(r.fieldFiles[1].filename(), "tissue.xdmf");
+  // The same tables as in memory.
+  const api::Results m = api::run(sc);
+  EXPECT_EQ(r.table("forces").column("force_total"), m.table("forces").column("force_total"));
+  EXPECT_EQ(r.value("peak_force").value, m.value("peak_force").value);
+  // An existing results folder is replaced only when asked.
+  const std::string exists = messageOf<api::Error>([&] { api::run(sc, dir / "run"); });
+  EXPECT_NE(exists.find("already exists"), std::string::npos) << exists;
+  EXPECT_EQ(api::run(sc, dir / "run", api::RunSettings{.overwrite = true}).status, "complete");
+  fs::remove_all(dir);
+}
+
+TEST(ApiSession, LumpedStepsMatchSeed003Eq51) {
+  api::Session s(api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml"));
+  EXPECT_EQ(s.engine(), "lumped");
+  const double v = 1e-3, dt = 1e-3;
+  for (int k = 0; k <= 20000; ++k) s.step(k * v * dt, dt);  // 20 mm at 1 mm/s, 1 kHz
+  const api::State& st = s.state();
+  EXPECT_NEAR(st.axial_force, eq51(0.020, v), 1e-3);
+  EXPECT_NEAR(st.axial_force, st.stiffness_force + st.cutting_force + st.friction_force, 1e-15);
+  EXPECT_NEAR(st.cutting_force, 0.04335, 1e-12);
+  EXPECT_EQ(st.phase, "cutting");
+  EXPECT_NEAR(st.time, 20001 * dt, 1e-9);
+  EXPECT_DOUBLE_EQ(st.tip_x, 0.020);
+  s.reset();
+  EXPECT_EQ(s.state().time, 0.0);
+  EXPECT_EQ(s.state().phase, "outside");
+}
+
+TEST(ApiSession, Realtime2dStepsGiveTheEngineRunsForces) {
+  const auto sc = shortRealtime2d("8 mm");
+  const api::Results run = api::run(sc);
+  const api::Table& f = run.table("forces");
+  const auto& depth = f.column("depth");
+  ASSERT_EQ(f.rows(), 3001u);  // one row per 1 ms step over 9 mm at 3 mm/s
+  api::Session s(sc);
+  EXPECT_EQ(s.engine(), "realtime2d");
+  for (std::size_t k = 1; k < f.rows(); ++k) {
+    const api::State& st = s.step(depth[k], 1e-3);
+    ASSERT_NEAR(st.axial_force, f.column("force_total")[k], 1e-9) << "row " << k;
+    ASSERT_NEAR(st.lateral_force, f.column("force_lateral")[k], 1e-9) << "row " << k;
+    ASSERT_NEAR(st.tip_deflection, f.column("tip_deflection")[k], 1e-12) << "row " << k;
+    ASSERT_NEAR(st.tip_y, f.column("tip_y")[k], 1e-12) << "row " << k;
+  }
+  EXPECT_GT(s.state().axial_force, 0.04335);  // cutting and friction once inside
+  EXPECT_EQ(s.state().phase, "cutting");
+  // 11 x 15 nodes; the needle shape runs from the base to the tip.
+  EXPECT_EQ(s.nodePositions().size(), 2u * 11 * 15);
+  EXPECT_EQ(s.nodeDisplacements().size(), 2u * 11 * 15);
+  const auto shape = s.needleShape(11);
+  ASSERT_EQ(shape.size(), 22u);
+  EXPECT_NEAR(shape[20], s.state().tip_x, 1e-9);
+  EXPECT_NEAR(shape[21], s.state().tip_y, 1e-9);
+}
+
+TEST(ApiErrors, InputErrorsKeepTheirText) {
+  const auto base = api::Scenario::builtIn();
+  auto missing = messageOf<api::InputError>([] { api::Scenario::fromFile("no_such_scenario.yaml"); });
+  EXPECT_NE(missing.find("no_such_scenario.yaml"), std::string::npos) << missing;
+  EXPECT_NE(missing.find("does not exist"), std::string::npos) << missing;
+
+  auto path = messageOf<api::InputError>([&] { base.with("tissue.frictoin.C_p", "3 N/m"); });
+  EXPECT_NE(path.find("tissue.frictoin.C_p"), std::string::npos) << path;
+  EXPECT_NE(path.find("friction"), std::string::npos) << path;
+
+  try {
+    base.with("tissue.friction.C_p", "-1 N/m");
+    ADD_FAILURE() << "negative friction accepted";
+  } catch (const api::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("-1 N/m"), std::string::npos) << e.what();
+    EXPECT_EQ(e.field(), "tissue.friction.C_p");
+    EXPECT_GT(e.line(), 0);
+  }
+
+  auto yaml = messageOf<api::InputError>([] { api::Scenario::fromYaml("tissue: {block: 3}\n", "mine.yaml"); });
+  EXPECT_NE(yaml.find("mine.yaml"), std::string::npos) << yaml;
+}
+
+TEST(ApiErrors, SessionArguments) {
+  const auto lumped = api::Scenario::builtIn();
+  api::Session s(lumped);
+  auto dt0 = messageOf<api::InputError>([&] { s.step(0.0, 0.0); });
+  EXPECT_NE(dt0.find("Session::step(dt)"), std::string::npos) << dt0;
+  EXPECT_NE(dt0.find("must be > 0"), std::string::npos) << dt0;
+  auto nan = messageOf<api::InputError>([&] { s.step(std::numeric_limits<double>::quiet_NaN(), 1e-3); });
+  EXPECT_NE(nan.find("command.depth"), std::string::npos) << nan;
+  EXPECT_NE(nan.find("finite"), std::string::npos) << nan;
+  auto steer = messageOf<api::InputError>([&] { s.step(api::Command{0.01, 1e-3, 0.0, 0.0}, 1e-3); });
+  EXPECT_NE(steer.find("realtime2d"), std::string::npos) << steer;
+  auto shape = messageOf<api::InputError>([&] { s.needleShape(); });
+  EXPECT_NE(shape.find("realtime2d"), std::string::npos) << shape;
+
+  const auto explicitScenario = api::Scenario::fromFile(kExamples / "explicit/seed004_bevel_2d.yaml");
+  auto engine = messageOf<api::InputError>([&] { api::Session{explicitScenario}; });
+  EXPECT_NE(engine.find("explicit"), std::string::npos) << engine;
+  EXPECT_NE(engine.find("lumped or realtime2d"), std::string::npos) << engine;
+
+  const api::Results r = api::run(lumped);
+  auto column = messageOf<api::InputError>([&] { r.table("forces").column("force"); });
+  EXPECT_NE(column.find("force_total"), std::string::npos) << column;
+  auto table = messageOf<api::InputError>([&] { r.table("force"); });
+  EXPECT_NE(table.find("forces"), std::string::npos) << table;
+}
+
+TEST(ApiFit, PlastisolCompression) {
+  api::FitOptions o;
+  o.data = {kExamples / "data/plastisol_compression.csv"};
+  o.law = "neo-hookean";
+  const api::FitResults r = api::fit(o);
+  EXPECT_EQ(r.law, "neo-hookean");
+  ASSERT_FALSE(r.parameters.empty());
+  EXPECT_EQ(r.parameters[0].name, "C10");
+  EXPECT_EQ(r.parameters[0].unit, "Pa");
+  // The synthetic data: C10 = 3.6 kPa with 1 % noise (examples/data/make_examples.py).
+  EXPECT_NEAR(r.parameters[0].value, 3600.0, 0.03 * 3600.0);
+  EXPECT_NE(r.table.find("C10"), std::string::npos);
+  EXPECT_TRUE(r.folder.empty());
+
+  o.law = "no-such-law";
+  auto law = messageOf<api::InputError>([&] { api::fit(o); });
+  EXPECT_NE(law.find("neo-hookean"), std::string::npos) << law;
+}
+
+TEST(ApiSweep, SmallGridRunsEveryCase) {
+  const fs::path dir = freshTemp("sweep");
+  std::ofstream(dir / "speeds.yaml") << "scenario: " << (kExamples / "gelatin_18G_3mms.yaml").string()
+                                     << "\nname: speeds\nmethod: grid\nvary:\n"
+                                        "  - field: insertion.profile[0].insert.speed\n"
+                                        "    values: [3 mm/s, 10 mm/s]\n";
+  api::SweepOptions o;
+  o.out = dir / "study";
+  const api::SweepSummary s = api::sweep(dir / "speeds.yaml", o);
+  EXPECT_EQ(s.folder, dir / "study");
+  EXPECT_EQ(s.cases, 2);
+  EXPECT_EQ(s.ran, 2);
+  EXPECT_TRUE(s.failed.empty());
+  EXPECT_TRUE(fs::exists(s.folder / "study.csv"));
+  fs::remove_all(dir);
+}
+
+TEST(ApiErrors, SolverErrorsKeepTheirText) {
+  // A conditionally stable Newmark integrator (beta < gamma / 2) with a step above its limit.
+  const auto unstable = api::Scenario::fromFile(kExamples / "realtime2d/retraction.yaml")
+                            .with({{"model.realtime2d.newmark_beta", "0.05"},
+                                   {"model.realtime2d.nodes_depth", "11"},
+                                   {"model.realtime2d.nodes_lateral", "13"},
+                                   {"model.time_step", "5 ms"}});
+  auto inRun = messageOf<api::SolverError>([&] { api::run(unstable); });
+  EXPECT_NE(inRun.find("stability limit"), std::string::npos) << inRun;
+  auto inSession = messageOf<api::SolverError>([&] { api::Session{unstable}; });
+  EXPECT_EQ(inSession, inRun);
+}

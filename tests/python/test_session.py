@@ -1,0 +1,146 @@
+"""needlesim.Session: the real-time engines stepped from Python agree with the
+engine's own run of the same scenario (realtime2d) and with seed 003 eq 5.1
+(lumped); bad arguments raise needlesim.InputError naming the argument."""
+import math
+
+import numpy as np
+import pytest
+
+import needlesim
+from conftest import eq_5_1
+
+SHORT = {"insertion.profile[0].insert.to": "20 mm"}
+# A coarser mesh (8 mm spacing) where the mesh does not matter: a quicker set-up.
+COARSE = dict(SHORT, **{"model.realtime2d.nodes_depth": 11, "model.realtime2d.nodes_lateral": 16})
+
+
+@pytest.fixture
+def thesis(example):
+    """Seed 003 section 5.6 at 10 mm/s in realtime2d, inserted 20 mm."""
+    return example("realtime2d/thesis_gelatin_18G_10mms.yaml").with_values(SHORT)
+
+
+@pytest.fixture
+def coarse(example):
+    return example("realtime2d/thesis_gelatin_18G_10mms.yaml").with_values(COARSE)
+
+
+def step_through_profile(scenario, session):
+    """Steps the session as the engine does: every model.time_step, the profile's depth and angles."""
+    steps = math.ceil(scenario.duration / session.dt - 1e-9)
+    out = []
+    for k in range(1, steps + 1):
+        m = scenario.motion_at(min(k * session.dt, scenario.duration))
+        out.append(session.step(m.depth, rotation=m.rotation, roll=m.roll))
+    return out
+
+
+def test_realtime2d_session_agrees_with_the_engine(thesis):
+    run = needlesim.run(thesis, fields=True)
+    session = needlesim.Session(thesis)
+    assert session.engine == "realtime2d" and session.dt == pytest.approx(1e-3)
+    steps = step_through_profile(thesis, session)
+    last = steps[-1]
+    f = run.tables["forces"]
+    assert last.depth == pytest.approx(f["depth"][-1], abs=1e-12) == pytest.approx(0.020, abs=1e-9)
+    assert last.force_total == pytest.approx(run.results["final_force"].value, rel=1e-12)
+    assert last.tip_deflection == pytest.approx(run.results["final_tip_deflection"].value, rel=1e-12)
+    assert last.force_lateral == pytest.approx(f["force_lateral"][-1], rel=1e-9)
+    for name in ("force_stiffness", "force_cutting", "force_friction"):
+        assert getattr(last, name) == pytest.approx(f[name][-1], rel=1e-9, abs=1e-15)
+    np.testing.assert_allclose(last.tip_position, [f["tip_x"][-1], f["tip_y"][-1], 0.0], atol=1e-12)
+    assert last.phase == "cutting"
+    assert sum(s.punctured_now for s in steps) == 1
+    # The tissue: the session's node displacements are the engine's last field step.
+    tissue = run.fields["tissue"]
+    np.testing.assert_allclose(session.points, tissue.points[:, :2], atol=1e-12)
+    np.testing.assert_array_equal(session.cells, tissue.cells)
+    u = tissue[-1].point_data["displacement"]
+    np.testing.assert_allclose(session.displacement, u[:, :2], atol=1e-12)
+    assert np.abs(session.displacement).max() > 1e-4  # the needle drags the gel by a fraction of a mm
+
+
+def test_realtime2d_session_arrays(coarse):
+    session = needlesim.Session(coarse)
+    n = len(session.points)
+    assert session.points.shape == (n, 2) == session.displacement.shape
+    assert session.cells.shape == (10 * 15, 4) and n == 11 * 16
+    assert not session.displacement.any()
+    shape = session.needle_shape(11)
+    assert shape.shape == (11, 2)
+    np.testing.assert_allclose(np.linalg.norm(shape[-1] - shape[0]), 0.1, rtol=1e-12)  # 100 mm straight needle
+
+
+def test_lumped_session_exit_force_is_eq_5_1(gelatin):
+    session = needlesim.Session(gelatin)
+    assert session.engine == "lumped"
+    steps = step_through_profile(gelatin, session)
+    exit_step = next(k for k, s in enumerate(steps) if s.depth >= 0.055)
+    inside = steps[:exit_step]
+    assert inside[-1].force_total == pytest.approx(eq_5_1(0.055, 0.003), rel=2e-3)
+    assert inside[-1].force_total == pytest.approx(needlesim.run(gelatin).results["exit_force"].value, rel=1e-12)
+    s = inside[-1]
+    assert s.force_total == pytest.approx(s.force_stiffness + s.force_cutting + s.force_friction)
+    assert s.force_lateral == 0.0 and s.tip_deflection == 0.0 and s.phase == "cutting"
+    np.testing.assert_allclose(s.tip_position, [s.depth, 0.0, 0.0], atol=1e-12)
+    assert steps[exit_step].phase == "through"
+    with pytest.raises(needlesim.InputError, match="the lumped engine has no tissue mesh"):
+        session.points
+
+
+def test_lumped_session_takes_a_velocity(gelatin):
+    session = needlesim.Session(gelatin)
+    for k in range(20001):  # 20 mm at 1 mm/s, 1 kHz
+        s = session.step(k * 1e-6, 1e-3, velocity=1e-3)
+    assert s.force_total == pytest.approx(eq_5_1(0.02, 1e-3), abs=1e-3)
+    assert s.time == pytest.approx(20.001)
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"depth": float("nan")}, ["Session.step(depth)", "nan", "finite"]),
+    ({"depth": 0.0, "dt": 0.0}, ["Session.step(dt)", "'0'", "> 0"]),
+    ({"depth": 0.0, "dt": -1e-3}, ["Session.step(dt)", "'-0.001'", "> 0"]),
+    ({"depth": 0.0, "dt": float("inf")}, ["Session.step(dt)", "inf", "finite"]),
+    ({"depth": 0.0, "rotation": float("nan")}, ["Session.step(rotation)", "finite"]),
+    ({"depth": 0.0, "velocity": 1e-3}, ["Session.step(velocity)", "realtime2d takes the velocity"]),
+])
+def test_realtime2d_session_refuses_bad_arguments(coarse, kwargs, words):
+    with pytest.raises(needlesim.InputError) as e:
+        needlesim.Session(coarse).step(**kwargs)
+    assert all(w in str(e.value) for w in words), str(e.value)
+
+
+def test_a_session_refuses_a_jump_its_steps_cannot_resolve(coarse):
+    session = needlesim.Session(coarse)
+    session.step(0.0)
+    with pytest.raises(needlesim.InputError) as e:
+        session.step(0.010)
+    assert "moves the tip 10 mm in one step (from 0 mm)" in str(e.value)
+    assert "at most 4 mm per step (0.5 x the node spacing" in str(e.value)
+    session.step(0.001)  # the session goes on after a refused step
+
+
+@pytest.mark.parametrize("kwargs, words", [
+    ({"depth": 0.0, "lateral": 1e-3}, ["Session.step(lateral)", "along its axis only"]),
+    ({"depth": 0.0, "velocity": float("-inf")}, ["Session.step(velocity)", "finite"]),
+])
+def test_lumped_session_refuses_bad_arguments(gelatin, kwargs, words):
+    with pytest.raises(needlesim.InputError) as e:
+        needlesim.Session(gelatin).step(**kwargs)
+    assert all(w in str(e.value) for w in words), str(e.value)
+
+
+def test_other_engines_cannot_be_stepped(example):
+    with pytest.raises(needlesim.InputError) as e:
+        needlesim.Session(example("mpm/quick_needle_block.yaml"))
+    assert "model.engine" in str(e.value) and "realtime2d or lumped" in str(e.value)
+    assert "quick_needle_block.yaml:" in str(e.value)
+
+
+def test_step_session_and_motion_reprs(coarse):
+    session = needlesim.Session(coarse)
+    assert repr(session) == "<Session realtime2d 'realtime2d_thesis_10mms': t=0 s, not stepped yet>"
+    assert repr(session.step(coarse.motion_at(0.001).depth)).startswith("<SessionStep t=0.001 s depth=-0.99 mm")
+    assert repr(session) == "<Session realtime2d 'realtime2d_thesis_10mms': t=0.001 s, depth=-0.99 mm>"
+    assert session.time == pytest.approx(0.001) and session.depth == pytest.approx(-0.99e-3)
+    assert repr(coarse.motion_at(1.0)) == "<MotionSample t=1 s depth=9 mm velocity=10 mm/s rotation=0 rad roll=0 rad>"
