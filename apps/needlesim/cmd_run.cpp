@@ -17,6 +17,7 @@
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/io/checkpoint.hpp"
+#include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
 
@@ -186,9 +187,10 @@ void registerCheckCommand(CLI::App& app) {
         Scenario sc = scenario::readFile(f);
         // refuses what the engine does not model and what its steps do not resolve, as run would
         const StepEstimate estimate = preflight(sc);
-        fmt::print("{}: ok ({} layer{}, engine {}, {:.3g} s of motion, max depth {:.4g} mm; estimate: {})\n", f,
+        fmt::print("{}: ok ({} layer{}, engine {}, {} of motion, max depth {}; estimate: {})\n", f,
                    sc.tissue.layers.size(), sc.tissue.layers.size() == 1 ? "" : "s", sc.model.engine,
-                   sc.totalDuration(), sc.maxDepth() * 1e3, estimate.text());
+                   results::shownText(sc.totalDuration(), "s", sc.output.units, "{:.3g}"),
+                   results::shownText(sc.maxDepth(), "m", sc.output.units, "{:.4g}"), estimate.text());
       } catch (const InputError& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         ++bad;

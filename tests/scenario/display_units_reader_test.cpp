@@ -53,3 +53,12 @@ TEST(DisplayUnitsReader, OutputUnitsOverrideTheWrittenOnes) {
   EXPECT_EQ(s.output.units.unitFor("N m"), "N mm");
   EXPECT_EQ(s.output.units.unitFor("N"), "mN");  // not given: the written one
 }
+
+TEST(DisplayUnitsReader, SolverSettingsVoteOnlyForDimensionsTheProblemDoesNotWrite) {
+  // one duration in s in the profile, two settings in ms: durations stay s
+  const std::string withPause = kCm + "    - pause: {duration: 2 s}\nmodel: {time_step: 1 ms}\noutput: {interval: 10 ms}\n";
+  EXPECT_EQ(scenario::readText(withPause, "t.yaml").output.units.unitFor("s"), "s");
+  // no time in the problem: the settings' unit
+  const std::string settingsOnly = kCm + "model: {time_step: 1 ms}\n";
+  EXPECT_EQ(scenario::readText(settingsOnly, "t.yaml").output.units.unitFor("s"), "ms");
+}

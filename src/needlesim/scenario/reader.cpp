@@ -315,14 +315,17 @@ void checkEntryPoint(Section& ins, const InsertionSpec& I, const TissueSpec& T) 
 
 Scenario readSections(Section top, const std::string& source);
 
-// Per display dimension, the unit written most often in the file (the first written on a tie).
-units::DisplayUnits mostWrittenUnits(const std::vector<std::pair<std::string, int>>& written) {
+// Per display dimension, the unit the problem (tissue, needle, insertion) writes most often,
+// the first written on a tie; the solver's settings (model, output) decide only a dimension
+// the problem does not write (a time step in ms does not make durations ms).
+units::DisplayUnits mostWrittenUnits(const std::vector<UnitWritten>& written) {
   units::DisplayUnits display;
   for (const auto& d : units::displayDimensions()) {
-    const std::pair<std::string, int>* best = nullptr;
+    const UnitWritten* best = nullptr;
+    const auto votes = [](const UnitWritten& w) { return std::pair{w.problem, w.settings}; };
     for (const auto& w : written)
-      if (units::displayDimensionOfUnit(w.first) == &d && (!best || w.second > best->second)) best = &w;
-    if (best) display.set(d.name, best->first);
+      if (units::displayDimensionOfUnit(w.unit) == &d && (!best || votes(w) > votes(*best))) best = &w;
+    if (best) display.set(d.name, best->unit);
   }
   return display;
 }

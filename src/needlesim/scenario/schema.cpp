@@ -398,7 +398,8 @@ std::vector<FieldDoc> build() {
   add(other("output", "html", Kind::Bool, "true", "write report.html"));
   add(other("output", "units", Kind::Section, "",
             "units the terminal and report.html show results in, per dimension (files keep SI); a dimension not "
-            "given here is shown in the unit the file writes most often for it, else in SI",
+            "given here is shown in the unit the file writes most often for it (tissue, needle and insertion "
+            "first, then model and output), else in SI",
             false, "units"));
   for (const auto& d : units::displayDimensions()) {
     std::vector<std::string> allowed(d.units.begin(), d.units.end());

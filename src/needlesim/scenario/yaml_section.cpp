@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -65,18 +66,17 @@ void Section::rememberNumber(const std::string& key, const FieldDoc& f, double v
     remember(key, value);
 }
 
-std::vector<std::pair<std::string, int>> Section::unitsWritten() const {
-  return record_ ? record_->units_written : std::vector<std::pair<std::string, int>>{};
+std::vector<UnitWritten> Section::unitsWritten() const {
+  return record_ ? record_->units_written : std::vector<UnitWritten>{};
 }
 
 void Section::countUnit(const units::Quantity& written) const {
   if (!record_ || written.gauge || !units::displayDimensionOfUnit(written.unit)) return;
-  for (auto& [unit, n] : record_->units_written)
-    if (unit == written.unit) {
-      ++n;
-      return;
-    }
-  record_->units_written.emplace_back(written.unit, 1);
+  const bool settings = path_.starts_with("model") || path_.starts_with("output");
+  auto& list = record_->units_written;
+  auto it = std::find_if(list.begin(), list.end(), [&](const UnitWritten& w) { return w.unit == written.unit; });
+  if (it == list.end()) it = list.insert(list.end(), UnitWritten{written.unit});
+  ++(settings ? it->settings : it->problem);
 }
 
 InputError Section::errorAt(const YAML::Node& at, const std::string& field, const std::string& value,

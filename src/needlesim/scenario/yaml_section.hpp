@@ -20,6 +20,15 @@
 
 namespace needlesim::scenario {
 
+// A unit of a display dimension and how often the file writes it: in the problem (tissue,
+// needle, insertion) and in the solver's settings (model, output), which vote only for a
+// dimension the problem does not write.
+struct UnitWritten {
+  std::string unit;
+  int problem = 0;
+  int settings = 0;
+};
+
 class Section {
  public:
   // The scenario as understood, and where each given field was written.
@@ -28,7 +37,7 @@ class Section {
     std::map<std::string, SourceLocation> given_at;  // field path -> file:line:column
     // How often each unit of a display dimension (units::displayDimensions) was written,
     // in the order first written: the scenario's display units (output.units).
-    std::vector<std::pair<std::string, int>> units_written;
+    std::vector<UnitWritten> units_written;
   };
   using Record = std::shared_ptr<Understood>;
   Section(YAML::Node node, std::string type, std::string path, std::shared_ptr<const std::string> file,
@@ -66,7 +75,7 @@ class Section {
   void remember(const std::string& key, nlohmann::json value) const;
   std::string fieldPath(const std::string& key) const;
   // The units of display dimensions written so far in the whole file, with their counts.
-  std::vector<std::pair<std::string, int>> unitsWritten() const;
+  std::vector<UnitWritten> unitsWritten() const;
 
  private:
   units::Quantity parseQuantity(const std::string& key, const FieldDoc& f, const YAML::Node& n,
