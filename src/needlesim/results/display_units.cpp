@@ -26,7 +26,7 @@ std::string relabel(const std::string& label, const std::string& unit) {
   return label.substr(0, label.rfind('[') + 1) + unit + "]";
 }
 
-// The factor from the axis' unit to its display unit (1 when it stays), and the new label.
+// The factor from the axis' unit to its display unit (1 when it stays); relabels the axis.
 double axisFactor(std::string& label, const units::DisplayUnits& display) {
   const std::string from = axisUnit(label);
   if (from.empty()) return 1.0;

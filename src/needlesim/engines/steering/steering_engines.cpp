@@ -194,8 +194,6 @@ double pathResults(const SteeringInputs& in, const std::vector<Vec3>& path, Resu
   return std::numeric_limits<double>::infinity();
 }
 
-// Tip loads (seed 002 eqs 24-26), the roller reaction of section 4 and the dimensional
-// analysis (seed 002 eqs 1-3, seed 004 eqs 1-3).
 // Seed 002's groups (eqs 1-3) and, when its length scale is within 1e3 of the inserted length,
 // seed 004's (eqs 2-3); otherwise a note with their values says why they are left out.
 void groupResults(const SteeringInputs& in, double length, double rho, ResultSink& sink) {
