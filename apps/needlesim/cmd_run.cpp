@@ -2,7 +2,9 @@
 // the results folder.
 #include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
@@ -11,9 +13,11 @@
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/core/units.hpp"
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/io/checkpoint.hpp"
+#include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
 
@@ -68,14 +72,36 @@ std::string afterInterruption(const RunArgs& args, const fs::path& target, const
   return msg + fmt::format("; the checkpoint {} is kept: continue with {} --resume", ckFolder.string(), again);
 }
 
-void printResults(const RunOutcome& outcome, const RunArgs& args, const io::Checkpoint& checkpoint,
-                  const fs::path& ckFolder) {
-  for (const auto& r : outcome.results)
-    fmt::print("  {:<24} {:>12.6g} {:<6} {}\n", r.key, r.value, r.unit == "1" ? "" : r.unit, r.meaning);
+// The folder's files as a person looks for them: summary.json, the tables, the report, then
+// the field files to open in ParaView (the .xdmf of each .xdmf/.h5 pair).
+std::string folderContents(const std::vector<std::string>& files) {
+  const auto has = [&](const std::string& f) { return std::find(files.begin(), files.end(), f) != files.end(); };
+  const auto endingIn = [&](std::string_view ext) {
+    std::vector<std::string> out;
+    for (const auto& f : files)
+      if (f.ends_with(ext)) out.push_back(f);
+    return out;
+  };
+  std::vector<std::string> shown;
+  if (has("summary.json")) shown.emplace_back("summary.json");
+  for (const auto& f : endingIn(".csv")) shown.push_back(f);
+  if (has("report.html")) shown.emplace_back("report.html");
+  std::string text = fmt::format("{}", fmt::join(shown, ", "));
+  const std::vector<std::string> fields = endingIn(".xdmf");
+  if (!fields.empty()) text += fmt::format(", fields: {}", fmt::join(fields, ", "));
+  return text;
+}
+
+void printResults(const RunOutcome& outcome, const Scenario& sc, const RunArgs& args,
+                  const io::Checkpoint& checkpoint, const fs::path& ckFolder) {
+  for (const auto& r : outcome.results) {
+    const units::Shown s = units::shown(r.value, r.unit, sc.output.units);
+    fmt::print("  {:<24} {:>12.6g} {:<6} {}\n", r.key, s.value, s.unit == "1" ? "" : s.unit, r.meaning);
+  }
   if (args.resume)
     fmt::print("resumed from t = {:.6g} s (step {}) of {}\n", checkpoint.resumedTime(), checkpoint.resumedSteps(),
                ckFolder.string());
-  fmt::print("results: {}/ (summary.json, report.html, CSV time series)\n", outcome.folder.string());
+  fmt::print("results: {}/ ({})\n", outcome.folder.string(), folderContents(outcome.files));
 }
 
 // The checked target the results go to (before the run: InputError for a path
@@ -114,7 +140,7 @@ void runCommand(const RunArgs& args) {
   installStopHandlers();
   try {
     const RunOutcome outcome = runScenario(sc, targetPath, args.overwrite, opts);
-    if (!args.quiet) printResults(outcome, args, checkpoint, ckFolder);
+    if (!args.quiet) printResults(outcome, sc, args, checkpoint, ckFolder);
   } catch (const RunInterrupted& e) {
     throw RunInterrupted(e.what() + afterInterruption(args, targetPath, ckFolder), e.signal());
   }
@@ -157,9 +183,10 @@ void registerCheckCommand(CLI::App& app) {
         Scenario sc = scenario::readFile(f);
         // refuses what the engine does not model and what its steps do not resolve, as run would
         const StepEstimate estimate = preflight(sc);
-        fmt::print("{}: ok ({} layer{}, engine {}, {:.3g} s of motion, max depth {:.4g} mm; estimate: {})\n", f,
+        fmt::print("{}: ok ({} layer{}, engine {}, {} of motion, max depth {}; estimate: {})\n", f,
                    sc.tissue.layers.size(), sc.tissue.layers.size() == 1 ? "" : "s", sc.model.engine,
-                   sc.totalDuration(), sc.maxDepth() * 1e3, estimate.text());
+                   results::shownText(sc.totalDuration(), "s", sc.output.units, "{:.3g}"),
+                   results::shownText(sc.maxDepth(), "m", sc.output.units, "{:.4g}"), estimate.text());
       } catch (const InputError& e) {
         fmt::print(stderr, "error: {}\n", e.what());
         ++bad;

@@ -228,6 +228,72 @@ std::string inUnitOf(double si, const Dim& d, std::string_view written) {
   return fmt::format("{:g} {}", si, siName(d));
 }
 
+const std::vector<DisplayDimension>& displayDimensions() {
+  static const std::vector<DisplayDimension> table = {
+      {"length", dim::Length, "m", {"m", "cm", "mm", "um", "nm"}},
+      {"force", dim::Force, "N", {"N", "kN", "mN", "uN"}},
+      {"stress", dim::Pressure, "Pa", {"Pa", "kPa", "MPa", "GPa"}},
+      {"velocity", dim::Velocity, "m/s", {"m/s", "cm/s", "mm/s", "um/s"}},
+      {"angle", dim::Angle, "rad", {"rad", "deg", "mrad"}},
+      {"time", dim::Time, "s", {"s", "ms", "us", "min", "h"}},
+      {"mass", dim::Mass, "kg", {"kg", "g", "mg"}},
+      {"energy", dim::Energy, "J", {"J", "kJ", "mJ", "uJ"}},
+      {"moment", dim::Moment, "N m", {"N m", "N mm", "mN m"}},
+      {"angular_velocity", dim::AngularVelocity, "rad/s", {"rad/s", "deg/s", "rpm"}},
+  };
+  return table;
+}
+
+const DisplayDimension* findDisplayDimension(std::string_view name) {
+  for (const auto& d : displayDimensions())
+    if (d.name == name) return &d;
+  return nullptr;
+}
+
+const DisplayDimension* displayDimensionOfUnit(std::string_view unit) {
+  for (const auto& d : displayDimensions())
+    for (const auto u : d.units)
+      if (u == unit) return &d;
+  return nullptr;
+}
+
+void DisplayUnits::set(std::string_view dimension, std::string unit) {
+  for (auto& [d, u] : units_)
+    if (d == dimension) {
+      u = std::move(unit);
+      return;
+    }
+  units_.emplace_back(std::string(dimension), std::move(unit));
+}
+
+std::string DisplayUnits::unitFor(std::string_view unit) const {
+  const DisplayDimension* d = displayDimensionOfUnit(unit);
+  if (!d) return std::string(unit);
+  for (const auto& [name, u] : units_)
+    if (name == d->name) return u;
+  return std::string(d->si);
+}
+
+std::vector<std::pair<std::string, std::string>> DisplayUnits::chosen() const {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const auto& d : displayDimensions())
+    for (const auto& [name, u] : units_)
+      if (name == d.name) out.emplace_back(name, u);
+  return out;
+}
+
+double conversionFactor(std::string_view from, std::string_view to) {
+  const Quantity a = parse("1 " + std::string(from)), b = parse("1 " + std::string(to));
+  if (!(a.dim == b.dim)) throw Error(fmt::format("cannot convert {} to {}: different dimensions", from, to));
+  return a.value / b.value;
+}
+
+Shown shown(double value, std::string_view unit, const DisplayUnits& display) {
+  const std::string target = display.unitFor(unit);
+  if (target == unit) return {value, target};
+  return {value * conversionFactor(unit, target), target};
+}
+
 std::optional<GaugeSize> gaugeSize(int gauge) {
   // Nominal outer diameter (mm) and regular-wall inner diameter (mm), ISO 9626.
   struct Row {

@@ -5,6 +5,8 @@
 #include <optional>
 #include <string>
 #include <string_view>
+#include <utility>
+#include <vector>
 
 namespace needlesim::units {
 
@@ -32,6 +34,7 @@ inline constexpr Dim ForceTimePerArea{-1, 1, -1, 0};     // N s/m^2 (friction da
 inline constexpr Dim ForceTimePerLength{0, 1, -1, 0};    // N s/m (damping)
 inline constexpr Dim TorqueTimePerAngle{2, 1, -1, -1};   // N m s/rad (rotational damping)
 inline constexpr Dim StiffnessPerArea{-1, 1, -2, 0};     // N/m^2 (foundation stiffness per length)
+inline constexpr Dim Energy{2, 1, -2, 0};
 }  // namespace dim
 
 struct Quantity {
@@ -51,6 +54,50 @@ std::string examples(const Dim& d);
 // An SI value written in the unit of `written` (a quantity as the user wrote it, e.g. "1 m" or
 // "40 mm"): 0.06 and "1 mm" -> "60 mm". Plain SI with its unit when `written` has none.
 std::string inUnitOf(double si, const Dim& d, std::string_view written);
+
+// --- Display units: what a person reads (terminal, report) is shown in the scenario's units;
+// files keep SI. A display dimension has a name (the key of `output.units`) and the units a
+// scenario may choose for it; a result is converted only when its SI unit is exactly that
+// dimension's SI name ("m", "N", "Pa"), so compound units (N/m, J/m^2, 1/m) stay as they are.
+struct DisplayDimension {
+  std::string_view name;  // "length", "force", "stress", ...
+  Dim dim;
+  std::string_view si;                 // SI name, e.g. "Pa"
+  std::vector<std::string_view> units; // units allowed for display, SI first
+};
+const std::vector<DisplayDimension>& displayDimensions();
+// The display dimension `name` ("length"), or nullptr.
+const DisplayDimension* findDisplayDimension(std::string_view name);
+// The display dimension whose display units include `unit` ("mm" -> length), or nullptr.
+const DisplayDimension* displayDimensionOfUnit(std::string_view unit);
+
+// The unit chosen per display dimension; a dimension without one is shown in SI.
+class DisplayUnits {
+ public:
+  // Sets the unit of `dimension` (a name of displayDimensions()); `unit` must be one of its units.
+  void set(std::string_view dimension, std::string unit);
+  // The unit results of this SI unit are shown in: the chosen unit when `si_unit` is the SI
+  // name of a display dimension with a chosen unit, else `si_unit` itself.
+  std::string unitFor(std::string_view si_unit) const;
+  // (dimension name, unit) pairs in the order of displayDimensions().
+  std::vector<std::pair<std::string, std::string>> chosen() const;
+  bool empty() const { return units_.empty(); }
+
+ private:
+  std::vector<std::pair<std::string, std::string>> units_;
+};
+
+// A value in a unit the display may show.
+struct Shown {
+  double value;
+  std::string unit;
+};
+// `value` given in `unit` (SI for results and columns, or any unit of a display dimension,
+// e.g. a plot axis in mm) in the display unit of its dimension: (0.0025, "m") with length
+// in mm -> (2.5, "mm"). Unchanged when the unit is not one of a display dimension.
+Shown shown(double value, std::string_view unit, const DisplayUnits& display);
+// The factor converting a value in `from` to `to`, both units of the same dimension.
+double conversionFactor(std::string_view from, std::string_view to);
 
 // Needle gauge (Stubs / ISO 9626 regular wall): outer and inner diameter in m.
 struct GaugeSize {

@@ -35,7 +35,7 @@ RunOutcome runScenario(const Scenario& sc, const std::filesystem::path& target, 
   io::ResultsFolder folder(sc, target, options.printWarnings);
   try {
     const double wall = runAndCommit(engine, sc, folder, overwrite, options);
-    return RunOutcome{folder.target(), folder.results(), folder.tables(), wall};
+    return RunOutcome{folder.target(), folder.results(), folder.tables(), wall, folder.files()};
   } catch (const InputError&) {
     throw;
   } catch (const SolverError&) {

@@ -14,6 +14,7 @@ struct RunOutcome {
   std::vector<io::KeyResult> results;
   std::vector<std::pair<std::string, io::Table>> tables;  // as written to <name>.csv
   double wall_seconds = 0.0;
+  std::vector<std::string> files;  // written into the folder: summary.json, CSVs, report.html, fields
 };
 
 // Throws InputError if the engine is not in this build, SolverError if it stops

@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <cmath>
 
 #include "needlesim/core/embedded.hpp"
@@ -96,6 +97,33 @@ std::string tableHtml(const HtmlTable& t) {
   return h + "</table></div>\n";
 }
 
+// The y range the plot's series span, for vertical marker lines: (0, 1) without data.
+std::pair<double, double> yRange(const Plot& p) {
+  double lo = INFINITY, hi = -INFINITY;
+  for (const auto& s : p.series)
+    for (double y : s.y)
+      if (std::isfinite(y)) {
+        lo = std::min(lo, y);
+        hi = std::max(hi, y);
+      }
+  if (!(lo <= hi)) return {0.0, 1.0};
+  return {lo, hi};
+}
+
+// A marker as a grey dashed vertical line over the data's y range; its label is drawn at
+// the top end (markerLabel in the page's script) and listed in the legend.
+nlohmann::json markerDataset(const PlotMarker& m, std::pair<double, double> y) {
+  return {{"label", m.label},
+          {"data", {{{"x", m.x}, {"y", y.first}}, {{"x", m.x}, {"y", y.second}}}},
+          {"borderColor", "#555555"},
+          {"backgroundColor", "#555555"},
+          {"showLine", true},
+          {"pointRadius", 0},
+          {"borderWidth", 1},
+          {"borderDash", {3, 3}},
+          {"marker", true}};
+}
+
 }  // namespace
 
 std::string HtmlReport::render() const {
@@ -113,6 +141,8 @@ std::string HtmlReport::render() const {
       if (s.dashed) ds["borderDash"] = {6, 4};
       datasets.push_back(ds);
     }
+    for (const auto& m : p.xmarkers)
+      if (std::isfinite(m.x)) datasets.push_back(markerDataset(m, yRange(p)));
     plotsJson.push_back({{"title", p.title},
                          {"xlabel", p.xlabel},
                          {"ylabel", p.ylabel},
@@ -175,7 +205,21 @@ std::string HtmlReport::render() const {
   html += fmt::format("<footer>needlesim {} ({}); plots drawn with Chart.js (MIT licence).</footer>\n", kVersion,
                       kGitRevision);
   html += "<script>\nconst plots = " + plotsJson.dump() + ";\n";
-  html += R"JS(plots.forEach((p, i) => {
+  html += R"JS(// A marker line's name as a point style drawn beside the line's top end.
+function markerLabel(text) {
+  const c = document.createElement('canvas'), g = c.getContext('2d');
+  g.font = '12px system-ui, sans-serif';
+  const w = Math.ceil(g.measureText(text).width) + 6;
+  c.width = 2 * w + 4; c.height = 16;
+  g.font = '12px system-ui, sans-serif'; g.fillStyle = '#333'; g.textBaseline = 'top';
+  g.fillText(text, w + 6, 2);
+  return c;
+}
+plots.forEach(p => p.datasets.filter(d => d.marker).forEach(d => {
+  d.pointStyle = ['line', markerLabel(d.label)];
+  d.pointRadius = [0, 8];
+}));
+plots.forEach((p, i) => {
   new Chart(document.getElementById('plot' + i), {
     type: 'scatter',
     data: {datasets: p.datasets},

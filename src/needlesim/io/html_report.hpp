@@ -14,11 +14,18 @@ struct PlotSeries {
   bool dashed = false;
 };
 
+// A vertical line across a plot at x (in the x axis' unit), named on the plot and in the legend.
+struct PlotMarker {
+  double x = 0.0;
+  std::string label;
+};
+
 struct Plot {
   std::string title;
   std::string xlabel, ylabel;  // include units, e.g. "depth [mm]"
   std::vector<PlotSeries> series;
   bool logx = false, logy = false;
+  std::vector<PlotMarker> xmarkers{};  // e.g. layer boundaries on a force-depth plot
 };
 
 // A table of text cells (escaped on output); `groups` is a row above the

@@ -16,6 +16,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
 #include "needlesim/core/version.hpp"
+#include "needlesim/results/display_units.hpp"
 #include "needlesim/io/atomic_file.hpp"
 
 namespace needlesim::io {
@@ -253,6 +254,7 @@ void ResultsFolder::commit(bool replace, double wall_seconds, const std::string&
   if (scenario_.output.html) writeFileAtomic(stage_ / "report.html", report(wall_seconds, failure).render());
   moveIntoPlace();
   committed_ = true;
+  files_ = files.get<std::vector<std::string>>();
 }
 
 void ResultsFolder::moveIntoPlace() { moveStageIntoPlace(stage_, target_); }
@@ -293,11 +295,9 @@ HtmlReport ResultsFolder::report(double wall_seconds, const std::string& failure
   rep.facts.emplace_back("scenario", scenario_.source);
   if (!failure.empty()) rep.facts.emplace_back("STOPPED", failure);
   for (const auto& r : results_)
-    rep.facts.emplace_back(r.key + " (" + r.meaning + ")",
-                           std::isfinite(r.value) ? fmt::format("{:.6g} {}", r.value, r.unit == "1" ? "" : r.unit)
-                                                  : "n/a");
+    rep.facts.emplace_back(r.key + " (" + r.meaning + ")", results::shownText(r.value, r.unit, scenario_.output.units));
   rep.facts.emplace_back("wall time", fmt::format("{:.3f} s", wall_seconds));
-  rep.plots = plots_;
+  for (const auto& p : plots_) rep.plots.push_back(results::inDisplayUnits(p, scenario_.output.units));
   rep.warnings = warnings_;
   rep.notes = notes_;
   return rep;

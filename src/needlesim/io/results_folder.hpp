@@ -46,6 +46,8 @@ class ResultsFolder : public ResultSink {
   const std::vector<KeyResult>& results() const { return results_; }
   const std::vector<std::pair<std::string, Table>>& tables() const { return tables_; }
   const std::filesystem::path& target() const { return target_; }
+  // The files commit wrote into the folder (summary.json's "files").
+  const std::vector<std::string>& files() const { return files_; }
 
  private:
   const Scenario& scenario_;
@@ -60,6 +62,7 @@ class ResultsFolder : public ResultSink {
   std::vector<std::unique_ptr<FieldSeries>> fields_;
   std::vector<std::string> field_names_;
   bool committed_ = false;
+  std::vector<std::string> files_;
 
   nlohmann::json writeTables() const;  // <table>.csv; the names written
   nlohmann::json summaryJson(const nlohmann::json& files, double wall_seconds, const std::string& failure) const;

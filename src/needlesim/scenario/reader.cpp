@@ -1,6 +1,7 @@
 #include "needlesim/scenario/reader.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <yaml-cpp/yaml.h>
 
 #include <algorithm>
@@ -314,6 +315,56 @@ void checkEntryPoint(Section& ins, const InsertionSpec& I, const TissueSpec& T) 
 
 Scenario readSections(Section top, const std::string& source);
 
+// Per display dimension, the unit the problem (tissue, needle, insertion) writes most often,
+// the first written on a tie; the solver's settings (model, output) decide only a dimension
+// the problem does not write (a time step in ms does not make durations ms).
+units::DisplayUnits mostWrittenUnits(const std::vector<UnitWritten>& written) {
+  units::DisplayUnits display;
+  for (const auto& d : units::displayDimensions()) {
+    const UnitWritten* best = nullptr;
+    const auto votes = [](const UnitWritten& w) { return std::pair{w.problem, w.settings}; };
+    for (const auto& w : written)
+      if (units::displayDimensionOfUnit(w.unit) == &d && (!best || votes(w) > votes(*best))) best = &w;
+    if (best) display.set(d.name, best->unit);
+  }
+  return display;
+}
+
+// One unit of output.units: InputError at its line for a unit of another dimension or an unknown one.
+std::string displayUnitGiven(Section& us, const units::DisplayDimension& d) {
+  const YAML::Node n = us.raw(std::string(d.name));
+  const std::string key(d.name), text = n.IsScalar() ? n.Scalar() : std::string("a list or section");
+  const std::string allowed = fmt::format("one of: {}", fmt::join(d.units, ", "));
+  for (const auto u : d.units)
+    if (n.IsScalar() && u == text) return us.choice(key);
+  if (const units::DisplayDimension* other = units::displayDimensionOfUnit(text))
+    throw us.error(key, text, fmt::format("is a unit of {}, not of {}", other->name, d.name), allowed);
+  try {
+    const units::Quantity q = units::parse("1 " + text);
+    if (!(q.dim == d.dim))
+      throw us.error(key, text, fmt::format("is a unit of {}, not of {} ({})", units::siName(q.dim), d.name, d.si),
+                     allowed);
+  } catch (const std::invalid_argument&) {
+    throw us.error(key, text, "is not a known unit", allowed);
+  }
+  throw us.error(key, text, fmt::format("is not one of the units results of {} are shown in", d.name), allowed);
+}
+
+// output.units over the units written most often, else SI. Every dimension's unit is
+// recorded, so that a summary.json (whose quantities are all SI) shows its results in the
+// same units again.
+units::DisplayUnits readDisplayUnits(Section& out) {
+  Section us = out.sub("units");
+  const units::DisplayUnits written = mostWrittenUnits(us.unitsWritten());
+  units::DisplayUnits display;
+  for (const auto& d : units::displayDimensions()) {
+    const std::string key(d.name);
+    display.set(d.name, us.has(key) ? displayUnitGiven(us, d) : written.unitFor(d.si));
+    us.remember(key, display.unitFor(d.si));
+  }
+  return display;
+}
+
 // Data files named in a scenario, relative to the scenario file: the record keeps them
 // absolute so that a scenario re-read from its summary.json finds the same files.
 void absoluteDataPaths(nlohmann::json& record, const std::string& source) {
@@ -589,6 +640,7 @@ Scenario readSections(Section top, const std::string& source) {
   sc.output.max_steps = out.number("max_steps");
   sc.output.csv = out.boolean("csv");
   sc.output.html = out.boolean("html");
+  sc.output.units = readDisplayUnits(out);
   if (sc.output.interval > 0.0 && sc.output.interval < sc.model.time_step)
     throw out.error("interval", fmt::format("{:g} s", sc.output.interval), "is shorter than model.time_step",
                     fmt::format(">= {:g} s, or 0 for every step", sc.model.time_step));

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/units.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim {
@@ -274,6 +275,9 @@ struct OutputSpec {
   double max_steps = 1e6;   // run budget: the most steps an engine's estimate may reach (engines/step_guard.hpp)
   bool html = true;
   bool csv = true;
+  // The units the terminal and the report show results in (output.units, else the unit
+  // written most often per dimension in the file, else SI); files keep SI.
+  units::DisplayUnits units;
 };
 
 struct Scenario {

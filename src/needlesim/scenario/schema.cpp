@@ -396,6 +396,19 @@ std::vector<FieldDoc> build() {
   add(q("output", "max_steps", D::None, "1e6", 1.0, 1e15, false, false, "refuse a run whose step estimate (printed before the first step, and by `needlesim check`) is larger; raise it to allow a long run"));
   add(other("output", "csv", Kind::Bool, "true", "write CSV time series"));
   add(other("output", "html", Kind::Bool, "true", "write report.html"));
+  add(other("output", "units", Kind::Section, "",
+            "units the terminal and report.html show results in, per dimension (files keep SI); a dimension not "
+            "given here is shown in the unit the file writes most often for it (tissue, needle and insertion "
+            "first, then model and output), else in SI",
+            false, "units"));
+  for (const auto& d : units::displayDimensions()) {
+    std::vector<std::string> allowed(d.units.begin(), d.units.end());
+    std::string words(d.name);
+    std::replace(words.begin(), words.end(), '_', ' ');
+    add(other("units", std::string(d.name), Kind::Choice, "",
+              fmt::format("unit of {} results (SI: {}) on the terminal and in report.html", words, d.si), false, {},
+              allowed));
+  }
 
   // --- parameter studies (`needlesim sweep STUDY.yaml`), not part of a scenario
   add(other("study", "scenario", Kind::String, "", "base scenario file, relative to the study file", true));

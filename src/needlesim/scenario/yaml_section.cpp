@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <stdexcept>
 
@@ -63,6 +64,19 @@ void Section::rememberNumber(const std::string& key, const FieldDoc& f, double v
     remember(key, fmt::format("{} {}", value, units::siName(f.dim)));  // shortest text that reads back exactly
   else
     remember(key, value);
+}
+
+std::vector<UnitWritten> Section::unitsWritten() const {
+  return record_ ? record_->units_written : std::vector<UnitWritten>{};
+}
+
+void Section::countUnit(const units::Quantity& written) const {
+  if (!record_ || written.gauge || !units::displayDimensionOfUnit(written.unit)) return;
+  const bool settings = path_.starts_with("model") || path_.starts_with("output");
+  auto& list = record_->units_written;
+  auto it = std::find_if(list.begin(), list.end(), [&](const UnitWritten& w) { return w.unit == written.unit; });
+  if (it == list.end()) it = list.insert(list.end(), UnitWritten{written.unit});
+  ++(settings ? it->settings : it->problem);
 }
 
 InputError Section::errorAt(const YAML::Node& at, const std::string& field, const std::string& value,
@@ -172,6 +186,7 @@ std::optional<double> Section::optNumber(const std::string& key) {
   if (f.whole && qv.value != std::floor(qv.value))
     throw errorAt(n, fieldPath(key), text, "must be a whole number (it counts something)", f.rangeText());
   rememberNumber(key, f, qv.value);
+  countUnit(qv);
   return qv.value;
 }
 
@@ -195,6 +210,7 @@ units::Quantity Section::lengthOrGauge(const std::string& key) {
     throw errorAt(n, fieldPath(key), n.Scalar(), "has the wrong unit", "a length (m, mm) or a gauge (G)");
   if (!f.inRange(qv.value)) throw errorAt(n, fieldPath(key), n.Scalar(), "is out of range", f.rangeText());
   rememberNumber(key, f, qv.value);
+  countUnit(qv);
   return qv;
 }
 

@@ -20,12 +20,24 @@
 
 namespace needlesim::scenario {
 
+// A unit of a display dimension and how often the file writes it: in the problem (tissue,
+// needle, insertion) and in the solver's settings (model, output), which vote only for a
+// dimension the problem does not write.
+struct UnitWritten {
+  std::string unit;
+  int problem = 0;
+  int settings = 0;
+};
+
 class Section {
  public:
   // The scenario as understood, and where each given field was written.
   struct Understood {
     nlohmann::json doc = nlohmann::json::object();
     std::map<std::string, SourceLocation> given_at;  // field path -> file:line:column
+    // How often each unit of a display dimension (units::displayDimensions) was written,
+    // in the order first written: the scenario's display units (output.units).
+    std::vector<UnitWritten> units_written;
   };
   using Record = std::shared_ptr<Understood>;
   Section(YAML::Node node, std::string type, std::string path, std::shared_ptr<const std::string> file,
@@ -62,11 +74,14 @@ class Section {
   // and where the file gives it.
   void remember(const std::string& key, nlohmann::json value) const;
   std::string fieldPath(const std::string& key) const;
+  // The units of display dimensions written so far in the whole file, with their counts.
+  std::vector<UnitWritten> unitsWritten() const;
 
  private:
   units::Quantity parseQuantity(const std::string& key, const FieldDoc& f, const YAML::Node& n,
                                 const std::string& text);
   void rememberNumber(const std::string& key, const FieldDoc& f, double value) const;
+  void countUnit(const units::Quantity& written) const;
   YAML::Node node_;
   std::string type_;
   std::string path_;

@@ -6,6 +6,8 @@
 #include <cmath>
 #include <set>
 
+#include "needlesim/results/display_units.hpp"
+
 namespace needlesim::study {
 
 namespace {
@@ -14,10 +16,15 @@ constexpr std::size_t kCaseColumn = 0, kCompleteColumn = 1, kFirstInputColumn = 
 // An input with at most this many distinct values has them all listed.
 constexpr std::size_t kListedValues = 8;
 
-// A value with its unit as the study shows it ("0.2399 N", "1", "n/a").
-std::string valueText(double v, const std::string& unit) {
+// A value given in SI with its unit as the study shows it ("0.2399 N", "2.5 mm", "1", "n/a").
+std::string valueText(const StudyResults& r, double v, const std::string& unit) {
+  return results::shownText(v, unit, r.display);
+}
+
+// A column's value as the report's table shows it, without the unit (in its header).
+std::string cellText(const StudyResults& r, double v, const std::string& unit) {
   if (!std::isfinite(v)) return "n/a";
-  return unit == "1" || unit.empty() ? fmt::format("{:.6g}", v) : fmt::format("{:.6g} {}", v, unit);
+  return fmt::format("{:.6g}", units::shown(v, unit, r.display).value);
 }
 
 // A column's header as the report and plots name it: "exit_force [N]".
@@ -44,6 +51,10 @@ const std::string& inputField(const StudyResults& r, std::size_t k) { return r.s
 const std::string& inputUnit(const StudyResults& r, std::size_t k) {
   return r.table.columns()[kFirstInputColumn + k].unit;
 }
+// A column's header as the report names it, in the unit its values are shown in.
+std::string shownLabel(const StudyResults& r, const std::string& name, const std::string& si_unit) {
+  return labelWithUnit(name, r.display.unitFor(si_unit));
+}
 
 // The case table of the report: case, the inputs, the varying outputs.
 io::HtmlTable caseTable(const StudyResults& r, const OutputColumns& outputs) {
@@ -54,16 +65,16 @@ io::HtmlTable caseTable(const StudyResults& r, const OutputColumns& outputs) {
   t.groups = {{"", 1}, {"inputs (varied)", inputs}};
   if (!outputs.varying.empty()) t.groups.emplace_back("outputs", outputs.varying.size());
   t.header.push_back("case");
-  for (std::size_t k = 0; k < inputs; ++k) t.header.push_back(labelWithUnit(inputField(r, k), inputUnit(r, k)));
-  for (std::size_t c : outputs.varying) t.header.push_back(labelWithUnit(cols[c].name, cols[c].unit));
+  for (std::size_t k = 0; k < inputs; ++k) t.header.push_back(shownLabel(r, inputField(r, k), inputUnit(r, k)));
+  for (std::size_t c : outputs.varying) t.header.push_back(shownLabel(r, cols[c].name, cols[c].unit));
   for (std::size_t row = 0; row < std::min(r.table.rows(), kMaxReportRows); ++row) {
     std::vector<std::string> cells{fmt::format("{}", r.table.at(row, kCaseColumn))};
     for (std::size_t k = 0; k < inputs; ++k) {
       const double v = r.table.at(row, kFirstInputColumn + k);
-      cells.push_back(std::isfinite(v) ? valueText(v, "1") : r.cases[row].assignments[k].second);
+      cells.push_back(std::isfinite(v) ? cellText(r, v, inputUnit(r, k)) : r.cases[row].assignments[k].second);
     }
     for (std::size_t c : outputs.varying)
-      cells.push_back(isComplete(r, row) ? valueText(r.table.at(row, c), "1") : "not complete");
+      cells.push_back(isComplete(r, row) ? cellText(r, r.table.at(row, c), cols[c].unit) : "not complete");
     t.rows.push_back(std::move(cells));
   }
   return t;
@@ -80,7 +91,7 @@ std::vector<io::Plot> outputPlots(const StudyResults& r, const OutputColumns& ou
       io::Plot p{cols[c].name + " against " + inputField(r, k), labelWithUnit(inputField(r, k), inputUnit(r, k)),
                  labelWithUnit(cols[c].name, cols[c].unit), {}};
       p.series.push_back({cols[c].name, x, completeValues(r, c), true, false});
-      plots.push_back(std::move(p));
+      plots.push_back(results::inDisplayUnits(std::move(p), r.display));
     }
   }
   return plots;
@@ -112,7 +123,7 @@ std::string constantLine(const StudyResults& r, const OutputColumns& outputs) {
   std::string line = "constant over all cases: ";
   for (std::size_t i = 0; i < outputs.constant.size(); ++i) {
     const io::Column& col = r.table.columns()[outputs.constant[i]];
-    line += (i ? ", " : "") + col.name + " = " + valueText(completeValues(r, outputs.constant[i]).front(), col.unit);
+    line += (i ? ", " : "") + col.name + " = " + valueText(r, completeValues(r, outputs.constant[i]).front(), col.unit);
   }
   return line;
 }
@@ -130,7 +141,7 @@ std::vector<std::string> inputLines(const StudyResults& r) {
     std::string values;
     if (distinct.size() > kListedValues && numbers.size() == r.cases.size()) {
       const auto [lo, hi] = std::minmax_element(numbers.begin(), numbers.end());
-      values = "from " + valueText(*lo, inputUnit(r, k)) + " to " + valueText(*hi, inputUnit(r, k));
+      values = "from " + valueText(r, *lo, inputUnit(r, k)) + " to " + valueText(r, *hi, inputUnit(r, k));
     } else {
       for (std::size_t i = 0; i < std::min(distinct.size(), kListedValues); ++i)
         values += (i ? ", " : "") + distinct[i];
@@ -187,8 +198,8 @@ std::string studyOverview(const StudyResults& r) {
       v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
       const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
       text += v.empty() ? fmt::format("    {:<{}}  n/a\n", cols[c].name, width)
-                        : fmt::format("    {:<{}}  {} to {}\n", cols[c].name, width, valueText(*lo, cols[c].unit),
-                                      valueText(*hi, cols[c].unit));
+                        : fmt::format("    {:<{}}  {} to {}\n", cols[c].name, width, valueText(r, *lo, cols[c].unit),
+                                      valueText(r, *hi, cols[c].unit));
     }
   }
   const std::string constant = constantLine(r, outputs);

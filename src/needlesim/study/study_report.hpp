@@ -8,6 +8,7 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/core/units.hpp"
 #include "needlesim/io/html_report.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/study/study.hpp"
@@ -24,6 +25,8 @@ struct StudyResults {
   const StudySpec& spec;
   const std::vector<Case>& cases;
   io::Table table;
+  // The units values are shown in (the cases' output.units); study.csv keeps SI.
+  units::DisplayUnits display = {};
 };
 
 // The CSV column name of a varied field: "input: tissue.friction.C_p".

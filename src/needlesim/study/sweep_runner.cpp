@@ -17,6 +17,7 @@
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/results_folder.hpp"
 #include "needlesim/io/table.hpp"
+#include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
 #include "needlesim/study/study_report.hpp"
@@ -185,12 +186,25 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
 
 namespace {
 
-// Result keys and units of the completed cases, in first-seen order, and each case's results.
+// Result keys and units of the completed cases, in first-seen order, each case's results
+// and the units the cases show values in.
 struct CaseResults {
   std::vector<std::pair<std::string, std::string>> keys;
   std::map<int, nlohmann::json> results;
   std::vector<int> missing;
+  units::DisplayUnits display;
 };
+
+// The units a study's report shows values in: those its cases' scenario chose
+// (output.units of a case's summary.json; all cases share them); SI without one.
+units::DisplayUnits caseDisplayUnits(const nlohmann::json& summary) {
+  units::DisplayUnits display;
+  const nlohmann::json::json_pointer at("/scenario/output/units");
+  if (!summary.contains(at) || !summary[at].is_object()) return display;
+  for (const auto& [dimension, unit] : summary[at].items())
+    if (unit.is_string()) display.set(dimension, unit.get<std::string>());
+  return display;
+}
 
 CaseResults readCaseResults(const std::vector<Case>& cases, const fs::path& folder) {
   CaseResults r;
@@ -207,6 +221,7 @@ CaseResults readCaseResults(const std::vector<Case>& cases, const fs::path& fold
       if (!seen) r.keys.emplace_back(k, v.value("unit", "1"));
     }
     r.results[c.index] = s["results"];
+    if (r.display.empty()) r.display = caseDisplayUnits(s);
   }
   return r;
 }
@@ -277,7 +292,7 @@ nlohmann::json studyJson(const StudyResults& r, const std::vector<int>& missing)
 
 void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepReport& rep) {
   CaseResults found = readCaseResults(cases, rep.folder);
-  const StudyResults results{spec, cases, studyTable(spec, cases, found)};
+  const StudyResults results{spec, cases, studyTable(spec, cases, found), found.display};
   io::writeFileAtomic(rep.folder / "study.csv", results.table.csv());
   io::writeFileAtomic(rep.folder / "study.json", studyJson(results, found.missing).dump(2) + "\n");
   io::writeFileAtomic(rep.folder / "report.html", studyReport(results, found.missing).render());

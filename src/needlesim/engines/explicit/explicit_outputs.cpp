@@ -23,6 +23,7 @@
 #include "needlesim/engines/explicit/path_needle.hpp"
 #include "needlesim/engines/explicit/sleeve_setup.hpp"
 #include "needlesim/io/field_series.hpp"
+#include "needlesim/results/layer_boundaries.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -226,6 +227,7 @@ void ExplicitRun::finish(const std::string& status) {
   io::Plot fp{"Needle force against needle displacement", "needle displacement [mm]", "force [N]", {}};
   fp.series.push_back({"axial force (reaction at the base)", dmm, force});
   fp.series.push_back({"tip surface", dmm, ft.column("force_tip"), false, true});
+  results::markLayerBoundaries(fp, sc_, depth0_);
   sink_.plot(fp);
   io::Plot ep{"Energies", "time [s]", "energy [J]", {}};
   for (const char* c : {"kinetic", "internal", "external_work", "contact_work", "energy_balance"})

@@ -10,6 +10,7 @@
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
 #include "needlesim/results/forces_table.hpp"
+#include "needlesim/results/layer_boundaries.hpp"
 
 namespace needlesim::engines {
 
@@ -106,6 +107,7 @@ void runLumped(const Scenario& sc, ResultSink& sink, const RunOptions& options) 
     p->series.push_back(comp("force_cutting", "cutting (eq 3.24)", x, true));
     p->series.push_back(comp("force_friction", "friction (eq 3.23)", x, true));
   }
+  results::markLayerBoundaries(byDepth, sc);
   sink.plot(std::move(byDepth));
   sink.plot(std::move(byTime));
   sink.note("Lumped force model of seed 003 section 3.2: pre-puncture stiffness (eq 3.16), constant cutting "

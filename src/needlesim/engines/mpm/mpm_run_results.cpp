@@ -5,6 +5,7 @@
 
 #include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/engines/mpm/mpm_run.hpp"
+#include "needlesim/results/layer_boundaries.hpp"
 
 namespace needlesim::engines {
 
@@ -105,6 +106,7 @@ void MpmRun::emitForces(bool stopped) {
       sink_.warning("The measured force curve has no point inside the simulated depths: no RMSE/MAE.");
     }
   }
+  results::markLayerBoundaries(byDepth, sc_);
   sink_.plot(std::move(byDepth));
   sink_.table("forces", forces_.release());
 }

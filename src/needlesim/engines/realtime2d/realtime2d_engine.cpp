@@ -11,6 +11,7 @@
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/results/forces_table.hpp"
 #include "needlesim/results/inclusion_motion.hpp"
+#include "needlesim/results/layer_boundaries.hpp"
 
 namespace needlesim::engines {
 
@@ -299,6 +300,7 @@ class Realtime2dRun {
       p->series.push_back({"cutting (eq 3.24)", x, f.column("force_cutting"), false, true});
       p->series.push_back({"friction (eq 3.23)", x, f.column("force_friction"), false, true});
     }
+    results::markLayerBoundaries(byDepth, sc_);
     sink_.plot(std::move(byDepth));
     sink_.plot(std::move(byTime));
     io::Plot defl{"Tip deflection against time", "time [s]", "elastic tip deflection [mm]", {}};

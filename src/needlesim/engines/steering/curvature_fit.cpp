@@ -1,5 +1,6 @@
 #include "needlesim/engines/steering/curvature_fit.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include <Eigen/Dense>
@@ -70,7 +71,7 @@ CircleFit fitCircle(std::span<const Vec3> pts, double straight_tol) {
   return f;
 }
 
-CircleFit fitCircleSection(std::span<const Vec3> pts, double s0, double s1) {
+std::span<const Vec3> pathSection(std::span<const Vec3> pts, double s0, double s1) {
   const int n = static_cast<int>(pts.size());
   double s = 0;
   int first = -1, last = -1;
@@ -79,8 +80,48 @@ CircleFit fitCircleSection(std::span<const Vec3> pts, double s0, double s1) {
     if (s >= s0 - 1e-12 && first < 0) first = i;
     if (s <= s1 + 1e-12) last = i;
   }
-  if (first < 0 || last < first) return CircleFit{};
-  return fitCircle(pts.subspan(first, last - first + 1));
+  if (first < 0 || last < first) return {};
+  return pts.subspan(first, last - first + 1);
+}
+
+CircleFit fitCircleSection(std::span<const Vec3> pts, double s0, double s1) {
+  const auto section = pathSection(pts, s0, s1);
+  return section.empty() ? CircleFit{} : fitCircle(section);
+}
+
+double sagitta(std::span<const Vec3> pts) {
+  if (pts.size() < 3) return 0.0;
+  const Vec3 a = pts.front(), chord = pts.back() - a;
+  const double len = chord.norm();
+  double most = 0.0;
+  for (const Vec3& p : pts) {
+    const Vec3 d = p - a;
+    most = std::max(most, len > 0 ? (d - d.dot(chord / len) * chord / len).norm() : d.norm());
+  }
+  return most;
+}
+
+bool isOneArc(const CircleFit& fit, std::span<const Vec3> pts) {
+  return std::isfinite(fit.radius) && fit.rms <= kOneArcRmsShare * sagitta(pts);
+}
+
+std::vector<PathPiece> pathPieces(std::span<const Vec3> pts, std::span<const double> breaks) {
+  double total = 0.0;
+  for (std::size_t i = 1; i < pts.size(); ++i) total += (pts[i] - pts[i - 1]).norm();
+  std::vector<double> ends{0.0};
+  for (double b : breaks)
+    if (b > ends.back() + 1e-9 && b < total - 1e-9) ends.push_back(b);
+  ends.push_back(total);
+  std::vector<PathPiece> pieces;
+  for (std::size_t k = 0; k + 1 < ends.size(); ++k) {
+    PathPiece p{ends[k], ends[k + 1], {}, false, false};
+    const auto section = pathSection(pts, p.s0, p.s1);
+    p.fit = fitCircle(section);
+    p.straight = !std::isfinite(p.fit.radius);
+    p.arc = isOneArc(p.fit, section);
+    pieces.push_back(p);
+  }
+  return pieces;
 }
 
 SectionRadii sectionRadii(std::span<const Vec3> pts, double section) {

@@ -5,6 +5,7 @@
 // geometric least squares (Gauss-Newton on centre and radius).
 #include <limits>
 #include <span>
+#include <vector>
 
 #include <Eigen/Core>
 
@@ -24,6 +25,29 @@ CircleFit fitCircle(std::span<const Eigen::Vector3d> pts, double straight_tol = 
 
 // Fits over the points whose cumulative arc length from pts[0] lies in [s0, s1].
 CircleFit fitCircleSection(std::span<const Eigen::Vector3d> pts, double s0, double s1);
+
+// The points whose cumulative arc length from pts[0] lies in [s0, s1].
+std::span<const Eigen::Vector3d> pathSection(std::span<const Eigen::Vector3d> pts, double s0, double s1);
+
+// Largest distance of the points from the chord between the first and the last.
+double sagitta(std::span<const Eigen::Vector3d> pts);
+
+// A fitted circle describes the points as one circular arc when its rms distance from them
+// is at most this share of their sagitta (an S-curve or a path whose curvature changes
+// sign is far above it; a model path of slowly varying curvature far below).
+inline constexpr double kOneArcRmsShare = 0.02;
+// Whether `fit` (of `pts`) is one circular arc: a finite radius within kOneArcRmsShare.
+bool isOneArc(const CircleFit& fit, std::span<const Eigen::Vector3d> pts);
+
+// A piece of a path between two breaks (bevel rotations) and the circle fitted to it.
+struct PathPiece {
+  double s0 = 0.0, s1 = 0.0;  // m, arc length along the path
+  CircleFit fit;
+  bool arc = false;       // isOneArc
+  bool straight = false;  // collinear points: no radius
+};
+// The path split at the arc lengths `breaks` (ascending; those outside the path are ignored).
+std::vector<PathPiece> pathPieces(std::span<const Eigen::Vector3d> pts, std::span<const double> breaks);
 
 // Seed 002 Table 2 layout: three equal sections of `section` metres and the whole.
 struct SectionRadii {

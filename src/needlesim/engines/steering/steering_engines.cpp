@@ -1,9 +1,11 @@
 #include "needlesim/engines/steering/steering_engines.hpp"
 
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <numbers>
 
 #include "needlesim/core/error.hpp"
@@ -12,6 +14,7 @@
 #include "needlesim/engines/steering/curvature_fit.hpp"
 #include "needlesim/engines/steering/energy_model.hpp"
 #include "needlesim/materials/material_spec.hpp"
+#include "needlesim/results/display_units.hpp"
 
 namespace needlesim::engines {
 namespace {
@@ -76,37 +79,150 @@ void pathTables(const SteeringInputs& in, const std::vector<Vec3>& path, const s
   sink.table("needle_shapes", std::move(shp));
 }
 
-// Final tip and the radii over the three 50 mm sections and the whole path (seed 002
-// section 5.1, Table 2).
-void pathResults(const SteeringInputs& in, const std::vector<Vec3>& path, ResultSink& sink) {
-  const std::vector<double> s = arcLengths(path);
-  const Vec3 end = path.back(), tip = inTissue(in.frame, end);
-  sink.result("final_deflection", std::hypot(end.x(), end.y()), "m",
-              "tip distance from the entry axis at the end of the insertion");
-  sink.result("tip_x", tip.x(), "m", "final tip depth from the entry face (tissue frame)");
-  sink.result("tip_y", tip.y(), "m", "final tip position across the width, in the insertion plane (bevel 0 steers to -y)");
-  sink.result("tip_z", tip.z(), "m", "final tip position out of the insertion plane");
-  sink.result("inserted_length", s.back(), "m", "length of the tip path");
-  const steering::SectionRadii r = steering::sectionRadii(path, 0.05);
-  const char* names[3] = {"radius_0_50mm", "radius_50_100mm", "radius_100_150mm"};
-  bool all = true;
-  for (int k = 0; k < 3; ++k) {
-    const bool enough = s.back() >= (k + 1) * 0.05 - 1e-5;  // chords: 10 um slack
-    if (enough && std::isfinite(r.rho[k]))
-      sink.result(names[k], r.rho[k], "m", fmt::format("radius of curvature fitted over {}-{} mm of the path", 50 * k, 50 * (k + 1)));
-    else
-      all = false;
+// A length for a note, in the scenario's display unit: "250 mm".
+std::string lengthText(const SteeringInputs& in, double metres) {
+  return results::shownText(metres, "m", in.display, "{:.4g}");
+}
+
+// A stretch of the path for a note, in the display unit of lengths: "0-75 mm".
+std::string spanText(const SteeringInputs& in, double s0, double s1) {
+  const units::Shown a = units::shown(s0, "m", in.display), b = units::shown(s1, "m", in.display);
+  return fmt::format("{:.4g}-{:.4g} {}", a.value, b.value, b.unit);
+}
+
+// The arc lengths at which the plan rotates the bevel: where one arc of the path may end.
+std::vector<double> bevelRotations(const std::vector<Control>& plan) {
+  std::vector<double> at;
+  double s = 0.0;
+  for (const Control& c : plan) {
+    if (c.rotate != 0.0 && s > 0.0) at.push_back(s);
+    s += c.length;
   }
-  if (all) sink.result("radius_mean", r.mean, "m", "mean of the three section radii (seed 002 Table 2)");
-  if (std::isfinite(r.whole))
-    sink.result("radius_whole", r.whole, "m", "radius of curvature fitted over the whole path (rho_exp of Table 2)");
-  sink.result("curvature_whole", std::isfinite(r.whole) ? 1.0 / r.whole : 0.0, "1/m",
-              "1 / radius_whole (0 for a straight path)");
+  return at;
+}
+
+// Final tip position; a coordinate within round-off of the path length (1e-12 of it) is 0.
+void tipResults(const SteeringInputs& in, const std::vector<Vec3>& path, double length, ResultSink& sink) {
+  const auto clean = [&](double v) { return std::abs(v) <= 1e-12 * length ? 0.0 : v; };
+  const Vec3 end = path.back(), tip = inTissue(in.frame, end);
+  sink.result("final_deflection", clean(std::hypot(end.x(), end.y())), "m",
+              "tip distance from the entry axis at the end of the insertion");
+  sink.result("tip_x", clean(tip.x()), "m", "final tip depth from the entry face (tissue frame)");
+  sink.result("tip_y", clean(tip.y()), "m", "final tip position across the width, in the insertion plane (bevel 0 steers to -y)");
+  sink.result("tip_z", clean(tip.z()), "m", "final tip position out of the insertion plane");
+  sink.result("inserted_length", length, "m", "length of the tip path");
+}
+
+// The radii of the three 50 mm sections of seed 002 Table 2 that are circular arcs; the
+// names of those left out because they are not.
+std::vector<std::string> sectionResults(const std::vector<Vec3>& path, double length, ResultSink& sink) {
+  const char* names[3] = {"radius_0_50mm", "radius_50_100mm", "radius_100_150mm"};
+  std::vector<std::string> notArcs;
+  double sum = 0.0;
+  int reported = 0;
+  for (int k = 0; k < 3; ++k) {
+    if (length < (k + 1) * 0.05 - 1e-5) continue;  // chords: 10 um slack
+    const auto section = steering::pathSection(path, k * 0.05, (k + 1) * 0.05);
+    const steering::CircleFit f = steering::fitCircle(section);
+    if (!std::isfinite(f.radius)) continue;  // straight
+    if (!steering::isOneArc(f, section)) {
+      notArcs.emplace_back(names[k]);
+      continue;
+    }
+    sink.result(names[k], f.radius, "m", fmt::format("radius of curvature fitted over {}-{} mm of the path", 50 * k, 50 * (k + 1)));
+    sum += f.radius;
+    ++reported;
+  }
+  if (reported == 3) sink.result("radius_mean", sum / 3, "m", "mean of the three section radii (seed 002 Table 2)");
+  return notArcs;
+}
+
+// A path that is not one arc: the radius of each piece between bevel rotations that is one,
+// and a note saying why there is no radius for the whole path.
+void piecewiseArcResults(const SteeringInputs& in, const std::vector<Vec3>& path, const steering::CircleFit& whole,
+                         std::vector<std::string> leftOut, ResultSink& sink) {
+  const std::vector<double> breaks = bevelRotations(in.plan);
+  const std::vector<steering::PathPiece> pieces = steering::pathPieces(path, breaks);
+  std::string arcs;
+  for (std::size_t k = 0; k < pieces.size(); ++k) {
+    const steering::PathPiece& p = pieces[k];
+    const std::string span = spanText(in, p.s0, p.s1);
+    const std::string sep = k == 0 ? "" : (k + 1 == pieces.size() ? " and " : ", ");
+    if (p.arc) {
+      sink.result(fmt::format("radius_arc{}", k + 1), p.fit.radius, "m",
+                  fmt::format("radius of curvature of the arc over {} of the path (between bevel rotations)", span));
+      arcs += fmt::format("{}an arc of radius {} over {}", sep, lengthText(in, p.fit.radius), span);
+    } else {
+      arcs += fmt::format("{}{} over {}", sep, p.straight ? "a straight piece" : "a piece that is no arc either", span);
+    }
+  }
+  leftOut.insert(leftOut.begin(), "radius_whole");
+  const std::string why =
+      fmt::format("a circle fitted to it is {} off the path on average, {:.0f} % of the path's sagitta",
+                  lengthText(in, whole.rms), 100 * whole.rms / steering::sagitta(path));
+  const std::string shape =
+      pieces.size() > 1
+          ? fmt::format("The tip path is not one circular arc ({}): between bevel rotations it is {}.", why, arcs)
+          : fmt::format("The tip path is not one circular arc ({}), and no bevel rotation splits it into arcs.", why);
+  sink.note(shape + fmt::format(" A radius fitted across them describes no part of the path: {} {} not reported.",
+                                fmt::join(leftOut, ", "), leftOut.size() == 1 ? "is" : "are"));
+}
+
+// Final tip and the radii of curvature (seed 002 section 5.1, Table 2): over the three 50 mm
+// sections and the whole path when each is one circular arc; for a path that is not (an
+// S-curve after a bevel flip), the arcs between bevel rotations. Returns the whole path's
+// radius when it is one arc (else infinity: no Pi1).
+double pathResults(const SteeringInputs& in, const std::vector<Vec3>& path, ResultSink& sink) {
+  const double length = arcLengths(path).back();
+  tipResults(in, path, length, sink);
+  std::vector<std::string> leftOut = sectionResults(path, length, sink);
+  const steering::CircleFit whole = steering::fitCircle(path);
+  if (!std::isfinite(whole.radius)) {
+    sink.result("curvature_whole", 0.0, "1/m", "curvature of the whole path (0: a straight path)");
+    sink.note("The tip path is straight: it has no radius of curvature (radius_whole is not reported).");
+    return whole.radius;
+  }
+  if (steering::isOneArc(whole, path)) {
+    sink.result("radius_whole", whole.radius, "m", "radius of curvature fitted over the whole path (rho_exp of Table 2)");
+    sink.result("curvature_whole", 1.0 / whole.radius, "1/m", "1 / radius_whole");
+    if (!leftOut.empty())
+      sink.note(fmt::format("Not every 50 mm section is a circular arc: {} not reported.", fmt::join(leftOut, ", ")));
+    return whole.radius;
+  }
+  if (!leftOut.empty()) leftOut.emplace_back("radius_mean");
+  piecewiseArcResults(in, path, whole, std::move(leftOut), sink);
+  return std::numeric_limits<double>::infinity();
+}
+
+// Seed 002's groups (eqs 1-3) and, when its length scale is within 1e3 of the inserted length,
+// seed 004's (eqs 2-3); otherwise a note with their values says why they are left out.
+void groupResults(const SteeringInputs& in, double length, double rho, ResultSink& sink) {
+  needle::DimensionalInput d{in.section.youngs_modulus, in.section.secondMoment(), in.alpha, in.C10, in.Gc,
+                             in.mu, in.P_input, length, std::isfinite(rho) ? rho : 0.0};
+  const needle::DimensionalGroups g = needle::dimensionalGroups(d);
+  if (std::isfinite(rho)) sink.result("Pi1", g.Pi1, "1", "rho/rho0, seed 002 eq 2");
+  report(sink, {{"rho0", g.rho0, "m", "length scale Gc^2/(E C10 I^1/4), seed 002 eq 3"},
+                {"Pi2", g.Pi2, "1", "P_input E C10 I^1/4 / Gc^3, seed 002 eq 2"},
+                {"Pi3", g.Pi3, "1", "alpha E C10 I^1/2 / Gc^2, seed 002 eq 2"}});
+  sink.result("Pi4", g.Pi4, "1",
+              in.mu == 0 ? "mu E C10 I^1/2 / Gc^2, seed 002 eq 2 (0: no friction, mu = 0)"
+                         : "mu E C10 I^1/2 / Gc^2, seed 002 eq 2");
+  const double scale = g.s004_length / length;
+  if (scale >= 1e-3 && scale <= 1e3) {
+    report(sink, {{"length_s004", g.s004_length, "m", "E Gc / C10^2, seed 004 eq 3"},
+                  {"Pi2_s004", g.s004_Pi2, "1", "I C10^5 / (E Gc^4), seed 004 eq 2"},
+                  {"Pi3_s004", g.s004_Pi3, "1", "u C10^2 / (E Gc), u = inserted length, seed 004 eq 2"}});
+    return;
+  }
+  sink.note(fmt::format("Seed 004's length scale E Gc / C10^2 (eq 3) is {} here, {:.2g} times the inserted length, so "
+                        "its groups I C10^5 / (E Gc^4) = {:.2g} and u C10^2 / (E Gc) = {:.2g} (eq 2) say only that this "
+                        "needle is far from that scale; they are not reported as key results.",
+                        lengthText(in, g.s004_length), scale, g.s004_Pi2, g.s004_Pi3));
 }
 
 // Tip loads (seed 002 eqs 24-26), the roller reaction of section 4 and the dimensional
-// analysis (seed 002 eqs 1-3, seed 004 eqs 1-3).
-void loadResults(const SteeringInputs& in, const std::vector<Vec3>& path, ResultSink& sink) {
+// analysis (seed 002 eqs 1-3, seed 004 eqs 1-3); rho: the whole path's radius (inf: none).
+void loadResults(const SteeringInputs& in, double length, double rho, ResultSink& sink) {
   sink.result("tip_P", in.tip.P, "N", "axial tip load, seed 002 eq 24");
   sink.result("tip_Q", in.tip.Q, "N", "transverse tip load from the bevel edges, seed 002 eq 25 (- = towards the sharp side)");
   sink.result("tip_M", in.tip.M, "N m", "tip moment, seed 002 eq 26");
@@ -120,19 +236,7 @@ void loadResults(const SteeringInputs& in, const std::vector<Vec3>& path, Result
               "eqs 1-3 are not reported.");
     return;
   }
-  const steering::SectionRadii r = steering::sectionRadii(path, 0.05);
-  const double length = arcLengths(path).back();
-  needle::DimensionalInput d{in.section.youngs_modulus, in.section.secondMoment(), in.alpha, in.C10, in.Gc,
-                             in.mu, in.P_input, length, std::isfinite(r.whole) ? r.whole : 0.0};
-  const needle::DimensionalGroups g = needle::dimensionalGroups(d);
-  if (std::isfinite(r.whole)) sink.result("Pi1", g.Pi1, "1", "rho/rho0, seed 002 eq 2");
-  report(sink, {{"rho0", g.rho0, "m", "length scale Gc^2/(E C10 I^1/4), seed 002 eq 3"},
-                {"Pi2", g.Pi2, "1", "P_input E C10 I^1/4 / Gc^3, seed 002 eq 2"},
-                {"Pi3", g.Pi3, "1", "alpha E C10 I^1/2 / Gc^2, seed 002 eq 2"},
-                {"Pi4", g.Pi4, "1", "mu E C10 I^1/2 / Gc^2, seed 002 eq 2"},
-                {"length_s004", g.s004_length, "m", "E Gc / C10^2, seed 004 eq 3"},
-                {"Pi2_s004", g.s004_Pi2, "1", "I C10^5 / (E Gc^4), seed 004 eq 2"},
-                {"Pi3_s004", g.s004_Pi3, "1", "u C10^2 / (E Gc), u = inserted length, seed 004 eq 2"}});
+  groupResults(in, length, rho, sink);
 }
 
 // Plots in mm, tissue frame: the tip path (depth x against y and z), the deflection from
@@ -172,8 +276,8 @@ void pathPlots(const SteeringInputs& in, const std::string& engine, const std::v
 // Common report of the three steering engines.
 void report(const SteeringInputs& in, const std::string& engine, const std::vector<Vec3>& path,
             const std::vector<Shape>& shapes, ResultSink& sink) {
-  pathResults(in, path, sink);
-  loadResults(in, path, sink);
+  const double rho = pathResults(in, path, sink);
+  loadResults(in, arcLengths(path).back(), rho, sink);
   pathPlots(in, engine, path, shapes, sink);
   for (const auto& n : in.notes) sink.note(n);
   pathTables(in, path, shapes, sink);
@@ -321,6 +425,7 @@ SteeringInputs steeringInputs(const Scenario& sc) {
   in.beta = bevel ? st.beta_over_alpha * in.alpha : 0.0;
   if (!bevel) in.notes.push_back("Symmetric (conical or blunt) tip: no tip asymmetry, so the needle goes straight.");
   in.frame = needle::InsertionFrame::fromInsertion(sc.insertion);
+  in.display = sc.output.units;
   tissueInputs(sc, in);
   tipLoadInputs(sc, bevel, in);
   planInputs(sc, in);

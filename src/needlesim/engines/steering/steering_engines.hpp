@@ -45,6 +45,7 @@ struct SteeringInputs {
   // and report in the tissue frame: entry + z axial + y lateral - x outOfPlane.
   needle::InsertionFrame frame;
   std::vector<std::string> notes;
+  units::DisplayUnits display;  // the scenario's display units, for lengths written in notes
 };
 
 // Throws InputError for what the steering engines cannot run (no insertion into the
