@@ -4,6 +4,7 @@ and attributes name their HDF5 datasets, which are read with h5py (Debian
 python3-h5py) as stored, with any number of components (a scalar is 1-D, a
 vector or tensor rows x components)."""
 import pathlib
+import re
 import xml.etree.ElementTree as ET
 
 import numpy as np
@@ -98,12 +99,18 @@ class _Arrays:
         return "{%s}" % ", ".join("'%s': array%s" % (k, self[k].shape) for k in self._refs)
 
 
+def _array_name(xdmf_name):
+    """The array's name without the unit the XDMF name carries: "displacement [m]" -> "displacement"."""
+    return re.sub(r" \[[^\]]*\]$", "", xdmf_name)
+
+
 class FieldStep:
     """One time step: `time` [s], `points` (n x dim), `cells` (connectivity, or None
     for points without cells), `point_data[name]` and `cell_data[name]` (arrays)."""
 
-    def __init__(self, store, time, cell_type, geometry, topology, point_refs, cell_refs):
+    def __init__(self, store, time, cell_type, geometry, topology, point_refs, cell_refs, nodes_per_cell=1):
         self._store = store
+        self._nodes_per_cell = nodes_per_cell
         self.time = time
         self.cell_type = cell_type
         self._geometry = geometry
@@ -117,7 +124,11 @@ class FieldStep:
 
     @property
     def cells(self):
-        return None if self._topology is None else self._store.array(self._topology)
+        """Connectivity, one row per cell (a Polyvertex has one point per row)."""
+        if self._topology is None:
+            return None
+        cells = self._store.array(self._topology)
+        return cells.reshape(-1, self._nodes_per_cell) if cells.ndim == 1 else cells
 
     def _load(self):
         _ = self.points, self.cells
@@ -171,9 +182,11 @@ class FieldSeries:
         point_refs, cell_refs = {}, {}
         for attr in grid.findall("./Attribute"):
             refs = cell_refs if attr.get("Center", "Node") == "Cell" else point_refs
-            refs[attr.get("Name")] = _Ref(self.path, attr.find("./DataItem"))
+            refs[_array_name(attr.get("Name"))] = _Ref(self.path, attr.find("./DataItem"))
+        nodes_per_cell = int(topology.get("NodesPerElement", "1")) if topology is not None else 1
         return FieldStep(self._store, t, cell_type, _Ref(self.path, geometry),
-                         None if topo_item is None else _Ref(self.path, topo_item), point_refs, cell_refs)
+                         None if topo_item is None else _Ref(self.path, topo_item), point_refs, cell_refs,
+                         nodes_per_cell)
 
     @property
     def times(self):
@@ -234,6 +247,7 @@ class FieldSeries:
         """Read every array into memory."""
         for s in self.steps:
             s._load()
+        _ = self.units  # the HDF5 attributes too
         return self
 
     def __len__(self):

@@ -91,6 +91,8 @@ def test_fields_are_arrays_with_consistent_shapes(run_of, engine):
     for series in r.fields.values():
         check_series_shapes(series)
         check_displacement_moves_points(series)
+        if "displacement" in series.point_data_names():
+            assert series.units["displacement"] == "m", series.units
         for name in series.point_data_names():
             stacked = series.point_data(name)
             assert stacked.shape[:2] == (len(series), len(series.points))
