@@ -13,6 +13,7 @@ std::size_t TissueSpec::layerAt(double x) const {
 }
 
 bool InclusionSpec::contains(double px, double py, double pz) const {
+  if (shape == Shape::Mesh) return false;
   const double dx = px - x, dy = py - y, dz = shape == Shape::Cylinder ? 0.0 : pz - z;
   return dx * dx + dy * dy + dz * dz <= radius * radius;
 }

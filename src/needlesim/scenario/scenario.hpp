@@ -45,7 +45,9 @@ struct LayerSpec {
 // depth x from the entry face, y across the width from the block's centre line,
 // z across the height from the block's mid-plane.
 struct InclusionSpec {
-  enum class Shape { Sphere, Cylinder };  // cylinder: axis along z through the whole height
+  // cylinder: axis along z through the whole height; mesh: a group of tissue.geometry (its elements
+  // are the inclusion; x, y, z is their centroid and radius the radius of a sphere of their volume)
+  enum class Shape { Sphere, Cylinder, Mesh };
   std::string name;
   Shape shape = Shape::Sphere;
   double x = 0.0, y = 0.0, z = 0.0;  // m, centre
@@ -56,15 +58,33 @@ struct InclusionSpec {
   bool target = false;                // the needle aims at it: its displacement is the targeting error
   bool sliding = false;               // separate body in contact with the tissue (false: bonded)
   double interface_friction = 0.0;    // Coulomb coefficient between a sliding inclusion and the tissue
-  // Whether the tissue-frame point (x, y, z) lies inside it.
+  // Whether the tissue-frame point (x, y, z) lies inside it (a Mesh inclusion: never; its
+  // elements carry its region, ImportedGeometry::region).
   bool contains(double px, double py, double pz) const;
 };
 
+// A tissue geometry imported from a file (tissue.geometry: a Gmsh mesh or script, or closed
+// surfaces meshed by Gmsh), scaled by its unit and placed in the tissue frame by the scenario
+// reader (scenario/tissue_geometry.hpp). Engines take the mesh and the region of each element
+// from here; they never read the file.
+struct ImportedGeometry {
+  std::string file;                        // as the scenario names it (several surfaces: joined by ", ")
+  std::shared_ptr<const mesh::VolumeMesh> mesh;  // placed: tissue frame, metres
+  std::vector<int> region;                 // per element: layer index, or layers.size() + inclusion index
+  double lo[3] = {0, 0, 0}, hi[3] = {0, 0, 0};  // m, bounding box of the placed mesh (z = 0 for a 2D mesh)
+  std::vector<char> supported;             // per node: 1 = held fixed (the far side, tissue.geometry.support_depth)
+  double entry_depth = 0.0;                // m, tip depth along the needle axis where it meets the tissue
+  double entry_point[3] = {0, 0, 0};       // m, that point in the tissue frame
+};
+
 struct TissueSpec {
+  // An imported geometry sets the block to the smallest one of the tissue frame (x from the entry
+  // plane 0, y and z centred) that holds it.
   double length = 0.0;  // m, block extent along the insertion axis (entry face to exit face)
   double width = 0.0;   // m
   double height = 0.0;  // m
-  std::vector<LayerSpec> layers;  // stacked from the entry face; thicknesses sum to length
+  std::shared_ptr<const ImportedGeometry> geometry;  // tissue.geometry; null = the block itself is the tissue
+  std::vector<LayerSpec> layers;  // stacked from the entry face, thicknesses sum to length (imported geometry: its groups by name)
   std::vector<InclusionSpec> inclusions;
   // Index of the layer at depth x from the entry face (the last one beyond the block).
   std::size_t layerAt(double x) const;
