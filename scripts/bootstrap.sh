@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
 # Installs the Debian packages needlesim needs to build, test and run
+# (libgmsh-dev: imported meshes, Gmsh scripts and surfaces, tissue.geometry)
 # (python3-paraview, xvfb, libgl1-mesa-dri, python3-meshio, python3-h5py: the field-file test,
 # tests/paraview).
 # Safe to run again: it asks apt only for what is missing.
@@ -14,6 +15,7 @@ PKGS=(
   python3-numpy python3-pytest python3-h5py python3-matplotlib
   python3-venv python3-pip python3-setuptools python3-wheel
   calculix-ccx
+  libgmsh-dev
   python3-paraview xvfb libgl1-mesa-dri python3-meshio python3-h5py
 )
 missing=()

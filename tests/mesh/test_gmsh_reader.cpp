@@ -1,21 +1,114 @@
-// mesh/gmsh_reader: a Gmsh 4.1 ASCII file of two quads (entity 1 in physical group 7) and a
-// line element (skipped), read into the neutral mesh; bad files are refused naming the file.
-// The scenario layer reads model.explicit.mesh relative to the scenario file.
+// mesh/gmsh_reader (Gmsh's library): .msh files of formats 2 and 4, ASCII and binary, first and
+// second order, and .geo scripts read into the neutral mesh with the same elements; closed
+// surfaces meshed into tetrahedra whose volume is the enclosed one, a surface inside another a
+// body of its own; bad files (missing, mixed types, inverted or degenerate elements, open or
+// crossing surfaces) refused naming the file.
 #include <gtest/gtest.h>
 
 #include <unistd.h>
 
+#include <cmath>
 #include <filesystem>
+#include <fmt/format.h>
+#include <functional>
 #include <fstream>
+#include <numbers>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/gmsh_reader.hpp"
-#include "needlesim/scenario/mesh_file.hpp"
 
 using namespace needlesim;
 
 namespace {
-const char* kTwoQuads = R"($MeshFormat
+
+std::filesystem::path tempDir() {
+  auto dir = std::filesystem::temp_directory_path() / ("needlesim_mesh_test_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  return dir;
+}
+
+std::filesystem::path writeTemp(const std::string& name, const std::string& text) {
+  auto p = tempDir() / name;
+  std::ofstream(p) << text;
+  return p;
+}
+
+double totalMeasure(const mesh::VolumeMesh& m, int tag = -1) {
+  double v = 0.0;
+  for (int e = 0; e < m.elements(); ++e)
+    if (tag < 0 || m.tag[e] == tag) v += mesh::elementMeasure(m, e);
+  return v;
+}
+
+std::string expectRefused(const std::function<void()>& f) {
+  try {
+    f();
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  ADD_FAILURE() << "expected an InputError";
+  return "";
+}
+
+// A 20 x 10 block of triangles (group "gel"), saved by the script in every format it names.
+const char* kBlockScript = R"(
+Point(1) = {0, -5, 0, 2}; Point(2) = {20, -5, 0, 2}; Point(3) = {20, 5, 0, 2}; Point(4) = {0, 5, 0, 2};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Surface("gel", 5) = {1};
+Mesh 2;
+Mesh.MshFileVersion = 2.2; Mesh.Binary = 0; Save "block22.msh";
+Mesh.MshFileVersion = 2.2; Mesh.Binary = 1; Save "block22b.msh";
+Mesh.MshFileVersion = 4.1; Mesh.Binary = 1; Save "block41b.msh";
+Mesh.MshFileVersion = 4.1; Mesh.Binary = 0; Save "block41.msh";
+SetOrder 2; Save "block41q.msh";
+)";
+
+}  // namespace
+
+TEST(GmshReader, EveryFormatAndOrderGivesTheSameElements) {
+  const auto script = writeTemp("block.geo", kBlockScript);
+  std::filesystem::current_path(script.parent_path());
+  const auto fromScript = mesh::readGmsh(script.string());
+  EXPECT_EQ(fromScript.dim, 2);
+  EXPECT_EQ(fromScript.element, "tri3");
+  EXPECT_NEAR(totalMeasure(fromScript), 200.0, 1e-9);  // the block's area, every element positive
+  for (const char* f : {"block22.msh", "block22b.msh", "block41b.msh", "block41.msh", "block41q.msh"}) {
+    SCOPED_TRACE(f);
+    const auto m = mesh::readGmsh((script.parent_path() / f).string());
+    EXPECT_EQ(m.element, "tri3");  // second order keeps its corners
+    EXPECT_EQ(m.elements(), fromScript.elements());
+    EXPECT_NEAR(totalMeasure(m), 200.0, 1e-9);
+    EXPECT_EQ(m.tag.front(), 5);
+    EXPECT_EQ(m.groupNames.at(5), "gel");
+  }
+  // a second-order file's mid-side nodes are not element corners: no node is left unused
+  const auto quadratic = mesh::readGmsh((script.parent_path() / "block41q.msh").string());
+  EXPECT_EQ(quadratic.nodes(), fromScript.nodes());
+  std::filesystem::remove_all(script.parent_path());
+}
+
+TEST(GmshReader, AScriptIsMeshedAtTheElementSizeAsked) {
+  const auto script = writeTemp("coarse.geo", R"(
+Point(1) = {0, 0, 0}; Point(2) = {10, 0, 0}; Point(3) = {10, 10, 0}; Point(4) = {0, 10, 0};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+)");
+  const auto coarse = mesh::readGmsh(script.string(), 2.0), fine = mesh::readGmsh(script.string(), 0.5);
+  // triangles of side h: about 2 (10 / h)^2 of them (at h = 2 Gmsh makes 162, more than 50, as it
+  // puts extra nodes on the boundary curves); at a quarter of the size at least 4 times as many
+  EXPECT_GT(fine.elements(), 4 * coarse.elements());
+  EXPECT_NEAR(totalMeasure(fine), 100.0, 1e-9);
+  std::filesystem::remove_all(script.parent_path());
+}
+
+TEST(GmshReader, BadMeshFilesAreRefusedNamingTheFile) {
+  EXPECT_NE(expectRefused([] { mesh::readGmsh("/nonexistent/needlesim.msh"); }).find("does not exist"), std::string::npos);
+  const auto garbage = writeTemp("garbage.msh", "not a mesh\n");
+  EXPECT_NE(expectRefused([&] { mesh::readGmsh(garbage.string()); }).find("garbage.msh"), std::string::npos);
+  // two quadrilaterals, the second turning the other way
+  const auto inverted = writeTemp("inverted.msh", R"($MeshFormat
 4.1 0 8
 $EndMeshFormat
 $Entities
@@ -39,56 +132,117 @@ $Nodes
 2 1 0
 $EndNodes
 $Elements
-2 3 1 3
-1 1 1 1
-3 1 2
+1 2 1 2
 2 1 3 2
 1 1 2 5 4
 2 2 5 6 3
 $EndElements
-)";
+)");
+  std::string why = expectRefused([&] { mesh::readGmsh(inverted.string()); });
+  EXPECT_NE(why.find("element 2 (quad4) is inverted"), std::string::npos) << why;
+  EXPECT_NE(why.find("inverted.msh"), std::string::npos) << why;
+  const auto degenerate = writeTemp("degenerate.msh", R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+4
+1 0 0 0
+2 1 0 0
+3 0 1 0
+4 2 0 0
+$EndNodes
+$Elements
+2
+1 2 2 1 1 1 2 3
+2 2 2 1 1 1 2 4
+$EndElements
+)");
+  why = expectRefused([&] { mesh::readGmsh(degenerate.string()); });
+  EXPECT_NE(why.find("element 2 (tri3) is degenerate"), std::string::npos) << why;
+  const auto mixed = writeTemp("mixed.msh", R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$Nodes
+5
+1 0 0 0
+2 1 0 0
+3 1 1 0
+4 0 1 0
+5 2 0 0
+$EndNodes
+$Elements
+2
+1 3 2 1 1 1 2 3 4
+2 2 2 1 1 2 5 3
+$EndElements
+)");
+  why = expectRefused([&] { mesh::readGmsh(mixed.string()); });
+  EXPECT_NE(why.find("mixes quad4 and tri3"), std::string::npos) << why;
+  std::filesystem::remove_all(garbage.parent_path());
+}
 
-std::filesystem::path writeTemp(const std::string& name, const std::string& text) {
-  auto dir = std::filesystem::temp_directory_path() / ("needlesim_mesh_test_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(dir);
-  auto p = dir / name;
-  std::ofstream(p) << text;
-  return p;
+namespace {
+// ASCII STL of the tetrahedron (0,0,0), (a,0,0), (0,a,0), (0,0,a); without its last face when open.
+std::string tetrahedronStl(double a, bool open) {
+  const double P[4][3] = {{0, 0, 0}, {a, 0, 0}, {0, a, 0}, {0, 0, a}};
+  const int faces[4][3] = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
+  std::string s = "solid tet\n";
+  for (int f = 0; f < (open ? 3 : 4); ++f) {
+    s += " facet normal 0 0 0\n  outer loop\n";
+    for (int v : faces[f]) s += fmt::format("   vertex {} {} {}\n", P[v][0], P[v][1], P[v][2]);
+    s += "  endloop\n endfacet\n";
+  }
+  return s + "endsolid tet\n";
+}
+
+// Sphere surfaces (radius, centre x) written as STL by Gmsh's OpenCASCADE kernel.
+void writeSphereStl(const std::string& name, double radius, double cx) {
+  const auto script = writeTemp(name + ".geo", fmt::format(R"(SetFactory("OpenCASCADE");
+Sphere(1) = {{{}, 0, 0, {}}};
+Mesh.MeshSizeMax = {};
+Mesh 2;
+Save "{}.stl";
+)",
+                                                           cx, radius, radius / 6, name));
+  std::filesystem::current_path(script.parent_path());
+  mesh::readGmsh(script.string());
 }
 }  // namespace
 
-TEST(GmshReader, ReadsGmsh41AsciiTopDimensionWithPhysicalTags) {
-  const auto path = writeTemp("two_quads.msh", kTwoQuads);
-  const mesh::VolumeMesh m = mesh::readGmsh(path.string());
-  EXPECT_EQ(m.dim, 2);
-  EXPECT_EQ(m.element, "quad4");
-  EXPECT_EQ(m.nodesPerElement(), 4);
-  EXPECT_EQ(m.elements(), 2);
-  EXPECT_EQ(m.nodes(), 6);
-  EXPECT_DOUBLE_EQ(m.X[5 * 2 + 0], 2.0);
-  EXPECT_EQ(m.conn, (std::vector<int>{0, 1, 4, 3, 1, 4, 5, 2}));  // file order (the second is clockwise)
-  EXPECT_EQ(m.tag, (std::vector<int>{7, 7}));
-  std::filesystem::remove_all(path.parent_path());
+TEST(GmshSurfaces, AClosedSurfaceIsFilledWithTetrahedraOfItsVolume) {
+  const auto stl = writeTemp("tet.stl", tetrahedronStl(10.0, false));
+  const auto m = mesh::meshSurfaces({{stl.string(), "gel"}}, 2.0);
+  EXPECT_EQ(m.dim, 3);
+  EXPECT_EQ(m.element, "tet4");
+  EXPECT_GT(m.elements(), 20);
+  EXPECT_NEAR(totalMeasure(m), 1000.0 / 6.0, 1e-9);  // flat faces: the volume exactly
+  EXPECT_EQ(m.groupNames.at(1), "gel");
+  std::filesystem::remove_all(stl.parent_path());
 }
 
-TEST(GmshReader, BadFilesAreRefusedNamingTheFile) {
-  EXPECT_THROW(mesh::readGmsh("/nonexistent/needlesim.msh"), InputError);
-  const auto path = writeTemp("old.msh", "$MeshFormat\n2.2 0 8\n$EndMeshFormat\n");
-  try {
-    mesh::readGmsh(path.string());
-    FAIL() << "expected an InputError";
-  } catch (const InputError& e) {
-    EXPECT_NE(std::string(e.what()).find("old.msh"), std::string::npos) << e.what();
-  }
-  std::filesystem::remove_all(path.parent_path());
+TEST(GmshSurfaces, ASurfaceInsideAnotherIsAHoleOfItAndABodyOfItsOwn) {
+  writeSphereStl("organ", 10.0, 0.0);
+  writeSphereStl("tumour", 3.0, 2.0);
+  const auto dir = tempDir();
+  const auto m = mesh::meshSurfaces({{(dir / "organ.stl").string(), "organ"}, {(dir / "tumour.stl").string(), "tumour"}}, 1.5);
+  const double organ = totalMeasure(m, 1), tumour = totalMeasure(m, 2);
+  const double sphere = 4.0 / 3.0 * std::numbers::pi;
+  // facets inscribed in the spheres at h = r/6 lose about (h/r)^2 / 4 of the volume: under 1 %
+  EXPECT_NEAR(tumour, sphere * 27.0, 0.02 * sphere * 27.0);
+  EXPECT_NEAR(organ, sphere * (1000.0 - 27.0), 0.02 * sphere * 1000.0);
+  EXPECT_EQ(m.groupNames.at(2), "tumour");
+  std::filesystem::remove_all(dir);
 }
 
-TEST(GmshReader, ScenarioMeshPathIsRelativeToTheScenarioFile) {
-  const auto path = writeTemp("two_quads.msh", kTwoQuads);
-  const auto scenarioFile = (path.parent_path() / "scenario.yaml").string();
-  const auto m = scenario::readMeshFile("two_quads.msh", scenarioFile);
-  ASSERT_TRUE(m);
-  EXPECT_EQ(m->elements(), 2);
-  EXPECT_FALSE(scenario::readMeshFile("", scenarioFile));
-  std::filesystem::remove_all(path.parent_path());
+TEST(GmshSurfaces, OpenOrCrossingSurfacesAreRefused) {
+  const auto open = writeTemp("open.stl", tetrahedronStl(10.0, true));
+  std::string why = expectRefused([&] { mesh::meshSurfaces({{open.string(), "gel"}}, 2.0); });
+  EXPECT_NE(why.find("open.stl"), std::string::npos) << why;
+  EXPECT_NE(why.find("is not a closed surface"), std::string::npos) << why;
+  writeSphereStl("a", 5.0, 0.0);
+  writeSphereStl("b", 5.0, 6.0);
+  const auto dir = tempDir();
+  why = expectRefused([&] { mesh::meshSurfaces({{(dir / "a.stl").string(), "a"}, {(dir / "b.stl").string(), "b"}}, 2.0); });
+  EXPECT_NE(why.find("cross neither themselves nor each other"), std::string::npos) << why;
+  std::filesystem::remove_all(dir);
 }

@@ -65,6 +65,7 @@ struct EngineInfo {
   bool checkpoints = false;  // writes checkpoints and can resume (RunOptions::checkpoint)
   bool inclusions = false;   // models tissue.inclusions (else a scenario with them is refused)
   PreflightFn preflight;
+  std::vector<int> geometry = {};  // dimensions of an imported tissue.geometry it takes (else refused)
 };
 
 // All engines built into this binary (engines/registry.cpp).
@@ -72,7 +73,7 @@ const std::vector<EngineInfo>& engineRegistry();
 const EngineInfo* findEngine(const std::string& name);
 // The scenario's engine, after checking that it models everything the scenario
 // asks for: InputError (naming the file, the field and the engines that can) for an
-// unknown engine or a tissue feature it does not model. Used by run and check.
+// unknown engine or a tissue feature it does not model (inclusions, an imported geometry). Used by run and check.
 const EngineInfo& engineFor(const Scenario& scenario);
 // engineFor, then its preflight: the step guards and the run's estimate.
 StepEstimate preflight(const Scenario& scenario);

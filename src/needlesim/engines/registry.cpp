@@ -1,6 +1,8 @@
 #include <algorithm>
+#include <fmt/format.h>
 
 #include "needlesim/engines/engine.hpp"
+#include "needlesim/mesh/volume_mesh.hpp"
 #include "needlesim/engines/explicit/explicit_engine.hpp"
 #include "needlesim/engines/lumped/lumped_engine.hpp"
 #include "needlesim/engines/mpm/mpm_engine.hpp"
@@ -33,7 +35,7 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", runMpm, true, true,
        guarded<mpmStepPlan>},
       {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", runExplicit,
-       false, true, guarded<explicitStepPlan>},
+       false, true, guarded<explicitStepPlan>, {2, 3}},
   };
   return list;
 }
@@ -52,6 +54,12 @@ const EngineInfo& engineFor(const Scenario& sc) {
       if (accepts(e)) s += (s.empty() ? "" : ", ") + e.name;
     return s;
   };
+  auto takingGeometry = [](int dim) {
+    std::string s;
+    for (const auto& e : engineRegistry())
+      if (std::find(e.geometry.begin(), e.geometry.end(), dim) != e.geometry.end()) s += (s.empty() ? "" : ", ") + e.name;
+    return s;
+  };
   if (!engine)
     throw InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
                      "is reserved for an engine that this build does not have yet",
@@ -60,6 +68,11 @@ const EngineInfo& engineFor(const Scenario& sc) {
     throw InputError(sc.where("tissue.inclusions"), "tissue.inclusions", sc.tissue.inclusions.front().name,
                      "engine " + engine->name + " does not model bodies embedded in the tissue",
                      "no inclusions, or engine " + names([](const EngineInfo& e) { return e.inclusions; }));
+  if (const auto& g = sc.tissue.geometry;
+      g && std::find(engine->geometry.begin(), engine->geometry.end(), g->mesh->dim) == engine->geometry.end())
+    throw InputError(sc.where("tissue.geometry"), "tissue.geometry", g->file,
+                     fmt::format("engine {} does not take an imported {}D geometry", engine->name, g->mesh->dim),
+                     "tissue.block, or an engine that takes it: " + takingGeometry(g->mesh->dim));
   return *engine;
 }
 

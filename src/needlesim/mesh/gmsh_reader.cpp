@@ -1,168 +1,330 @@
 #include "needlesim/mesh/gmsh_reader.hpp"
 
+#include <gmsh.h>
+
 #include <algorithm>
-#include <fstream>
+#include <cmath>
+#include <filesystem>
+#include <fmt/format.h>
 #include <map>
+#include <mutex>
+#include <set>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/mesh/boundary.hpp"
+#include "needlesim/mesh/closed_surface.hpp"
 
 namespace needlesim::mesh {
 
-int VolumeMesh::nodesPerElement() const {
-  if (element == "tri3") return 3;
-  if (element == "quad4" || element == "tet4") return 4;
-  if (element == "hex8") return 8;
+namespace {
+
+// Gmsh keeps one global model: one import at a time (sweeps read scenarios on several threads).
+std::mutex& gmshMutex() {
+  static std::mutex m;
+  return m;
+}
+
+bool& gmshStarted() {
+  static bool started = false;
+  return started;
+}
+
+// After an error Gmsh's model is left unusable (the next file reads as empty): start afresh.
+void restartGmsh() {
+  gmsh::finalize();
+  gmshStarted() = false;
+}
+
+class GmshSession {
+ public:
+  GmshSession() : lock_(gmshMutex()) {
+    if (!gmshStarted()) {
+      gmsh::initialize(0, nullptr, false);
+      gmshStarted() = true;
+    }
+    gmsh::option::setNumber("General.Terminal", 0);
+    gmsh::option::setNumber("General.Verbosity", 1);
+    gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
+    gmsh::clear();
+  }
+  ~GmshSession() {
+    if (gmshStarted()) gmsh::clear();
+  }
+
+ private:
+  std::lock_guard<std::mutex> lock_;
+};
+
+InputError geometryError(const std::string& path, const std::string& problem, const std::string& allowed) {
+  return InputError(SourceLocation{path, 0, 0}, "tissue.geometry", std::filesystem::path(path).filename().string(),
+                    problem, allowed);
+}
+
+// Runs a Gmsh call, turning Gmsh's own errors into an InputError naming the file.
+template <class F>
+void gmshCall(const std::string& path, const std::string& doing, const std::string& allowed, F&& f) {
+  std::string message;
+  try {
+    f();
+    return;
+  } catch (const std::string& s) {
+    message = s;
+  } catch (const std::exception& e) {
+    message = e.what();
+  } catch (...) {
+    gmsh::logger::getLastError(message);
+  }
+  restartGmsh();
+  throw geometryError(path, fmt::format("Gmsh could not {}: {}", doing, message.empty() ? "no reason given" : message),
+                      allowed);
+}
+
+// Corner-node element family of each Gmsh element type (second order keeps its corners).
+struct Family {
+  const char* name;
+  int dim, corners;
+};
+const std::map<int, Family>& families() {
+  static const std::map<int, Family> f = {
+      {2, {"tri3", 2, 3}},  {9, {"tri3", 2, 3}},   {3, {"quad4", 2, 4}}, {10, {"quad4", 2, 4}}, {16, {"quad4", 2, 4}},
+      {4, {"tet4", 3, 4}},  {11, {"tet4", 3, 4}},  {5, {"hex8", 3, 8}},  {12, {"hex8", 3, 8}},  {17, {"hex8", 3, 8}}};
+  return f;
+}
+
+std::string typeName(int gmshType) {
+  std::string name;
+  int dim = 0, order = 0, nodes = 0, primary = 0;
+  std::vector<double> local;
+  gmsh::model::mesh::getElementProperties(gmshType, name, dim, order, nodes, local, primary);
+  return name;
+}
+
+// Elements of dimension `dim` of every entity, with their group tags, into `m`.
+void collectElements(const std::string& path, int dim, VolumeMesh& m, std::vector<std::size_t>& nodeTags) {
+  gmsh::vectorpair entities;
+  gmsh::model::getEntities(entities, dim);
+  std::set<std::string> seenTypes;
+  for (const auto& [d, entity] : entities) {
+    std::vector<int> groups;
+    gmsh::model::getPhysicalGroupsForEntity(d, entity, groups);
+    const int tag = groups.empty() ? entity : groups.front();
+    if (!groups.empty()) {
+      std::string name;
+      gmsh::model::getPhysicalName(d, tag, name);
+      m.groupNames[tag] = name;
+    }
+    std::vector<int> types;
+    std::vector<std::vector<std::size_t>> elementTags, elementNodes;
+    gmsh::model::mesh::getElements(types, elementTags, elementNodes, d, entity);
+    for (std::size_t k = 0; k < types.size(); ++k) {
+      const auto family = families().find(types[k]);
+      if (family == families().end())
+        throw geometryError(path, fmt::format("has elements of type {} (Gmsh type {})", typeName(types[k]), types[k]),
+                            "triangles, quadrilaterals, tetrahedra or hexahedra, first or second order");
+      seenTypes.insert(family->second.name);
+      m.element = family->second.name;
+      const std::size_t per = elementNodes[k].size() / elementTags[k].size();
+      for (std::size_t e = 0; e < elementTags[k].size(); ++e) {
+        for (int a = 0; a < family->second.corners; ++a) nodeTags.push_back(elementNodes[k][e * per + a]);
+        m.tag.push_back(tag);
+      }
+    }
+  }
+  if (seenTypes.size() > 1)
+    throw geometryError(path, fmt::format("mixes {} elements in one mesh", fmt::join(seenTypes, " and ")),
+                        "one element type (e.g. all tetrahedra: Gmsh without Mesh.RecombineAll)");
+}
+
+int topDimension() {
+  for (int d = 3; d >= 2; --d) {
+    std::vector<int> types;
+    std::vector<std::vector<std::size_t>> tags, nodes;
+    gmsh::model::mesh::getElements(types, tags, nodes, d, -1);
+    for (const auto& t : tags)
+      if (!t.empty()) return d;
+  }
   return 0;
 }
 
-namespace {
-
-struct Block {
-  int dim = 0, entity = 0, type = 0;
-  std::vector<long> conn;  // node tags
-};
-
-struct GmshFile {
-  std::map<std::pair<int, int>, int> physical;  // (dim, entity) -> physical tag
-  std::map<long, int> nodeIndex;               // node tag -> index
-  std::vector<double> X3;                      // x y z per node
-  std::vector<Block> blocks;
-  bool formatOk = false;
-};
-
-void readFormat(std::istream& in, const SourceLocation& where, GmshFile& g) {
-  double ver;
-  int ft, ds;
-  in >> ver >> ft >> ds;
-  if (ver < 4.0 || ft != 0)
-    throw InputError(where, "$MeshFormat", std::to_string(ver), "unsupported Gmsh format",
-                     "format 4.1 ASCII (gmsh -format msh41)");
-  g.formatOk = true;
-}
-
-void readEntities(std::istream& in, GmshFile& g) {
-  std::size_t n[4];
-  in >> n[0] >> n[1] >> n[2] >> n[3];
-  for (int d = 0; d < 4; ++d)
-    for (std::size_t e = 0; e < n[d]; ++e) {
-      int tag;
-      double b;
-      in >> tag;
-      for (int q = 0; q < (d == 0 ? 3 : 6); ++q) in >> b;
-      std::size_t np;
-      in >> np;
-      for (std::size_t p = 0; p < np; ++p) {
-        int ph;
-        in >> ph;
-        if (p == 0) g.physical[{d, tag}] = ph;
-      }
-      if (d > 0) {
-        std::size_t nb;
-        in >> nb;
-        for (std::size_t p = 0; p < nb; ++p) in >> b;
-      }
-    }
-}
-
-void readNodes(std::istream& in, GmshFile& g) {
-  std::size_t nb, nn, mn, mx;
-  std::string tok;
-  in >> nb >> nn >> mn >> mx;
-  for (std::size_t b = 0; b < nb; ++b) {
-    int ed, et, par;
-    std::size_t cnt;
-    in >> ed >> et >> par >> cnt;
-    std::vector<long> tags(cnt);
-    for (auto& t : tags) in >> t;
-    for (std::size_t i = 0; i < cnt; ++i) {
-      double x, y, z;
-      in >> x >> y >> z;
-      for (int p = 0; p < par * ed; ++p) in >> tok;
-      g.nodeIndex[tags[i]] = static_cast<int>(g.X3.size() / 3);
-      g.X3.insert(g.X3.end(), {x, y, z});
-    }
-  }
-}
-
-void readElements(std::istream& in, const SourceLocation& where, GmshFile& g) {
-  std::size_t nb, ne, mn, mx;
-  in >> nb >> ne >> mn >> mx;
-  static const std::map<int, int> npe{{1, 2}, {2, 3}, {3, 4}, {4, 4}, {5, 8}, {15, 1}};
-  for (std::size_t b = 0; b < nb; ++b) {
-    Block bl;
-    std::size_t cnt;
-    in >> bl.dim >> bl.entity >> bl.type >> cnt;
-    auto it = npe.find(bl.type);
-    if (it == npe.end())
-      throw InputError(where, "$Elements", std::to_string(bl.type), "unsupported Gmsh element type",
-                       "first-order points, lines, triangles (2), quads (3), tets (4), hexes (5)");
-    for (std::size_t i = 0; i < cnt; ++i) {
-      long t;
-      in >> t;
-      for (int q = 0; q < it->second; ++q) {
-        in >> t;
-        bl.conn.push_back(t);
-      }
-    }
-    g.blocks.push_back(std::move(bl));
-  }
-}
-
-// The element type name of the highest-dimension blocks (one type only).
-std::string topElement(const GmshFile& g, const SourceLocation& where, int& topDim) {
-  topDim = 0;
-  for (const auto& b : g.blocks) topDim = std::max(topDim, b.dim);
-  int type = -1;
-  for (const auto& b : g.blocks)
-    if (b.dim == topDim) {
-      if (type >= 0 && b.type != type)
-        throw InputError(where, "$Elements", std::to_string(b.type), "mixed element types in one mesh",
-                         "one element type of the highest dimension");
-      type = b.type;
-    }
-  if (topDim < 2 || type < 0)
-    throw InputError(where, "$Elements", "", "no 2D or 3D elements", "triangles, quads, tets or hexes");
-  return type == 2 ? "tri3" : type == 3 ? "quad4" : type == 4 ? "tet4" : "hex8";
-}
-
-VolumeMesh toVolumeMesh(const GmshFile& g, const SourceLocation& where) {
+// The model's mesh of its highest dimension, nodes numbered 0.. in order of first use.
+VolumeMesh extractMesh(const std::string& path) {
   VolumeMesh m;
-  m.element = topElement(g, where, m.dim);
-  for (std::size_t i = 0; i < g.X3.size() / 3; ++i)
-    for (int q = 0; q < m.dim; ++q) m.X.push_back(g.X3[3 * i + q]);
-  const int npe = m.nodesPerElement();
-  for (const auto& b : g.blocks) {
-    if (b.dim != m.dim) continue;
-    auto it = g.physical.find({b.dim, b.entity});
-    const int tag = it == g.physical.end() ? b.entity : it->second;
-    for (long t : b.conn) {
-      auto n = g.nodeIndex.find(t);
-      if (n == g.nodeIndex.end())
-        throw InputError(where, "$Elements", std::to_string(t), "element refers to an unknown node", "");
-      m.conn.push_back(n->second);
+  m.dim = topDimension();
+  if (m.dim == 0)
+    throw geometryError(path, "holds no triangles, quadrilaterals, tetrahedra or hexahedra",
+                        "a 2D or 3D mesh (gmsh -2 or -3), or a script that makes one");
+  std::vector<std::size_t> nodeTags;
+  collectElements(path, m.dim, m, nodeTags);
+  std::vector<std::size_t> allTags;
+  std::vector<double> coord, parametric;
+  gmsh::model::mesh::getNodes(allTags, coord, parametric, -1, -1, true, false);
+  std::map<std::size_t, std::size_t> where;  // node tag -> position in allTags
+  for (std::size_t i = 0; i < allTags.size(); ++i) where[allTags[i]] = i;
+  std::map<std::size_t, int> index;
+  for (std::size_t t : nodeTags) {
+    auto [it, fresh] = index.try_emplace(t, m.nodes());
+    if (fresh) {
+      const auto at = where.find(t);
+      if (at == where.end()) throw geometryError(path, fmt::format("an element uses node {}, which has no coordinates", t), "a complete mesh");
+      const double* p = &coord[3 * at->second];
+      if (m.dim == 2 && std::abs(p[2]) > 1e-12 * (1.0 + std::abs(p[0]) + std::abs(p[1])))
+        throw geometryError(path, fmt::format("is a 2D mesh with node {} at z = {:g}", t, p[2]),
+                            "a 2D mesh in the plane z = 0 (x depth, y across)");
+      for (int i = 0; i < m.dim; ++i) m.X.push_back(p[i]);
     }
-    m.tag.insert(m.tag.end(), b.conn.size() / npe, tag);
+    m.conn.push_back(it->second);
   }
   return m;
 }
 
+// Node order of element e reversed in orientation (a mirrored element).
+void flip(VolumeMesh& m, int e) {
+  int* c = &m.conn[static_cast<std::size_t>(e) * m.nodesPerElement()];
+  if (m.element == "hex8") {
+    for (int a = 0; a < 4; ++a) std::swap(c[a], c[a + 4]);
+  } else if (m.element == "quad4") {
+    std::swap(c[1], c[3]);
+  } else {
+    std::swap(c[1], c[2]);
+  }
+}
+
+// Every element positively oriented: a mesh whose elements are all mirrored is turned round;
+// a degenerate element, or one inverted against the rest, is refused.
+void checkOrientation(const std::string& path, VolumeMesh& m) {
+  double largest = 0.0;
+  std::vector<double> measure(m.elements());
+  for (int e = 0; e < m.elements(); ++e) largest = std::max(largest, std::abs(measure[e] = elementMeasure(m, e)));
+  const int negative = static_cast<int>(std::count_if(measure.begin(), measure.end(), [](double v) { return v < 0; }));
+  const bool mirrored = negative * 2 > m.elements();
+  const char* what = m.dim == 2 ? "area" : "volume";
+  for (int e = 0; e < m.elements(); ++e) {
+    const double v = mirrored ? -measure[e] : measure[e];
+    if (std::abs(v) <= 1e-10 * largest)
+      throw geometryError(path, fmt::format("element {} ({}) is degenerate: its {} is {:.3g} against {:.3g} for the largest",
+                                            e + 1, m.element, what, std::abs(v), largest),
+                          "elements with a non-zero " + std::string(what));
+    if (v < 0)
+      throw geometryError(path, fmt::format("element {} ({}) is inverted: its nodes turn the other way from the rest of the mesh",
+                                            e + 1, m.element),
+                          "consistently oriented elements");
+    if (mirrored) flip(m, e);
+  }
+}
+
+void requireFile(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec))
+    throw geometryError(path, std::filesystem::exists(path, ec) ? "is not a file" : "does not exist",
+                        "a readable mesh, script or surface file (relative paths: from the scenario's folder)");
+}
+
+bool isScript(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext == ".geo";
+}
+
 }  // namespace
 
-VolumeMesh readGmsh(const std::string& path) {
-  std::ifstream in(path);
-  const SourceLocation where{path, 0, 0};
-  if (!in) throw InputError(where, "mesh", path, "cannot open the Gmsh file", "a readable .msh file");
-  GmshFile g;
-  std::string tok;
-  while (in >> tok) {
-    if (tok == "$MeshFormat") readFormat(in, where, g);
-    else if (tok == "$Entities") readEntities(in, g);
-    else if (tok == "$Nodes") readNodes(in, g);
-    else if (tok == "$Elements") readElements(in, where, g);
+VolumeMesh readGmsh(const std::string& path, double maxElementSize) {
+  requireFile(path);
+  GmshSession session;
+  gmshCall(path, "read it", "a Gmsh .msh (format 2 or 4, ASCII or binary) or .geo script", [&] { gmsh::open(path); });
+  if (isScript(path)) {
+    if (maxElementSize > 0) gmsh::option::setNumber("Mesh.MeshSizeMax", maxElementSize);
+    gmshCall(path, "mesh the script", "a script whose geometry Gmsh can mesh", [&] {
+      gmsh::model::mesh::generate(gmsh::model::getDimension());
+    });
   }
-  if (!g.formatOk || g.X3.empty())
-    throw InputError(where, "mesh", path, "no $MeshFormat or no $Nodes section", "a Gmsh 4.1 ASCII mesh");
-  return toVolumeMesh(g, where);
+  VolumeMesh m = extractMesh(path);
+  checkOrientation(path, m);
+  return m;
+}
+
+namespace {
+
+// A surface file's triangles (Gmsh merges the vertices an STL repeats), refused when open.
+TriangleSurface readSurface(const std::string& path) {
+  requireFile(path);
+  GmshSession session;
+  gmshCall(path, "read it", "a closed surface Gmsh reads (.stl, .ply, .vtk, .off, .obj, ...)", [&] { gmsh::merge(path); });
+  TriangleSurface s;
+  std::vector<std::size_t> tags, triangleTags, triangleNodes;
+  std::vector<double> parametric;
+  gmsh::model::mesh::getNodes(tags, s.xyz, parametric, -1, -1, true, false);
+  std::map<std::size_t, int> index;
+  for (std::size_t i = 0; i < tags.size(); ++i) index[tags[i]] = static_cast<int>(i);
+  gmsh::model::mesh::getElementsByType(2, triangleTags, triangleNodes);
+  for (std::size_t t : triangleNodes) s.tri.push_back(index.at(t));
+  if (s.triangles() == 0)
+    throw geometryError(path, "holds no triangles", "a closed triangulated surface (quadrilaterals: split them first)");
+  if (const std::string open = openEdge(s); !open.empty())
+    throw geometryError(path, "is not a closed surface: " + open,
+                        "a closed (watertight) surface, every edge shared by exactly two triangles");
+  return s;
+}
+
+// The surfaces as discrete Gmsh surfaces whose triangles bound the tetrahedra; one surface loop
+// per body.
+std::vector<int> addSurfaceLoops(const std::vector<TriangleSurface>& surfaces) {
+  std::vector<int> loops;
+  std::size_t next = 1;
+  for (const auto& s : surfaces) {
+    const int entity = gmsh::model::addDiscreteEntity(2);
+    std::vector<std::size_t> tags(s.xyz.size() / 3), nodes;
+    for (std::size_t i = 0; i < tags.size(); ++i) tags[i] = next + i;
+    for (int v : s.tri) nodes.push_back(next + static_cast<std::size_t>(v));
+    gmsh::model::mesh::addNodes(2, entity, tags, s.xyz);
+    gmsh::model::mesh::addElementsByType(entity, 2, {}, nodes);
+    next += tags.size();
+    loops.push_back(gmsh::model::geo::addSurfaceLoop({entity}));
+  }
+  return loops;
+}
+
+}  // namespace
+
+VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize) {
+  std::vector<TriangleSurface> surfaces;
+  for (const auto& b : bodies) surfaces.push_back(readSurface(b.path));
+  for (std::size_t a = 0; a < surfaces.size(); ++a)
+    for (std::size_t b = 0; b < surfaces.size(); ++b)
+      if (a != b && placement(surfaces[a], surfaces[b]) == Placement::Crossing)
+        throw geometryError(bodies[b].path, fmt::format("crosses the surface of {}: some of its vertices lie inside it, some outside",
+                                                        bodies[a].path),
+                            "closed surfaces that cross neither themselves nor each other (a body inside another, or apart)");
+  const auto holes = directlyInside(surfaces);
+  // Gmsh keeps a discrete surface's triangles: split them down to the element size first
+  if (maxElementSize <= 0) maxElementSize = boxDiagonal(surfaces[0]) / 20;
+  constexpr std::size_t kMostTriangles = 2'000'000;
+  for (std::size_t b = 0; b < surfaces.size(); ++b) {
+    const double splits = std::ceil(std::log2(std::max(1.0, longestEdge(surfaces[b]) / maxElementSize)));
+    if (surfaces[b].tri.size() / 3 * std::pow(4.0, splits) > kMostTriangles)
+      throw geometryError(bodies[b].path, fmt::format("would need {:.3g} surface triangles at an element size of {:g}",
+                                                      surfaces[b].tri.size() / 3 * std::pow(4.0, splits), maxElementSize),
+                          "a larger tissue.geometry.element_size");
+    surfaces[b] = refined(surfaces[b], maxElementSize);
+  }
+  std::string all = bodies[0].path;
+  for (std::size_t b = 1; b < bodies.size(); ++b) all += ", " + bodies[b].path;
+  GmshSession session;
+  gmshCall(all, "mesh the surfaces into tetrahedra", "closed surfaces that cross neither themselves nor each other", [&] {
+    const auto loops = addSurfaceLoops(surfaces);
+    for (std::size_t b = 0; b < bodies.size(); ++b) {
+      std::vector<int> boundary{loops[b]};
+      for (int h : holes[b]) boundary.push_back(loops[h]);
+      const int volume = gmsh::model::geo::addVolume(boundary);
+      gmsh::model::geo::synchronize();
+      const int group = gmsh::model::addPhysicalGroup(3, {volume}, static_cast<int>(b) + 1);
+      gmsh::model::setPhysicalName(3, group, bodies[b].name);
+    }
+    gmsh::option::setNumber("Mesh.MeshSizeMax", maxElementSize);
+    gmsh::model::mesh::generate(3);
+  });
+  VolumeMesh m = extractMesh(all);
+  checkOrientation(all, m);
+  return m;
 }
 
 }  // namespace needlesim::mesh

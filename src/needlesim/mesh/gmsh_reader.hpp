@@ -1,16 +1,32 @@
 #pragma once
-// Gmsh .msh format 4.1 ASCII into a mesh::VolumeMesh: the elements of the
-// highest dimension (first-order triangles, quads, tetrahedra or hexahedra, one
-// type), in file order; nodes in file order; each element's physical tag (or its
-// entity tag when the entity belongs to no physical group). Lower-dimensional
-// elements (points, lines, faces of a volume mesh) are skipped. Throws InputError
-// naming the file, the section and the value.
+// Tissue geometry through Gmsh's library (Debian libgmsh-dev): a mesh file (.msh format 2 or 4,
+// ASCII or binary), a Gmsh script (.geo, meshed here), or closed surfaces (.stl, .ply, .vtk,
+// .off, .obj and whatever else Gmsh reads) meshed into tetrahedra, into a mesh::VolumeMesh:
+// the elements of the highest dimension (triangles, quadrilaterals, tetrahedra or hexahedra of
+// one type; second-order elements keep their corner nodes), nodes used by them, each element's
+// physical tag (else its entity tag) and the groups' names. Coordinates stay in the file's units.
+// Every problem (missing, unreadable or empty file, mixed element types, inverted or degenerate
+// elements, an open or self-intersecting surface) is an InputError naming the file.
 #include <string>
+#include <vector>
 
 #include "needlesim/mesh/volume_mesh.hpp"
 
 namespace needlesim::mesh {
 
-VolumeMesh readGmsh(const std::string& path);
+// A .msh file as it is, or a .geo script meshed with Mesh.MeshSizeMax = maxElementSize (file
+// units; 0 = the script's own sizes).
+VolumeMesh readGmsh(const std::string& path, double maxElementSize = 0.0);
+
+// A closed surface bounding one body (an organ, a tumour, a vessel).
+struct SurfaceBody {
+  std::string path;
+  std::string name;  // the group name of its tetrahedra
+};
+
+// Meshes the bodies into one conforming tetrahedral mesh with Gmsh (elements of about
+// maxElementSize, file units): a body inside another is a hole of the outer one and a body of
+// its own. Group tags are 1, 2, ... in the order given.
+VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize);
 
 }  // namespace needlesim::mesh

@@ -3,6 +3,7 @@
 // converts it to its own element data: first-order elements of one type, node
 // coordinates in SI metres. The tissue frame of an imported mesh is the file's:
 // x depth from the entry face, y across the width, z across the height.
+#include <map>
 #include <string>
 #include <vector>
 
@@ -14,6 +15,7 @@ struct VolumeMesh {
   std::vector<double> X;   // node coordinates, dim per node (x0 y0 [z0] x1 ...), m
   std::vector<int> conn;   // nodesPerElement() node indices (0-based) per element
   std::vector<int> tag;    // per element: the physical tag of its group (else the file's entity tag)
+  std::map<int, std::string> groupNames;  // physical tag -> physical name ("" when unnamed)
 
   int nodesPerElement() const;
   int nodes() const { return dim > 0 ? static_cast<int>(X.size()) / dim : 0; }

@@ -1,15 +1,27 @@
 #pragma once
-// An imported tissue mesh named in a scenario (model.explicit.mesh): the path is
-// resolved against the scenario file's folder and read here, so that engines get
-// the mesh itself (mesh/volume_mesh.hpp) and read no file. Internal to the reader.
-#include <memory>
+// The files of tissue.geometry (scenario/tissue_geometry.hpp): a Gmsh mesh or script, or closed
+// surfaces meshed by Gmsh, read relative to the scenario file through mesh/gmsh_reader. Engines
+// take the mesh from the scenario and read no file. Internal to the reader.
 #include <string>
+#include <vector>
 
 #include "needlesim/mesh/volume_mesh.hpp"
 
 namespace needlesim::scenario {
 
-// null for an empty path; throws InputError (file, section, value) for a bad file.
-std::shared_ptr<const mesh::VolumeMesh> readMeshFile(const std::string& path, const std::string& scenarioSource);
+// One file of tissue.geometry: the mesh or script (body empty), or a closed surface bounding
+// the body named (its file stem when empty).
+struct GeometryFile {
+  std::string path;
+  std::string body;
+};
+
+// Whether a path names a Gmsh mesh or script (.msh, .geo) rather than a surface.
+bool isGmshMeshOrScript(const std::string& path);
+
+// The mesh of `files` in the files' own length unit; elementSize in that unit (0 = Gmsh's or the
+// script's own sizes). Throws InputError naming the file for a bad one.
+mesh::VolumeMesh readGeometryFiles(const std::vector<GeometryFile>& files, double elementSize,
+                                   const std::string& scenarioSource);
 
 }  // namespace needlesim::scenario

@@ -14,6 +14,7 @@
 #include "needlesim/scenario/cohesive_path_reader.hpp"
 #include "needlesim/scenario/measured_data.hpp"
 #include "needlesim/scenario/mesh_file.hpp"
+#include "needlesim/scenario/tissue_geometry.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/scenario/yaml_document.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
@@ -120,7 +121,13 @@ LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockL
   } else {
     L.name = s.text("name");
     if (L.name.empty()) L.name = fmt::format("layer{}", index + 1);
-    L.thickness = s.number("thickness");
+    if (blockLength > 0.0) {
+      L.thickness = s.number("thickness");
+    } else if (s.has("thickness")) {
+      throw s.error("thickness", s.raw("thickness").Scalar(),
+                    "has no meaning with tissue.geometry: the layers are the geometry's groups, by name",
+                    "no thickness; a name that is a group of the geometry");
+    }
   }
   L.material = readMaterial(s, "material");
 
@@ -153,10 +160,46 @@ LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockL
   return L;
 }
 
+void readPlacedInclusion(Section& s, InclusionSpec& I, const TissueSpec& T);
+
+// An inclusion that is a group of tissue.geometry: its elements give its place and size.
+InclusionSpec readMeshInclusion(Section& s, InclusionSpec I) {
+  for (const char* k : {"shape", "depth", "lateral", "elevation", "radius"})
+    if (s.has(k))
+      throw s.error(k, s.raw(k).IsScalar() ? s.raw(k).Scalar() : "",
+                    "has no meaning for an inclusion that is a group of tissue.geometry (its elements are the inclusion)",
+                    "no shape, depth, lateral, elevation or radius; or a name that is not a group of the geometry");
+  I.shape = InclusionSpec::Shape::Mesh;
+  I.material = readMaterial(s, "material");
+  // NaN: the layer around it, once the regions are known (tissue_geometry.cpp mapRegions)
+  I.friction_coefficient = s.optNumber("friction").value_or(std::nan(""));
+  I.toughness = s.optNumber("toughness").value_or(std::nan(""));
+  return I;
+}
+
 InclusionSpec readInclusion(Section& s, std::size_t index, const TissueSpec& T) {
   InclusionSpec I;
   I.name = s.text("name");
   if (I.name.empty()) I.name = fmt::format("inclusion{}", index + 1);
+  const bool meshGroup = T.geometry && scenario::groupNames(*T.geometry).count(I.name);
+  if (meshGroup) I = readMeshInclusion(s, I);
+  if (!meshGroup) {
+    for (const char* k : {"depth", "radius"})
+      if (!s.has(k))
+        throw s.error(k, "", "is required but missing",
+                      T.geometry ? "a length; or an inclusion name that is a group of tissue.geometry" : "a length");
+    readPlacedInclusion(s, I, T);
+  }
+  I.target = s.boolean("target");
+  I.sliding = s.choice("interface") == "sliding";
+  I.interface_friction = s.number("interface_friction");
+  if (!I.sliding && I.interface_friction != 0.0)
+    throw s.error("interface_friction", "", "applies to a sliding inclusion only", "interface: sliding");
+  return I;
+}
+
+// A sphere or cylinder placed by its centre and radius.
+void readPlacedInclusion(Section& s, InclusionSpec& I, const TissueSpec& T) {
   I.shape = s.choice("shape") == "cylinder" ? InclusionSpec::Shape::Cylinder : InclusionSpec::Shape::Sphere;
   I.x = s.number("depth");
   I.y = s.number("lateral");
@@ -175,23 +218,42 @@ InclusionSpec readInclusion(Section& s, std::size_t index, const TissueSpec& T) 
                               I.x * 1e3, I.y * 1e3, I.z * 1e3, T.length * 1e3, T.width * 1e3, T.height * 1e3),
                   "an inclusion inside the block");
   I.material = readMaterial(s, "material");
-  const auto& around = T.layers[T.layerAt(I.x)];
+  const auto& around = T.layers[T.geometry ? 0 : T.layerAt(I.x)];
   I.friction_coefficient = s.optNumber("friction").value_or(around.friction.coefficient);
   I.toughness = s.optNumber("toughness").value_or(around.toughness);
-  I.target = s.boolean("target");
-  I.sliding = s.choice("interface") == "sliding";
-  I.interface_friction = s.number("interface_friction");
-  if (!I.sliding && I.interface_friction != 0.0)
-    throw s.error("interface_friction", "", "applies to a sliding inclusion only", "interface: sliding");
-  return I;
 }
 
-TissueSpec readTissue(Section& t) {
-  TissueSpec T;
+// tissue.block, or tissue.geometry (scenario/tissue_geometry.hpp) whose bounding box is the block.
+void readBlockOrGeometry(Section& t, const std::string& source, TissueSpec& T) {
+  if (t.has("block") == t.has("geometry"))
+    throw t.error(t.has("block") ? "geometry" : "block", "",
+                  t.has("block") ? "is given together with tissue.block" : "is required but missing",
+                  "either block (a generated block) or geometry (an imported one)");
+  if (t.has("geometry")) {
+    Section g = t.sub("geometry");
+    T.geometry = scenario::placeGeometry(g, source, T);
+    return;
+  }
   Section b = t.sub("block");
   T.length = b.number("length");
   T.width = b.number("width");
   T.height = b.number("height");
+}
+
+// Regions, inclusion shapes and the held far side of an imported geometry.
+void finishGeometry(Section& t, TissueSpec& T) {
+  if (!T.geometry) return;
+  auto geometry = std::make_shared<ImportedGeometry>(*T.geometry);
+  scenario::mapRegions(*geometry, T, t);
+  Section g = t.sub("geometry");
+  scenario::markSupport(*geometry, g);
+  T.geometry = geometry;
+}
+
+TissueSpec readTissue(Section& t, const std::string& source) {
+  TissueSpec T;
+  readBlockOrGeometry(t, source, T);
+  const double blockLength = T.geometry ? 0.0 : T.length;
   auto layers = t.list("layers");
   if (layers.empty()) {
     T.layers.push_back(readLayer(t, 0, true, T.length));
@@ -202,8 +264,10 @@ TissueSpec readTissue(Section& t) {
                       "either tissue.layers, or one layer's fields directly under tissue");
     for (std::size_t i = 0; i < layers.size(); ++i) {
       Section l = t.element(layers[i], "layers", i);
-      T.layers.push_back(readLayer(l, i, false, T.length));
+      T.layers.push_back(readLayer(l, i, false, blockLength));
     }
+  }
+  if (!layers.empty() && !T.geometry) {
     double sum = 0.0;
     for (const auto& L : T.layers) sum += L.thickness;
     if (std::abs(sum - T.length) > 1e-9 + 1e-6 * T.length)
@@ -216,6 +280,7 @@ TissueSpec readTissue(Section& t) {
     Section l = t.element(inclusions[i], "inclusions", i);
     T.inclusions.push_back(readInclusion(l, i, T));
   }
+  finishGeometry(t, T);
   return T;
 }
 
@@ -301,7 +366,14 @@ InsertionSpec readInsertion(Section& s, const NeedleSpec& needle) {
 }
 
 // The entry point must lie on the entry face, which spans the block's width in the insertion plane.
-void checkEntryPoint(Section& ins, const InsertionSpec& I, const TissueSpec& T) {
+// An imported geometry: the path must cross it (scenario/tissue_geometry.hpp findEntry).
+void checkEntryPoint(Section& ins, const InsertionSpec& I, TissueSpec& T, double maxDepth) {
+  if (T.geometry) {
+    auto geometry = std::make_shared<ImportedGeometry>(*T.geometry);
+    scenario::findEntry(*geometry, I, maxDepth, ins);
+    T.geometry = geometry;
+    return;
+  }
   const double half = 0.5 * T.width;
   if (std::abs(I.entry_offset) < half) return;
   const std::string written = ins.has("entry_offset") ? ins.raw("entry_offset").Scalar() : std::string();
@@ -370,13 +442,18 @@ units::DisplayUnits readDisplayUnits(Section& out) {
 void absoluteDataPaths(nlohmann::json& record, const std::string& source) {
   if (source.empty() || source[0] == '<') return;
   const std::filesystem::path base = std::filesystem::absolute(std::filesystem::path(source)).parent_path();
-  for (const char* at : {"/model/mpm/measured_force", "/model/mpm/measured_markers", "/model/explicit/mesh",
+  for (const char* at : {"/model/mpm/measured_force", "/model/mpm/measured_markers", "/tissue/geometry/file",
                          "/model/explicit/cohesive/path_file"}) {
     const nlohmann::json::json_pointer ptr(at);
     if (!record.contains(ptr) || !record[ptr].is_string()) continue;
     const std::filesystem::path p(record[ptr].get<std::string>());
     if (!p.empty() && p.is_relative()) record[ptr] = (base / p).lexically_normal().string();
   }
+  const nlohmann::json::json_pointer surfaces("/tissue/geometry/surfaces");
+  if (record.contains(surfaces) && record[surfaces].is_array())
+    for (auto& s : record[surfaces])
+      if (s.contains("file") && s["file"].is_string() && std::filesystem::path(s["file"].get<std::string>()).is_relative())
+        s["file"] = (base / s["file"].get<std::string>()).lexically_normal().string();
 }
 
 Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared_ptr<const std::string> file) {
@@ -402,12 +479,12 @@ Scenario readSections(Section top, const std::string& source) {
                       "letters, digits, '_', '-', '.'");
   sc.description = top.text("description");
   Section tissue = top.sub("tissue");
-  sc.tissue = readTissue(tissue);
+  sc.tissue = readTissue(tissue, source);
   Section needle = top.sub("needle");
   sc.needle = readNeedle(needle);
   Section ins = top.sub("insertion");
   sc.insertion = readInsertion(ins, sc.needle);
-  checkEntryPoint(ins, sc.insertion, sc.tissue);
+  checkEntryPoint(ins, sc.insertion, sc.tissue, sc.maxDepth());
 
   Section model = top.sub("model");
   sc.model.engine = model.choice("engine");
@@ -569,8 +646,6 @@ Scenario readSections(Section top, const std::string& source) {
     ExplicitModelSpec& x = sc.model.explicit_fe;
     x.dimension = exs.choice("dimension") == "3d" ? 3 : 2;
     if (exs.has("element")) x.element = exs.choice("element");
-    x.mesh = exs.text("mesh");
-    x.imported_mesh = readMeshFile(x.mesh, source);
     x.element_size = exs.number("element_size");
     x.max_element_size = exs.number("max_element_size");
     x.core_width = exs.number("core_width");

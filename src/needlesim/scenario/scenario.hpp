@@ -255,8 +255,6 @@ struct ExplicitCohesiveSpec {
 struct ExplicitModelSpec {
   int dimension = 2;                 // 2 (plane strain) or 3
   std::string element;               // quad4, tri3, hex8, tet4; "" = quad4 (2D) / hex8 (3D)
-  std::string mesh;                  // Gmsh .msh path (resolved against the scenario file); "" = graded block
-  std::shared_ptr<const mesh::VolumeMesh> imported_mesh;  // that file, read by the scenario reader (null = none)
   double element_size = 0.5e-3;      // m, core element size around the needle path (seed 001: 0.25 mm)
   double max_element_size = 3e-3;    // m, at the block boundary (seed 001: 3 mm)
   double core_width = 6e-3;          // m, refined zone around the path (seed 001: 6 mm)

@@ -87,7 +87,11 @@ std::vector<FieldDoc> build() {
   add(other("scenario", "output", Kind::Section, "", "where and what to write", false, "output"));
 
   // --- tissue
-  add(other("tissue", "block", Kind::Section, "", "block size", true, "block"));
+  add(other("tissue", "block", Kind::Section, "", "block size (required unless tissue.geometry is given)", false, "block"));
+  add(other("tissue", "geometry", Kind::Section, "",
+            "an imported tissue geometry instead of the block: a Gmsh mesh or script, or closed surfaces meshed by "
+            "Gmsh; its groups are the layers and inclusions, by name (engines explicit, mpm, realtime2d)",
+            false, "geometry"));
   add(other("tissue", "layers", Kind::List, "",
             "layers from the entry face inwards; omit for one layer and write the layer's fields "
             "(material, puncture, cutting, friction, interaction) directly under tissue",
@@ -99,9 +103,35 @@ std::vector<FieldDoc> build() {
   add(extent("block", "width", kMaxBlockSide, "extent across the insertion axis, in the insertion plane"));
   add(extent("block", "height", kMaxBlockSide, "extent out of the insertion plane"));
 
+  // --- geometry (scenario/tissue_geometry.hpp)
+  add(other("geometry", "file", Kind::String, "",
+            "a Gmsh mesh (.msh, format 2 or 4, ASCII or binary) or script (.geo), or one closed surface (.stl, .ply, "
+            ".vtk, .off, .obj); relative to the scenario file"));
+  add(other("geometry", "surfaces", Kind::List, "", "several closed surfaces (instead of file), one body each",
+            false, "surface"));
+  add(other("geometry", "unit", Kind::Choice, "", "length unit of the file's coordinates", true, {},
+            {"m", "cm", "mm", "um"}));
+  add(other("geometry", "translate", Kind::Section, "0 mm", "placement: shift after the rotation", false, "offset"));
+  add(other("geometry", "rotate", Kind::Section, "0 deg",
+            "placement: rotations about the tissue frame's x, then y, then z axis, before the shift", false,
+            "rotation"));
+  add(positive("geometry", "element_size", D::Length, "1/20 of the bounding box diagonal",
+               "size of the elements Gmsh makes from surfaces or a .geo script"));
+  add(positive("geometry", "support_depth", D::Length, "20 % of the body's depth",
+               "the boundary facing away from the needle within this depth of the deepest point is held fixed"));
+  add(other("surface", "file", Kind::String, "", "a closed surface (.stl, .ply, .vtk, .off, .obj); relative to the scenario file", true));
+  add(other("surface", "body", Kind::String, "the file's stem", "name of the body it bounds: a layer or inclusion name"));
+  for (const char* axis : {"x", "y", "z"}) {
+    add(q("offset", axis, D::Length, "0 mm", -kInf, kInf, false, false, std::string("shift along ") + axis));
+    add(q("rotation", axis, D::Angle, "0 deg", -2 * M_PI, 2 * M_PI, false, false,
+          std::string("rotation about the tissue frame's ") + axis + " axis (right hand)"));
+  }
+
   // --- layer
   add(other("layer", "name", Kind::String, "layer<i>", "label in results"));
-  add(positive("layer", "thickness", D::Length, "", "thickness along the surface normal; layers must add up to block.length", true));
+  add(positive("layer", "thickness", D::Length, "",
+               "thickness along the surface normal; layers must add up to block.length (required with a block; "
+               "none with tissue.geometry, whose groups are the layers)"));
   add(other("layer", "material", Kind::MaterialRef, "", "a library name (e.g. gelatin_10wt) or a material section", true, "material"));
   add(other("layer", "puncture", Kind::Section, "", "puncture threshold; omitted = punctures on contact", false, "puncture"));
   add(other("layer", "cutting", Kind::Section, "force: 0 N", "cutting at the tip", false, "cutting"));
@@ -113,12 +143,13 @@ std::vector<FieldDoc> build() {
   add(other("inclusion", "shape", Kind::Choice, "sphere",
             "sphere, or cylinder (a vessel: axis out of the insertion plane, through the block's height)", false, {},
             {"sphere", "cylinder"}));
-  add(q("inclusion", "depth", D::Length, "", 0.0, kInf, false, false, "centre: depth x from the entry face", true));
+  add(q("inclusion", "depth", D::Length, "", 0.0, kInf, false, false,
+        "centre: depth x from the entry face (required unless the inclusion is a group of tissue.geometry)"));
   add(q("inclusion", "lateral", D::Length, "0 mm", -kInf, kInf, false, false,
         "centre: y across the width from the block's centre line (+ = the side a tilted needle goes to)"));
   add(q("inclusion", "elevation", D::Length, "0 mm", -kInf, kInf, false, false,
         "centre: z across the height from the block's mid-plane (sphere only)"));
-  add(positive("inclusion", "radius", D::Length, "", "radius", true));
+  add(positive("inclusion", "radius", D::Length, "", "radius (required unless the inclusion is a group of tissue.geometry)"));
   add(other("inclusion", "material", Kind::MaterialRef, "", "a library name or a material section", true, "material"));
   add(nonneg("inclusion", "friction", D::None, "the surrounding layer's", "Coulomb coefficient of needle contact inside it"));
   add(nonneg("inclusion", "toughness", D::ForcePerLength, "", "rupture toughness G_c inside it"));
@@ -329,7 +360,6 @@ std::vector<FieldDoc> build() {
   add(other("explicit", "element", Kind::Choice, "quad4 (2d), hex8 (3d)",
             "quad4 / hex8: one-point integration with hourglass control (CPE4R / C3D8R); tri3 / tet4: constant strain",
             false, {}, {"quad4", "tri3", "hex8", "tet4"}));
-  add(other("explicit", "mesh", Kind::String, "", "Gmsh .msh (format 4.1 ASCII) instead of the graded block; relative to the scenario file"));
   add(positive("explicit", "element_size", D::Length, "0.5 mm", "element size in the core around the needle path (seed 001: 0.25 mm)"));
   add(positive("explicit", "max_element_size", D::Length, "3 mm", "element size at the block boundary (seed 001: 3 mm)"));
   add(positive("explicit", "core_width", D::Length, "6 mm", "width of the refined core around the path (seed 001: 6 mm)"));

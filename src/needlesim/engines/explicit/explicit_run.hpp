@@ -46,6 +46,7 @@ class ExplicitRun {
   void chooseSeam();
   void buildMesh();
   void buildBlock();
+  void cutSeam();
   void assignRegions();
   void checkInclusionResolution();
   std::vector<Material> regionMaterials() const;

@@ -82,15 +82,17 @@ void ExplicitRun::checkInput() const {
                        fmt::format("tissue.inclusions[{}].interface", i), "sliding",
                        "explicit: a sliding inclusion needs tissue-tissue contact, which explicit does not have",
                        "interface: bonded, or engine mpm");
-  if (!ex_.mesh.empty() && !ex_.imported_mesh)
-    throw Error("explicit: model.explicit.mesh '" + ex_.mesh + "' was not read (the scenario reader loads it)");
+  if (const auto& g = sc_.tissue.geometry; g && g->mesh->dim != dim_)
+    throw InputError(sc_.where("tissue.geometry.file"), "tissue.geometry.file", g->file,
+                     fmt::format("explicit: is a {}D mesh but model.explicit.dimension is {}d", g->mesh->dim, dim_),
+                     fmt::format("model.explicit.dimension: {}d, or a {}D mesh", g->mesh->dim, dim_));
 }
 
 // The pre-cut seam runs through the leading point of the tip (the bevel's sharp point, at -R bevelSide).
 void ExplicitRun::chooseSeam() {
   const double th = sc_.insertion.entry_angle, phi = sc_.insertion.bevel_orientation;
   const bool aligned = std::abs(th - 0.5 * M_PI) < 1e-9 && std::abs(std::sin(phi)) < 1e-9;
-  seamOn_ = ex_.pre_cut && !ex_.imported_mesh && aligned;
+  seamOn_ = ex_.pre_cut && aligned;
   cohesive_ = ex_.cohesive.enable;
   // cylindrical sleeve seam (docs/models/cohesive.md "Sleeve seam"): its own O-grid block (sleeve_setup.hpp)
   sleeve_ = cohesive_ && ex_.cohesive.seam == "sleeve";
@@ -107,18 +109,36 @@ void ExplicitRun::buildMesh() {
     sleeveMesh_ = sleeveMeshFor(sc_, shape_, sleeveRadius_);
     mesh_ = sleeveMesh_.mesh;
     seam_ = sleeveMesh_.pairs;
-  } else if (ex_.imported_mesh) {
-    mesh_ = fromVolumeMesh(*ex_.imported_mesh);
+  } else if (sc_.tissue.geometry) {
+    mesh_ = fromImportedGeometry(*sc_.tissue.geometry);
   } else {
     buildBlock();
   }
   if (dim_ == 2) thickness_ = 2 * shape_.radius;
   assignRegions();
   checkInclusionResolution();
-  if (seamOn_ && !sleeve_ && !ex_.imported_mesh)
-    seam_ = splitSeam(mesh_, seamY_, 0.0, dmax_, dim_ == 3 ? shape_.radius + 1.01 * ex_.element_size : 0.0);
+  if (seamOn_ && !sleeve_) cutSeam();
   // crack path and follow-the-leader needle (path_from_scenario.hpp, docs/models/cohesive.md "Crack path")
   crackPath_ = setupCrackPath(sc_, shape_, seamY_, bevelSide_.y() >= 0 ? 1 : -1, seamOn_ && cohesive_, mesh_);
+}
+
+// The pre-cut seam along the needle path (splitSeam); through an imported geometry its nodes
+// are first moved onto the seam (snapOntoSeam), the 3D strip as wide as the needle and the
+// largest element edge that crosses the seam plane near the axis.
+void ExplicitRun::cutSeam() {
+  double halfWidth = dim_ == 3 ? shape_.radius + 1.01 * ex_.element_size : 0.0;
+  if (!sc_.tissue.geometry) {
+    seam_ = splitSeam(mesh_, seamY_, 0.0, dmax_, halfWidth);
+    return;
+  }
+  if (dim_ == 3) halfWidth = shape_.radius + 1.01 * largestEdgeAcross(mesh_, seamY_, 2 * shape_.radius);
+  const int moved = snapOntoSeam(mesh_, seamY_, 0.0, dmax_, halfWidth);
+  seam_ = splitAlongFaces(mesh_, seamY_, 0.0, dmax_, halfWidth);
+  int off = 0;
+  for (auto [a, b] : seam_) off += std::abs(mesh_.coord(a, 1) - seamY_) > 1e-12 ? 1 : 0;
+  sink_.note(fmt::format("pre-cut seam through the imported mesh at y = {:.4g} mm: {} node pairs, {} nodes moved onto "
+                         "it, {} left beside it (within an element)",
+                         seamY_ * 1e3, seam_.size(), moved, off));
 }
 
 // Tissue block: depth x in [0, length] from the entry face, y across the width (needle path at
@@ -144,22 +164,15 @@ void ExplicitRun::buildBlock() {
   }
 }
 
-// Regions: layer r (stacked from the entry face, by element centroid; an imported mesh keeps its
-// groups), then inclusion i as region layers + i (elements whose centroid lies inside it).
+// Regions: layer r (stacked from the entry face, by element centroid; an imported geometry's
+// regions come from its groups), then inclusion i as region layers + i (elements whose centroid
+// lies inside a sphere or cylinder; a mesh inclusion is its group).
 void ExplicitRun::assignRegions() {
   const auto& t = sc_.tissue;
   const int layers = static_cast<int>(t.layers.size());
-  if (ex_.imported_mesh) {
-    const int regions = *std::max_element(mesh_.region.begin(), mesh_.region.end()) + 1;
-    if (regions > layers)
-      throw InputError(sc_.where("model.explicit.mesh"), "model.explicit.mesh", ex_.mesh,
-                       fmt::format("explicit: the imported mesh has {} element groups but tissue.layers has {}",
-                                   regions, layers),
-                       "one layer per element group, in increasing tag order");
-  }
   for (int e = 0; e < mesh_.elements(); ++e) {
     const Vector3d c = centroid(mesh_, e);
-    if (!ex_.imported_mesh) mesh_.region[e] = static_cast<int>(t.layerAt(c.x()));
+    if (!t.geometry) mesh_.region[e] = static_cast<int>(t.layerAt(c.x()));
     const int i = inclusionAt(t.inclusions, c);
     if (i >= 0) mesh_.region[e] = layers + i;
   }
@@ -301,11 +314,12 @@ void ExplicitRun::setupCohesive() {
   solver_->setCohesive(std::move(ci));
 }
 
-// Distal face fixed (seed 001 section 3.2).
+// Distal face fixed (seed 001 section 3.2); an imported geometry's far side (ImportedGeometry::supported).
 void ExplicitRun::fixDistalFace() {
   const int fixed = solver_->addGroup();
+  const auto& g = sc_.tissue.geometry;
   for (int n = 0; n < mesh_.nodes(); ++n)
-    if (mesh_.coord(n, 0) > sc_.tissue.length - 1e-9)
+    if (g ? n < static_cast<int>(g->supported.size()) && g->supported[n] : mesh_.coord(n, 0) > sc_.tissue.length - 1e-9)
       for (int i = 0; i < dim_; ++i) solver_->addDof(fixed, n, i);
 }
 

@@ -2,7 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
+
+#include <Eigen/Dense>
+#include <fmt/format.h>
 
 #include "needlesim/core/error.hpp"
 
@@ -190,6 +194,148 @@ std::vector<std::pair<int, int>> splitSeam(Mesh& m, double offset, double x0, do
     }
   }
   return pairs;
+}
+
+namespace {
+
+// Signed area (2D, shoelace over the corner nodes) or volume (3D; hexahedra by six tetrahedra).
+double signedMeasure(const Mesh& m, int e) {
+  const int npe = nodesPerElement(m.type);
+  const int* c = &m.conn[static_cast<std::size_t>(e) * npe];
+  auto P = [&](int a) {
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
+    for (int i = 0; i < m.dim; ++i) p[i] = m.coord(c[a], i);
+    return p;
+  };
+  if (m.dim == 2) {
+    double area = 0.0;
+    for (int a = 0; a < npe; ++a) {
+      const Eigen::Vector3d p = P(a), q = P((a + 1) % npe);
+      area += 0.5 * (p.x() * q.y() - q.x() * p.y());
+    }
+    return area;
+  }
+  auto tet = [&](int a, int b, int cc, int d) { return (P(b) - P(a)).dot((P(cc) - P(a)).cross(P(d) - P(a))) / 6.0; };
+  if (m.type == ElementType::Tet4) return tet(0, 1, 2, 3);
+  return tet(0, 1, 2, 6) + tet(0, 5, 1, 6) + tet(0, 2, 3, 6) + tet(0, 3, 7, 6) + tet(0, 4, 5, 6) + tet(0, 7, 4, 6);
+}
+
+// The node of an element pair that straddles the seam window and is nearer the seam; -1 if none.
+int nodeToSnap(const Mesh& m, int a, int b, double offset, double x0, double x1, double halfWidth) {
+  const double da = m.coord(a, 1) - offset, db = m.coord(b, 1) - offset;
+  const double scale = 1e-12 * (std::abs(da) + std::abs(db));
+  if (!((da > scale && db < -scale) || (da < -scale && db > scale))) return -1;
+  const double s = da / (da - db);  // where the segment meets the seam
+  const double x = m.coord(a, 0) + s * (m.coord(b, 0) - m.coord(a, 0));
+  if (x < x0 || x > x1) return -1;
+  if (m.dim == 3 && std::abs(m.coord(a, 2) + s * (m.coord(b, 2) - m.coord(a, 2))) >= halfWidth) return -1;
+  return std::abs(da) <= std::abs(db) ? a : b;
+}
+
+// The elements of each node.
+std::vector<std::vector<int>> elementsOfNodes(const Mesh& m) {
+  const int npe = nodesPerElement(m.type);
+  std::vector<std::vector<int>> of(m.nodes());
+  for (int e = 0; e < m.elements(); ++e)
+    for (int a = 0; a < npe; ++a) of[m.conn[e * npe + a]].push_back(e);
+  return of;
+}
+
+// Moves node n onto y = offset unless that leaves one of its elements with under a tenth of its
+// measure (or turns it round); returns whether it moved.
+bool snapIfSafe(Mesh& m, int n, double offset, const std::vector<int>& elements, const std::vector<double>& before) {
+  const double y = m.X[static_cast<std::size_t>(n) * m.dim + 1];
+  m.X[static_cast<std::size_t>(n) * m.dim + 1] = offset;
+  for (int e : elements)
+    if (signedMeasure(m, e) * (before[e] < 0 ? -1.0 : 1.0) < 0.1 * std::abs(before[e])) {
+      m.X[static_cast<std::size_t>(n) * m.dim + 1] = y;
+      return false;
+    }
+  return true;
+}
+
+}  // namespace
+
+int snapOntoSeam(Mesh& m, double offset, double x0, double x1, double halfWidth) {
+  const int npe = nodesPerElement(m.type);
+  std::vector<double> before(m.elements());
+  for (int e = 0; e < m.elements(); ++e) before[e] = signedMeasure(m, e);
+  const auto elementsOf = elementsOfNodes(m);
+  std::vector<char> moved(m.nodes(), 0), refused(m.nodes(), 0);
+  int count = 0;
+  for (bool again = true; again;) {
+    again = false;
+    for (int e = 0; e < m.elements(); ++e)
+      for (int i = 0; i < npe; ++i)
+        for (int j = i + 1; j < npe; ++j) {
+          const int n = nodeToSnap(m, m.conn[e * npe + i], m.conn[e * npe + j], offset, x0, x1, halfWidth);
+          if (n < 0 || refused[n]) continue;
+          if (!snapIfSafe(m, n, offset, elementsOf[n], before)) {
+            refused[n] = 1;
+            continue;
+          }
+          count += moved[n] ? 0 : 1;
+          moved[n] = 1;
+          again = true;
+        }
+  }
+  return count;
+}
+
+std::vector<std::pair<int, int>> splitAlongFaces(Mesh& m, double offset, double x0, double x1, double halfWidth) {
+  const int d = m.dim, npe = nodesPerElement(m.type), n0 = m.nodes();
+  std::vector<char> plus(m.elements(), 0), onPlus(n0, 0), onMinus(n0, 0);
+  for (int e = 0; e < m.elements(); ++e) {
+    double cy = 0;
+    for (int a = 0; a < npe; ++a) cy += m.coord(m.conn[e * npe + a], 1) / npe;
+    plus[e] = cy > offset;
+    for (int a = 0; a < npe; ++a) (plus[e] ? onPlus : onMinus)[m.conn[e * npe + a]] = 1;
+  }
+  std::vector<int> copyOf(n0, -1);
+  std::vector<std::pair<int, int>> pairs;
+  for (int n = 0; n < n0; ++n) {
+    const double x = m.coord(n, 0);
+    if (!onPlus[n] || !onMinus[n] || x < x0 - 1e-12 || x > x1 + 1e-12) continue;
+    if (d == 3 && std::abs(m.coord(n, 2)) >= halfWidth - 1e-12) continue;
+    copyOf[n] = m.nodes();
+    for (int i = 0; i < d; ++i) m.X.push_back(m.coord(n, i));
+    pairs.emplace_back(n, copyOf[n]);
+  }
+  for (int e = 0; e < m.elements(); ++e)
+    if (plus[e])
+      for (int a = 0; a < npe; ++a) {
+        int& n = m.conn[e * npe + a];
+        if (copyOf[n] >= 0) n = copyOf[n];
+      }
+  return pairs;
+}
+
+double largestEdgeAcross(const Mesh& m, double offset, double halfWidth) {
+  const int npe = nodesPerElement(m.type);
+  double longest = 0.0;
+  for (int e = 0; e < m.elements(); ++e) {
+    const int* c = &m.conn[static_cast<std::size_t>(e) * npe];
+    double lo = 1e300, hi = -1e300, zmin = 1e300;
+    for (int a = 0; a < npe; ++a) {
+      lo = std::min(lo, m.coord(c[a], 1));
+      hi = std::max(hi, m.coord(c[a], 1));
+      zmin = std::min(zmin, std::abs(m.coord(c[a], 2)));
+    }
+    if (lo > offset || hi < offset || zmin >= halfWidth) continue;
+    for (int a = 0; a < npe; ++a)
+      for (int b = a + 1; b < npe; ++b) {
+        double d2 = 0.0;
+        for (int i = 0; i < m.dim; ++i) d2 += std::pow(m.coord(c[a], i) - m.coord(c[b], i), 2);
+        longest = std::max(longest, std::sqrt(d2));
+      }
+  }
+  return longest;
+}
+
+Mesh fromImportedGeometry(const ImportedGeometry& g) {
+  Mesh m = fromVolumeMesh(*g.mesh);
+  m.region = g.region;
+  return m;
 }
 
 Mesh fromVolumeMesh(const mesh::VolumeMesh& v) {

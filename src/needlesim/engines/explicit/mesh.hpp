@@ -7,7 +7,9 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/core/error.hpp"
 #include "needlesim/mesh/volume_mesh.hpp"
+#include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -51,11 +53,27 @@ Mesh structuredBlock(const std::vector<double>& xs, const std::vector<double>& y
 // the needle tip reaches it. The seam coordinate must be a grid line.
 std::vector<std::pair<int, int>> splitSeam(Mesh& mesh, double offset, double x0, double x1,
                                            double halfWidth = 0.0);
+// The seam of splitSeam through an unstructured (imported) mesh, in two steps. snapOntoSeam:
+// while an element has two nodes strictly on opposite sides of the seam (2D: the line
+// y = offset; 3D: the plane, where the crossing lies in the strip |z| < halfWidth) with the
+// crossing at x in [x0, x1], the node nearer the seam moves onto it, unless that would leave one
+// of its elements with under a tenth of its area or volume; returns the nodes moved. Then
+// splitAlongFaces: every element is on the + or - side by its centroid; each node in the window
+// shared by elements of both sides is duplicated and the + side takes the copy, so the seam runs
+// along the element faces nearest the plane (on it wherever the nodes could move). On a mesh
+// with a grid line at the seam both give splitSeam's seam.
+int snapOntoSeam(Mesh& mesh, double offset, double x0, double x1, double halfWidth);
+std::vector<std::pair<int, int>> splitAlongFaces(Mesh& mesh, double offset, double x0, double x1, double halfWidth);
+// The longest edge of the elements that reach across the plane y = offset within |z| < halfWidth
+// (3D; the local element size along the needle path of an imported mesh).
+double largestEdgeAcross(const Mesh& mesh, double offset, double halfWidth);
 // Moves the grid line nearest to `value` onto it (keeps the list sorted).
 void snapCoordinate(std::vector<double>& xs, double value);
 
 // An imported mesh (mesh/volume_mesh.hpp, read by the scenario layer): its tags,
 // in increasing order, become regions 0, 1, ... (layer / material indices).
 Mesh fromVolumeMesh(const mesh::VolumeMesh& v);
+// An imported geometry placed by the scenario reader, with its elements' regions.
+Mesh fromImportedGeometry(const ImportedGeometry& g);
 
 }  // namespace needlesim::explicit_fe

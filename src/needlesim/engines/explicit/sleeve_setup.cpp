@@ -15,7 +15,9 @@ SleeveMesh sleeveMeshFor(const Scenario& sc, const needle::NeedleShape& shape, d
     throw Error("model.explicit.cohesive.seam: sleeve needs a 3d model and a hollow bevel needle");
   if (!ex.element.empty() && ex.element != "hex8")
     throw Error("model.explicit.cohesive.seam: sleeve needs element: hex8 (got " + ex.element + ")");
-  if (!ex.mesh.empty()) throw Error("model.explicit.cohesive.seam: sleeve builds its own mesh (remove model.explicit.mesh)");
+  if (sc.tissue.geometry)
+    throw InputError(sc.where("model.explicit.cohesive.seam"), "model.explicit.cohesive.seam", "sleeve",
+                     "builds its own O-grid block and cannot cut an imported geometry", "seam: plane, or tissue.block");
   if (std::abs(sc.insertion.entry_angle - 0.5 * M_PI) > 1e-9)
     throw Error("model.explicit.cohesive.seam: sleeve needs entry_angle 90 deg (the sleeve runs along x)");
   radius = ex.cohesive.sleeve_radius > 0 ? ex.cohesive.sleeve_radius : 0.5 * (shape.radius + shape.innerRadius);
