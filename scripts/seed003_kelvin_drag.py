@@ -12,9 +12,13 @@ beside the path. A traction-free entry face raises it, by about 8 (1 - nu)^2 / (
 a load on the face (Boussinesq against Kelvin, along the load) and less for the loads deeper inside. This is the 3D reference for the 2D slab: the slab thickness that
 reproduces it is the physically sound one (docs/validation/realtime2d.md, "Slab thickness").
 
-Usage: python3 scripts/seed003_kelvin_drag.py
+Usage: python3 scripts/seed003_kelvin_drag.py [--check]
+--check exits 1 unless every glitter displacement (Tables 5.6, 5.7) exceeds the free-face bound
+(2.04 x the infinite-body value) at r = 4 mm: the docs' claim that no linear elastic reading with
+the printed E and forces reaches the glitter.
 """
 import math
+import sys
 
 E, NU = 30.74e3, 0.422           # Pa, 1 (section 5.1: Rippy et al., Otterloo et al.)
 C, B = 3.791, 285.053            # N/m, N s/m^2 (section 5.1, eqs 5.2-5.5)
@@ -44,10 +48,17 @@ def main():
             print(f"{v * 1e3:4.0f} mm/s {r * 1e3:2.0f} mm {row}")
     print("A traction-free entry face raises these by a factor of about 2 at most (8 (1 - nu)^2 / (3 - 4 nu)).")
     glitter = {3e-3: (1.448, 1.448, 0.842, 0.839), 10e-3: (1.665, 1.670, 1.126, 1.102)}  # Tables 5.6, 5.7
+    free_face = 8 * (1 - NU) ** 2 / (3 - 4 * NU)
+    worst = math.inf
     for v, g in glitter.items():
         ratio = [gi / (1e3 * drag(v, x, 4e-3)) for gi, x in zip(g, depths)]
+        worst = min(worst, *ratio)
         print(f"{v * 1e3:.0f} mm/s, r = 4 mm: glitter / 3D = " + ", ".join(f"{x:.1f}" for x in ratio))
+    return worst / free_face
 
 
 if __name__ == "__main__":
-    main()
+    margin = main()
+    if "--check" in sys.argv[1:]:
+        print(f"smallest glitter / (free-face bound) = {margin:.2f}")
+        sys.exit(0 if margin > 1 else 1)
