@@ -117,7 +117,7 @@ static void printTable2() {
     }
     std::printf("\n");
   }
-  for (const char* m : {"energy", "beam-foundation", "kinematic"})
+  for (const char* m : {"energy", "beam-foundation", "kinematic", "radius-proportional"})
     for (int cal = 0; cal < 3; ++cal) {
       double mean = 0, worst = 0;
       for (const auto& pr : table2CrossValidation(m, cal)) {

@@ -57,10 +57,11 @@ TEST(Realtime2dEngine, ThesisExampleForceAndDeflection) {
   const double lumped = (3.791 + 285.053 * v) * d + 0.04335;
   EXPECT_NEAR(out.results.at("final_force"), lumped, 0.1 * lumped);
   EXPECT_NEAR(out.results.at("max_depth"), d, 1e-6);
-  // the example's bevel face looks to -y (bevel_orientation 180 deg): the tip is pushed to +y
+  // the example's bevel face looks to -y (bevel_orientation 180 deg): the tip is pushed to +y.
+  // Seed 003 section 5.4: measured 1.353, 1.005, 1.545 mm, mean 1.301 mm, SD 0.274 mm; held to
+  // two standard deviations of those three insertions (with the example's assumed 30 deg bevel)
   const double defl = out.results.at("max_tip_deflection");
-  EXPECT_GT(defl, 0.8e-3);
-  EXPECT_LT(defl, 2.2e-3);
+  EXPECT_NEAR(defl, 1.301e-3, 2 * 0.274e-3);
   // Markers beside the path are dragged in the insertion direction (x) by friction.
   for (const char* m : {"n1", "n2", "n3", "n4"}) EXPECT_GT(out.results.at(std::string("marker_") + m + "_ux_max"), 0.0) << m;
   ASSERT_TRUE(out.tables.count("forces"));

@@ -294,6 +294,24 @@ TEST(Table2, EnergyModelPredictsTheOtherDiametersOfAGel) {
   }
 }
 
+TEST(Table2, RadiusProportionalBaselineScalesTheCalibrationRadius) {
+  // the second baseline (issue 21): rho = c d with c = rho_exp / d of the calibration needle, so a
+  // prediction is rho_exp(cal) d / d(cal); seed 002 Table 2's gel C 0.36 -> 0.54 mm:
+  // 206.7 x 0.54 / 0.36 = 310.05 mm against the measured 240.0 mm (+29.2 %)
+  const auto& cases = table2Cases();
+  for (int cal = 0; cal < 3; ++cal)
+    for (const auto& pr : table2CrossValidation("radius-proportional", cal)) {
+      const Table2Case& c = cases[pr.case_index];
+      const Table2Case& k = cases[pr.calibration_case];
+      EXPECT_NEAR(pr.rho_pred, k.rho_exp * c.diameter / k.diameter, 1e-12);
+      EXPECT_NEAR(pr.error, pr.rho_pred / c.rho_exp - 1, 1e-12);
+    }
+  const auto p = table2CrossValidation("radius-proportional", 0);
+  EXPECT_NEAR(p[5].rho_pred, 0.31005, 1e-6);  // gel C 0.54 mm from 0.36 mm
+  EXPECT_NEAR(p[5].error, 0.2919, 1e-3);
+  EXPECT_THROW(runTable2Case(cases[0], "no-such-model"), std::invalid_argument);
+}
+
 TEST(EnergyModel, WorkBalanceSetsTheCutShare) {
   // choice 10 bookkeeping: per unit advance the input work P_input is split into friction
   // f P_input, rupture a G_f and the sideways cut; the reported works must reproduce chi

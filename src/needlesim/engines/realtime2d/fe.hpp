@@ -15,8 +15,11 @@ struct ElasticMaterial {
   double E = 30.74e3;      // Pa
   double nu = 0.422;       // 1
   double density = 636.7;  // kg/m^3
-  double thickness = 1e-3; // m, out-of-plane extent carried by the 2D slab
-  bool plane_strain = true;
+  // m, out-of-plane extent carried by the 2D slab. Seed 003 eq 3.6 has no thickness factor (unit
+  // thickness); its mm-size displacements under its ~0.3 N forces need mm units, so the thesis' own
+  // model is a 1 mm slab. A 3D body of this gel moves 5-10x less (docs/validation/realtime2d.md).
+  double thickness = 1e-3;
+  bool plane_strain = true;  // eqs 3.9-3.11 are the plane-strain D (lambda + 2 mu on the diagonal)
 };
 
 // Elasticity matrix (eq 3.9); plane stress uses lambda* = 2 lambda mu / (lambda + 2 mu).

@@ -93,8 +93,16 @@ Table2Row runTable2Case(const Table2Case& c, const std::string& model, double be
     row.rho_pred = 1.0 / kappa;
     row.deflection_pred = (1 - std::cos(kappa * L)) / kappa;
     row.increments = 1;
+  } else if (model == "radius-proportional") {
+    // the second baseline of issue 21: radius proportional to the needle diameter, rho = c d
+    // (no mechanics); its one parameter, passed in beta_ratio, is c = rho / d (default rho_exp / d)
+    const double ratio = beta_ratio > 0 ? beta_ratio : c.rho_exp / c.diameter;
+    const double kappa = 1.0 / (ratio * c.diameter);
+    row.rho_pred = 1.0 / kappa;
+    row.deflection_pred = (1 - std::cos(kappa * L)) / kappa;
+    row.increments = 1;
   } else {
-    throw std::invalid_argument("table 2 runs the energy or beam-foundation model, not " + model);
+    throw std::invalid_argument("table 2 runs the energy, beam-foundation, kinematic or radius-proportional model, not " + model);
   }
   return row;
 }
@@ -122,7 +130,9 @@ std::vector<Table2Prediction> table2CrossValidation(const std::string& model, in
   std::vector<Table2Prediction> out;
   for (int g = 0; g < 4; ++g) {
     const int ic = 3 * g + calibration;
-    const double par = model == "kinematic" ? 1.0 / cases[ic].rho_exp : calibrateBetaRatio(cases[ic], model);
+    const double par = model == "kinematic"             ? 1.0 / cases[ic].rho_exp
+                       : model == "radius-proportional" ? cases[ic].rho_exp / cases[ic].diameter
+                                                        : calibrateBetaRatio(cases[ic], model);
     for (int k = 0; k < 3; ++k) {
       if (k == calibration) continue;
       const Table2Case& c = cases[3 * g + k];

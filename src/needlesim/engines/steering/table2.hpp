@@ -37,7 +37,8 @@ struct Table2Row {
 // section 5.2 inputs) or "beam-foundation-edges" (tip loads of eqs 24-26 with the section 3.1
 // cut angles) or "kinematic" (constant curvature); 150 mm insertion, 1 mm increments for the
 // beam. beta_ratio >= 0 replaces the case's beta/alpha (energy, energy-entry, beam-foundation);
-// for "kinematic" a beta_ratio > 0 is the curvature in 1/m (default 1/rho_exp).
+// for "kinematic" a beta_ratio > 0 is the curvature in 1/m (default 1/rho_exp); "radius-proportional"
+// (rho = c d, the other baseline) takes c = rho / d in beta_ratio (default rho_exp / d).
 Table2Row runTable2Case(const Table2Case& c, const std::string& model, double beta_ratio = -1.0);
 
 // The beta/alpha in (0, 1] for which `model` ("energy" or "beam-foundation") reproduces the
@@ -47,11 +48,12 @@ double calibrateBetaRatio(const Table2Case& c, const std::string& model);
 
 // Leave-two-out prediction per gel: beta/alpha calibrated on the needle `calibration`
 // (0, 1, 2 = 0.36, 0.46, 0.54 mm) of each gel predicts the other two needles of that gel.
-// model "kinematic" = the same curvature 1/rho_exp(calibration needle) for every needle of the gel.
+// model "kinematic" = the same curvature 1/rho_exp(calibration needle) for every needle of the gel;
+// "radius-proportional" = rho = (rho_exp / d)(calibration needle) x d.
 struct Table2Prediction {
   int case_index = 0;       // into table2Cases()
   int calibration_case = 0; // the case the parameter was fitted on
-  double beta_ratio = 0.0;  // fitted beta/alpha (kinematic: fitted curvature, 1/m)
+  double beta_ratio = 0.0;  // fitted beta/alpha (kinematic: curvature, 1/m; radius-proportional: rho/d)
   double rho_pred = 0.0;    // m
   double error = 0.0;       // (rho_pred - rho_exp) / rho_exp
 };
