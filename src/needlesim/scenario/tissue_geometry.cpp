@@ -92,12 +92,11 @@ void checkSize(const ImportedGeometry& g, Section& geo, const std::string& unit)
   std::string better;
   for (const char* u : {"m", "cm", "mm", "um"}) {
     const double e = extent / metresPer(unit) * metresPer(u);
-    if (e >= kSmallest && e <= kLargest && better.empty()) better = u;
+    if (e >= kSmallest && e <= kLargest) better += fmt::format("{}with unit: {} it is {}", better.empty() ? "" : "; ", u, mm(e));
   }
   throw geo.error("unit", unit,
                   fmt::format("makes the geometry {} across; a tissue is between 1 mm and 1 m{}", mm(extent),
-                              better.empty() ? "" : fmt::format(" (with unit: {} it is {})", better,
-                                                                mm(extent / metresPer(unit) * metresPer(better)))),
+                              better.empty() ? "" : " (" + better + ")"),
                   "the length unit the file's coordinates are written in: m, cm, mm or um");
 }
 
