@@ -146,7 +146,7 @@ int topDimension() {
   return 0;
 }
 
-// The model's mesh of its highest dimension, nodes numbered 0.. in order of first use.
+// The model's mesh of its highest dimension; the nodes its elements use, numbered 0.. in the file's order.
 VolumeMesh extractMesh(const std::string& path) {
   VolumeMesh m;
   m.dim = topDimension();
@@ -158,21 +158,23 @@ VolumeMesh extractMesh(const std::string& path) {
   std::vector<std::size_t> allTags;
   std::vector<double> coord, parametric;
   gmsh::model::mesh::getNodes(allTags, coord, parametric, -1, -1, true, false);
-  std::map<std::size_t, std::size_t> where;  // node tag -> position in allTags
-  for (std::size_t i = 0; i < allTags.size(); ++i) where[allTags[i]] = i;
+  // nodes used by the elements, in the file's order (0-based)
   std::map<std::size_t, int> index;
+  for (std::size_t t : nodeTags) index.emplace(t, -1);
+  for (std::size_t i = 0; i < allTags.size(); ++i) {
+    const auto used = index.find(allTags[i]);
+    if (used == index.end() || used->second >= 0) continue;
+    used->second = m.nodes();
+    const double* p = &coord[3 * i];
+    if (m.dim == 2 && std::abs(p[2]) > 1e-12 * (1.0 + std::abs(p[0]) + std::abs(p[1])))
+      throw geometryError(path, fmt::format("is a 2D mesh with node {} at z = {:g}", allTags[i], p[2]),
+                          "a 2D mesh in the plane z = 0 (x depth, y across)");
+    for (int k = 0; k < m.dim; ++k) m.X.push_back(p[k]);
+  }
   for (std::size_t t : nodeTags) {
-    auto [it, fresh] = index.try_emplace(t, m.nodes());
-    if (fresh) {
-      const auto at = where.find(t);
-      if (at == where.end()) throw geometryError(path, fmt::format("an element uses node {}, which has no coordinates", t), "a complete mesh");
-      const double* p = &coord[3 * at->second];
-      if (m.dim == 2 && std::abs(p[2]) > 1e-12 * (1.0 + std::abs(p[0]) + std::abs(p[1])))
-        throw geometryError(path, fmt::format("is a 2D mesh with node {} at z = {:g}", t, p[2]),
-                            "a 2D mesh in the plane z = 0 (x depth, y across)");
-      for (int i = 0; i < m.dim; ++i) m.X.push_back(p[i]);
-    }
-    m.conn.push_back(it->second);
+    const int n = index.at(t);
+    if (n < 0) throw geometryError(path, fmt::format("an element uses node {}, which has no coordinates", t), "a complete mesh");
+    m.conn.push_back(n);
   }
   return m;
 }
