@@ -2,6 +2,7 @@
 // inclusion motion table and its targeting results in the needle frame.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <numbers>
 
 #include "needlesim/core/error.hpp"
@@ -64,4 +65,23 @@ TEST(InclusionMotion, ReportsTheTargetShiftAlongTheNeedleFrame) {
   EXPECT_NEAR(value("tumour_displacement"), u.norm(), 1e-15);
   EXPECT_NEAR(value("vessel_displacement_max"), 1e-4, 1e-15);
   EXPECT_EQ(sink.results.count("vessel_shift_lateral"), 0u);  // not a target
+}
+
+TEST(InclusionMotion, TheMissDistanceIsFromTheTipToTheDisplacedTargetCentre) {
+  const auto frame = needle::InsertionFrame::fromInsertion(InsertionSpec{});
+  InclusionSpec tumour;
+  tumour.name = "tumour";
+  tumour.target = true;
+  tumour.x = 10e-3, tumour.y = 2e-3, tumour.z = 0.0;
+  results::InclusionMotion m({tumour}, frame);
+  m.add(1.0, 12e-3, {Eigen::Vector3d(0.1e-3, 0.2e-3, -0.3e-3)});
+  MemorySink before;
+  m.report(before);
+  EXPECT_EQ(before.results.count("tumour_miss_distance"), 0u);  // no tip given: no miss
+  m.tip(Eigen::Vector3d(12e-3, 0, 0), Eigen::Vector3d(2, 0, 0));
+  MemorySink sink;
+  m.report(sink);
+  // centre now (10.1, 2.2, -0.3) mm; tip (12, 0, 0) mm on an axis along x
+  EXPECT_NEAR(sink.results.at("tumour_miss_distance").value, 1e-3 * std::sqrt(1.9 * 1.9 + 2.2 * 2.2 + 0.3 * 0.3), 1e-15);
+  EXPECT_NEAR(sink.results.at("tumour_miss_from_axis").value, 1e-3 * std::sqrt(2.2 * 2.2 + 0.3 * 0.3), 1e-15);
 }

@@ -20,6 +20,7 @@ InclusionMotion::InclusionMotion(const std::vector<InclusionSpec>& inclusions, c
   for (const auto& I : inclusions) {
     names_.push_back(I.name);
     target_.push_back(I.target);
+    centre_.emplace_back(I.x, I.y, I.z);
   }
   largest_.assign(names_.size(), 0.0);
   last_.assign(names_.size(), Eigen::Vector3d::Zero());
@@ -39,6 +40,12 @@ void InclusionMotion::add(double time, double depth, const std::vector<Eigen::Ve
   table_.addRow(row);
 }
 
+void InclusionMotion::tip(const Eigen::Vector3d& position, const Eigen::Vector3d& axis) {
+  tipKnown_ = true;
+  tip_ = position;
+  axis_ = axis.normalized();
+}
+
 void InclusionMotion::report(ResultSink& sink) const {
   if (names_.empty()) return;
   sink.table("inclusions", table_);
@@ -52,6 +59,11 @@ void InclusionMotion::report(ResultSink& sink) const {
     sink.result(n + "_shift_out_of_plane", frame_.outOfPlaneOf(last_[i]), "m",
                 "shift of " + n + " out of the insertion plane (targeting error)");
     sink.result(n + "_shift_axial", frame_.axialOf(last_[i]), "m", "shift of " + n + " along the needle axis (pushed ahead of the tip when > 0)");
+    if (!tipKnown_) continue;
+    const Eigen::Vector3d d = centre_[i] + last_[i] - tip_;
+    sink.result(n + "_miss_distance", d.norm(), "m", "distance from the needle tip (on its axis) to the displaced centre of " + n + " at the end");
+    sink.result(n + "_miss_from_axis", (d - d.dot(axis_) * axis_).norm(), "m",
+                "distance of the displaced centre of " + n + " from the needle's axis at the end (how far the needle passes it)");
   }
 }
 

@@ -25,6 +25,10 @@ class InclusionMotion {
   bool empty() const { return names_.empty(); }
   // Mean displacement of each inclusion's material, in the order of tissue.inclusions.
   void add(double time, double depth, const std::vector<Eigen::Vector3d>& displacement);
+  // Where the needle tip is (on its axis, tissue frame, m) and the axis direction: with it the
+  // report gives each target's miss distance (tip to the displaced centre) and its distance from
+  // the needle's axis.
+  void tip(const Eigen::Vector3d& position, const Eigen::Vector3d& axis);
   // inclusions.csv, and per inclusion its final and largest displacement (and, for a
   // target, the final lateral and out-of-plane parts).
   void report(ResultSink& sink) const;
@@ -37,6 +41,9 @@ class InclusionMotion {
   io::Table table_;
   std::vector<double> largest_;
   std::vector<Eigen::Vector3d> last_;
+  std::vector<Eigen::Vector3d> centre_;  // reference centres (InclusionSpec x, y, z)
+  bool tipKnown_ = false;
+  Eigen::Vector3d tip_ = Eigen::Vector3d::Zero(), axis_ = Eigen::Vector3d::UnitX();
 };
 
 }  // namespace needlesim::results

@@ -118,6 +118,7 @@ void ExplicitRun::record() {
   f.force_total = (n->path ? -n->driveForce : -frame_.axialOf(n->force)) * thick;
   f.force_lateral = lateral.dot(n->force) * thick;
   f.tip_x = lead.x(), f.tip_y = lead.y(), f.tip_z = lead.z();
+  inclusions_.tip(n->pose.tip, n->pose.axis);
   if (beam_) f.tip_deflection = beam_->tipDeflectionAlong(frame_.lateral);
   // torque the tissue applies about the needle axis (the base must hold -torque)
   const double torque = frame_.axialOf(n->moment) * thick;

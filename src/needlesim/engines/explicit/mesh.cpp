@@ -220,16 +220,18 @@ double signedMeasure(const Mesh& m, int e) {
   return tet(0, 1, 2, 6) + tet(0, 5, 1, 6) + tet(0, 2, 3, 6) + tet(0, 3, 7, 6) + tet(0, 4, 5, 6) + tet(0, 7, 4, 6);
 }
 
-// The node of an element pair that straddles the seam window and is nearer the seam; -1 if none.
-int nodeToSnap(const Mesh& m, int a, int b, double offset, double x0, double x1, double halfWidth) {
+// The nodes of an element pair that straddles the seam window, the one nearer the seam first;
+// {-1, -1} if it does not straddle it.
+std::pair<int, int> nodesToSnap(const Mesh& m, int a, int b, double offset, double x0, double x1, double halfWidth) {
   const double da = m.coord(a, 1) - offset, db = m.coord(b, 1) - offset;
   const double scale = 1e-12 * (std::abs(da) + std::abs(db));
-  if (!((da > scale && db < -scale) || (da < -scale && db > scale))) return -1;
+  const std::pair<int, int> none{-1, -1};
+  if (!((da > scale && db < -scale) || (da < -scale && db > scale))) return none;
   const double s = da / (da - db);  // where the segment meets the seam
   const double x = m.coord(a, 0) + s * (m.coord(b, 0) - m.coord(a, 0));
-  if (x < x0 || x > x1) return -1;
-  if (m.dim == 3 && std::abs(m.coord(a, 2) + s * (m.coord(b, 2) - m.coord(a, 2))) >= halfWidth) return -1;
-  return std::abs(da) <= std::abs(db) ? a : b;
+  if (x < x0 || x > x1) return none;
+  if (m.dim == 3 && std::abs(m.coord(a, 2) + s * (m.coord(b, 2) - m.coord(a, 2))) >= halfWidth) return none;
+  return std::abs(da) <= std::abs(db) ? std::pair{a, b} : std::pair{b, a};
 }
 
 // The elements of each node.
@@ -268,15 +270,19 @@ int snapOntoSeam(Mesh& m, double offset, double x0, double x1, double halfWidth)
     for (int e = 0; e < m.elements(); ++e)
       for (int i = 0; i < npe; ++i)
         for (int j = i + 1; j < npe; ++j) {
-          const int n = nodeToSnap(m, m.conn[e * npe + i], m.conn[e * npe + j], offset, x0, x1, halfWidth);
-          if (n < 0 || refused[n]) continue;
-          if (!snapIfSafe(m, n, offset, elementsOf[n], before)) {
-            refused[n] = 1;
-            continue;
+          const auto [near, far] = nodesToSnap(m, m.conn[e * npe + i], m.conn[e * npe + j], offset, x0, x1, halfWidth);
+          if (near < 0) continue;
+          for (int n : {near, far}) {  // the farther node when the nearer cannot move
+            if (refused[n]) continue;
+            if (!snapIfSafe(m, n, offset, elementsOf[n], before)) {
+              refused[n] = 1;
+              continue;
+            }
+            count += moved[n] ? 0 : 1;
+            moved[n] = 1;
+            again = true;
+            break;
           }
-          count += moved[n] ? 0 : 1;
-          moved[n] = 1;
-          again = true;
         }
   }
   return count;

@@ -56,8 +56,9 @@ std::vector<std::pair<int, int>> splitSeam(Mesh& mesh, double offset, double x0,
 // The seam of splitSeam through an unstructured (imported) mesh, in two steps. snapOntoSeam:
 // while an element has two nodes strictly on opposite sides of the seam (2D: the line
 // y = offset; 3D: the plane, where the crossing lies in the strip |z| < halfWidth) with the
-// crossing at x in [x0, x1], the node nearer the seam moves onto it, unless that would leave one
-// of its elements with under a tenth of its area or volume; returns the nodes moved. Then
+// crossing at x in [x0, x1], the node nearer the seam moves onto it (else the farther one),
+// unless that would leave one of its elements with under a tenth of its area or volume; returns
+// the nodes moved. Then
 // splitAlongFaces: every element is on the + or - side by its centroid; each node in the window
 // shared by elements of both sides is duplicated and the + side takes the copy, so the seam runs
 // along the element faces nearest the plane (on it wherever the nodes could move). On a mesh
