@@ -33,7 +33,7 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)",
        runBeamFoundation, false, false, guarded<steeringStepPlan>},
       {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", runMpm, true, true,
-       guarded<mpmStepPlan>},
+       guarded<mpmStepPlan>, {3}},
       {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", runExplicit,
        false, true, guarded<explicitStepPlan>, {2, 3}},
   };

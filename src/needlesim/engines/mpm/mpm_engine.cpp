@@ -9,6 +9,8 @@
 #include <cmath>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/mpm/geometry_fill.hpp"
+#include "needlesim/mesh/volume_mesh.hpp"
 
 namespace needlesim::engines {
 
@@ -113,6 +115,24 @@ MpmConfig solverConfig(const Scenario& sc) {
   return c;
 }
 
+// An imported geometry (tissue.geometry) replaces the block's faces by its supported side
+// (geometry_fill.hpp); tetrahedra only.
+void configureGeometry(const Scenario& sc, MpmSetup& s) {
+  const auto& g = sc.tissue.geometry;
+  if (!g) return;
+  if (g->mesh->element != "tet4")
+    throw refusal(sc, "tissue.geometry", g->file,
+                  fmt::format("fills tetrahedral meshes with material points, not {} elements", g->mesh->element),
+                  "a tetrahedral mesh (Gmsh: Mesh 3 of a script, or surfaces, which are meshed into tetrahedra)");
+  if (sc.model.mpm.faces != MpmModelSpec{}.faces)
+    throw refusal(sc, "model.mpm.faces", "given",
+                  "with tissue.geometry the geometry's supported side (tissue.geometry.support_depth) is held, "
+                  "not the faces of its bounding box",
+                  "no model.mpm.faces with tissue.geometry");
+  for (auto& f : s.config.faces) f = FaceBC::Free;
+  s.config.heldNodes = heldGridNodes(*g, s.config, s.shift);
+}
+
 RigidBody rigidNeedle(const Scenario& sc, const Vec3& axis) {
   RigidBody n;
   n.kind = RigidBody::Kind::Needle;
@@ -142,6 +162,7 @@ MpmSetup mpmSetup(const Scenario& sc) {
   s.frame = needle::InsertionFrame::fromInsertion(sc.insertion);
   s.shift = needle::cornerShift(sc.tissue);
   s.entry = s.frame.entry + s.shift;
+  configureGeometry(sc, s);
   s.needle = rigidNeedle(sc, s.frame.axial);
   checkCfempFriction(sc, s.needle.friction);
   placeNeedle(s.needle, s, 0.0, s.frame.bevelSide(), 0.0);
@@ -192,18 +213,32 @@ void placeNeedle(RigidBody& n, const MpmSetup& s, double depth, const Vec3& beve
   n.velocity = speed * s.frame.axial;
 }
 
-std::vector<std::vector<std::size_t>> addTissue(MpmSolver& solver, const Scenario& sc, const MpmSetup& s) {
+namespace {
+
+// The lattice of the block (its spacing and offsets) kept inside the geometry's elements, each
+// point with its element's material: layer, or inclusion (body 1 when it slides).
+void addGeometryPoints(MpmSolver& solver, const Scenario& sc, const MpmSetup& s) {
   const TissueSpec& t = sc.tissue;
-  double x = 0.0;
-  for (std::size_t i = 0; i < t.layers.size(); ++i) {
-    const double x1 = x + t.layers[i].thickness;
-    solver.addBlock(Vec3(x, 0, 0), Vec3(x1, t.width, t.height), sc.model.mpm.particle_spacing, static_cast<int>(i),
-                    0);
-    x = x1;
-  }
+  const Lattice L(Vec3::Zero(), Vec3(t.length, t.width, t.height), sc.model.mpm.particle_spacing);
+  std::vector<int> material = latticeRegions(*t.geometry, L, s.shift);
+  std::vector<int> body(material.size(), 0);
+  const auto layers = static_cast<int>(t.layers.size());
+  for (std::size_t q = 0; q < material.size(); ++q)
+    if (material[q] >= layers && t.inclusions[static_cast<std::size_t>(material[q] - layers)].sliding) body[q] = 1;
+  solver.addLattice(L, material, body);
+}
+
+// The points inside each inclusion: a shape's take its material; a mesh group's have it already.
+std::vector<std::vector<std::size_t>> inclusionMembers(MpmSolver& solver, const TissueSpec& t, const MpmSetup& s) {
   std::vector<std::vector<std::size_t>> members(t.inclusions.size());
   const std::size_t np = solver.size();
   for (std::size_t p = 0; p < np; ++p) {
+    const int m = solver.material(p);
+    if (m >= static_cast<int>(t.layers.size()) &&
+        t.inclusions[static_cast<std::size_t>(m) - t.layers.size()].shape == InclusionSpec::Shape::Mesh) {
+      members[static_cast<std::size_t>(m) - t.layers.size()].push_back(p);
+      continue;
+    }
     const Vec3 xc = solver.position(p) - s.shift;
     for (std::size_t i = t.inclusions.size(); i-- > 0;) {  // the last inclusion listed wins an overlap
       if (!t.inclusions[i].contains(xc.x(), xc.y(), xc.z())) continue;
@@ -212,12 +247,37 @@ std::vector<std::vector<std::size_t>> addTissue(MpmSolver& solver, const Scenari
       break;
     }
   }
-  for (std::size_t i = 0; i < members.size(); ++i)
-    if (members[i].empty())
-      throw refusal(sc, fmt::format("tissue.inclusions[{}].radius", i),
-                    fmt::format("{:g} mm", t.inclusions[i].radius * 1e3),
-                    "holds no material point (smaller than the particle spacing)",
-                    fmt::format("a radius of at least {:g} mm", sc.model.mpm.particle_spacing * 1e3));
+  return members;
+}
+
+}  // namespace
+
+std::vector<std::vector<std::size_t>> addTissue(MpmSolver& solver, const Scenario& sc, const MpmSetup& s) {
+  const TissueSpec& t = sc.tissue;
+  if (t.geometry) {
+    addGeometryPoints(solver, sc, s);
+  } else {
+    double x = 0.0;
+    for (std::size_t i = 0; i < t.layers.size(); ++i) {
+      const double x1 = x + t.layers[i].thickness;
+      solver.addBlock(Vec3(x, 0, 0), Vec3(x1, t.width, t.height), sc.model.mpm.particle_spacing,
+                      static_cast<int>(i), 0);
+      x = x1;
+    }
+  }
+  auto members = inclusionMembers(solver, t, s);
+  for (std::size_t i = 0; i < members.size(); ++i) {
+    if (!members[i].empty()) continue;
+    if (t.inclusions[i].shape == InclusionSpec::Shape::Mesh)
+      throw refusal(sc, fmt::format("tissue.inclusions[{}].name", i), t.inclusions[i].name,
+                    "its elements hold no material point (smaller than the particle spacing)",
+                    fmt::format("a model.mpm.particle_spacing below the group's size ({:g} mm radius)",
+                                t.inclusions[i].radius * 1e3));
+    throw refusal(sc, fmt::format("tissue.inclusions[{}].radius", i),
+                  fmt::format("{:g} mm", t.inclusions[i].radius * 1e3),
+                  "holds no material point (smaller than the particle spacing)",
+                  fmt::format("a radius of at least {:g} mm", sc.model.mpm.particle_spacing * 1e3));
+  }
   return members;
 }
 

@@ -189,25 +189,40 @@ void MpmSolver::checkIds(int material, int body) const {
   if (body < 0 || body >= cfg_.bodies) throw Error("mpm: body index out of range");
 }
 
+Lattice::Lattice(const Vec3& lo_, const Vec3& hi, double dp) : lo(lo_) {
+  for (int d = 0; d < 3; ++d) {
+    n[static_cast<std::size_t>(d)] = std::max(1, static_cast<int>(std::lround((hi[d] - lo[d]) / dp)));
+    sp[d] = (hi[d] - lo[d]) / n[static_cast<std::size_t>(d)];
+  }
+}
+
 std::size_t MpmSolver::addBlock(const Vec3& lo, const Vec3& hi, double dp, int material, int body,
                                 const Vec3& velocity) {
   checkIds(material, body);
-  int n[3];
-  double sp[3];
-  for (int d = 0; d < 3; ++d) {
-    n[d] = std::max(1, static_cast<int>(std::lround((hi[d] - lo[d]) / dp)));
-    sp[d] = (hi[d] - lo[d]) / n[d];
-  }
+  const Lattice L(lo, hi, dp);
   const std::size_t first = size();
-  const double vol = sp[0] * sp[1] * sp[2];
+  const double vol = L.sp.prod();
   const double m = mats_[static_cast<std::size_t>(material)].density * vol * cfg_.massScaling;
-  for (int i = 0; i < n[0]; ++i)
-    for (int j = 0; j < n[1]; ++j)
-      for (int k = 0; k < n[2]; ++k)
-        pushParticle(Vec3(lo[0] + (i + 0.5) * sp[0], lo[1] + (j + 0.5) * sp[1], lo[2] + (k + 0.5) * sp[2]), velocity,
-                     m, vol, material, body);
-  const double spMin = std::min({sp[0], sp[1], sp[2]});
-  dp_ = dp_ > 0 ? std::min(dp_, spMin) : spMin;
+  for (int i = 0; i < L.n[0]; ++i)
+    for (int j = 0; j < L.n[1]; ++j)
+      for (int k = 0; k < L.n[2]; ++k) pushParticle(L.point(i, j, k), velocity, m, vol, material, body);
+  dp_ = dp_ > 0 ? std::min(dp_, L.sp.minCoeff()) : L.sp.minCoeff();
+  return first;
+}
+
+std::size_t MpmSolver::addLattice(const Lattice& L, const std::vector<int>& material, const std::vector<int>& body) {
+  const std::size_t first = size();
+  const double vol = L.sp.prod();
+  for (int i = 0; i < L.n[0]; ++i)
+    for (int j = 0; j < L.n[1]; ++j)
+      for (int k = 0; k < L.n[2]; ++k) {
+        const std::size_t q = L.index(i, j, k);
+        if (material[q] < 0) continue;
+        checkIds(material[q], body[q]);
+        const double m = mats_[static_cast<std::size_t>(material[q])].density * vol * cfg_.massScaling;
+        pushParticle(L.point(i, j, k), Vec3::Zero(), m, vol, material[q], body[q]);
+      }
+  if (size() > first) dp_ = dp_ > 0 ? std::min(dp_, L.sp.minCoeff()) : L.sp.minCoeff();
   return first;
 }
 
@@ -358,6 +373,10 @@ void MpmSolver::setUpBoundaries() {
           }
         }
       }
+  for (const auto& n : cfg_.heldNodes) {
+    if (n[0] < 0 || n[1] < 0 || n[2] < 0 || n[0] >= nn_[0] || n[1] >= nn_[1] || n[2] >= nn_[2]) continue;
+    fixMask_[(static_cast<std::size_t>(n[0]) * nn_[1] + n[1]) * nn_[2] + n[2]] |= 7;
+  }
 
 }
 

@@ -107,6 +107,8 @@ struct MpmConfig {
   // Box whose faces carry the boundary conditions: faces x-, x+, y-, y+, z-, z+.
   Vec3 boxLo = Vec3::Zero(), boxHi = Vec3::Zero();
   std::array<FaceBC, 6> faces{{FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free, FaceBC::Free}};
+  // Grid nodes (i, j, k) held fixed besides the faces' (an imported geometry's supported side).
+  std::vector<std::array<int, 3>> heldNodes;
   double contactGap = -1.0;        // eq 22 gap for rigid contact, m (< 0: half the particle spacing)
   PairGapRule pairGapRule = PairGapRule::Surface;
   double pairGapFactor = 1.0;      // Centroid rule: scales the centroid-separation gap of two deformable bodies
@@ -135,6 +137,18 @@ struct RigidForce {
   int contactNodes = 0;
 };
 
+// The particle lattice addBlock fills a box with: n[d] points along each axis, spacing sp[d]
+// (dp rounded so that whole points fit), point (i, j, k) at lo + (i + 1/2, j + 1/2, k + 1/2) sp.
+struct Lattice {
+  Vec3 lo = Vec3::Zero();
+  std::array<int, 3> n{{1, 1, 1}};
+  Vec3 sp = Vec3::Ones();
+  Lattice(const Vec3& lo, const Vec3& hi, double dp);
+  std::size_t size() const { return static_cast<std::size_t>(n[0]) * n[1] * n[2]; }
+  std::size_t index(int i, int j, int k) const { return (static_cast<std::size_t>(i) * n[1] + j) * n[2] + k; }
+  Vec3 point(int i, int j, int k) const { return lo + Vec3((i + 0.5) * sp[0], (j + 0.5) * sp[1], (k + 0.5) * sp[2]); }
+};
+
 class MpmSolver {
  public:
   explicit MpmSolver(const MpmConfig& cfg);
@@ -146,6 +160,9 @@ class MpmSolver {
   // implied); returns the index of the first new particle.
   std::size_t addBlock(const Vec3& lo, const Vec3& hi, double dp, int material, int body,
                        const Vec3& velocity = Vec3::Zero());
+  // The points of `lattice` whose material[index] >= 0, with that material and body[index], in
+  // addBlock's order; returns the index of the first new particle.
+  std::size_t addLattice(const Lattice& lattice, const std::vector<int>& material, const std::vector<int>& body);
   // One material point of the given volume (its spacing, the cube root, enters
   // the particle spacing as addBlock's does); returns its index. For shapes
   // other than boxes (spheres, imported point clouds).
@@ -173,6 +190,7 @@ class MpmSolver {
   double mass(std::size_t p) const { return P_[p].mass; }           // scaled
   double volume0(std::size_t p) const { return P_[p].vol0; }
   int body(std::size_t p) const { return body_[p]; }
+  int material(std::size_t p) const { return mat_[p]; }
   double particleSpacing() const { return dp_; }
   void setVelocity(std::size_t p, const Vec3& v) { P_[p].v[0] = v.x(); P_[p].v[1] = v.y(); P_[p].v[2] = v.z(); }
   void setPosition(std::size_t p, const Vec3& x) { P_[p].x[0] = x.x(); P_[p].x[1] = x.y(); P_[p].x[2] = x.z(); }  // tests (contactForces)
