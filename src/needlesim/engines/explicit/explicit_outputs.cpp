@@ -310,6 +310,20 @@ void ExplicitRun::reportEnergies() {
   sink_.result("added_mass", solver_->totalMass() / solver_->physicalMass() - 1.0, "1",
                "mass added by mass scaling / physical mass");
   warnOnEnergyBalance(balanceMax_ / energyScale_);
+  warnOnNeedleBalance(needleBalanceMax_ / needleWorkMax_);
+}
+
+// The needle's work against what the tissue stored and dissipated: the shipped block examples
+// stay within 0.15; far beyond, contact did work on the tissue that the needle's reaction does
+// not show (a node caught deep inside the needle), and force and displacements are not to be trusted.
+void ExplicitRun::warnOnNeedleBalance(double needle) {
+  constexpr double kLimit = 0.5;
+  if (std::isfinite(needle) && needle > kLimit)
+    sink_.warning(fmt::format("The needle's work balances what the tissue took up only within {:.3g} times that work "
+                              "(needle_energy_balance_error; energy.csv contact_work against needle_work): contact "
+                              "forces did work the needle's reaction does not show, so forces and displacements are "
+                              "not to be trusted. Refine the mesh along the needle path or lower the speed.",
+                              needle));
 }
 
 // A tissue energy balance far from zero (round-off, 1e-14, when the step is

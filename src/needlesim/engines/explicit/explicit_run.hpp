@@ -70,6 +70,7 @@ class ExplicitRun {
   void reportForces();
   void reportEnergies();
   void warnOnEnergyBalance(double body);  // a warning when the energy balance is far from zero
+  void warnOnNeedleBalance(double needle);  // a warning when the needle work does not balance
   void reportCohesive();
   void reportNotes(const std::string& status);
   double crackedLength() const;

@@ -133,11 +133,11 @@ void ExplicitRun::cutSeam() {
   }
   if (dim_ == 3) halfWidth = shape_.radius + 1.01 * largestEdgeAcross(mesh_, seamY_, 2 * shape_.radius);
   const int moved = snapOntoSeam(mesh_, seamY_, 0.0, dmax_, halfWidth);
-  seam_ = splitAlongFaces(mesh_, seamY_, 0.0, dmax_, halfWidth);
+  seam_ = splitAlongFaces(mesh_, seamY_, 0.0, dmax_, halfWidth, bevelSide_.y() >= 0 ? 1 : -1);
   int off = 0;
   for (auto [a, b] : seam_) off += std::abs(mesh_.coord(a, 1) - seamY_) > 1e-12 ? 1 : 0;
   sink_.note(fmt::format("pre-cut seam through the imported mesh at y = {:.4g} mm: {} node pairs, {} nodes moved onto "
-                         "it, {} left beside it (within an element)",
+                         "it, {} left beside it on the side away from the needle",
                          seamY_ * 1e3, seam_.size(), moved, off));
 }
 

@@ -288,13 +288,14 @@ int snapOntoSeam(Mesh& m, double offset, double x0, double x1, double halfWidth)
   return count;
 }
 
-std::vector<std::pair<int, int>> splitAlongFaces(Mesh& m, double offset, double x0, double x1, double halfWidth) {
+std::vector<std::pair<int, int>> splitAlongFaces(Mesh& m, double offset, double x0, double x1, double halfWidth,
+                                                 int needleSide) {
   const int d = m.dim, npe = nodesPerElement(m.type), n0 = m.nodes();
   std::vector<char> plus(m.elements(), 0), onPlus(n0, 0), onMinus(n0, 0);
   for (int e = 0; e < m.elements(); ++e) {
-    double cy = 0;
-    for (int a = 0; a < npe; ++a) cy += m.coord(m.conn[e * npe + a], 1) / npe;
-    plus[e] = cy > offset;
+    bool reaches = false;  // a node strictly on the needle's side
+    for (int a = 0; a < npe; ++a) reaches = reaches || needleSide * (m.coord(m.conn[e * npe + a], 1) - offset) > 1e-12;
+    plus[e] = needleSide > 0 ? reaches : !reaches;
     for (int a = 0; a < npe; ++a) (plus[e] ? onPlus : onMinus)[m.conn[e * npe + a]] = 1;
   }
   std::vector<int> copyOf(n0, -1);

@@ -59,12 +59,15 @@ std::vector<std::pair<int, int>> splitSeam(Mesh& mesh, double offset, double x0,
 // crossing at x in [x0, x1], the node nearer the seam moves onto it (else the farther one),
 // unless that would leave one of its elements with under a tenth of its area or volume; returns
 // the nodes moved. Then
-// splitAlongFaces: every element is on the + or - side by its centroid; each node in the window
-// shared by elements of both sides is duplicated and the + side takes the copy, so the seam runs
-// along the element faces nearest the plane (on it wherever the nodes could move). On a mesh
-// with a grid line at the seam both give splitSeam's seam.
+// splitAlongFaces: an element with a node strictly on the needle's side of the plane
+// (needleSide +1: y > offset, -1: y < offset) is on that side, every other element on the other;
+// each node in the window shared by elements of both sides is duplicated and the + side takes
+// the copy. The seam thus runs along element faces on the plane wherever the nodes could move
+// and otherwise just beside it on the side away from the needle, so no seam node lies in the
+// needle's way. On a mesh with a grid line at the seam both give splitSeam's seam.
 int snapOntoSeam(Mesh& mesh, double offset, double x0, double x1, double halfWidth);
-std::vector<std::pair<int, int>> splitAlongFaces(Mesh& mesh, double offset, double x0, double x1, double halfWidth);
+std::vector<std::pair<int, int>> splitAlongFaces(Mesh& mesh, double offset, double x0, double x1, double halfWidth,
+                                                 int needleSide);
 // The longest edge of the elements that reach across the plane y = offset within |z| < halfWidth
 // (3D; the local element size along the needle path of an imported mesh).
 double largestEdgeAcross(const Mesh& mesh, double offset, double halfWidth);
