@@ -1251,7 +1251,6 @@ void MpmSolver::sumRigidForces(std::size_t touchLo, std::size_t touchHi) {
 
 // ---------------------------------------------------------------- CFEMP (eqs 22-24)
 
-namespace {
 // Closest point of triangle (a, b, c) to p (Ericson, Real-Time Collision Detection 5.1.5).
 Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c) {
   const Vec3 ab = b - a, ac = c - a, ap = p - a;
@@ -1272,7 +1271,6 @@ Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& 
   const double den = 1.0 / (va + vb + vc);
   return a + ab * (vb * den) + ac * (vc * den);
 }
-}  // namespace
 
 // The FE needle surface of seed 000 section 4.3 (cylinder, 20 deg bevel) from
 // needle/surface_mesh in the needle's own frame; buckets hold every triangle

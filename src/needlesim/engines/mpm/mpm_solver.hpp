@@ -30,6 +30,9 @@ struct Stencil4;  // support_lanes.hpp
 }  // namespace lanes
 
 using Vec3 = Eigen::Vector3d;
+
+// The point of triangle (a, b, c) closest to p.
+Vec3 closestOnTriangle(const Vec3& p, const Vec3& a, const Vec3& b, const Vec3& c);
 using Mat3 = Eigen::Matrix3d;
 
 enum class Shape { Linear, BSpline2 };           // linear hat (the paper's) or quadratic B-spline
