@@ -170,3 +170,17 @@ model: {engine: explicit, explicit: {dimension: 3d, element: tet4}}
   EXPECT_NEAR(sc.tissue.length, 21e-3, 0.06e-3);
   std::filesystem::remove_all(dir());
 }
+
+TEST(ImportedGeometry, RotateThenTranslatePlacesTheMeshInTheTissueFrame) {
+  writeBlockScript("block_mm.geo", 1e-3);  // x in [0, 20], y in [-10, 10] mm
+  std::string yaml = scenarioText("geometry: {file: block_mm.geo, unit: mm, rotate: {z: 90 deg}, translate: {x: 10 mm}}");
+  yaml.replace(yaml.find("  start_depth"), 0, "  entry_offset: 5 mm\n");
+  const Scenario sc = read(yaml);
+  // a quarter turn about z takes (x, y) to (-y, x): x in [-10, 10] + 10 mm, y in [0, 20] mm
+  EXPECT_NEAR(sc.tissue.geometry->lo[0], 0.0, 1e-12);
+  EXPECT_NEAR(sc.tissue.geometry->hi[0], 20e-3, 1e-12);
+  EXPECT_NEAR(sc.tissue.geometry->lo[1], 0.0, 1e-12);
+  EXPECT_NEAR(sc.tissue.geometry->hi[1], 20e-3, 1e-12);
+  EXPECT_NEAR(sc.tissue.width, 40e-3, 1e-12);  // the centred block that holds it
+  EXPECT_NEAR(sc.tissue.geometry->entry_depth, 0.0, 1e-12);  // the path at y = 5 mm meets the face x = 0
+}

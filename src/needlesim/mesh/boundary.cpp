@@ -96,23 +96,26 @@ Point elementCentroid(const VolumeMesh& m, int e) {
   return centroidOf(m, nodes);
 }
 
-double elementMeasure(const VolumeMesh& m, int e) {
-  const int npe = m.nodesPerElement();
-  auto P = [&](int a) { return nodePoint(m, m.conn[static_cast<std::size_t>(e) * npe + a]); };
-  if (m.dim == 2) {  // shoelace
+double cornerMeasure(int dim, const std::vector<Point>& P) {
+  const int npe = static_cast<int>(P.size());
+  if (dim == 2) {  // shoelace
     double area = 0.0;
-    for (int a = 0; a < npe; ++a) {
-      const Point p = P(a), q = P((a + 1) % npe);
-      area += 0.5 * (p[0] * q[1] - q[0] * p[1]);
-    }
+    for (int a = 0; a < npe; ++a) area += 0.5 * (P[a][0] * P[(a + 1) % npe][1] - P[(a + 1) % npe][0] * P[a][1]);
     return area;
   }
-  if (m.element == "tet4") return tetVolume(P(0), P(1), P(2), P(3));
+  if (npe == 4) return tetVolume(P[0], P[1], P[2], P[3]);
   // hexahedron: the six tetrahedra of its Kuhn split along the 0-6 diagonal
   static const int kTets[6][4] = {{0, 1, 2, 6}, {0, 5, 1, 6}, {0, 2, 3, 6}, {0, 3, 7, 6}, {0, 4, 5, 6}, {0, 7, 4, 6}};
   double v = 0.0;
-  for (const auto& t : kTets) v += tetVolume(P(t[0]), P(t[1]), P(t[2]), P(t[3]));
+  for (const auto& t : kTets) v += tetVolume(P[t[0]], P[t[1]], P[t[2]], P[t[3]]);
   return v;
+}
+
+double elementMeasure(const VolumeMesh& m, int e) {
+  const int npe = m.nodesPerElement();
+  std::vector<Point> corners;
+  for (int a = 0; a < npe; ++a) corners.push_back(nodePoint(m, m.conn[static_cast<std::size_t>(e) * npe + a]));
+  return cornerMeasure(m.dim, corners);
 }
 
 std::vector<Facet> boundaryFacets(const VolumeMesh& m) {

@@ -27,6 +27,9 @@ Point elementCentroid(const VolumeMesh& m, int e);  // mean of its nodes
 // Signed area (2D) or volume (3D): positive for the node order Gmsh writes (counter-clockwise
 // triangles and quads, positively oriented tetrahedra and hexahedra).
 double elementMeasure(const VolumeMesh& m, int e);
+// The same from the corner points of a triangle or quadrilateral (dim 2, in the x-y plane), a
+// tetrahedron or a hexahedron (dim 3), in Gmsh's node order.
+double cornerMeasure(int dim, const std::vector<Point>& corners);
 
 // Distance along the ray `from + t dir` (dir a unit vector) to its first crossing with a
 // boundary facet at t >= 0; none when it misses. 2D meshes: the ray's x-y part.

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
+#include <Eigen/Geometry>
 #include <limits>
 #include <map>
 #include <numbers>
@@ -49,23 +50,21 @@ mesh::VolumeMesh importFiles(Section& g, const std::string& source, double eleme
   return readGeometryFiles(sources, elementSizeInFileUnits, source);
 }
 
-// Rotation about x, then y, then z (right hand), as a row-major 3x3 matrix.
-std::array<double, 9> rotation(double ax, double ay, double az) {
-  const double cx = std::cos(ax), sx = std::sin(ax), cy = std::cos(ay), sy = std::sin(ay), cz = std::cos(az),
-               sz = std::sin(az);
-  // Rz * Ry * Rx
-  return {cz * cy, cz * sy * sx - sz * cx, cz * sy * cx + sz * sx,  //
-          sz * cy, sz * sy * sx + cz * cx, sz * sy * cx - cz * sx,  //
-          -sy,     cy * sx,                cy * cx};
+// Rotation about x, then y, then z of the tissue frame (right hand).
+Eigen::Matrix3d rotation(double ax, double ay, double az) {
+  using Eigen::AngleAxisd, Eigen::Vector3d;
+  return (AngleAxisd(az, Vector3d::UnitZ()) * AngleAxisd(ay, Vector3d::UnitY()) * AngleAxisd(ax, Vector3d::UnitX()))
+      .toRotationMatrix();
 }
 
-void place(mesh::VolumeMesh& m, double scale, const std::array<double, 9>& R, const double* shift) {
+// Scaled to metres, rotated, then shifted.
+void place(mesh::VolumeMesh& m, double scale, const Eigen::Matrix3d& R, const Eigen::Vector3d& shift) {
   const int d = m.dim;
   for (int n = 0; n < m.nodes(); ++n) {
-    double p[3] = {0, 0, 0};
+    Eigen::Vector3d p = Eigen::Vector3d::Zero();
     for (int i = 0; i < d; ++i) p[i] = scale * m.X[static_cast<std::size_t>(n) * d + i];
-    for (int i = 0; i < d; ++i)
-      m.X[static_cast<std::size_t>(n) * d + i] = R[3 * i] * p[0] + R[3 * i + 1] * p[1] + R[3 * i + 2] * p[2] + shift[i];
+    const Eigen::Vector3d q = R * p + shift;
+    for (int i = 0; i < d; ++i) m.X[static_cast<std::size_t>(n) * d + i] = q[i];
   }
 }
 
@@ -112,7 +111,7 @@ std::shared_ptr<ImportedGeometry> placeGeometry(Section& g, const std::string& s
   const double shift[3] = {t.number("x"), t.number("y"), t.number("z")};
   if (m.dim == 2 && (r.number("x") != 0.0 || r.number("y") != 0.0 || shift[2] != 0.0))
     throw g.error("rotate", "", "turns a 2D mesh out of its plane", "rotate.z and translate.x, .y only for a 2D mesh");
-  place(m, scale, rotation(r.number("x"), r.number("y"), r.number("z")), shift);
+  place(m, scale, rotation(r.number("x"), r.number("y"), r.number("z")), Eigen::Vector3d(shift[0], shift[1], shift[2]));
   geo->mesh = std::make_shared<const mesh::VolumeMesh>(std::move(m));
   boundingBox(*geo);
   checkSize(*geo, g, unit);

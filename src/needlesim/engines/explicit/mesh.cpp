@@ -5,10 +5,10 @@
 #include <limits>
 #include <map>
 
-#include <Eigen/Dense>
 #include <fmt/format.h>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/mesh/boundary.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -198,26 +198,13 @@ std::vector<std::pair<int, int>> splitSeam(Mesh& m, double offset, double x0, do
 
 namespace {
 
-// Signed area (2D, shoelace over the corner nodes) or volume (3D; hexahedra by six tetrahedra).
+// Signed area (2D) or volume (3D) of element e (mesh/boundary.hpp cornerMeasure).
 double signedMeasure(const Mesh& m, int e) {
   const int npe = nodesPerElement(m.type);
-  const int* c = &m.conn[static_cast<std::size_t>(e) * npe];
-  auto P = [&](int a) {
-    Eigen::Vector3d p = Eigen::Vector3d::Zero();
-    for (int i = 0; i < m.dim; ++i) p[i] = m.coord(c[a], i);
-    return p;
-  };
-  if (m.dim == 2) {
-    double area = 0.0;
-    for (int a = 0; a < npe; ++a) {
-      const Eigen::Vector3d p = P(a), q = P((a + 1) % npe);
-      area += 0.5 * (p.x() * q.y() - q.x() * p.y());
-    }
-    return area;
-  }
-  auto tet = [&](int a, int b, int cc, int d) { return (P(b) - P(a)).dot((P(cc) - P(a)).cross(P(d) - P(a))) / 6.0; };
-  if (m.type == ElementType::Tet4) return tet(0, 1, 2, 3);
-  return tet(0, 1, 2, 6) + tet(0, 5, 1, 6) + tet(0, 2, 3, 6) + tet(0, 3, 7, 6) + tet(0, 4, 5, 6) + tet(0, 7, 4, 6);
+  std::vector<mesh::Point> corners(npe, mesh::Point{});
+  for (int a = 0; a < npe; ++a)
+    for (int i = 0; i < m.dim; ++i) corners[a][i] = m.coord(m.conn[static_cast<std::size_t>(e) * npe + a], i);
+  return mesh::cornerMeasure(m.dim, corners);
 }
 
 // The nodes of an element pair that straddles the seam window, the one nearer the seam first;
