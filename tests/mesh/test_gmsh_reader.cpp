@@ -195,6 +195,21 @@ std::string tetrahedronStl(double a, bool open) {
   return s + "endsolid tet\n";
 }
 
+// ASCII STL of two overlapping cubes (edge a, the second shifted by a/2 in x, y and z) written as
+// one surface: every edge is shared by two facets (closed), but the facets cross each other.
+std::string selfCrossingStl(double a) {
+  const int faces[12][3] = {{0, 1, 3}, {0, 3, 2}, {4, 6, 7}, {4, 7, 5}, {0, 4, 5}, {0, 5, 1},
+                            {2, 3, 7}, {2, 7, 6}, {0, 2, 6}, {0, 6, 4}, {1, 5, 7}, {1, 7, 3}};
+  std::string s = "solid twocubes\n";
+  for (double o : {0.0, 0.5 * a})
+    for (const auto& f : faces) {
+      s += " facet normal 0 0 0\n  outer loop\n";
+      for (int v : f) s += fmt::format("   vertex {} {} {}\n", o + a * (v >> 2), o + a * ((v >> 1) & 1), o + a * (v & 1));
+      s += "  endloop\n endfacet\n";
+    }
+  return s + "endsolid twocubes\n";
+}
+
 // Sphere surfaces (radius, centre x) written as STL by Gmsh's OpenCASCADE kernel.
 void writeSphereStl(const std::string& name, double radius, double cx) {
   const auto script = writeTemp(name + ".geo", fmt::format(R"(SetFactory("OpenCASCADE");
@@ -245,4 +260,13 @@ TEST(GmshSurfaces, OpenOrCrossingSurfacesAreRefused) {
   why = expectRefused([&] { mesh::meshSurfaces({{(dir / "a.stl").string(), "a"}, {(dir / "b.stl").string(), "b"}}, 2.0); });
   EXPECT_NE(why.find("cross neither themselves nor each other"), std::string::npos) << why;
   std::filesystem::remove_all(dir);
+}
+
+TEST(GmshSurfaces, ASelfIntersectingSurfaceIsRefused) {
+  const auto stl = writeTemp("twocubes.stl", selfCrossingStl(10.0));
+  const std::string why = expectRefused([&] { mesh::meshSurfaces({{stl.string(), "gel"}}, 2.0); });
+  EXPECT_NE(why.find("twocubes.stl"), std::string::npos) << why;
+  EXPECT_NE(why.find("intersect"), std::string::npos) << why;  // Gmsh's report of where
+  EXPECT_NE(why.find("cross neither themselves nor each other"), std::string::npos) << why;
+  std::filesystem::remove_all(stl.parent_path());
 }
