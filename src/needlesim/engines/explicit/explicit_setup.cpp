@@ -192,19 +192,24 @@ void ExplicitRun::checkInclusionResolution() {
     for (int a = 0; a < npe; ++a) member[i][mesh_.conn[static_cast<std::size_t>(e) * npe + a]] = 1;
   }
   inclusionNodes_.assign(incs.size(), {});
+  // An imported mesh is refined in its own file, a generated one by the explicit section.
+  const std::string refine = sc_.tissue.geometry
+                                 ? fmt::format("mesh it finer around the inclusion in {}", sc_.tissue.geometry->file)
+                                 : std::string("refine model.explicit.element_size or core_width around it");
   for (std::size_t i = 0; i < incs.size(); ++i) {
     if (size[i] == 0.0)
       throw InputError(sc_.where(fmt::format("tissue.inclusions[{}].radius", i)),
                        fmt::format("tissue.inclusions[{}].radius", i), fmt::format("{:g} mm", incs[i].radius * 1e3),
                        fmt::format("explicit: inclusion '{}' contains no element centroid", incs[i].name),
-                       "a finer mesh there (model.explicit.element_size, core_width) or a larger radius");
+                       sc_.tissue.geometry ? "a finer mesh there (in the geometry file) or a larger radius"
+                                                 : "a finer mesh there (model.explicit.element_size, core_width) or a larger radius");
     for (int n = 0; n < mesh_.nodes(); ++n)
       if (member[i][n]) inclusionNodes_[i].push_back(n);
     if (incs[i].radius < 2.0 * size[i])
       sink_.warning(fmt::format("explicit: inclusion {} (radius {:g} mm) spans fewer than 2 elements of the local "
                                 "size {:g} mm across its radius: its shape and stiffness are coarsely resolved; "
-                                "refine model.explicit.element_size or core_width around it.",
-                                incs[i].name, incs[i].radius * 1e3, size[i] * 1e3));
+                                "{}.",
+                                incs[i].name, incs[i].radius * 1e3, size[i] * 1e3, refine));
   }
 }
 
