@@ -153,6 +153,33 @@ TEST(NeedleSurface, CrackLipSideChoosesTheLipsOwnFace) {
   EXPECT_FALSE(needle::queryNeedle(sh, pose, {0.5e-3, -R + lift, 0}, true, -1).inside);  // below the ramp
 }
 
+TEST(NeedleSurface, InThreeDimensionsALipNodeUnderTheWallLeavesThroughIt) {
+  // 18 G hollow needle, 20 deg bevel; a bevel-side lip node (side +1) 0.75 mm behind the sharp
+  // point, off the axis plane (b = -0.0877 mm), 0.1 um inside the lower outer wall: the sliver
+  // between the seam plane a = -R and the round wall. It crossed the wall, so the wall is its exit
+  // (depth 0.1 um), not the bore 0.2 mm away (a jump that threw it into the bore).
+  NeedleSpec ns;
+  ns.outer_diameter = 1.27e-3;
+  ns.inner_diameter = 0.838e-3;
+  ns.length = 0.04;
+  ns.bevel_angle = 20.0 * M_PI / 180.0;
+  const auto sh = needle::NeedleShape::fromSpec(ns);
+  needle::NeedlePose pose;  // sharp point at a = -R (y), b along z
+  const double R = sh.radius, b = -0.0877e-3, r = R - 1e-7;
+  const Eigen::Vector3d p(-0.75e-3, -std::sqrt(r * r - b * b), b);
+  const auto h = needle::queryNeedle(sh, pose, p, false, +1);
+  ASSERT_TRUE(h.inside);
+  EXPECT_EQ(h.face, needle::NeedleFace::OuterWall);
+  EXPECT_NEAR(h.depth, 1e-7, 1e-12);
+  // near the sharp point the hint still holds: the bevel (0.042 mm) rather than the nearer lower
+  // wall (0.01 mm), which would scoop the lip under the needle
+  const Eigen::Vector3d q(-0.15e-3, -R + 0.01e-3, 0.0);
+  const auto hq = needle::queryNeedle(sh, pose, q, false, +1);
+  ASSERT_TRUE(hq.inside);
+  EXPECT_EQ(hq.face, needle::NeedleFace::Tip);
+  EXPECT_LT(hq.depth, 0.1 * R);
+}
+
 TEST(NeedleSurface, ClosedSurfaceEnclosesTheNeedleVolume) {
   // Divergence theorem: V = 1/3 sum_f (x_c . n) A over the closed, outward surface.
   for (double angleDeg : {12.0, 45.0, 80.0, 90.0}) {

@@ -64,6 +64,9 @@ struct NeedleHit {
 // from the sharp point (face Tip), so a lip lifted above the cut line is pushed under
 // the wall gradually; the node-release seam's stand-in for the crack tip's wedge.
 constexpr double kLipRampAngle = 0.5235987755982988;  // 30 deg
+// 3D: the side hint holds only while an allowed exit lies within this fraction of the radius;
+// beyond it the node has crossed the forbidden face and leaves through its nearest exit.
+constexpr double kLipHintReach = 0.1;
 NeedleHit queryNeedle(const NeedleShape& shape, const NeedlePose& pose, const Eigen::Vector3d& p,
                       bool planar, int side = 0);
 
