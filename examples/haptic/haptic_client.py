@@ -78,7 +78,7 @@ def insertion(client, depth, seconds, rate=1000.0):
     for i in range(steps):
         phase = i / max(steps - 1, 1)
         d = depth * (2 * phase if phase < 0.5 else 2 * (1 - phase))
-        state, rtt = client.exchange(depth=d, reset=(i == 0))
+        state, rtt = client.exchange(depth=d)
         poses.append(d)
         states.append(state)
         rtts.append(rtt)

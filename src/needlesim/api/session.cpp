@@ -198,7 +198,7 @@ std::vector<double> Session::needleCentreLine(int points) const {
     // lumped: a straight rigid needle along the insertion axis, its tip at the depth
     const double length = detail::ScenarioAccess::typed(impl_->scenario).needle.length;
     const double tip = impl_->state.depth;
-    for (int c = 0; c < points; ++c) out.insert(out.end(), {tip - length + length * c / (points - 1), 0.0, 0.0});
+    for (int c = 0; c < points; ++c) out.insert(out.end(), {tip - length * (1.0 - static_cast<double>(c) / (points - 1)), 0.0, 0.0});
     return out;
   });
 }

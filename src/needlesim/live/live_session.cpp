@@ -107,30 +107,34 @@ void LiveSession::run() {
   }
 }
 
-void LiveSession::stepOnce() {
-  Pose target;
+void LiveSession::resetIfAsked() {
   {
     std::lock_guard lock(controlMutex_);
-    if (resetRequested_) {
-      session_.reset();
-      pose_ = target_ = Pose{};
-      log_.clear();
-      resetRequested_ = false;
-      std::lock_guard stateLock(stateMutex_);
-      samples_.clear();
-      frame_.punctureDepth = -1.0;
-    }
-    if (!deviceMode_) driveTarget(target_, drive_, settings_.limits, controls_, settings_.dt);
-    target = target_;
+    if (!resetRequested_) return;
+    resetRequested_ = false;
+    target_ = Pose{};
+  }
+  session_.reset();  // rebuilds the engine's session (for realtime2d: its mesh and factorisation)
+  pose_ = Pose{};
+  log_.clear();
+  std::lock_guard stateLock(stateMutex_);
+  samples_.clear();
+  frame_.punctureDepth = -1.0;
+}
+
+void LiveSession::stepOnce() {
+  resetIfAsked();
+  {
+    std::lock_guard lock(controlMutex_);
+    MotionLimits limits = settings_.limits;
     if (deviceMode_) {
-      MotionLimits fast = settings_.limits;
-      fast.insertSpeed *= settings_.deviceSpeedFactor;
-      fast.lateralSpeed *= settings_.deviceSpeedFactor;
-      fast.turnRate *= settings_.deviceSpeedFactor;
-      approach(pose_, target, fast, settings_.dt);
+      limits.insertSpeed *= settings_.deviceSpeedFactor;
+      limits.lateralSpeed *= settings_.deviceSpeedFactor;
+      limits.turnRate *= settings_.deviceSpeedFactor;
     } else {
-      approach(pose_, target, settings_.limits, settings_.dt);
+      driveTarget(target_, drive_, settings_.limits, controls_, settings_.dt);
     }
+    approach(pose_, target_, limits, settings_.dt);
   }
   const api::State& state = session_.step(commandFor(pose_), settings_.dt);
   ++step_;

@@ -61,7 +61,9 @@ class LiveSession {
   void setDrive(const Drive& drive);   // held keys and buttons
   void setTarget(const Pose& target);  // an absolute pose (haptic device), followed quickly
   void flipBevel();                    // roll the bevel by half a turn
-  void reset();                        // back to the first step's state (a recording starts over)
+  // Back to the first step's state (a recording starts over). The physics thread rebuilds the
+  // session: for realtime2d a pause of up to a second or two while readers see the last state.
+  void reset();
 
   LatestState latest() const;
   void frame(Frame& out) const;
@@ -79,6 +81,7 @@ class LiveSession {
  private:
   void run();
   void stepOnce();
+  void resetIfAsked();
   void publish(const api::State& state);
   void measureRate(std::chrono::steady_clock::time_point now);
 
