@@ -102,8 +102,8 @@ void serveCommand(const ServeArgs& args) {
   session.stop();
   const double wall = std::chrono::duration<double>(Clock::now() - started).count();
   const live::LatestState last = session.latest();
-  fmt::print("stopped: {} physics steps in {:.1f} s ({:.0f} steps/s, target {:.0f})", last.step, wall,
-             static_cast<double>(last.step) / wall, 1e3 / args.dtMs);
+  fmt::print("stopped: {} physics steps in {:.1f} s ({:.0f} steps/s, target {:.0f}; a step took {:.0f} us on average)",
+             last.step, wall, static_cast<double>(last.step) / wall, 1e3 / args.dtMs, 1e6 * session.meanStepCost());
   if (haptic) fmt::print("; haptic packets answered {}, refused {}", haptic->answered(), haptic->refused());
   fmt::print("\n");
   clearStopRequest();

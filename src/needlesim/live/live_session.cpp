@@ -136,7 +136,12 @@ void LiveSession::stepOnce() {
     }
     approach(pose_, target_, limits, settings_.dt);
   }
+  const Clock::time_point before = Clock::now();
   const api::State& state = session_.step(commandFor(pose_), settings_.dt);
+  const double cost = std::chrono::duration<double>(Clock::now() - before).count();
+  windowCost_ += cost;
+  windowMaxCost_ = std::max(windowMaxCost_, cost);
+  totalCost_ += cost;
   ++step_;
   if (settings_.record) log_.add(settings_.dt, pose_, state);
   publish(state);
@@ -169,7 +174,10 @@ void LiveSession::measureRate(Clock::time_point now) {
   if (window < 1.0) return;
   std::lock_guard lock(stateMutex_);
   frame_.rate = static_cast<double>(rateSteps_) / window;
+  frame_.stepCost = windowCost_ / static_cast<double>(rateSteps_);
+  frame_.stepMaxCost = windowMaxCost_;
   rateSteps_ = 0;
+  windowCost_ = windowMaxCost_ = 0.0;
   rateWindow_ = now;
 }
 

@@ -46,6 +46,8 @@ struct Frame {
   double rate = 0.0;           // Hz, steps per second over the last second
   double punctureDepth = -1.0; // m, depth at the first puncture (phase cutting or later), < 0 before it
   std::uint64_t overruns = 0;  // steps that started more than 10 dt late
+  double stepCost = 0.0;       // s, mean wall time of one session step over the last second
+  double stepMaxCost = 0.0;    // s, the longest over the last second
 };
 
 class LiveSession {
@@ -77,6 +79,8 @@ class LiveSession {
   const api::Scenario& scenario() const { return scenario_; }
   // Every step since the start or the last reset (settings.record), once stopped.
   const StepLog& log() const { return log_; }
+  // Mean wall time of one session step since the start (read once stopped).
+  double meanStepCost() const { return step_ ? totalCost_ / static_cast<double>(step_) : 0.0; }
 
  private:
   void run();
@@ -111,6 +115,7 @@ class LiveSession {
   std::thread thread_;
   std::chrono::steady_clock::time_point rateWindow_{};
   std::uint64_t rateSteps_ = 0;
+  double windowCost_ = 0.0, windowMaxCost_ = 0.0, totalCost_ = 0.0;  // physics thread only
 };
 
 }  // namespace needlesim::live

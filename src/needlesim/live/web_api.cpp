@@ -49,6 +49,8 @@ nlohmann::json frameJson(const LiveSession& live, std::size_t since) {
   return {{"step", f.latest.step},
           {"rate", f.rate},
           {"overruns", f.overruns},
+          {"stepCost", f.stepCost},
+          {"stepMaxCost", f.stepMaxCost},
           {"pose", poseJson(f.latest.pose)},
           {"state", stateJson(f.latest.state)},
           {"puncture", f.punctureDepth < 0.0 ? nlohmann::json(nullptr) : nlohmann::json(f.punctureDepth)},

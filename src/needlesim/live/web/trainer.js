@@ -193,7 +193,7 @@
     $('lateral').textContent = fmt(s.lateral, 3) + ' N';
     $('deflection').textContent = fmt(s.deflection * MM, 3) + ' mm';
     $('angles').textContent = `${fmt(p.rotation * 180 / Math.PI, 1)}° · ${fmt(p.roll * 180 / Math.PI, 0)}°`;
-    $('rate').textContent = `${fmt(frame.rate, 0)} Hz (step ${frame.step})`;
+    $('rate').textContent = `${fmt(frame.rate, 0)} Hz · step ${fmt(frame.stepCost * 1e6, 0)} µs`;
   }
 
   async function poll() {
