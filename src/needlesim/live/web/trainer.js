@@ -62,6 +62,7 @@
   const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(window.devicePixelRatio || 1);
   view.appendChild(renderer.domElement);
+  trainer.renderer = renderer;
   const scene = new THREE.Scene();
   scene.background = new THREE.Color(0x14181f);
   const camera = new THREE.PerspectiveCamera(40, 1, 0.1, 5000);
