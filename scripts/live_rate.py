@@ -26,7 +26,8 @@ while url is None:
 
 
 def post(path, body):
-    urllib.request.urlopen(urllib.request.Request(url + path, data=json.dumps(body).encode(), method='POST'), timeout=10)
+    urllib.request.urlopen(urllib.request.Request(url + path, data=json.dumps(body).encode(), method='POST',
+                                 headers={'Content-Type': 'application/json'}), timeout=10)
 
 
 post('/api/drive', {'insert': 1})

@@ -192,7 +192,7 @@ def main():
         dt.screenshot(os.path.join(workdir, 'trainer_retracted.png'))
         check_plot(dt)
         assert dt.eval('trainer.errors.length') == 0, dt.eval('JSON.stringify(trainer.errors)')
-        dt.eval('fetch("/api/stop", {method: "POST"}).then(r => r.ok)')
+        dt.eval('document.getElementById("btn-stop").click()')
         assert server.wait(timeout=10) == 0, 'needlesim serve stops cleanly on POST /api/stop'
         print(f'passed in {time.time() - started:.1f} s')
     finally:

@@ -16,6 +16,7 @@ import socket
 import subprocess
 import sys
 import time
+import urllib.error
 import urllib.request
 
 needlesim, source, work = sys.argv[1:4]
@@ -25,7 +26,8 @@ os.makedirs(work)
 
 
 def post(url, path, body):
-    req = urllib.request.Request(url + path, data=json.dumps(body).encode(), method='POST')
+    req = urllib.request.Request(url + path, data=json.dumps(body).encode(), method='POST',
+                                 headers={'Content-Type': 'application/json'})
     return json.load(urllib.request.urlopen(req, timeout=10))
 
 
@@ -47,6 +49,11 @@ def record_and_replay():
     proc, url = start(scenario, '--port', '0', '--record', rec, '--speed', '10')
     info = json.load(urllib.request.urlopen(url + '/api/info', timeout=10))
     assert info['engine'] == 'realtime2d' and info['record'] == rec, info
+    try:
+        urllib.request.urlopen(urllib.request.Request(url + '/api/stop', data=b'', method='POST'), timeout=10)
+        raise AssertionError('a POST that is not JSON was taken')
+    except urllib.error.HTTPError as e:
+        assert e.code == 415, e.code
     post(url, '/api/drive', {'insert': 1})
     time.sleep(1.5)
     post(url, '/api/drive', {'insert': -1})

@@ -26,7 +26,6 @@ LiveSession::LiveSession(const api::Scenario& scenario, const LiveSettings& sett
       engine_(session_.engine()), controls_(controlsFor(engine_)) {
   if (!(settings_.dt > 0.0) || !std::isfinite(settings_.dt))
     throw api::InputError("the physics step must be a finite time > 0 s", "<live session>", 0, "dt");
-  settings_.limits.maxDepth = settings.limits.maxDepth;
   depthRange(settings_.limits, surface_, session_.needleCentreLine(2));
   session_.surfaceField(frame_.field);
   frame_.needle = session_.needleCentreLine();

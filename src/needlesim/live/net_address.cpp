@@ -1,8 +1,6 @@
 #include "needlesim/live/net_address.hpp"
 
 #include <arpa/inet.h>
-#include <sys/socket.h>
-#include <unistd.h>
 
 #include "needlesim/core/error.hpp"
 
@@ -19,17 +17,6 @@ sockaddr_in socketAddress(const std::string& host, int port, const std::string& 
     throw InputError(commandLine(), hostOption, host, "is not an IPv4 address",
                      "127.0.0.1 (this machine only, the default), localhost, 0.0.0.0 (every interface) or an address of this machine");
   return a;
-}
-
-bool tcpPortFree(const std::string& host, int port) {
-  const sockaddr_in a = socketAddress(host, port, "--host", "--port");
-  const int fd = socket(AF_INET, SOCK_STREAM, 0);
-  if (fd < 0) return false;
-  const int yes = 1;
-  setsockopt(fd, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
-  const bool ok = bind(fd, reinterpret_cast<const sockaddr*>(&a), sizeof a) == 0;
-  close(fd);
-  return ok;
 }
 
 }  // namespace needlesim::live

@@ -10,7 +10,4 @@ namespace needlesim::live {
 // `hostOption` or `portOption` for a host that is no IPv4 address or a port out of range.
 sockaddr_in socketAddress(const std::string& host, int port, const std::string& hostOption, const std::string& portOption);
 
-// Whether a TCP port can be bound on `host` now (false: in use or not allowed).
-bool tcpPortFree(const std::string& host, int port);
-
 }  // namespace needlesim::live

@@ -30,6 +30,18 @@ void serveText(httplib::Server& s, const std::string& path, std::string_view tex
 
 void sendJson(httplib::Response& res, const nlohmann::json& j) { res.set_content(j.dump(), "application/json"); }
 
+// Commands only as JSON: a browser sends that cross-origin only after a preflight this server
+// does not grant, so another site open in the browser cannot drive or stop the session.
+void requireJsonPosts(httplib::Server& s) {
+  s.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
+    if (req.method != "POST" || req.get_header_value("Content-Type").starts_with("application/json"))
+      return httplib::Server::HandlerResponse::Unhandled;
+    res.status = 415;
+    sendJson(res, {{"error", "commands are JSON: send the header Content-Type: application/json"}});
+    return httplib::Server::HandlerResponse::Handled;
+  });
+}
+
 void routePage(httplib::Server& s) {
   serveText(s, "/", embedded::kTrainerHtml, "text/html; charset=utf-8");
   serveText(s, "/trainer.js", embedded::kTrainerJs, "text/javascript");
@@ -43,6 +55,7 @@ void routePage(httplib::Server& s) {
 WebServer::WebServer(LiveSession& live, WebInfo info) : impl_(new Impl{live, std::move(info), {}}) {
   httplib::Server& s = impl_->server;
   routePage(s);
+  requireJsonPosts(s);
   s.Get("/api/info", [this](const httplib::Request&, httplib::Response& res) { sendJson(res, infoJson(impl_->live, impl_->info)); });
   s.Get("/api/frame", [this](const httplib::Request& req, httplib::Response& res) {
     std::size_t since = 0;

@@ -6,6 +6,7 @@
 //   POST /api/drive           held keys/buttons {"insert":1,"rotate":0,...} in [-1, 1]
 //   POST /api/flip            bevel half a turn;  POST /api/reset   start over
 //   POST /api/stop            stop the server (as Ctrl-C; a recording is written)
+// POSTs must say Content-Type: application/json (else 415), which keeps other sites out.
 #include <functional>
 #include <memory>
 #include <string>
