@@ -143,13 +143,13 @@
   const chart = new Chart($('chart'), {
     type: 'scatter',
     data: { datasets: [
-      { label: 'axial force [N]', data: [], showLine: true, borderColor: '#2357c6', backgroundColor: '#2357c6', pointRadius: 0, borderWidth: 1.5 },
-      { label: 'friction [N]', data: [], showLine: true, borderColor: '#e07b00', backgroundColor: '#e07b00', pointRadius: 0, borderWidth: 1.2 },
-      { label: 'puncture', data: [], pointRadius: 7, pointStyle: 'triangle', borderColor: '#d62728', backgroundColor: '#d62728' },
+      { label: 'axial force [N]', data: [], showLine: true, borderColor: '#2357c6', backgroundColor: '#2357c6', pointRadius: 0, borderWidth: 2, order: 2 },
+      { label: 'friction [N]', data: [], showLine: true, borderColor: '#e07b00', backgroundColor: '#e07b00', pointRadius: 0, borderWidth: 1.5, borderDash: [6, 3], order: 1 },
+      { label: 'puncture', data: [], pointRadius: 7, pointStyle: 'triangle', borderColor: '#d62728', backgroundColor: '#d62728', order: 0 },
     ] },
     options: { animation: false, maintainAspectRatio: false,
       scales: { x: { suggestedMin: 0, title: { display: true, text: 'depth [mm]' } }, y: { title: { display: true, text: 'force [N]' } } },
-      plugins: { legend: { labels: { boxWidth: 12 } } } },
+      plugins: { legend: { reverse: true, labels: { boxWidth: 12 } } } },
   });
   trainer.chart = chart;
   let nextSample = 0, lastChartUpdate = 0;
