@@ -37,3 +37,20 @@ needlesim_embed_text(${CMAKE_SOURCE_DIR}/examples/gelatin_18G_3mms.yaml kDefault
 # The publications "seed NNN" refers to: reports list those they cite (io/references).
 set(NEEDLESIM_REFERENCES_CPP ${CMAKE_BINARY_DIR}/generated/embedded_references.cpp)
 needlesim_embed_text(${CMAKE_SOURCE_DIR}/docs/references.md kReferences ${NEEDLESIM_REFERENCES_CPP})
+# `needlesim serve`'s page (src/needlesim/live/web) with three.js and its orbit controls from
+# Debian's libjs-three (MIT licence) and the Chart.js above: the page needs no network.
+find_file(NEEDLESIM_THREEJS three.min.js PATHS /usr/share/javascript/three NO_DEFAULT_PATH)
+find_file(NEEDLESIM_THREE_ORBIT OrbitControls.js PATHS /usr/share/javascript/three/examples/js/controls NO_DEFAULT_PATH)
+if(NOT NEEDLESIM_THREEJS OR NOT NEEDLESIM_THREE_ORBIT)
+  message(FATAL_ERROR "three.js not found: run scripts/bootstrap.sh (Debian package libjs-three)")
+endif()
+set(NEEDLESIM_WEB_CPP)
+foreach(_pair "${NEEDLESIM_THREEJS}:kThreeJs" "${NEEDLESIM_THREE_ORBIT}:kThreeOrbitControls"
+              "${CMAKE_SOURCE_DIR}/src/needlesim/live/web/index.html:kTrainerHtml"
+              "${CMAKE_SOURCE_DIR}/src/needlesim/live/web/trainer.js:kTrainerJs")
+  string(REPLACE ":" ";" _pair ${_pair})
+  list(GET _pair 0 _file)
+  list(GET _pair 1 _symbol)
+  needlesim_embed_text(${_file} ${_symbol} ${CMAKE_BINARY_DIR}/generated/embedded_${_symbol}.cpp)
+  list(APPEND NEEDLESIM_WEB_CPP ${CMAKE_BINARY_DIR}/generated/embedded_${_symbol}.cpp)
+endforeach()

@@ -3,6 +3,8 @@
 # (libgmsh-dev: imported meshes, Gmsh scripts and surfaces, tissue.geometry)
 # (python3-paraview, xvfb, libgl1-mesa-dri, python3-meshio, python3-h5py: the field-file test,
 # tests/paraview).
+# (libcpp-httplib-dev, libjs-three: `needlesim serve`, its page's 3D view; chromium, python3-websocket:
+# the real-browser test, tests/browser).
 # Safe to run again: it asks apt only for what is missing.
 set -euo pipefail
 PKGS=(
@@ -17,6 +19,8 @@ PKGS=(
   calculix-ccx
   libgmsh-dev
   python3-paraview xvfb libgl1-mesa-dri python3-meshio python3-h5py
+  libcpp-httplib-dev libjs-three
+  chromium python3-websocket
 )
 missing=()
 for p in "${PKGS[@]}"; do

@@ -11,6 +11,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
 #include "needlesim/core/version.hpp"
+#include "needlesim/needlesim.hpp"
 
 int main(int argc, char** argv) {
   // Two threads that spin while waiting collapse when the other core is busy (seen
@@ -23,6 +24,7 @@ int main(int argc, char** argv) {
   needlesim::app::registerCheckCommand(app);
   needlesim::app::registerSchemaCommand(app);
   needlesim::app::registerSweepCommand(app);
+  needlesim::app::registerServeCommand(app);
   if (registerFitCommand) registerFitCommand(app);
   try {
     app.parse(argc, argv);
@@ -36,6 +38,12 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "error: {}\n", e.what());
     return 2;
   } catch (const needlesim::SolverError& e) {
+    fmt::print(stderr, "solver stopped: {}\n", e.what());
+    return 3;
+  } catch (const needlesim::api::InputError& e) {  // the public API's errors (live sessions)
+    fmt::print(stderr, "error: {}\n", e.what());
+    return 2;
+  } catch (const needlesim::api::SolverError& e) {
     fmt::print(stderr, "solver stopped: {}\n", e.what());
     return 3;
   } catch (const std::exception& e) {

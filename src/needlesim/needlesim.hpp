@@ -162,6 +162,20 @@ struct State {
   std::string phase;             // outside, pressing, cutting, inside, through
 };
 
+// The tissue's surface as a viewer draws it: undeformed vertices and triangles.
+struct Surface {
+  std::vector<double> vertices;  // m, x y z per vertex
+  std::vector<int> triangles;    // 3 vertex indices per triangle
+};
+
+// What moves on the surface: per vertex, the displacement and a scalar to colour by.
+struct SurfaceField {
+  std::vector<double> displacement;  // m, x y z per vertex
+  std::vector<double> scalar;        // one per vertex
+  std::string scalarName = "|u|";    // what the scalar is
+  std::string scalarUnit = "m";
+};
+
 // Steps the `realtime2d` engine (2D FE tissue and a flexible needle) or the `lumped`
 // force model under the caller's control, e.g. in a 1 kHz haptic loop. Other engines:
 // InputError. Move-only.
@@ -185,6 +199,14 @@ class NEEDLESIM_API Session {
   std::vector<double> nodePositions() const;      // m, undeformed mesh nodes
   std::vector<double> nodeDisplacements() const;  // m, per node
   std::vector<double> needleShape(int points = 41) const;  // m, base to tip, points >= 2
+
+  // For a viewer, every engine (docs/serve.md), in the tissue frame x y z (x depth):
+  // the tissue's surface (realtime2d: its mesh as triangles in z = 0; lumped: the block's
+  // mid-plane, which does not deform), and the needle's centre line, base to tip.
+  Surface surface() const;
+  // Fills `field` for the current step (reuses its storage; sized for surface()).
+  void surfaceField(SurfaceField& field) const;
+  std::vector<double> needleCentreLine(int points = 41) const;  // m, x y z per point, points >= 2
 
  private:
   struct Impl;

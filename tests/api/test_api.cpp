@@ -149,6 +149,47 @@ TEST(ApiSession, Realtime2dStepsGiveTheEngineRunsForces) {
   EXPECT_NEAR(shape[21], s.state().tip_y, 1e-9);
 }
 
+// What a viewer draws (needlesim serve): the surface as triangles in z = 0, the field per
+// vertex with 3 components and |u|, the needle's centre line in 3D; lumped: the block's plane.
+TEST(ApiSession, SurfaceFieldAndNeedleForAViewer) {
+  api::Session s(shortRealtime2d("8 mm"));
+  for (int k = 1; k <= 2000; ++k) s.step(4e-6 * k, 1e-3);
+  const api::Surface surface = s.surface();
+  ASSERT_EQ(surface.vertices.size(), 3u * 11 * 15);
+  EXPECT_EQ(surface.triangles.size(), 6u * 10 * 14);  // two triangles per quad
+  const auto nodes = s.nodePositions();
+  for (std::size_t i = 0; i < 11 * 15; ++i) {
+    EXPECT_EQ(surface.vertices[3 * i], nodes[2 * i]);
+    EXPECT_EQ(surface.vertices[3 * i + 2], 0.0);
+  }
+  api::SurfaceField field;
+  s.surfaceField(field);
+  const auto u = s.nodeDisplacements();
+  ASSERT_EQ(field.displacement.size(), surface.vertices.size());
+  ASSERT_EQ(field.scalar.size(), 11u * 15);
+  double largest = 0.0;
+  for (std::size_t i = 0; i < 11 * 15; ++i) {
+    EXPECT_EQ(field.displacement[3 * i + 1], u[2 * i + 1]);
+    EXPECT_DOUBLE_EQ(field.scalar[i], std::hypot(u[2 * i], u[2 * i + 1]));
+    largest = std::max(largest, field.scalar[i]);
+  }
+  EXPECT_GT(largest, 1e-5);  // the needle has pushed the tissue
+  const auto line = s.needleCentreLine(11);
+  ASSERT_EQ(line.size(), 33u);
+  EXPECT_NEAR(line[30], s.state().tip_x, 1e-9);
+  EXPECT_NEAR(line[31], s.state().tip_y, 1e-9);
+
+  api::Session lumped(api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml"));
+  lumped.step(0.01, 1e-3);
+  EXPECT_EQ(lumped.surface().triangles.size(), 6u);
+  api::SurfaceField still;
+  lumped.surfaceField(still);
+  EXPECT_EQ(still.displacement, std::vector<double>(12, 0.0));
+  const auto straight = lumped.needleCentreLine(2);
+  EXPECT_DOUBLE_EQ(straight[3], 0.01);  // the tip at the depth
+  EXPECT_THROW(lumped.needleCentreLine(1), api::InputError);
+}
+
 TEST(ApiErrors, InputErrorsKeepTheirText) {
   const auto base = api::Scenario::builtIn();
   auto missing = messageOf<api::InputError>([] { api::Scenario::fromFile("no_such_scenario.yaml"); });

@@ -144,4 +144,63 @@ std::vector<double> Session::needleShape(int points) const {
   return std::vector<double>(shape.data(), shape.data() + shape.size());
 }
 
+Surface Session::surface() const {
+  return detail::translated([&] {
+    Surface out;
+    if (impl_->fe) {
+      const realtime2d::Mesh& mesh = impl_->fe->mesh();
+      const Eigen::Matrix2Xd centred = mesh.nodes.colwise() - impl_->fe->cornerShift();
+      out.vertices.reserve(3 * centred.cols());
+      for (Eigen::Index i = 0; i < centred.cols(); ++i) out.vertices.insert(out.vertices.end(), {centred(0, i), centred(1, i), 0.0});
+      out.triangles.reserve(6 * mesh.quads.cols());
+      for (Eigen::Index e = 0; e < mesh.quads.cols(); ++e) {
+        const auto q = mesh.quads.col(e);
+        out.triangles.insert(out.triangles.end(), {q(0), q(1), q(2), q(0), q(2), q(3)});
+      }
+      return out;
+    }
+    // lumped: the block's mid-plane from the entry face (x = 0) to the exit face
+    const needlesim::TissueSpec& t = detail::ScenarioAccess::typed(impl_->scenario).tissue;
+    const double w = 0.5 * t.width;
+    out.vertices = {0.0, -w, 0.0, t.length, -w, 0.0, t.length, w, 0.0, 0.0, w, 0.0};
+    out.triangles = {0, 1, 2, 0, 2, 3};
+    return out;
+  });
+}
+
+void Session::surfaceField(SurfaceField& field) const {
+  const std::size_t n = impl_->fe ? static_cast<std::size_t>(impl_->fe->mesh().nodeCount()) : 4;
+  field.displacement.assign(3 * n, 0.0);
+  field.scalar.assign(n, 0.0);
+  field.scalarName = "|u|";
+  field.scalarUnit = "m";
+  if (!impl_->fe) return;
+  const Eigen::VectorXd& u = impl_->fe->displacement();
+  for (std::size_t i = 0; i < n; ++i) {
+    field.displacement[3 * i] = u[2 * i];
+    field.displacement[3 * i + 1] = u[2 * i + 1];
+    field.scalar[i] = std::hypot(u[2 * i], u[2 * i + 1]);
+  }
+}
+
+std::vector<double> Session::needleCentreLine(int points) const {
+  return detail::translated([&] {
+    if (points < 2)
+      detail::argumentError("Session::needleCentreLine", "points", std::to_string(points), "is too few", "2 or more points");
+    std::vector<double> out;
+    out.reserve(3 * points);
+    if (impl_->fe) {
+      Eigen::Matrix2Xd shape(2, points);
+      impl_->fe->needleShape(points, shape);
+      for (int c = 0; c < points; ++c) out.insert(out.end(), {shape(0, c), shape(1, c), 0.0});
+      return out;
+    }
+    // lumped: a straight rigid needle along the insertion axis, its tip at the depth
+    const double length = detail::ScenarioAccess::typed(impl_->scenario).needle.length;
+    const double tip = impl_->state.depth;
+    for (int c = 0; c < points; ++c) out.insert(out.end(), {tip - length * (1.0 - static_cast<double>(c) / (points - 1)), 0.0, 0.0});
+    return out;
+  });
+}
+
 }  // namespace needlesim::api

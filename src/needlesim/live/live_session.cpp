@@ -1,0 +1,183 @@
+#include "needlesim/live/live_session.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <numbers>
+
+namespace needlesim::live {
+
+namespace {
+using Clock = std::chrono::steady_clock;
+
+// The depth range: from a little outside the entry face to a little past the tissue,
+// no deeper than the needle is long.
+void depthRange(MotionLimits& limits, const api::Surface& surface, const std::vector<double>& needle) {
+  if (limits.maxDepth > 0.0) return;
+  double far = 0.0;
+  for (std::size_t i = 0; i < surface.vertices.size(); i += 3) far = std::max(far, surface.vertices[i]);
+  const std::size_t last = needle.size() - 3;
+  const double length = std::hypot(needle[last] - needle[0], needle[last + 1] - needle[1], needle[last + 2] - needle[2]);
+  limits.maxDepth = std::min(far + 5e-3, 0.95 * length);
+}
+}  // namespace
+
+LiveSession::LiveSession(const api::Scenario& scenario, const LiveSettings& settings)
+    : scenario_(scenario), settings_(settings), session_(scenario), surface_(session_.surface()),
+      engine_(session_.engine()), controls_(controlsFor(engine_)) {
+  if (!(settings_.dt > 0.0) || !std::isfinite(settings_.dt))
+    throw api::InputError("the physics step must be a finite time > 0 s", "<live session>", 0, "dt");
+  depthRange(settings_.limits, surface_, session_.needleCentreLine(2));
+  session_.surfaceField(frame_.field);
+  frame_.needle = session_.needleCentreLine();
+  latest_.state = session_.state();
+  frame_.latest = latest_;
+  if (settings_.record) log_.reserve(1 << 16);
+}
+
+LiveSession::~LiveSession() { stop(); }
+
+void LiveSession::start() {
+  if (running_.exchange(true)) return;
+  thread_ = std::thread([this] { run(); });
+}
+
+void LiveSession::stop() {
+  running_ = false;
+  if (thread_.joinable()) thread_.join();
+}
+
+void LiveSession::setDrive(const Drive& drive) {
+  std::lock_guard lock(controlMutex_);
+  drive_ = drive;
+  deviceMode_ = false;
+}
+
+void LiveSession::setTarget(const Pose& target) {
+  std::lock_guard lock(controlMutex_);
+  target_ = clampTarget(target, settings_.limits, controls_);
+  drive_ = Drive{};
+  deviceMode_ = true;
+}
+
+void LiveSession::flipBevel() {
+  std::lock_guard lock(controlMutex_);
+  if (controls_.roll) target_.roll += std::numbers::pi;
+}
+
+void LiveSession::reset() {
+  std::lock_guard lock(controlMutex_);
+  resetRequested_ = true;
+}
+
+LatestState LiveSession::latest() const {
+  std::lock_guard lock(stateMutex_);
+  return latest_;
+}
+
+void LiveSession::frame(Frame& out) const {
+  std::lock_guard lock(stateMutex_);
+  out = frame_;
+  out.latest = latest_;
+}
+
+std::vector<Sample> LiveSession::samples(std::size_t from, std::size_t& total) const {
+  std::lock_guard lock(stateMutex_);
+  total = samples_.size();
+  if (from >= total) return {};
+  return {samples_.begin() + static_cast<std::ptrdiff_t>(from), samples_.end()};
+}
+
+void LiveSession::run() {
+  const auto dt = std::chrono::duration_cast<Clock::duration>(std::chrono::duration<double>(settings_.dt));
+  Clock::time_point next = Clock::now();
+  rateWindow_ = next;
+  while (running_) {
+    stepOnce();
+    next += dt;
+    const Clock::time_point now = Clock::now();
+    measureRate(now);
+    if (now < next) {
+      std::this_thread::sleep_until(next);
+    } else if (now - next > 10 * dt) {  // far behind (a busy machine): start the schedule afresh
+      next = now;
+      std::lock_guard lock(stateMutex_);
+      ++frame_.overruns;
+    }
+  }
+}
+
+void LiveSession::resetIfAsked() {
+  {
+    std::lock_guard lock(controlMutex_);
+    if (!resetRequested_) return;
+    resetRequested_ = false;
+    target_ = Pose{};
+  }
+  session_.reset();  // rebuilds the engine's session (for realtime2d: its mesh and factorisation)
+  pose_ = Pose{};
+  log_.clear();
+  std::lock_guard stateLock(stateMutex_);
+  samples_.clear();
+  frame_.punctureDepth = -1.0;
+}
+
+void LiveSession::stepOnce() {
+  resetIfAsked();
+  {
+    std::lock_guard lock(controlMutex_);
+    MotionLimits limits = settings_.limits;
+    if (deviceMode_) {
+      limits.insertSpeed *= settings_.deviceSpeedFactor;
+      limits.lateralSpeed *= settings_.deviceSpeedFactor;
+      limits.turnRate *= settings_.deviceSpeedFactor;
+    } else {
+      driveTarget(target_, drive_, settings_.limits, controls_, settings_.dt);
+    }
+    approach(pose_, target_, limits, settings_.dt);
+  }
+  const Clock::time_point before = Clock::now();
+  const api::State& state = session_.step(commandFor(pose_), settings_.dt);
+  const double cost = std::chrono::duration<double>(Clock::now() - before).count();
+  windowCost_ += cost;
+  windowMaxCost_ = std::max(windowMaxCost_, cost);
+  totalCost_ += cost;
+  ++step_;
+  if (settings_.record) log_.add(settings_.dt, pose_, state);
+  publish(state);
+}
+
+void LiveSession::publish(const api::State& state) {
+  const bool field = step_ % static_cast<std::uint64_t>(std::max(settings_.fieldEvery, 1)) == 0;
+  const bool sample = step_ % static_cast<std::uint64_t>(std::max(settings_.sampleEvery, 1)) == 0;
+  std::vector<double> needle;
+  if (field) needle = session_.needleCentreLine();
+  std::lock_guard lock(stateMutex_);
+  latest_.step = step_;
+  latest_.state = state;
+  latest_.pose = pose_;
+  latest_.at = Clock::now();
+  const int phase = phaseIndex(state.phase);
+  if (frame_.punctureDepth < 0.0 && phase >= 2) frame_.punctureDepth = state.depth;
+  if (sample)
+    samples_.push_back({state.time, state.depth, state.axial_force, state.friction_force, state.lateral_force,
+                        state.tip_deflection, phase});
+  if (field) {
+    session_.surfaceField(frame_.field);
+    frame_.needle = std::move(needle);
+  }
+}
+
+void LiveSession::measureRate(Clock::time_point now) {
+  ++rateSteps_;
+  const double window = std::chrono::duration<double>(now - rateWindow_).count();
+  if (window < 1.0) return;
+  std::lock_guard lock(stateMutex_);
+  frame_.rate = static_cast<double>(rateSteps_) / window;
+  frame_.stepCost = windowCost_ / static_cast<double>(rateSteps_);
+  frame_.stepMaxCost = windowMaxCost_;
+  rateSteps_ = 0;
+  windowCost_ = windowMaxCost_ = 0.0;
+  rateWindow_ = now;
+}
+
+}  // namespace needlesim::live

@@ -1,0 +1,210 @@
+#!/usr/bin/env python3
+"""`needlesim serve` in a real browser (CTest label `browser`, docs/serve.md).
+
+Starts the trainer on a free port and headless Chromium (Debian `chromium`) with its
+DevTools protocol (python3-websocket), presses W (a real key event) to insert, holds the
+page's Retract button (real mouse events), and checks from the page's own chart data and
+DOM that the force plot rises, that the puncture is shown and that retraction reverses the
+friction. Screenshots: <workdir>/trainer_inserted.png, trainer_retracted.png.
+Exit 77 (CTest: skipped) with a message where Chromium or python3-websocket is absent.
+
+usage: trainer_browser_test.py NEEDLESIM SCENARIO WORKDIR
+"""
+import base64
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+import urllib.request
+
+SKIP = 77
+
+
+def skip(why):
+    print(f'SKIP: {why}')
+    sys.exit(SKIP)
+
+
+def find_chromium():
+    for name in ('chromium', 'chromium-browser', 'google-chrome'):
+        path = shutil.which(name)
+        if path:
+            return path
+    return None
+
+
+class DevTools:
+    """A minimal Chrome DevTools protocol client over one page's websocket."""
+
+    def __init__(self, ws_url):
+        import websocket
+        self.ws = websocket.create_connection(ws_url, timeout=30, suppress_origin=True)
+        self.next_id = 0
+
+    def call(self, method, **params):
+        self.next_id += 1
+        self.ws.send(json.dumps({'id': self.next_id, 'method': method, 'params': params}))
+        while True:
+            msg = json.loads(self.ws.recv())
+            if msg.get('id') == self.next_id:
+                if 'error' in msg:
+                    raise RuntimeError(f'{method}: {msg["error"]}')
+                return msg.get('result', {})
+
+    def eval(self, expression):
+        r = self.call('Runtime.evaluate', expression=expression, returnByValue=True, awaitPromise=True)
+        if 'exceptionDetails' in r:
+            raise RuntimeError(f'{expression}: {r["exceptionDetails"]}')
+        return r['result'].get('value')
+
+    def wait_for(self, expression, timeout, what):
+        end = time.time() + timeout
+        while time.time() < end:
+            if self.eval(expression):
+                return
+            time.sleep(0.05)
+        raise AssertionError(f'timed out after {timeout} s waiting for {what} ({expression}); '
+                             f'page state: {self.eval("JSON.stringify(window.trainer && window.trainer.frame && window.trainer.frame.state)")}, '
+                             f'errors: {self.eval("JSON.stringify(window.trainer && window.trainer.errors)")}')
+
+    def key(self, kind, key, code, vk):
+        self.call('Input.dispatchKeyEvent', type=kind, key=key, code=code, windowsVirtualKeyCode=vk)
+
+    def mouse(self, kind, x, y):
+        self.call('Input.dispatchMouseEvent', type=kind, x=x, y=y, button='left', buttons=1 if kind == 'mousePressed' else 0,
+                  clickCount=1)
+
+    def screenshot(self, path):
+        data = self.call('Page.captureScreenshot', format='png')['data']
+        with open(path, 'wb') as f:
+            f.write(base64.b64decode(data))
+        print(f'screenshot: {path}')
+
+
+def start_server(needlesim, scenario):
+    proc = subprocess.Popen([needlesim, 'serve', scenario, '--port', '0', '--speed', '8'], stdout=subprocess.PIPE,
+                            stderr=subprocess.STDOUT, text=True)
+    end = time.time() + 20
+    lines = []
+    while time.time() < end:
+        line = proc.stdout.readline()
+        if not line:
+            break
+        lines.append(line)
+        if line.startswith('trainer: '):
+            return proc, line.split()[1]
+    proc.kill()
+    raise AssertionError('needlesim serve printed no URL:\n' + ''.join(lines))
+
+
+def start_chromium(chromium, workdir):
+    profile = os.path.join(workdir, 'profile')
+    shutil.rmtree(profile, ignore_errors=True)
+    args = [chromium, '--headless=new', '--remote-debugging-port=0', f'--user-data-dir={profile}',
+            '--window-size=1400,900', '--use-angle=swiftshader', '--enable-unsafe-swiftshader', '--no-first-run',
+            '--no-default-browser-check', '--disable-extensions', '--disable-background-networking',
+            '--no-sandbox',  # root in CI containers, or no user namespaces; the page is our own, on 127.0.0.1
+            'about:blank']
+    proc = subprocess.Popen(args, stdout=subprocess.DEVNULL, stderr=open(os.path.join(workdir, 'chromium.log'), 'w'))
+    port_file = os.path.join(profile, 'DevToolsActivePort')
+    end = time.time() + 30
+    while time.time() < end and not os.path.exists(port_file):
+        if proc.poll() is not None:
+            raise AssertionError(f'chromium exited with {proc.returncode}; see {workdir}/chromium.log')
+        time.sleep(0.1)
+    time.sleep(0.2)
+    port = int(open(port_file).read().split()[0])
+    pages = json.load(urllib.request.urlopen(f'http://127.0.0.1:{port}/json/list', timeout=10))
+    page = next(p for p in pages if p.get('type') == 'page')
+    return proc, DevTools(page['webSocketDebuggerUrl'])
+
+
+def insert_with_key(dt, depth_mm):
+    dt.key('keyDown', 'w', 'KeyW', 87)
+    dt.wait_for(f'trainer.frame.state.depth * 1000 >= {depth_mm}', 20, f'the tip at {depth_mm} mm')
+    dt.key('keyUp', 'w', 'KeyW', 87)
+
+
+def retract_with_button(dt, by_mm):
+    rect = dt.eval('(() => { const r = document.getElementById("btn-retract").getBoundingClientRect();'
+                   ' return [r.x + r.width / 2, r.y + r.height / 2]; })()')
+    start = dt.eval('trainer.frame.state.depth * 1000')
+    dt.mouse('mouseMoved', *rect)
+    dt.mouse('mousePressed', *rect)
+    dt.wait_for(f'trainer.frame.state.depth * 1000 <= {start - by_mm}', 20, f'retraction by {by_mm} mm')
+    dt.mouse('mouseReleased', *rect)
+
+
+def check_plot(dt):
+    """The page's chart and samples: force rises, puncture shown, friction reverses."""
+    s, chart_points = dt.eval('[trainer.samples, trainer.chart.data.datasets[0].data.length]')
+    marker = dt.eval('trainer.chart.data.datasets[2].data')
+    events = dt.eval('document.getElementById("events").textContent')
+    deepest = max(range(len(s)), key=lambda i: s[i][1])
+    inserting = [x for x in s[:deepest] if x[6] >= 2]
+    retracting = [x for x in s[deepest + 1:] if s[deepest][1] - x[1] > 1e-3]
+    if os.environ.get('TRAINER_TEST_DUMP'):
+        json.dump(s, open(os.environ['TRAINER_TEST_DUMP'], 'w'))
+    print(f'{len(s)} samples, {chart_points} chart points; peak axial {max(x[2] for x in s):.3f} N; events: {events!r}')
+    assert chart_points == len(s) and chart_points > 50, 'the force plot holds the samples'
+    early, late = [x[2] for x in s if 0 < x[1] < 0.5e-3], [x[2] for x in inserting[-20:]]
+    assert late and max(late) > 0.05 and min(late) > (max(early) if early else 0.0), 'the force plot rises with depth'
+    assert 'puncture at' in events and len(marker) == 1, 'the puncture is shown on the page and the plot'
+    assert inserting and min(x[3] for x in inserting[len(inserting) // 2:]) > 0, 'friction resists insertion (> 0)'
+    # the tissue first rides along with the shaft (sticking), then slips: friction < 0
+    assert retracting and max(x[3] for x in retracting[-len(retracting) // 4:]) < 0, \
+        'retraction reverses the friction (< 0 once the tissue slips)'
+    assert min(x[2] for x in retracting) < 0, 'the axial force turns negative on retraction'
+    print(f'friction: inserting {inserting[-1][3]:+.3f} N, retracting {retracting[-1][3]:+.3f} N')
+
+
+def main():
+    if len(sys.argv) != 4:
+        sys.exit(__doc__)
+    needlesim, scenario, workdir = sys.argv[1:]
+    chromium = find_chromium()
+    if not chromium:
+        skip('chromium is not installed (Debian package chromium; scripts/bootstrap.sh)')
+    try:
+        import websocket  # noqa: F401
+    except ImportError:
+        skip('python3-websocket is not installed (scripts/bootstrap.sh)')
+    os.makedirs(workdir, exist_ok=True)
+    started = time.time()
+    server, url = start_server(needlesim, scenario)
+    browser = None
+    try:
+        browser, dt = start_chromium(chromium, workdir)
+        dt.call('Page.enable')
+        dt.call('Page.navigate', url=url)
+        dt.wait_for('window.trainer && trainer.frames > 5 && trainer.info !== null', 20, 'the page to draw frames')
+        triangles = dt.eval('trainer.renderer.info.render.triangles')
+        print(f'page up at {url} after {time.time() - started:.1f} s; WebGL draws {triangles} triangles')
+        assert triangles >= dt.eval('trainer.info.surface.triangles.length / 3'), 'the tissue surface is drawn'
+        insert_with_key(dt, 14.0)
+        dt.wait_for('document.getElementById("events").textContent.includes("puncture")', 5, 'the puncture shown')
+        time.sleep(0.3)
+        dt.screenshot(os.path.join(workdir, 'trainer_inserted.png'))
+        retract_with_button(dt, 6.0)
+        time.sleep(0.3)
+        dt.screenshot(os.path.join(workdir, 'trainer_retracted.png'))
+        check_plot(dt)
+        assert dt.eval('trainer.errors.length') == 0, dt.eval('JSON.stringify(trainer.errors)')
+        dt.eval('document.getElementById("btn-stop").click()')
+        assert server.wait(timeout=10) == 0, 'needlesim serve stops cleanly on POST /api/stop'
+        print(f'passed in {time.time() - started:.1f} s')
+    finally:
+        if browser:
+            browser.terminate()
+            try:
+                browser.wait(timeout=10)
+            except subprocess.TimeoutExpired:
+                browser.kill()
+        if server.poll() is None:
+            server.kill()
+
+
+if __name__ == '__main__':
+    main()

@@ -1,0 +1,135 @@
+// The live session layer of needlesim serve (src/needlesim/live): pose motion, the haptic
+// protocol's packets, the physics thread, recording and replay.
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <thread>
+
+#include <unistd.h>
+
+#include "needlesim/live/haptic_protocol.hpp"
+#include "needlesim/live/live_session.hpp"
+#include "needlesim/live/step_log.hpp"
+
+namespace live = needlesim::live;
+namespace haptic = needlesim::live::haptic;
+namespace api = needlesim::api;
+namespace fs = std::filesystem;
+
+namespace {
+api::Scenario realtime2d() {
+  return api::Scenario::fromFile(fs::path(NEEDLESIM_SOURCE_DIR) / "examples/realtime2d/thesis_gelatin_18G_3mms.yaml")
+      .with({{"model.realtime2d.nodes_depth", "11"}, {"model.realtime2d.nodes_lateral", "15"}});
+}
+}  // namespace
+
+TEST(LivePose, DriveMovesTheTargetWithinLimitsAndPoseFollowsAtTopSpeed) {
+  live::MotionLimits limits;
+  const live::Controls controls = live::controlsFor("realtime2d");
+  live::Pose target;
+  for (int i = 0; i < 1000; ++i) live::driveTarget(target, {1.0, 0, 0.5, 1.0, 0}, limits, controls, 1e-3);
+  EXPECT_NEAR(target.depth, 5e-3, 1e-12);                 // 1 s at 5 mm/s
+  EXPECT_NEAR(target.rotation, 0.25, 1e-12);              // half of 0.5 rad/s
+  EXPECT_EQ(target.tilt, 0.0);                            // realtime2d takes no tilt
+  live::Pose pose;
+  live::approach(pose, {0.01, 0, 0, 0, 0}, limits, 1e-3);
+  EXPECT_NEAR(pose.depth, 5e-6, 1e-15);                   // one step at the top speed
+  const live::Pose clamped = live::clampTarget({1.0, 1.0, 1.0, 1.0, 1.0}, limits, live::controlsFor("lumped"));
+  EXPECT_EQ(clamped.depth, limits.maxDepth);
+  EXPECT_EQ(clamped.lateral + clamped.rotation + clamped.tilt + clamped.roll, 0.0);  // lumped: depth only
+}
+
+TEST(HapticProtocol, PacketsRoundTripLittleEndianAtTheirSizes) {
+  const haptic::PosePacket pose{7, 1, 123456789, {0.01, 1e-3, 0.1, 0.2, 3.0}};
+  const haptic::Bytes b = haptic::encode(pose);
+  ASSERT_EQ(b.size(), haptic::kPoseSize);
+  EXPECT_EQ(b[0], 'N');
+  EXPECT_EQ(b[3], 'P');
+  EXPECT_EQ(b[4], 1);  // version 1, little-endian
+  const haptic::Decoded d = haptic::decode(b);
+  ASSERT_TRUE(d.packet);
+  const auto& back = std::get<haptic::PosePacket>(*d.packet);
+  EXPECT_EQ(back.sequence, 7u);
+  EXPECT_EQ(back.clientTimeNs, 123456789u);
+  EXPECT_EQ(back.pose.roll, 3.0);
+  haptic::StatePacket state;
+  state.force = {-0.5, 0.1, 0.0};
+  state.phase = 2;
+  const haptic::Bytes s = haptic::encode(state);
+  ASSERT_EQ(s.size(), haptic::kStateSize);
+  EXPECT_EQ(std::get<haptic::StatePacket>(*haptic::decode(s).packet).force[0], -0.5);
+  EXPECT_EQ(haptic::encode(haptic::ErrorPacket{1, haptic::ErrorCode::Size, 0, "x"}).size(), haptic::kErrorSize);
+}
+
+TEST(HapticProtocol, RefusesOtherVersionsSizesAndNonFinitePoses) {
+  haptic::Bytes b = haptic::encode(haptic::PosePacket{3, 0, 0, {}});
+  b[4] = 2;
+  auto d = haptic::decode(b);
+  ASSERT_TRUE(d.error);
+  EXPECT_EQ(d.error->code, haptic::ErrorCode::Version);
+  EXPECT_EQ(d.error->sequence, 3u);
+  const haptic::Decoded back = haptic::decode(haptic::encode(*d.error));
+  EXPECT_NE(std::get<haptic::ErrorPacket>(*back.packet).message.find("version 2"), std::string::npos);
+  b[4] = 1;
+  b.pop_back();
+  EXPECT_EQ(haptic::decode(b).error->code, haptic::ErrorCode::Size);
+  b = haptic::encode(haptic::PosePacket{3, 0, 0, {NAN, 0, 0, 0, 0}});
+  EXPECT_EQ(haptic::decode(b).error->code, haptic::ErrorCode::Value);
+  b[0] = 'X';
+  const haptic::Decoded other = haptic::decode(b);
+  EXPECT_FALSE(other.packet || other.error);  // not this protocol: no answer
+}
+
+TEST(LiveSession, PhysicsThreadStepsAtItsRateAndInsertionRaisesTheForce) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 0.02;
+  settings.limits.maxDepth = 0.0;
+  live::LiveSession session(realtime2d(), settings);
+  EXPECT_GT(session.settings().limits.maxDepth, 0.05);  // from the tissue and the needle
+  session.start();
+  session.setDrive({1.0});
+  std::this_thread::sleep_for(std::chrono::milliseconds(800));
+  session.setDrive({});
+  std::this_thread::sleep_for(std::chrono::milliseconds(300));
+  session.stop();
+  const live::LatestState last = session.latest();
+  live::Frame frame;
+  session.frame(frame);
+  std::size_t total = 0;
+  session.samples(0, total);
+  EXPECT_GT(last.step, 500u);             // ~1100 at 1 kHz; a loaded machine gets fewer
+  EXPECT_EQ(session.log().size(), last.step);
+  EXPECT_GT(last.state.depth, 5e-3);
+  EXPECT_GT(last.state.axial_force, 0.04);
+  EXPECT_GT(frame.punctureDepth, 0.0);
+  EXPECT_GT(total, 40u);
+  EXPECT_EQ(frame.field.scalar.size(), session.surface().vertices.size() / 3);
+  std::printf("physics: %llu steps, %.0f steps/s over the last second\n", static_cast<unsigned long long>(last.step), frame.rate);
+}
+
+TEST(LiveSession, RecordingReplaysToTheSameForces) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 0.02;
+  settings.limits.maxDepth = 0.0;
+  live::LiveSession session(realtime2d(), settings);
+  session.start();
+  session.setDrive({1.0, 0.0, 0.3});
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
+  session.setDrive({-1.0});
+  std::this_thread::sleep_for(std::chrono::milliseconds(200));
+  session.stop();
+  const fs::path dir = fs::temp_directory_path() / ("needlesim_live_test_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  live::writeRecording(session.scenario(), session.log(), dir, false, 1.0, "test");
+  ASSERT_TRUE(fs::exists(dir / "commands.csv"));
+  api::Scenario again = api::Scenario::builtIn();
+  const live::StepLog replayed = live::replay(dir, again);
+  EXPECT_EQ(again.engine(), "realtime2d");
+  ASSERT_EQ(replayed.size(), session.log().size());
+  EXPECT_LT(live::largestDifference(replayed.forcesTable(true), dir / "forces.csv"), 1e-9);
+  fs::remove_all(dir);
+}
