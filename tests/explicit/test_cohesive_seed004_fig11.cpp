@@ -62,7 +62,7 @@ TEST(CohesiveSeed004, Fig11StatedLawGivesTheAxialForceGrowth) {
   checkFx(runStatedLaw("3.57 kPa", 110.7, "5 mm/s"), runStatedLaw("4.93 kPa", 322.3, "5 mm/s"));
 }
 
-// At the toughness test's 1.25 mm/s (seed 004 section III-B; about 1 min): closer to quasi-static,
+// At the toughness test's 1.25 mm/s (seed 004 section III; about 30 s): closer to quasi-static,
 // every force component scales with the modulus (C10 ratio 4.93 / 3.57 = 1.381; 2 % for the remaining
 // inertia), so F_y = Q + q_y cannot grow 3.5 times as the paper's does (0.11 -> 0.39 N).
 TEST(CohesiveSeed004, LongFig11StatedLawScalesEveryForceWithTheModulus) {
