@@ -18,32 +18,24 @@
 #include <cstdio>
 #include <vector>
 
+#include "needlesim/engines/realtime2d/fe.hpp"
+
 namespace {
 
 struct TipForces {
   double P, Q, qx, qy;  // N per mm of thickness, on the needle
 };
 
-// Plane-strain bilinear quad of side h, unit thickness, 2 x 2 Gauss points.
-Eigen::Matrix<double, 8, 8> quadStiffness(double E, double nu, double h) {
-  const double c = E / ((1 + nu) * (1 - 2 * nu));
-  Eigen::Matrix3d D;
-  D << c * (1 - nu), c * nu, 0, c * nu, c * (1 - nu), 0, 0, 0, c * (1 - 2 * nu) / 2;
-  Eigen::Matrix<double, 8, 8> K = Eigen::Matrix<double, 8, 8>::Zero();
-  const double g = 1 / std::sqrt(3.0), xi[4] = {-1, 1, 1, -1}, eta[4] = {-1, -1, 1, 1};
-  for (double gx : {-g, g})
-    for (double gy : {-g, g}) {
-      Eigen::Matrix<double, 3, 8> B = Eigen::Matrix<double, 3, 8>::Zero();
-      for (int a = 0; a < 4; ++a) {
-        const double dx = xi[a] * (1 + eta[a] * gy) / 4 * 2 / h, dy = eta[a] * (1 + xi[a] * gx) / 4 * 2 / h;
-        B(0, 2 * a) = dx;
-        B(1, 2 * a + 1) = dy;
-        B(2, 2 * a) = dy;
-        B(2, 2 * a + 1) = dx;
-      }
-      K += B.transpose() * D * B * (h * h / 4);
-    }
-  return K;
+// The realtime2d engine's plane-strain bilinear quad (seed 003 eqs 3.6, 3.9): a square of side h,
+// thickness t.
+Eigen::Matrix<double, 8, 8> quadStiffness(double E, double nu, double h, double t) {
+  needlesim::realtime2d::ElasticMaterial m;
+  m.E = E;
+  m.nu = nu;
+  m.plane_strain = true;
+  Eigen::Matrix<double, 2, 4> xy;
+  xy << 0, h, h, 0, 0, 0, h, h;  // counter-clockwise from the lower left corner
+  return needlesim::realtime2d::quadStiffness(xy, needlesim::realtime2d::elasticity(m), t);
 }
 
 // Block x in [0, W], y in [-H, H]; needle of diameter d on y in [-d/2, d/2], bottom edge y = -d/2,
@@ -67,7 +59,7 @@ TipForces bondedTip(double alphaDeg, double h, double W = 24e-3, double H = 12e-
       fixedNode[node(i, j)] = i == nx;
     }
   // tissue elements: not all four nodes rigid
-  const Eigen::Matrix<double, 8, 8> Ke = quadStiffness(E, nu, h) * t;
+  const Eigen::Matrix<double, 8, 8> Ke = quadStiffness(E, nu, h, t);
   std::vector<std::array<int, 4>> tissue;
   for (int j = 0; j < ny; ++j)
     for (int i = 0; i < nx; ++i) {
