@@ -13,6 +13,8 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "needlesim/engines/realtime/shaft_coupling.hpp"
+#include "needlesim/engines/realtime/tip_forces.hpp"
 #include "needlesim/engines/realtime2d/tissue.hpp"
 #include "needlesim/forces/stiffness.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
@@ -117,49 +119,16 @@ class Session {
   double exitDepth() const { return s_exit_; }
 
  private:
-  enum class Status : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
-  struct Motion {
-    double ds = 0.0, v_ax = 0.0;  // m, m/s: axial base motion of this step
-    double s_tip = 0.0;           // m, tip along the reference axis
-  };
-  // A layer boundary the tip must puncture (eq 3.16 with the layer's material).
-  struct Membrane {
-    double s = 0.0;          // m, along the reference axis
-    double threshold = 0.0;  // N
-    forces::StiffnessLaw law;
-    int node = 0;            // path node that takes the indentation load
-  };
+  using Motion = realtime::AxialMotion;
   Motion moveBase(const BasePose& pose, double dt);
-  double pressMembrane(double s_tip, StepResult& o);
-  double cutAtTip(const Motion& mo);
-  void coupleNodes(double s_tip);
-  void measureShaft(double s_tip);
-  int solveCoupling(const Motion& mo, double dt);
-  void addKnownLoads();
-  // The path nodes' Newmark state the coupling works on (references into the tissue).
-  struct PathState {
-    const Eigen::MatrixXd& S;  // path compliance: u_P = u0_P + S f
-    const NewmarkCoefficients& c;
-    const Eigen::VectorXd &u, &v, &a;  // path displacement, velocity, acceleration at the step's start
-    double gamma;
-  };
-  PathState pathState() const {
-    return {tissue_.pathCompliance(), tissue_.coefficients(), tissue_.pathU(), tissue_.pathV(), tissue_.pathA(),
-            cfg_.tissue.newmark.gamma};
-  }
-  int assembleCoupling(const Motion& mo, double dt);
-  bool updateFrictionStatus(const Motion& mo, double dt);
   void reportLoads(const BasePose& pose, double F1, double Fc, StepResult& o);
   Phase phaseOf(const Motion& mo, double Fc) const;
   double tipLoadRatio() const;
-  bool entered() const { return pending_ > 0; }  // the entry face is punctured
-  void placeMembranes();
+  std::vector<realtime::Membrane> membranesOf() const;
+  realtime::ShaftSettings shaftSettings() const;
   double nodeDepth(int pathNode) const;
   std::size_t layerAt(double x, double tolerance) const;
   double cuttingAt(double s_tip) const;
-  double rigidLateral(double p) const { return dB_ + (p - sB_) * tanphi_; }
-  double needleLateralAt(double p) const;  // total lateral position (+n) of the needle at axial p
-  bool solveSmall(int m);
 
   SessionConfig cfg_;
   Eigen::Vector2d shift_, entry_, t0_, n0_;
@@ -170,17 +139,10 @@ class Session {
   // Needle state of the current step.
   double sB_ = 0.0, dB_ = 0.0, phi_ = 0.0, tanphi_ = 0.0, cosphi_ = 1.0, Q_ = 0.0;
   double sB_prev_ = 0.0;
-  bool started_ = false, pressing_ = false;
-  std::vector<Membrane> membranes_;  // the entry face first, then inner layer boundaries
-  std::size_t pending_ = 0;          // first membrane not yet punctured
-  double front_ = 0.0, time_ = 0.0;
-  int k_ = 0;  // coupled nodes (a prefix of the path)
-  std::vector<Status> status_;
-  std::vector<FrictionSpec> nodeFriction_;  // per path node (layer of its depth)
-  std::vector<double> offset_, sigma_, ell_, pos_, lambda_;
-  std::vector<int> idx_;
-  Eigen::VectorXd fK_, f_, y_, rhs_, x_;
-  Eigen::MatrixXd H_;
+  bool started_ = false;
+  double time_ = 0.0;
+  realtime::TipForces tip_;        // membranes (the entry face first) and cutting
+  realtime::ShaftCoupling shaft_;  // lateral ties and Karnopp friction on the coupled nodes
   StepResult out_;
 };
 
