@@ -129,7 +129,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   const double F1 = tip_.press(mo.s_tip, fK, o.punctured_now);
   const double Fc = tip_.cut(mo, cuttingAt(mo.s_tip), 0.5 * cfg_.friction.static_band, s_exit_, fK);
   // The tissue pushes the bevel tip towards -bevelSide (needle/insertion_frame.hpp).
-  const double Qnew = -tipLoadRatio() * Fc * cfg_.frame.bevelSign(pose.roll);
+  const double Qnew = -cfg_.needle.tipLoadRatio() * Fc * cfg_.frame.bevelSign(pose.roll);
   realtime::NeedleLine nl{sB_, cosphi_, {dB_, 0.0}, {tanphi_, 0.0}, {Q_, 0.0}};
   shaft_.setNeedle(nl);  // the new pose with the last tip load: new nodes tie at their gap
   const auto& pu = tissue_.pathU();
@@ -141,7 +141,7 @@ const StepResult& Session::step(const BasePose& pose, double dt) {
   o.iterations = shaft_.solve(tissue_.dynamics(), mo, dt);
   tissue_.commit(shaft_.loads());
   reportLoads(pose, F1, Fc, o);
-  o.phase = phaseOf(mo, Fc);
+  o.phase = realtime::phaseOf(tip_, mo, Fc, s_exit_, 0.5 * cfg_.friction.static_band);
   sB_prev_ = sB_;
   return o;
 }
@@ -157,10 +157,6 @@ Session::Motion Session::moveBase(const BasePose& pose, double dt) {
   if (!started_) { sB_prev_ = sB_; started_ = true; }
   const double ds = sB_ - sB_prev_;
   return {ds, ds / dt, sB_ + L_ * cosphi_};
-}
-
-double Session::tipLoadRatio() const {
-  return cfg_.needle.tip_load_ratio >= 0.0 ? cfg_.needle.tip_load_ratio : 1.0 / std::tan(cfg_.needle.bevel_angle);
 }
 
 // Needle loads and outputs: the tissue pushes the needle with -f on each tie, and with
@@ -195,15 +191,6 @@ void Session::reportLoads(const BasePose& pose, double F1, double Fc, StepResult
   o.tip_angle = pose.angle + shaft_.slope(0, L_);
   o.tip_position = entry_ + o.depth * t0_ + (dB_ + L_ * std::sin(phi_) + o.tip_deflection) * n0_;
   o.coupled = k;
-}
-
-Phase Session::phaseOf(const Motion& mo, double Fc) const {
-  const double band = 0.5 * cfg_.friction.static_band;
-  if (mo.s_tip <= 0.0) return Phase::Outside;
-  if (!tip_.entered() || tip_.pressing()) return Phase::Pressing;
-  if (mo.s_tip >= s_exit_) return Phase::Through;
-  if (Fc > 0.0 && mo.v_ax >= band) return Phase::Cutting;
-  return Phase::Inside;
 }
 
 SessionConfig thesisGelatinConfig(int nodesDepth, int nodesLateral, Backend backend) {

@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "needlesim/engines/realtime/needle_settings.hpp"
 #include "needlesim/engines/realtime/shaft_coupling.hpp"
 #include "needlesim/engines/realtime/tip_forces.hpp"
 #include "needlesim/engines/realtime2d/tissue.hpp"
@@ -22,24 +23,9 @@
 
 namespace needlesim::realtime2d {
 
-struct NeedleConfig {
-  double length = 0.1;          // m, base (hub, clamped) to tip
-  double EI = 0.0;              // N m^2, bending stiffness
-  double bevel_angle = 0.5236;  // rad, tip (bevel) angle alpha
-  // Transverse bevel load Q / cutting force; < 0 selects the wedge estimate cot(alpha)
-  // (the bevel face carries the cutting force: axial N sin a = F_cut, lateral N cos a).
-  double tip_load_ratio = -1.0;
-};
-
-// Forces of one layer of a layered block (depth bands from the entry face).
-struct LayerForces {
-  double depth_end = 0.0;      // m, x of the layer's far boundary
-  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
-  double cutting_force = 0.0;  // N (eq 3.24)
-  // N, threshold of eq 3.16 (with the layer's E, nu from TissueConfig::layers) at the
-  // layer's near boundary; the first layer's is SessionConfig::puncture_force.
-  double puncture_force = 0.0;
-};
+using realtime::LayerForces;
+using realtime::NeedleConfig;
+using realtime::Phase;
 
 struct SessionConfig {
   TissueConfig tissue;
@@ -72,8 +58,6 @@ struct BasePose {
   // pushes the tip towards -bevelSign(roll) lateral (frame.bevelSign).
   double roll = 0.0;
 };
-
-enum class Phase : int { Outside = 0, Pressing = 1, Cutting = 2, Inside = 3, Through = 4 };
 
 struct StepResult {
   double time = 0.0;
@@ -122,8 +106,6 @@ class Session {
   using Motion = realtime::AxialMotion;
   Motion moveBase(const BasePose& pose, double dt);
   void reportLoads(const BasePose& pose, double F1, double Fc, StepResult& o);
-  Phase phaseOf(const Motion& mo, double Fc) const;
-  double tipLoadRatio() const;
   std::vector<realtime::Membrane> membranesOf() const;
   realtime::ShaftSettings shaftSettings() const;
   double nodeDepth(int pathNode) const;
