@@ -189,7 +189,7 @@ TEST(ApiErrors, SessionArguments) {
   const auto explicitScenario = api::Scenario::fromFile(kExamples / "explicit/seed004_bevel_2d.yaml");
   auto engine = messageOf<api::InputError>([&] { api::Session{explicitScenario}; });
   EXPECT_NE(engine.find("explicit"), std::string::npos) << engine;
-  EXPECT_NE(engine.find("lumped or realtime2d"), std::string::npos) << engine;
+  EXPECT_NE(engine.find("lumped, realtime2d or realtime3d"), std::string::npos) << engine;
 
   const api::Results r = api::run(lumped);
   auto column = messageOf<api::InputError>([&] { r.table("forces").column("force"); });
