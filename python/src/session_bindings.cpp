@@ -172,6 +172,28 @@ class LumpedSession final : public SessionBase {
   needle::InsertionFrame frame_;
 };
 
+// The FE sessions take the velocity from the depth change over dt.
+void refuseVelocity(const StepArgs& a, const std::string& engine) {
+  if (a.velocity)
+    throw InputError(kPython, "Session.step(velocity)", fmt::format("{:g}", *a.velocity),
+                     engine + " takes the velocity from the depth change over dt", "no velocity argument");
+}
+
+// What both FE sessions' step results give alike.
+template <class StepResult>
+SessionStep feStep(const StepResult& o) {
+  SessionStep s;
+  s.depth = o.depth;
+  s.force_total = o.axial_force;
+  s.force_stiffness = o.stiffness_force;
+  s.force_cutting = o.cutting_force;
+  s.force_friction = o.friction_force;
+  s.force_lateral = o.lateral_force;
+  s.phase = phaseName(o.phase);
+  s.punctured_now = o.punctured_now;
+  return s;
+}
+
 class Realtime2dSession final : public SessionBase {
  public:
   Realtime2dSession(const Scenario& sc, const StepPlan& plan)
@@ -211,22 +233,12 @@ class Realtime2dSession final : public SessionBase {
   }
 
   SessionStep advance(const StepArgs& a) override {
-    if (a.velocity)
-      throw InputError(kPython, "Session.step(velocity)", fmt::format("{:g}", *a.velocity),
-                       "realtime2d takes the velocity from the depth change over dt", "no velocity argument");
+    refuseVelocity(a, "realtime2d");
     const realtime2d::BasePose pose = session_.poseAtDepth(a.depth, a.lateral, a.rotation, a.roll);
     const realtime2d::StepResult& o = session_.step(pose, a.dt);
-    SessionStep s;
-    s.depth = o.depth;
-    s.force_total = o.axial_force;
-    s.force_stiffness = o.stiffness_force;
-    s.force_cutting = o.cutting_force;
-    s.force_friction = o.friction_force;
-    s.force_lateral = o.lateral_force;
+    SessionStep s = feStep(o);
     s.tip_position = {o.tip_position.x(), o.tip_position.y(), 0.0};
     s.tip_deflection = o.tip_deflection;
-    s.phase = phaseName(o.phase);
-    s.punctured_now = o.punctured_now;
     s.torque = o.torque;
     s.tip_load = o.tip_load;
     return s;
@@ -276,24 +288,14 @@ class Realtime3dSession final : public SessionBase {
 
  private:
   SessionStep advance(const StepArgs& a) override {
-    if (a.velocity)
-      throw InputError(kPython, "Session.step(velocity)", fmt::format("{:g}", *a.velocity),
-                       "realtime3d takes the velocity from the depth change over dt", "no velocity argument");
+    refuseVelocity(a, "realtime3d");
     const realtime3d::StepResult& o =
         session_.step(session_.poseAtDepth(a.depth, a.lateral, 0.0, a.rotation, a.tilt, a.roll), a.dt);
-    SessionStep s;
-    s.depth = o.depth;
-    s.force_total = o.axial_force;
-    s.force_stiffness = o.stiffness_force;
-    s.force_cutting = o.cutting_force;
-    s.force_friction = o.friction_force;
-    s.force_lateral = o.lateral_force;
+    SessionStep s = feStep(o);
     s.force_out_of_plane = o.out_of_plane_force;
     s.tip_position = {o.tip_position.x(), o.tip_position.y(), o.tip_position.z()};
     s.tip_deflection = o.tip_deflection[0];
     s.tip_deflection_z = o.tip_deflection[1];
-    s.phase = phaseName(o.phase);
-    s.punctured_now = o.punctured_now;
     s.tip_load = o.tip_load[0];
     return s;
   }

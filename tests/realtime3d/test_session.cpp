@@ -12,14 +12,7 @@
 
 using namespace needlesim::realtime3d;
 
-// Counts heap allocations of this test program (glibc: the executable's malloc wins).
-namespace { std::atomic<long> g_mallocs{0}; }
-extern "C" void* __libc_malloc(std::size_t);
-extern "C" void* __libc_realloc(void*, std::size_t);
-extern "C" void* __libc_calloc(std::size_t, std::size_t);
-extern "C" void* malloc(std::size_t n) { g_mallocs.fetch_add(1, std::memory_order_relaxed); return __libc_malloc(n); }
-extern "C" void* realloc(void* p, std::size_t n) { g_mallocs.fetch_add(1, std::memory_order_relaxed); return __libc_realloc(p, n); }
-extern "C" void* calloc(std::size_t a, std::size_t b) { g_mallocs.fetch_add(1, std::memory_order_relaxed); return __libc_calloc(a, b); }
+#include "../common/malloc_counter.hpp"  // g_mallocs
 
 namespace {
 // The thesis gelatin and 18 G bevel needle (seed 003 section 5.1) on a coarse block.
@@ -45,33 +38,6 @@ Insertion insert(const SessionConfig& c, double depth, double hold = 0.0, double
           s.tissue().nodeDisplacement(s.tissue().path()[2].node).x()};
 }
 }  // namespace
-
-// Phase A follows eq 3.16 until the threshold; then puncture, cutting and coupling.
-TEST(Realtime3dSession, PressThenPunctureThenCut) {
-  auto c = small();
-  Session s(c);
-  needlesim::forces::StiffnessLaw law{c.tissue.material.E, c.tissue.material.nu, c.needle.bevel_angle,
-                                      std::numbers::pi / 2};
-  const double zp = law.depthAt(c.puncture_force);
-  bool punctured = false;
-  for (int n = 1; n <= 4000 && !punctured; ++n) {
-    const double depth = -1e-3 + 3e-3 * n * c.dt;
-    const auto& r = s.step(s.poseAtDepth(depth), c.dt);
-    if (r.punctured_now) {
-      punctured = true;
-      EXPECT_NEAR(depth, zp, 3e-3 * c.dt + 1e-12);
-      EXPECT_GT(r.coupled, 0);
-    } else if (depth > 0) {
-      EXPECT_EQ(r.phase, Phase::Pressing);
-      EXPECT_NEAR(r.axial_force, law.force(depth), 1e-9);
-    }
-  }
-  EXPECT_TRUE(punctured);
-  for (int n = 1; n <= 3000; ++n) s.step(s.poseAtDepth(zp + 3e-3 * n * c.dt), c.dt);
-  EXPECT_EQ(s.last().phase, Phase::Cutting);
-  EXPECT_NEAR(s.last().cutting_force, c.cutting_force, 1e-15);
-  EXPECT_GT(s.last().friction_force, 0.0);
-}
 
 // Modal (all modes) and direct are the same Newmark scheme: equal to rounding through a
 // coupled insertion. Reduced keeps the modes below sqrt(20 / (beta dt)) and takes the rest

@@ -66,21 +66,27 @@ struct Session::Impl {
     stepped = false;
   }
 
-  void stepFe3(const Command& c, double dt) {
-    const realtime3d::StepResult& o = fe3->step(fe3->poseAtDepth(c.depth, c.lateral, 0.0, c.rotation, c.tilt, c.roll), dt);
+  // The state both FE sessions' step results give alike.
+  template <class StepResult>
+  void feState(const StepResult& o) {
     state.depth = o.depth;
     state.axial_force = o.axial_force;
     state.lateral_force = o.lateral_force;
-    state.out_of_plane_force = o.out_of_plane_force;
     state.stiffness_force = o.stiffness_force;
     state.cutting_force = o.cutting_force;
     state.friction_force = o.friction_force;
     state.tip_x = o.tip_position.x();
     state.tip_y = o.tip_position.y();
+    state.phase = phaseName(static_cast<int>(o.phase));
+  }
+
+  void stepFe3(const Command& c, double dt) {
+    const realtime3d::StepResult& o = fe3->step(fe3->poseAtDepth(c.depth, c.lateral, 0.0, c.rotation, c.tilt, c.roll), dt);
+    feState(o);
+    state.out_of_plane_force = o.out_of_plane_force;
     state.tip_z = o.tip_position.z();
     state.tip_deflection = o.tip_deflection[0];
     state.tip_deflection_z = o.tip_deflection[1];
-    state.phase = phaseName(static_cast<int>(o.phase));
   }
 
   void stepFe(const Command& c, double dt) {
@@ -89,16 +95,8 @@ struct Session::Impl {
                             "tilts the needle out of the insertion plane, which the 2D engine cannot",
                             "0 for realtime2d; a scenario with model.engine: realtime3d");
     const realtime2d::StepResult& o = fe->step(fe->poseAtDepth(c.depth, c.lateral, c.rotation, c.roll), dt);
-    state.depth = o.depth;
-    state.axial_force = o.axial_force;
-    state.lateral_force = o.lateral_force;
-    state.stiffness_force = o.stiffness_force;
-    state.cutting_force = o.cutting_force;
-    state.friction_force = o.friction_force;
-    state.tip_x = o.tip_position.x();
-    state.tip_y = o.tip_position.y();
+    feState(o);
     state.tip_deflection = o.tip_deflection;
-    state.phase = phaseName(static_cast<int>(o.phase));
   }
 
   void stepLumped(const Command& c, double dt) {

@@ -13,6 +13,12 @@ DofMap makeDofMap(int total_dofs, const std::vector<bool>& held) {
   return m;
 }
 
+Eigen::SparseMatrix<double> sparseFrom(int n, const std::vector<Eigen::Triplet<double>>& t) {
+  Eigen::SparseMatrix<double> A(n, n);
+  A.setFromTriplets(t.begin(), t.end());
+  return A;
+}
+
 Eigen::SparseMatrix<double> restrictToFree(const Eigen::SparseMatrix<double>& A, const DofMap& map) {
   std::vector<Eigen::Triplet<double>> t;
   t.reserve(static_cast<std::size_t>(A.nonZeros()));

@@ -11,6 +11,8 @@ struct DofMap {
   int freeCount() const { return static_cast<int>(dof_of_free.size()); }
 };
 DofMap makeDofMap(int total_dofs, const std::vector<bool>& held);
+// An n x n sparse matrix from (row, column, value) triplets (duplicates summed).
+Eigen::SparseMatrix<double> sparseFrom(int n, const std::vector<Eigen::Triplet<double>>& t);
 // Rows and columns of the free DOFs only.
 Eigen::SparseMatrix<double> restrictToFree(const Eigen::SparseMatrix<double>& A, const DofMap& map);
 

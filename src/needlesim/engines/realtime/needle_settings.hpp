@@ -1,6 +1,11 @@
 #pragma once
 // Needle and layer force settings shared by the real-time engines (realtime2d, realtime3d).
 #include <cmath>
+#include <string>
+#include <vector>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/needle/insertion_frame.hpp"
 
 #include "needlesim/engines/realtime/tip_forces.hpp"
 #include "needlesim/scenario/scenario.hpp"
@@ -26,6 +31,37 @@ struct LayerForces {
   // first layer's is the session's puncture_force.
   double puncture_force = 0.0;
 };
+
+// A real-time session's settings around its tissue (TissueConfig of realtime2d or realtime3d).
+template <class TissueConfigT>
+struct SessionSettings {
+  TissueConfigT tissue;
+  NeedleConfig needle;
+  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
+  double cutting_force = 0.0;  // N (eq 3.24)
+  // Optional layered forces: when not empty they replace `friction` and `cutting_force`,
+  // by the depth x of each path node (friction) and of the tip (cutting).
+  std::vector<LayerForces> layers;
+  double puncture_force = 0.0; // N, threshold of eq 3.16 at the entry face
+  // The insertion frame (needle/insertion_frame.hpp) in the centred tissue frame: entry point,
+  // reference axis, lateral, out of plane, bevel orientation (realtime2d uses the in-plane parts).
+  needle::InsertionFrame frame;
+  double dt = 1e-3;            // s
+  int max_active_set_iterations = 12;
+};
+
+// Refusals common to the real-time sessions: the needle beam, the step, Newmark gamma
+// (seed 003 eqs 3.2-3.4: gamma < 1/2 amplifies every mode; beta below (gamma + 1/2)^2 / 4 is only
+// conditionally stable and is checked against the mesh in TissueDynamics).
+template <class Settings>
+void checkSessionSettings(const Settings& c, const std::string& engine) {
+  if (!(c.needle.EI > 0.0) || !(c.needle.length > 0.0))
+    throw SolverError(engine + ": the needle needs EI > 0 and length > 0");
+  if (!(c.dt > 0.0)) throw SolverError(engine + ": the time step must be > 0");
+  if (c.tissue.newmark.gamma < 0.5)
+    throw SolverError(engine + ": Newmark gamma = " + std::to_string(c.tissue.newmark.gamma) +
+                      " < 1/2 is unstable (negative numerical damping); use gamma >= 0.5");
+}
 
 enum class Phase : int { Outside = 0, Pressing = 1, Cutting = 2, Inside = 3, Through = 4 };
 

@@ -13,4 +13,14 @@ std::vector<double> realtimeMm(std::vector<double> v);
 // table with the columns force_total, force_stiffness, force_cutting, force_friction.
 void plotAxialForces(const io::Table& forces, const Scenario& sc, ResultSink& sink);
 
+// A real-time engine's run: the step guards, then the Run class (constructor with the scenario,
+// sink and options; run(); finish()).
+template <class Run>
+void runRealtimeEngine(const Scenario& sc, ResultSink& sink, const RunOptions& options, const StepPlan& plan) {
+  guardAndAnnounce(sc, plan, sink, options);
+  Run run(sc, sink, options);
+  run.run();
+  run.finish();
+}
+
 }  // namespace needlesim::engines

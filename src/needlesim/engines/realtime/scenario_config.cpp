@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -110,6 +111,20 @@ const char* realtimeBackendName(realtime::Backend b) {
     case realtime::Backend::Reduced: return "reduced";
     default: return "auto";
   }
+}
+
+void checkRealtimeEntryAngle(const Scenario& sc, const std::string& engine) {
+  if (sc.insertion.entry_angle < 0.25 * std::numbers::pi - 1e-12)
+    throw SolverError(fmt::format("{}: entry angle {:g} deg is below the 45 deg the path-node coupling "
+                                  "supports (the needle axis must be within 45 deg of the entry-face normal)",
+                                  engine, sc.insertion.entry_angle * 180.0 / std::numbers::pi));
+}
+
+StepPlan realtimeStepPlan(const Scenario& sc, const std::string& engine, int nodes_depth) {
+  StepPlan p = fixedStepPlan(sc, engine);
+  p.spacing = sc.tissue.length / std::max(1, nodes_depth - 1);
+  p.spacingName = "the node spacing along the depth (block.length / (model." + engine + ".nodes_depth - 1))";
+  return p;
 }
 
 }  // namespace needlesim::engines

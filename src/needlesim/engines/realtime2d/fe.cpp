@@ -121,12 +121,7 @@ Assembled assemble(const Mesh& mesh, const std::vector<ElasticMaterial>& mats, b
       }
   }
   const int n = 2 * mesh.nodeCount();
-  Assembled out;
-  out.K.resize(n, n);
-  out.M.resize(n, n);
-  out.K.setFromTriplets(tk.begin(), tk.end());
-  out.M.setFromTriplets(tm.begin(), tm.end());
-  return out;
+  return {realtime::sparseFrom(n, tk), realtime::sparseFrom(n, tm)};
 }
 
 std::vector<bool> nodesOnHeldSides(const Mesh& mesh) {

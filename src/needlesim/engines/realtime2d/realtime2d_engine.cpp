@@ -371,17 +371,11 @@ class Realtime2dRun {
 // along the depth (mesh.cpp): a step must not carry the tip past them.
 StepPlan realtime2dStepPlan(const Scenario& sc) {
   realtime2dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
-  StepPlan p = fixedStepPlan(sc, "realtime2d");
-  p.spacing = sc.tissue.length / std::max(1, sc.model.realtime2d.nodes_depth - 1);
-  p.spacingName = "the node spacing along the depth (block.length / (model.realtime2d.nodes_depth - 1))";
-  return p;
+  return realtimeStepPlan(sc, "realtime2d", sc.model.realtime2d.nodes_depth);
 }
 
 void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
-  guardAndAnnounce(sc, realtime2dStepPlan(sc), sink, options);
-  Realtime2dRun run(sc, sink, options);
-  run.run();
-  run.finish();
+  runRealtimeEngine<Realtime2dRun>(sc, sink, options, realtime2dStepPlan(sc));
 }
 
 }  // namespace needlesim::engines

@@ -20,18 +20,11 @@ SessionConfig normalised(SessionConfig c) {
   c.tissue.mesh.path_y = c.frame.entry.y() + cornerShiftOf(c).y();
   if (c.friction.D_p <= 0.0) c.friction.D_p = c.friction.C_p;  // static limit defaults to dynamic
   if (c.friction.D_n <= 0.0) c.friction.D_n = c.friction.C_n;
-  if (!(c.needle.EI > 0.0) || !(c.needle.length > 0.0))
-    throw SolverError("realtime2d: the needle needs EI > 0 and length > 0");
   for (auto& L : c.layers) {
     if (L.friction.D_p <= 0.0) L.friction.D_p = L.friction.C_p;
     if (L.friction.D_n <= 0.0) L.friction.D_n = L.friction.C_n;
   }
-  if (!(c.dt > 0.0)) throw SolverError("realtime2d: the time step must be > 0");
-  // Newmark stability (seed 003 eqs 3.2-3.4): gamma < 1/2 amplifies every mode; beta below
-  // (gamma + 1/2)^2 / 4 is only conditionally stable and is checked against the mesh in Tissue.
-  if (c.tissue.newmark.gamma < 0.5)
-    throw SolverError("realtime2d: Newmark gamma = " + std::to_string(c.tissue.newmark.gamma) +
-                      " < 1/2 is unstable (negative numerical damping); use gamma >= 0.5");
+  realtime::checkSessionSettings(c, "realtime2d");
   return c;
 }
 }  // namespace

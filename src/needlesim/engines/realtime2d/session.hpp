@@ -27,21 +27,8 @@ using realtime::LayerForces;
 using realtime::NeedleConfig;
 using realtime::Phase;
 
-struct SessionConfig {
-  TissueConfig tissue;
-  NeedleConfig needle;
-  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
-  double cutting_force = 0.0;  // N (eq 3.24)
-  // Optional layered forces: when not empty they replace `friction` and `cutting_force`,
-  // by the depth x of each path node (friction) and of the tip (cutting).
-  std::vector<LayerForces> layers;
-  double puncture_force = 0.0; // N, threshold of eq 3.16
-  // The insertion frame (needle/insertion_frame.hpp) in the centred tissue frame; the session
-  // uses its in-plane (x, y) parts: entry point, reference axis, lateral, bevel orientation.
-  needle::InsertionFrame frame;
-  double dt = 1e-3;            // s
-  int max_active_set_iterations = 12;
-};
+// Tissue, needle, forces, frame (its in-plane parts) and step (engines/realtime/needle_settings.hpp).
+using SessionConfig = realtime::SessionSettings<TissueConfig>;
 
 // The thesis experiment (seed 003 section 5.1: 10 wt% gelatin friction and cutting,
 // 18 G regular-wall steel needle, 100 mm free length, 30 deg bevel) on a mesh of

@@ -8,6 +8,7 @@
 #include <string>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/realtime/element_materials.hpp"
 
 namespace needlesim::realtime2d {
 
@@ -65,31 +66,20 @@ void Tissue::assignMaterials(const Eigen::Vector2d& entry) {
   const auto& cfg = cfg_;
   elem_mat_.assign(static_cast<std::size_t>(mesh_.elementCount()), cfg.material);
   std::vector<std::vector<bool>> inRegion(cfg.regions.size(), std::vector<bool>(static_cast<std::size_t>(mesh_.nodeCount()), false));
+  std::vector<bool> hit;
   for (int e = 0; e < mesh_.elementCount(); ++e) {
-    const Eigen::Vector2d c = elementCentre(mesh_, e);
     ElasticMaterial& m = elem_mat_[static_cast<std::size_t>(e)];
-    if (!cfg.layers.empty()) {
-      std::size_t L = 0;
-      while (L + 1 < cfg.layers.size() && c.x() > cfg.layers[L].first) ++L;
-      m = cfg.layers[L].second;
-    }
-    for (std::size_t r = 0; r < cfg.regions.size(); ++r) {
-      if ((c - cfg.regions[r].centre).norm() > cfg.regions[r].radius) continue;
-      m = cfg.regions[r].material;
-      for (int a = 0; a < 4; ++a) inRegion[r][static_cast<std::size_t>(mesh_.quads(a, e))] = true;
-    }
+    m = realtime::materialAt(elementCentre(mesh_, e), cfg.material, cfg.layers, cfg.regions, hit);
+    for (std::size_t r = 0; r < cfg.regions.size(); ++r)
+      for (int a = 0; a < 4 && hit[r]; ++a) inRegion[r][static_cast<std::size_t>(mesh_.quads(a, e))] = true;
     m.thickness = cfg.material.thickness;
     m.plane_strain = cfg.material.plane_strain;
   }
   region_nodes_.assign(cfg.regions.size(), {});
-  for (std::size_t r = 0; r < cfg.regions.size(); ++r) {
+  for (std::size_t r = 0; r < cfg.regions.size(); ++r)
     for (int n = 0; n < mesh_.nodeCount(); ++n)
       if (inRegion[r][static_cast<std::size_t>(n)]) region_nodes_[r].push_back(n);
-    if (region_nodes_[r].empty())
-      throw SolverError(fmt::format("realtime2d: material region {} (radius {:g} mm) holds no element centre of the "
-                                    "mesh; refine the mesh or enlarge the region",
-                                    r, cfg.regions[r].radius * 1e3));
-  }
+  realtime::requireRegionsMeshed("realtime2d", cfg.regions, region_nodes_);
   if (cfg.stiffening_factor != 1.0 && cfg.stiffening_radius > 0.0) {
     if (!(cfg.stiffening_factor > 0.0)) throw SolverError("realtime2d: the stiffening factor must be > 0");
     // Seed 003 section 3.5 item 4: the tissue around the needle path is stiffer (the shaft

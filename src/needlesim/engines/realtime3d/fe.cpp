@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/realtime/dof_map.hpp"
 #include "needlesim/materials/elastic_moduli.hpp"
 
 namespace needlesim::realtime3d {
@@ -99,12 +100,7 @@ Assembled assemble(const TetMesh& mesh, const std::vector<ElasticMaterial>& mats
       }
   }
   const int n = 3 * mesh.nodes();
-  Assembled out;
-  out.K.resize(n, n);
-  out.M.resize(n, n);
-  out.K.setFromTriplets(tk.begin(), tk.end());
-  out.M.setFromTriplets(tm.begin(), tm.end());
-  return out;
+  return {realtime::sparseFrom(n, tk), realtime::sparseFrom(n, tm)};
 }
 
 }  // namespace needlesim::realtime3d

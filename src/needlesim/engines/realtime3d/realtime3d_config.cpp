@@ -69,21 +69,7 @@ SessionConfig realtime3dConfig(const Scenario& sc) {
   SessionConfig c;
   c.tissue = tissueConfig(sc);
   c.needle = realtimeNeedle(sc, sc.model.realtime3d.tip_load_ratio);
-  const auto& L0 = sc.tissue.layers.front();
-  c.friction = L0.friction;
-  c.cutting_force = L0.cutting_force;
-  c.puncture_force = realtimePunctureForce(L0, c.tissue.material.E, c.tissue.material.nu, sc);
-  for (std::size_t i = 0; i < c.tissue.layers.size(); ++i) {
-    const auto& L = sc.tissue.layers[i];
-    const auto& m = c.tissue.layers[i].second;
-    c.layers.push_back({c.tissue.layers[i].first, L.friction, L.cutting_force, realtimePunctureForce(L, m.E, m.nu, sc)});
-  }
-  c.frame = needle::InsertionFrame::fromInsertion(sc.insertion);
-  c.dt = sc.model.time_step;
-  if (sc.insertion.entry_angle < 0.25 * std::numbers::pi - 1e-12)
-    throw SolverError(fmt::format("realtime3d: entry angle {:g} deg is below the 45 deg the path-node coupling "
-                                  "supports (the needle axis must be within 45 deg of the entry-face normal)",
-                                  sc.insertion.entry_angle * 180.0 / std::numbers::pi));
+  setRealtimeForces(sc, "realtime3d", c);
   return c;
 }
 

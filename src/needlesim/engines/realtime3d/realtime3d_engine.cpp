@@ -233,18 +233,12 @@ class Realtime3dRun {
 // The needle couples to the tissue at the path nodes, one per depth plane of the grid:
 // a step must not carry the tip past them.
 StepPlan realtime3dStepPlan(const Scenario& sc) {
-  realtime3dConfig(sc);  // the engine's own refusals, for check as for run
-  StepPlan p = fixedStepPlan(sc, "realtime3d");
-  p.spacing = sc.tissue.length / std::max(1, sc.model.realtime3d.nodes_depth - 1);
-  p.spacingName = "the node spacing along the depth (block.length / (model.realtime3d.nodes_depth - 1))";
-  return p;
+  realtime3dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
+  return realtimeStepPlan(sc, "realtime3d", sc.model.realtime3d.nodes_depth);
 }
 
 void runRealtime3d(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
-  guardAndAnnounce(sc, realtime3dStepPlan(sc), sink, options);
-  Realtime3dRun run(sc, sink, options);
-  run.run();
-  run.finish();
+  runRealtimeEngine<Realtime3dRun>(sc, sink, options, realtime3dStepPlan(sc));
 }
 
 }  // namespace needlesim::engines

@@ -22,12 +22,7 @@ SessionConfig normalised(SessionConfig c) {
   const Eigen::Vector3d e = c.frame.entry + cornerShiftOf(c);
   c.tissue.block.path_y = e.y();
   c.tissue.block.path_z = e.z();
-  if (!(c.needle.EI > 0.0) || !(c.needle.length > 0.0))
-    throw SolverError("realtime3d: the needle needs EI > 0 and length > 0");
-  if (!(c.dt > 0.0)) throw SolverError("realtime3d: the time step must be > 0");
-  if (c.tissue.newmark.gamma < 0.5)
-    throw SolverError("realtime3d: Newmark gamma = " + std::to_string(c.tissue.newmark.gamma) +
-                      " < 1/2 is unstable (negative numerical damping); use gamma >= 0.5");
+  realtime::checkSessionSettings(c, "realtime3d");
   return c;
 }
 }  // namespace

@@ -23,18 +23,8 @@ using realtime::LayerForces;
 using realtime::NeedleConfig;
 using realtime::Phase;
 
-struct SessionConfig {
-  TissueConfig tissue;
-  NeedleConfig needle;
-  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
-  double cutting_force = 0.0;  // N (eq 3.24)
-  std::vector<LayerForces> layers;  // replace friction and cutting_force by depth when given
-  double puncture_force = 0.0; // N, threshold of eq 3.16 at the entry face
-  // The insertion frame in the centred tissue frame (origin at the centre of the entry face).
-  needle::InsertionFrame frame;
-  double dt = 1e-3;            // s
-  int max_active_set_iterations = 12;
-};
+// Tissue, needle, forces, frame and step (engines/realtime/needle_settings.hpp).
+using SessionConfig = realtime::SessionSettings<TissueConfig>;
 
 // The thesis gelatin and needle (realtime2d::thesisGelatinConfig) on a block of
 // nodesDepth x nodesLateral x nodesLateral nodes; shared by tests and benchmarks.

@@ -7,6 +7,7 @@
 #include <map>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/realtime/element_materials.hpp"
 #include "needlesim/engines/realtime2d/mesh.hpp"
 
 namespace needlesim::realtime3d {
@@ -50,28 +51,17 @@ void Tissue::assignMaterials() {
   elem_mat_.assign(static_cast<std::size_t>(ne), cfg_.material);
   region_nodes_.assign(cfg_.regions.size(), {});
   std::vector<std::vector<bool>> in(cfg_.regions.size(), std::vector<bool>(static_cast<std::size_t>(mesh_.nodes()), false));
+  std::vector<bool> hit;
   for (int e = 0; e < ne; ++e) {
-    const Eigen::Vector3d c = tetCentre(mesh_, e);
-    auto& m = elem_mat_[static_cast<std::size_t>(e)];
-    if (!cfg_.layers.empty()) {
-      std::size_t L = 0;
-      while (L + 1 < cfg_.layers.size() && c.x() > cfg_.layers[L].first) ++L;
-      m = cfg_.layers[L].second;
-    }
-    for (std::size_t r = 0; r < cfg_.regions.size(); ++r) {
-      if ((c - cfg_.regions[r].centre).norm() > cfg_.regions[r].radius) continue;
-      m = cfg_.regions[r].material;
-      for (int a = 0; a < 4; ++a) in[r][static_cast<std::size_t>(mesh_.conn[static_cast<std::size_t>(4 * e + a)])] = true;
-    }
+    elem_mat_[static_cast<std::size_t>(e)] =
+        realtime::materialAt(tetCentre(mesh_, e), cfg_.material, cfg_.layers, cfg_.regions, hit);
+    for (std::size_t r = 0; r < hit.size(); ++r)
+      for (int a = 0; a < 4 && hit[r]; ++a) in[r][static_cast<std::size_t>(mesh_.conn[static_cast<std::size_t>(4 * e + a)])] = true;
   }
-  for (std::size_t r = 0; r < cfg_.regions.size(); ++r) {
+  for (std::size_t r = 0; r < cfg_.regions.size(); ++r)
     for (int n = 0; n < mesh_.nodes(); ++n)
       if (in[r][static_cast<std::size_t>(n)]) region_nodes_[r].push_back(n);
-    if (region_nodes_[r].empty())
-      throw SolverError(fmt::format("realtime3d: material region {} (radius {:g} mm) holds no element centre of the "
-                                    "mesh; refine the mesh or enlarge the region",
-                                    r, cfg_.regions[r].radius * 1e3));
-  }
+  realtime::requireRegionsMeshed("realtime3d", cfg_.regions, region_nodes_);
 }
 
 // K and M with the held faces: the far face, and unless hold_sides is off the four sides.
