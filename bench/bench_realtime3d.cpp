@@ -13,6 +13,7 @@ using namespace needlesim::realtime3d;
 
 namespace {
 void run(benchmark::State& state, int nx, int nl, Backend b) {
+  Eigen::setNbThreads(1);  // one core (a step has no matrix-matrix product, but set-up would use OpenMP)
   SessionConfig c = gelatinBlockConfig(nx, nl, b);
   Session s(c);
   const double dt = 1e-3;
