@@ -1,7 +1,7 @@
 // needlesim._core.Session: the real-time engines stepped by the caller (a haptic
-// loop, a planner). One class for both: `realtime2d` (2D FE tissue and needle,
-// realtime2d::Session) and `lumped` (forces::LumpedForceModel); the tissue mesh
-// and the needle shape exist for realtime2d only.
+// loop, a planner). One class for all: `realtime2d` (2D FE tissue and needle,
+// realtime2d::Session), `realtime3d` (tetrahedral block, realtime3d::Session) and `lumped`
+// (forces::LumpedForceModel); the tissue mesh and the needle shape exist for the FE engines.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -18,6 +18,7 @@
 #include "needlesim/engines/lumped/lumped_engine.hpp"
 #include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
 #include "needlesim/engines/realtime2d/session.hpp"
+#include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
@@ -43,6 +44,7 @@ struct SessionStep {
   std::string phase = "outside";
   bool punctured_now = false;
   std::optional<double> torque, tip_load;  // realtime2d: N m about the base, N bevel load
+  std::optional<double> force_out_of_plane, tip_deflection_z;  // realtime3d: N, m along the frame's outOfPlane
 };
 
 template <class PhaseEnum>
@@ -62,6 +64,7 @@ struct StepArgs {
   double depth, dt;
   std::optional<double> velocity;
   double rotation, roll, lateral;
+  double tilt = 0.0;  // rad, out of the insertion plane (realtime3d)
 };
 
 class SessionBase {
@@ -72,8 +75,8 @@ class SessionBase {
   virtual ~SessionBase() = default;
 
   SessionStep step(double depth, std::optional<double> dt, std::optional<double> velocity, double rotation, double roll,
-                   double lateral) {
-    StepArgs a{depth, dt.value_or(dt_), velocity, rotation, roll, lateral};
+                   double lateral, double tilt) {
+    StepArgs a{depth, dt.value_or(dt_), velocity, rotation, roll, lateral, tilt};
     checkArgs(a);
     SessionStep s = advance(a);
     time_ += a.dt;
@@ -92,6 +95,9 @@ class SessionBase {
   virtual py::array_t<double> displacement() const { throw noMesh("displacement"); }
   virtual py::array_t<int> cells() const { throw noMesh("cells"); }
   virtual py::array_t<double> needleShape(int) const { throw noMesh("needle_shape"); }
+  virtual py::array_t<int> surface() const {
+    throw InputError(kPython, "Session.surface", engine_, "has no tetrahedral tissue", "a Session of a realtime3d scenario");
+  }
 
  protected:
   virtual SessionStep advance(const StepArgs& a) = 0;
@@ -110,6 +116,11 @@ class SessionBase {
     requireFinite("Session.step", "rotation", a.rotation, "an in-plane angle in rad");
     requireFinite("Session.step", "roll", a.roll, "a turn about the needle axis in rad");
     requireFinite("Session.step", "lateral", a.lateral, "a lateral base offset in m");
+    requireFinite("Session.step", "tilt", a.tilt, "an out-of-plane angle in rad");
+    if (a.tilt != 0.0 && engine_ != "realtime3d")
+      throw InputError(kPython, "Session.step(tilt)", fmt::format("{:g}", a.tilt),
+                       "tilts the needle out of the insertion plane, which engine " + engine_ + " cannot",
+                       "0 (or a realtime3d scenario)");
     if (last_ && std::abs(a.depth - *last_) > maxTravel_)
       throw InputError(kPython, "Session.step(depth)", fmt::format("{:g}", a.depth),
                        fmt::format("moves the tip {:g} mm in one step (from {:g} mm)", 1e3 * std::abs(a.depth - *last_),
@@ -161,6 +172,28 @@ class LumpedSession final : public SessionBase {
   needle::InsertionFrame frame_;
 };
 
+// The FE sessions take the velocity from the depth change over dt.
+void refuseVelocity(const StepArgs& a, const std::string& engine) {
+  if (a.velocity)
+    throw InputError(kPython, "Session.step(velocity)", fmt::format("{:g}", *a.velocity),
+                     engine + " takes the velocity from the depth change over dt", "no velocity argument");
+}
+
+// What both FE sessions' step results give alike.
+template <class StepResult>
+SessionStep feStep(const StepResult& o) {
+  SessionStep s;
+  s.depth = o.depth;
+  s.force_total = o.axial_force;
+  s.force_stiffness = o.stiffness_force;
+  s.force_cutting = o.cutting_force;
+  s.force_friction = o.friction_force;
+  s.force_lateral = o.lateral_force;
+  s.phase = phaseName(o.phase);
+  s.punctured_now = o.punctured_now;
+  return s;
+}
+
 class Realtime2dSession final : public SessionBase {
  public:
   Realtime2dSession(const Scenario& sc, const StepPlan& plan)
@@ -200,22 +233,12 @@ class Realtime2dSession final : public SessionBase {
   }
 
   SessionStep advance(const StepArgs& a) override {
-    if (a.velocity)
-      throw InputError(kPython, "Session.step(velocity)", fmt::format("{:g}", *a.velocity),
-                       "realtime2d takes the velocity from the depth change over dt", "no velocity argument");
+    refuseVelocity(a, "realtime2d");
     const realtime2d::BasePose pose = session_.poseAtDepth(a.depth, a.lateral, a.rotation, a.roll);
     const realtime2d::StepResult& o = session_.step(pose, a.dt);
-    SessionStep s;
-    s.depth = o.depth;
-    s.force_total = o.axial_force;
-    s.force_stiffness = o.stiffness_force;
-    s.force_cutting = o.cutting_force;
-    s.force_friction = o.friction_force;
-    s.force_lateral = o.lateral_force;
+    SessionStep s = feStep(o);
     s.tip_position = {o.tip_position.x(), o.tip_position.y(), 0.0};
     s.tip_deflection = o.tip_deflection;
-    s.phase = phaseName(o.phase);
-    s.punctured_now = o.punctured_now;
     s.torque = o.torque;
     s.tip_load = o.tip_load;
     return s;
@@ -224,14 +247,72 @@ class Realtime2dSession final : public SessionBase {
   realtime2d::Session session_;
 };
 
+// n x k array from a column-major k x n block (k values per point).
+template <class T>
+py::array_t<T> pointsOf(const T* data, std::size_t size, py::ssize_t k) {
+  py::array_t<T> out({static_cast<py::ssize_t>(size) / k, k});
+  std::copy(data, data + size, out.mutable_data());
+  return out;
+}
+
+class Realtime3dSession final : public SessionBase {
+ public:
+  Realtime3dSession(const Scenario& sc, const StepPlan& plan)
+      : SessionBase(sc, kMaxTravelPerStep * plan.spacing, travelText(plan)), session_(engines::realtime3dConfig(sc)) {}
+
+  py::array_t<double> referencePoints() const override {
+    std::vector<double> x = session_.mesh().X;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] -= session_.cornerShift()[static_cast<Eigen::Index>(i % 3)];
+    return pointsOf(x.data(), x.size(), 3);
+  }
+  py::array_t<double> displacement() const override {
+    const Eigen::VectorXd& u = session_.displacement();
+    return pointsOf(u.data(), static_cast<std::size_t>(u.size()), 3);
+  }
+  py::array_t<int> cells() const override {
+    const auto& c = session_.mesh().conn;
+    return pointsOf(c.data(), c.size(), 4);
+  }
+  py::array_t<int> surface() const override {
+    const Eigen::Matrix3Xi& T = session_.tissue().surfaceTriangles();
+    return pointsOf(T.data(), static_cast<std::size_t>(T.size()), 3);
+  }
+  py::array_t<double> needleShape(int count) const override {
+    if (count < 2)
+      throw InputError(kPython, "Session.needle_shape(count)", std::to_string(count), "must be at least 2",
+                       "a number of points >= 2");
+    Eigen::Matrix3Xd shape;
+    session_.needleShape(count, shape);
+    return pointsOf(shape.data(), static_cast<std::size_t>(shape.size()), 3);
+  }
+
+ private:
+  SessionStep advance(const StepArgs& a) override {
+    refuseVelocity(a, "realtime3d");
+    const realtime3d::StepResult& o =
+        session_.step(session_.poseAtDepth(a.depth, a.lateral, 0.0, a.rotation, a.tilt, a.roll), a.dt);
+    SessionStep s = feStep(o);
+    s.force_out_of_plane = o.out_of_plane_force;
+    s.tip_position = {o.tip_position.x(), o.tip_position.y(), o.tip_position.z()};
+    s.tip_deflection = o.tip_deflection[0];
+    s.tip_deflection_z = o.tip_deflection[1];
+    s.tip_load = o.tip_load[0];
+    return s;
+  }
+
+  realtime3d::Session session_;
+};
+
 std::unique_ptr<SessionBase> openSession(const PyScenario& s) {
   const Scenario& sc = s.scenario;
   if (sc.model.engine == "realtime2d")
     return std::make_unique<Realtime2dSession>(sc, engines::realtime2dStepPlan(sc));
+  if (sc.model.engine == "realtime3d")
+    return std::make_unique<Realtime3dSession>(sc, engines::realtime3dStepPlan(sc));
   if (sc.model.engine == "lumped") return std::make_unique<LumpedSession>(sc, engines::lumpedStepPlan(sc));
   throw InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
                    "cannot be stepped by the caller (needlesim.Session)",
-                   "realtime2d or lumped; other engines run with needlesim.run");
+                   "realtime2d, realtime3d or lumped; other engines run with needlesim.run");
 }
 
 std::string sessionRepr(const SessionBase& s) {
@@ -274,6 +355,8 @@ void bindSessions(py::module_& m) {
       .def_readonly("punctured_now", &SessionStep::punctured_now)
       .def_readonly("torque", &SessionStep::torque)
       .def_readonly("tip_load", &SessionStep::tip_load)
+      .def_readonly("force_out_of_plane", &SessionStep::force_out_of_plane)
+      .def_readonly("tip_deflection_z", &SessionStep::tip_deflection_z)
       .def("__repr__", &stepRepr);
 
   py::class_<SessionBase>(m, "Session",
@@ -286,16 +369,17 @@ void bindSessions(py::module_& m) {
       .def_property_readonly("depth", &SessionBase::depth)
       .def("__repr__", &sessionRepr)
       .def("step", &SessionBase::step, py::arg("depth"), py::arg("dt") = py::none(), py::arg("velocity") = py::none(),
-           py::arg("rotation") = 0.0, py::arg("roll") = 0.0, py::arg("lateral") = 0.0,
+           py::arg("rotation") = 0.0, py::arg("roll") = 0.0, py::arg("lateral") = 0.0, py::arg("tilt") = 0.0,
            "Advance to tip depth [m] (along the reference axis from the entry point) over dt [s] (default: the "
            "scenario's model.time_step); rotation [rad] in the plane, roll [rad] about the axis from the bevel "
-           "orientation and lateral [m] base offset (realtime2d); velocity [m/s] (lumped; default: depth change / dt). "
+           "orientation and lateral [m] base offset (realtime2d, realtime3d); tilt [rad] out of the plane (realtime3d); velocity [m/s] (lumped; default: depth change / dt). "
            "Returns a SessionStep. Bad arguments raise needlesim.InputError.")
-      .def_property_readonly("points", &SessionBase::referencePoints, "tissue nodes, n x 2 [m] (centred frame)")
-      .def_property_readonly("displacement", &SessionBase::displacement, "node displacements, n x 2 [m]")
-      .def_property_readonly("cells", &SessionBase::cells, "quadrilaterals, m x 4 node indices")
+      .def_property_readonly("points", &SessionBase::referencePoints, "tissue nodes, n x 2 (realtime3d: n x 3) [m] (centred frame)")
+      .def_property_readonly("displacement", &SessionBase::displacement, "node displacements, n x 2 (realtime3d: n x 3) [m]")
+      .def_property_readonly("cells", &SessionBase::cells, "quadrilaterals (realtime3d: tetrahedra), m x 4 node indices")
+      .def_property_readonly("surface", &SessionBase::surface, "realtime3d: boundary triangles of the tissue, k x 3 node indices")
       .def("needle_shape", &SessionBase::needleShape, py::arg("count") = 41,
-           "the needle's centre line from base to tip, count x 2 [m]");
+           "the needle's centre line from base to tip, count x 2 (realtime3d: count x 3) [m]");
 
   py::class_<MotionSample>(m, "MotionSample")
       .def_readonly("time", &MotionSample::time)

@@ -146,6 +146,7 @@ struct Command {
   double lateral = 0.0;   // m
   double rotation = 0.0;  // rad
   double roll = 0.0;      // rad
+  double tilt = 0.0;      // rad, out of the insertion plane (realtime3d; 0 for the 2D engines)
 };
 
 struct State {
@@ -160,6 +161,9 @@ struct State {
                                     // lumped: (depth, 0) along the insertion axis)
   double tip_deflection = 0.0;   // m, elastic tip deflection (realtime2d; 0 for the rigid lumped needle)
   std::string phase;             // outside, pressing, cutting, inside, through
+  // realtime3d (0 otherwise): tip z (centred tissue frame), elastic tip deflection out of the
+  // insertion plane, tissue force out of it.
+  double tip_z = 0.0, tip_deflection_z = 0.0, out_of_plane_force = 0.0;
 };
 
 // The tissue's surface as a viewer draws it: undeformed vertices and triangles.
@@ -176,9 +180,9 @@ struct SurfaceField {
   std::string scalarUnit = "m";
 };
 
-// Steps the `realtime2d` engine (2D FE tissue and a flexible needle) or the `lumped`
-// force model under the caller's control, e.g. in a 1 kHz haptic loop. Other engines:
-// InputError. Move-only.
+// Steps the `realtime2d` engine (2D FE tissue and a flexible needle), the `realtime3d` engine
+// (tetrahedral block, needle bending in two planes) or the `lumped` force model under the
+// caller's control, e.g. in a 1 kHz haptic loop. Other engines: InputError. Move-only.
 class NEEDLESIM_API Session {
  public:
   explicit Session(const Scenario& scenario);
@@ -195,14 +199,17 @@ class NEEDLESIM_API Session {
   void reset();
   std::string engine() const;
 
-  // realtime2d only (InputError for lumped), centred tissue frame, x then y per point:
+  // realtime2d and realtime3d only (InputError for lumped), centred tissue frame, dimension()
+  // coordinates (x, y[, z]) per point:
   std::vector<double> nodePositions() const;      // m, undeformed mesh nodes
   std::vector<double> nodeDisplacements() const;  // m, per node
   std::vector<double> needleShape(int points = 41) const;  // m, base to tip, points >= 2
+  int dimension() const;  // 2 (realtime2d, lumped) or 3 (realtime3d)
 
   // For a viewer, every engine (docs/serve.md), in the tissue frame x y z (x depth):
-  // the tissue's surface (realtime2d: its mesh as triangles in z = 0; lumped: the block's
-  // mid-plane, which does not deform), and the needle's centre line, base to tip.
+  // the tissue's surface (realtime3d: the tetrahedral block's boundary triangles, outward, over
+  // its nodes; realtime2d: its mesh as triangles in z = 0; lumped: the block's mid-plane, which
+  // does not deform), and the needle's centre line, base to tip.
   Surface surface() const;
   // Fills `field` for the current step (reuses its storage; sized for surface()).
   void surfaceField(SurfaceField& field) const;

@@ -190,6 +190,44 @@ TEST(ApiSession, SurfaceFieldAndNeedleForAViewer) {
   EXPECT_THROW(lumped.needleCentreLine(1), api::InputError);
 }
 
+// realtime3d through the public Session: the engine run's forces step by step, 3D arrays, the
+// tilt out of the plane (refused by the 2D engines).
+TEST(ApiSession, Realtime3dStepsGiveTheEngineRunsForces) {
+  const auto sc = api::Scenario::fromFile(kExamples / "realtime3d/quick_block.yaml")
+                      .with({{"insertion.profile[0].insert.to", "8 mm"}, {"model.realtime3d.field_interval", "0 s"}, {"output.interval", "0 s"}});
+  const api::Results run = api::run(sc);
+  const api::Table& f = run.table("forces");
+  api::Session s(sc);
+  EXPECT_EQ(s.engine(), "realtime3d");
+  EXPECT_EQ(s.dimension(), 3);
+  const auto& depth = f.column("depth");
+  for (std::size_t k = 1; k <= 900; ++k) {  // the insertion to 8 mm at 10 mm/s (then the bevel turns)
+    s.step(depth[k], 1e-3);
+    ASSERT_NEAR(s.state().axial_force, f.column("force_total")[k], 1e-9) << "row " << k;
+    ASSERT_NEAR(s.state().tip_z, f.column("tip_z")[k], 1e-12) << "row " << k;
+  }
+  const std::size_t nodes = 11u * 9 * 9;
+  EXPECT_EQ(s.nodePositions().size(), 3 * nodes);
+  EXPECT_EQ(s.nodeDisplacements().size(), 3 * nodes);
+  EXPECT_EQ(s.needleShape(5).size(), 15u);
+  // the viewer's surface: the block's boundary, closed: (2 x 10 x 8 + 2 x 10 x 8 + 2 x 8 x 8)
+  // quad faces of two triangles, every triangle's nodes on the block's boundary
+  const api::Surface surface = s.surface();
+  EXPECT_EQ(surface.vertices, s.nodePositions());
+  ASSERT_EQ(surface.triangles.size() % 3, 0u);
+  EXPECT_EQ(surface.triangles.size() / 3, 2u * (2 * 10 * 8 + 2 * 10 * 8 + 2 * 8 * 8));
+  api::SurfaceField field;
+  s.surfaceField(field);
+  EXPECT_EQ(field.displacement, s.nodeDisplacements());
+  EXPECT_EQ(s.needleCentreLine(5), s.needleShape(5));
+  EXPECT_EQ(s.state().phase, "cutting");
+  const api::State& tilted = s.step(api::Command{depth[900], 0.0, 0.0, 0.0, 0.01}, 1e-3);
+  EXPECT_TRUE(std::isfinite(tilted.out_of_plane_force));
+  api::Session flat(shortRealtime2d("2 mm"));
+  auto tilt = messageOf<api::InputError>([&] { flat.step(api::Command{0.001, 0.0, 0.0, 0.0, 0.1}, 1e-3); });
+  EXPECT_NE(tilt.find("tilt"), std::string::npos) << tilt;
+}
+
 TEST(ApiErrors, InputErrorsKeepTheirText) {
   const auto base = api::Scenario::builtIn();
   auto missing = messageOf<api::InputError>([] { api::Scenario::fromFile("no_such_scenario.yaml"); });
@@ -230,7 +268,7 @@ TEST(ApiErrors, SessionArguments) {
   const auto explicitScenario = api::Scenario::fromFile(kExamples / "explicit/seed004_bevel_2d.yaml");
   auto engine = messageOf<api::InputError>([&] { api::Session{explicitScenario}; });
   EXPECT_NE(engine.find("explicit"), std::string::npos) << engine;
-  EXPECT_NE(engine.find("lumped or realtime2d"), std::string::npos) << engine;
+  EXPECT_NE(engine.find("lumped, realtime2d or realtime3d"), std::string::npos) << engine;
 
   const api::Results r = api::run(lumped);
   auto column = messageOf<api::InputError>([&] { r.table("forces").column("force"); });

@@ -14,12 +14,12 @@ set -euo pipefail
 mode=$1 needlesim=$2 source_dir=$3 work=$4
 here="$source_dir/tests/paraview"
 results="$work/results"
-engines=(explicit_2d explicit_3d realtime2d mpm)
+engines=(explicit_2d explicit_3d realtime2d realtime3d mpm)
 
 write_fields() {
   rm -rf "$results"
   mkdir -p "$results"
-  for e in explicit_2d explicit_3d realtime2d; do
+  for e in explicit_2d explicit_3d realtime2d realtime3d; do
     "$needlesim" run -q "$here/scenarios/$e.yaml" -o "$results/$e"
   done
   "$needlesim" run -q "$source_dir/examples/mpm/quick_needle_block.yaml" -o "$results/mpm"

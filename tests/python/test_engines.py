@@ -12,13 +12,14 @@ import needlesim
 QUICK = {
     "lumped": ("gelatin_18G_3mms.yaml", {}),
     "realtime2d": ("realtime2d/thesis_gelatin_18G_10mms.yaml", {"insertion.profile[0].insert.to": "20 mm"}),
+    "realtime3d": ("realtime3d/quick_block.yaml", {}),
     "kinematic": ("steering/table2_gelC_054_kinematic.yaml", {}),
     "energy": ("steering/table2_gelC_054_energy.yaml", {}),
     "beam-foundation": ("steering/table2_gelC_054_beam_foundation.yaml", {}),
     "explicit": ("explicit/deformable_needle_2d.yaml", {}),
     "mpm": ("mpm/quick_needle_block.yaml", {}),
 }
-WRITES_FIELDS = {"realtime2d", "explicit", "mpm"}
+WRITES_FIELDS = {"realtime2d", "realtime3d", "explicit", "mpm"}
 
 
 def test_every_engine_of_this_build_has_a_quick_scenario():

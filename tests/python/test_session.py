@@ -133,7 +133,7 @@ def test_lumped_session_refuses_bad_arguments(gelatin, kwargs, words):
 def test_other_engines_cannot_be_stepped(example):
     with pytest.raises(needlesim.InputError) as e:
         needlesim.Session(example("mpm/quick_needle_block.yaml"))
-    assert "model.engine" in str(e.value) and "realtime2d or lumped" in str(e.value)
+    assert "model.engine" in str(e.value) and "realtime2d, realtime3d or lumped" in str(e.value)
     assert "quick_needle_block.yaml:" in str(e.value)
 
 
@@ -144,3 +144,40 @@ def test_step_session_and_motion_reprs(coarse):
     assert repr(session) == "<Session realtime2d 'realtime2d_thesis_10mms': t=0.001 s, depth=-0.99 mm>"
     assert session.time == pytest.approx(0.001) and session.depth == pytest.approx(-0.99e-3)
     assert repr(coarse.motion_at(1.0)) == "<MotionSample t=1 s depth=9 mm velocity=10 mm/s rotation=0 rad roll=0 rad>"
+
+
+def test_realtime3d_session_agrees_with_the_engine_and_steers_out_of_plane(example):
+    """realtime3d from Python: the same numbers as its engine run; tilt and the 3D mesh arrays."""
+    scenario = example("realtime3d/quick_block.yaml")
+    run = needlesim.run(scenario, fields=True)
+    session = needlesim.Session(scenario)
+    assert session.engine == "realtime3d"
+    last = step_through_profile(scenario, session)[-1]
+    f = run.tables["forces"]
+    assert last.force_total == pytest.approx(run.results["final_force"].value, rel=1e-12)
+    assert last.tip_deflection == pytest.approx(run.results["final_tip_deflection"].value, rel=1e-12)
+    assert last.tip_deflection_z == pytest.approx(run.results["final_tip_deflection_z"].value, rel=1e-12)
+    np.testing.assert_allclose(last.tip_position, [f["tip_x"][-1], f["tip_y"][-1], f["tip_z"][-1]], atol=1e-12)
+    # The quarter turn of the bevel bends the needle out of the plane, towards -z.
+    assert last.tip_deflection_z < -1e-5
+    tissue = run.fields["tissue"]
+    n = len(session.points)
+    assert session.points.shape == (n, 3) and session.displacement.shape == (n, 3)
+    np.testing.assert_allclose(session.points, tissue.points, atol=1e-12)
+    np.testing.assert_allclose(session.displacement, tissue[-1].point_data["displacement"], atol=1e-12)
+    assert session.cells.shape[1] == 4 and session.surface.shape[1] == 3
+    assert session.needle_shape(11).shape == (11, 3)
+    # A tilt out of the insertion plane about the tip: the shaft inside swings to -z, the tissue
+    # pushes it back along +z.
+    tilted = needlesim.Session(scenario)
+    for k in range(1, 1001):
+        tilted.step(-1e-3 + 20e-3 * k / 1000)
+    for k in range(1, 201):
+        s = tilted.step(19e-3, tilt=0.02 * k / 200)
+    assert s.force_out_of_plane > 1e-3
+
+
+def test_tilt_is_refused_by_the_2d_engines(coarse):
+    session = needlesim.Session(coarse)
+    with pytest.raises(needlesim.InputError, match="tilt"):
+        session.step(0.0, tilt=0.1)

@@ -7,13 +7,14 @@
 #include "needlesim/api/scenario_impl.hpp"
 #include "needlesim/api/translate.hpp"
 #include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
+#include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
 #include "needlesim/forces/lumped_model.hpp"
 
 namespace needlesim::api {
 
 namespace {
 
-constexpr const char* kSteppable = "lumped or realtime2d (model.engine)";
+constexpr const char* kSteppable = "lumped, realtime2d or realtime3d (model.engine)";
 
 // The phases of both models share their numbering (forces::Phase, realtime2d::Phase).
 std::string phaseName(int phase) {
@@ -30,6 +31,7 @@ void checkCommand(const Command& c, double dt) {
   requireFinite("command.lateral", c.lateral, "a lateral base offset in m");
   requireFinite("command.rotation", c.rotation, "a rotation of the insertion plane in rad");
   requireFinite("command.roll", c.roll, "a roll of the bevel in rad");
+  requireFinite("command.tilt", c.tilt, "a tilt out of the insertion plane in rad");
   requireFinite("dt", dt, "a time step > 0 s");
   if (!(dt > 0.0)) detail::argumentError("Session::step", "dt", fmt::format("{}", dt), "must be > 0", "a time step > 0 s");
 }
@@ -40,6 +42,7 @@ struct Session::Impl {
   Scenario scenario;
   std::optional<realtime2d::Session> fe;            // engine realtime2d
   std::optional<forces::LumpedForceModel> lumped;  // engine lumped
+  std::optional<realtime3d::Session> fe3;           // engine realtime3d
   double previousDepth = 0.0;
   bool stepped = false;
   State state;
@@ -50,6 +53,8 @@ struct Session::Impl {
     const needlesim::Scenario& sc = detail::ScenarioAccess::typed(scenario);
     if (sc.model.engine == "realtime2d") {
       fe.emplace(engines::realtime2dConfig(sc));
+    } else if (sc.model.engine == "realtime3d") {
+      fe3.emplace(engines::realtime3dConfig(sc));
     } else if (sc.model.engine == "lumped") {
       lumped.emplace(sc.tissue, sc.needle, sc.insertion.entry_angle, sc.model.lumped.relaxation_time);
     } else {
@@ -61,8 +66,9 @@ struct Session::Impl {
     stepped = false;
   }
 
-  void stepFe(const Command& c, double dt) {
-    const realtime2d::StepResult& o = fe->step(fe->poseAtDepth(c.depth, c.lateral, c.rotation, c.roll), dt);
+  // The state both FE sessions' step results give alike.
+  template <class StepResult>
+  void feState(const StepResult& o) {
     state.depth = o.depth;
     state.axial_force = o.axial_force;
     state.lateral_force = o.lateral_force;
@@ -71,12 +77,30 @@ struct Session::Impl {
     state.friction_force = o.friction_force;
     state.tip_x = o.tip_position.x();
     state.tip_y = o.tip_position.y();
-    state.tip_deflection = o.tip_deflection;
     state.phase = phaseName(static_cast<int>(o.phase));
   }
 
+  void stepFe3(const Command& c, double dt) {
+    const realtime3d::StepResult& o = fe3->step(fe3->poseAtDepth(c.depth, c.lateral, 0.0, c.rotation, c.tilt, c.roll), dt);
+    feState(o);
+    state.out_of_plane_force = o.out_of_plane_force;
+    state.tip_z = o.tip_position.z();
+    state.tip_deflection = o.tip_deflection[0];
+    state.tip_deflection_z = o.tip_deflection[1];
+  }
+
+  void stepFe(const Command& c, double dt) {
+    if (c.tilt != 0.0)
+      detail::argumentError("Session::step", "command.tilt", fmt::format("{}", c.tilt),
+                            "tilts the needle out of the insertion plane, which the 2D engine cannot",
+                            "0 for realtime2d; a scenario with model.engine: realtime3d");
+    const realtime2d::StepResult& o = fe->step(fe->poseAtDepth(c.depth, c.lateral, c.rotation, c.roll), dt);
+    feState(o);
+    state.tip_deflection = o.tip_deflection;
+  }
+
   void stepLumped(const Command& c, double dt) {
-    if (c.lateral != 0.0 || c.rotation != 0.0 || c.roll != 0.0)
+    if (c.lateral != 0.0 || c.rotation != 0.0 || c.roll != 0.0 || c.tilt != 0.0)
       detail::argumentError("Session::step", "command", fmt::format("lateral {}, rotation {}, roll {}", c.lateral, c.rotation, c.roll),
                             "steers the needle, which the lumped model (a straight rigid needle) cannot",
                             "0 for lumped; a scenario with model.engine: realtime2d for lateral, rotation and roll");
@@ -97,9 +121,10 @@ struct Session::Impl {
   const realtime2d::Session& feOnly(const std::string& call) const {
     if (!fe)
       detail::argumentError(call, "", "engine " + scenario.engine(), "has no tissue mesh or needle shape",
-                            "a Session of a scenario with model.engine: realtime2d");
+                            "a Session of a scenario with model.engine: realtime2d or realtime3d");
     return *fe;
   }
+  bool threeD() const { return fe3.has_value(); }
 };
 
 Session::Session(const Scenario& scenario) : impl_(detail::translated([&] { return std::make_unique<Impl>(scenario); })) {}
@@ -110,7 +135,9 @@ Session& Session::operator=(Session&&) noexcept = default;
 const State& Session::step(const Command& command, double dt) {
   return detail::translated([&]() -> const State& {
     checkCommand(command, dt);
-    if (impl_->fe)
+    if (impl_->fe3)
+      impl_->stepFe3(command, dt);
+    else if (impl_->fe)
       impl_->stepFe(command, dt);
     else
       impl_->stepLumped(command, dt);
@@ -126,19 +153,29 @@ void Session::reset() { detail::translated([&] { impl_->build(); }); }
 std::string Session::engine() const { return impl_->scenario.engine(); }
 
 std::vector<double> Session::nodePositions() const {
+  if (impl_->threeD()) {
+    std::vector<double> x = impl_->fe3->mesh().X;
+    for (std::size_t i = 0; i < x.size(); ++i) x[i] -= impl_->fe3->cornerShift()[static_cast<Eigen::Index>(i % 3)];
+    return x;
+  }
   const realtime2d::Session& fe = impl_->feOnly("Session::nodePositions");
   const Eigen::Matrix2Xd centred = fe.mesh().nodes.colwise() - fe.cornerShift();
   return std::vector<double>(centred.data(), centred.data() + centred.size());
 }
 
 std::vector<double> Session::nodeDisplacements() const {
-  const Eigen::VectorXd& u = impl_->feOnly("Session::nodeDisplacements").displacement();
+  const Eigen::VectorXd& u = impl_->threeD() ? impl_->fe3->displacement() : impl_->feOnly("Session::nodeDisplacements").displacement();
   return std::vector<double>(u.data(), u.data() + u.size());
 }
 
 std::vector<double> Session::needleShape(int points) const {
-  const realtime2d::Session& fe = impl_->feOnly("Session::needleShape");
   if (points < 2) detail::argumentError("Session::needleShape", "points", std::to_string(points), "is too few", "2 or more points");
+  if (impl_->threeD()) {
+    Eigen::Matrix3Xd shape(3, points);
+    impl_->fe3->needleShape(points, shape);
+    return std::vector<double>(shape.data(), shape.data() + shape.size());
+  }
+  const realtime2d::Session& fe = impl_->feOnly("Session::needleShape");
   Eigen::Matrix2Xd shape(2, points);
   fe.needleShape(points, shape);
   return std::vector<double>(shape.data(), shape.data() + shape.size());
@@ -147,6 +184,12 @@ std::vector<double> Session::needleShape(int points) const {
 Surface Session::surface() const {
   return detail::translated([&] {
     Surface out;
+    if (impl_->threeD()) {  // the tetrahedral block's boundary triangles (outward) over all its nodes
+      out.vertices = nodePositions();
+      const Eigen::Matrix3Xi& T = impl_->fe3->tissue().surfaceTriangles();
+      out.triangles.assign(T.data(), T.data() + T.size());
+      return out;
+    }
     if (impl_->fe) {
       const realtime2d::Mesh& mesh = impl_->fe->mesh();
       const Eigen::Matrix2Xd centred = mesh.nodes.colwise() - impl_->fe->cornerShift();
@@ -169,11 +212,19 @@ Surface Session::surface() const {
 }
 
 void Session::surfaceField(SurfaceField& field) const {
+  field.scalarName = "|u|";
+  field.scalarUnit = "m";
+  if (impl_->threeD()) {
+    const Eigen::VectorXd& u = impl_->fe3->displacement();  // x y z per node
+    const std::size_t n = static_cast<std::size_t>(u.size() / 3);
+    field.displacement.assign(u.data(), u.data() + u.size());
+    field.scalar.resize(n);
+    for (std::size_t i = 0; i < n; ++i) field.scalar[i] = u.segment<3>(static_cast<Eigen::Index>(3 * i)).norm();
+    return;
+  }
   const std::size_t n = impl_->fe ? static_cast<std::size_t>(impl_->fe->mesh().nodeCount()) : 4;
   field.displacement.assign(3 * n, 0.0);
   field.scalar.assign(n, 0.0);
-  field.scalarName = "|u|";
-  field.scalarUnit = "m";
   if (!impl_->fe) return;
   const Eigen::VectorXd& u = impl_->fe->displacement();
   for (std::size_t i = 0; i < n; ++i) {
@@ -187,6 +238,7 @@ std::vector<double> Session::needleCentreLine(int points) const {
   return detail::translated([&] {
     if (points < 2)
       detail::argumentError("Session::needleCentreLine", "points", std::to_string(points), "is too few", "2 or more points");
+    if (impl_->threeD()) return needleShape(points);  // already x y z per point
     std::vector<double> out;
     out.reserve(3 * points);
     if (impl_->fe) {
@@ -202,5 +254,7 @@ std::vector<double> Session::needleCentreLine(int points) const {
     return out;
   });
 }
+
+int Session::dimension() const { return impl_->threeD() ? 3 : 2; }
 
 }  // namespace needlesim::api

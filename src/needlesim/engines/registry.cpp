@@ -7,6 +7,7 @@
 #include "needlesim/engines/lumped/lumped_engine.hpp"
 #include "needlesim/engines/mpm/mpm_engine.hpp"
 #include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
+#include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
 #include "needlesim/engines/steering/steering_engines.hpp"
 
 namespace needlesim {
@@ -26,6 +27,8 @@ const std::vector<EngineInfo>& engineRegistry() {
        guarded<lumpedStepPlan>},
       {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", runRealtime2d, false,
        true, guarded<realtime2dStepPlan>},
+      {"realtime3d", "real-time 3D FE tissue (tetrahedral block) with a needle beam bending in two planes",
+       runRealtime3d, false, true, guarded<realtime3dStepPlan>},
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", runKinematic, false, false,
        guarded<steeringStepPlan>},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", runEnergy, false, false,

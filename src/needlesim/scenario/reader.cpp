@@ -509,12 +509,13 @@ Scenario readSections(Section top, const std::string& source) {
   Section rt = model.sub("realtime2d");
   {
     Realtime2dModelSpec& r = sc.model.realtime2d;
-    // The engine's path-node coupling needs the needle within 45 deg of the entry-face normal.
-    if (sc.model.engine == "realtime2d" && sc.insertion.entry_angle < 0.25 * std::numbers::pi - 1e-12)
+    // The real-time engines' path-node coupling needs the needle within 45 deg of the entry-face normal.
+    const std::string& eng = sc.model.engine;
+    if ((eng == "realtime2d" || eng == "realtime3d") && sc.insertion.entry_angle < 0.25 * std::numbers::pi - 1e-12)
       throw ins.error("entry_angle", fmt::format("{:g} deg", sc.insertion.entry_angle * 180.0 / std::numbers::pi),
-                      "is below the 45 deg that engine realtime2d supports (its path-node coupling needs the needle "
+                      "is below the 45 deg that engine " + eng + " supports (its path-node coupling needs the needle "
                       "within 45 deg of the entry-face normal)",
-                      "45 deg to 90 deg for engine realtime2d");
+                      "45 deg to 90 deg for engine " + eng);
     if (auto h = rt.optNumber("element_size")) {
       if (rt.has("nodes_depth") || rt.has("nodes_lateral"))
         throw rt.error("element_size", "", "give element_size or the node counts, not both",
@@ -566,6 +567,25 @@ Scenario readSections(Section top, const std::string& source) {
         if (o.name == mk.name) throw m.error("name", mk.name, "is used by two markers", "unique names");
       r.markers.push_back(mk);
     }
+  }
+  Section rt3 = model.sub("realtime3d");
+  {
+    Realtime3dModelSpec& r = sc.model.realtime3d;
+    r.nodes_depth = static_cast<int>(rt3.number("nodes_depth"));  // whole numbers (schema)
+    r.nodes_lateral = static_cast<int>(rt3.number("nodes_lateral"));
+    r.nodes_height = static_cast<int>(rt3.number("nodes_height"));
+    r.refinement = rt3.number("refinement");
+    r.lumped_mass = rt3.choice("mass") == "lumped";
+    r.rayleigh_alpha = rt3.number("rayleigh_alpha");
+    r.rayleigh_beta = rt3.number("rayleigh_beta");
+    r.newmark_gamma = rt3.number("newmark_gamma");
+    r.newmark_beta = rt3.number("newmark_beta");
+    r.hold_sides = rt3.choice("boundary") == "held";
+    r.solver = rt3.choice("solver");
+    r.modes = static_cast<int>(rt3.number("modes"));
+    r.tip_load_ratio = rt3.optNumber("tip_load_ratio").value_or(-1.0);
+    r.field_interval = rt3.number("field_interval");
+    r.relaxation = rt3.choice("relaxation") == "prony";
   }
   Section mpmSec = model.sub("mpm");
   {

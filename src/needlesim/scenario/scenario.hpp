@@ -158,6 +158,25 @@ struct Realtime2dModelSpec {
   double stiffening_radius = 0.0;  // m, half-width of that zone
 };
 
+// Real-time 3D FE engine (tetrahedral block, docs/models/realtime3d.md).
+struct Realtime3dModelSpec {
+  int nodes_depth = 41;          // nodes along the insertion axis (block.length)
+  int nodes_lateral = 16;        // nodes across the width (block.width)
+  int nodes_height = 16;         // nodes across the height (block.height)
+  double refinement = 8.0;       // coarsest / finest lateral element size (finest on the path)
+  bool lumped_mass = false;
+  double rayleigh_alpha = 0.01;  // 1/s (seed 003 eq 3.8)
+  double rayleigh_beta = 0.1;    // s
+  double newmark_gamma = 0.5;    // eq 3.2
+  double newmark_beta = 0.25;    // eq 3.3
+  bool hold_sides = true;        // false: only the far face held
+  std::string solver = "auto";   // auto, direct, modal, reduced
+  int modes = 60;                // reduced: most kept modes
+  double tip_load_ratio = -1.0;  // transverse bevel load / cutting force; < 0 = cot(bevel angle)
+  double field_interval = 0.5;   // s, tissue field output interval (0 = none)
+  bool relaxation = true;        // Prony terms of the material relax the tissue (QLV)
+};
+
 // Bevel-tip steering engines kinematic, energy, beam-foundation (seed 002;
 // docs/models/steering.md, docs/models/bevel-tip-energy.md).
 struct SteeringModelSpec {
@@ -282,6 +301,7 @@ struct ModelSpec {
   LumpedModelSpec lumped;
   SteeringModelSpec steering;
   Realtime2dModelSpec realtime2d;
+  Realtime3dModelSpec realtime3d;
   MpmModelSpec mpm;
   ExplicitModelSpec explicit_fe;  // `model.explicit` in a scenario
 };

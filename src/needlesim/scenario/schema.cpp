@@ -233,9 +233,10 @@ std::vector<FieldDoc> build() {
   // --- model
   add(other("model", "engine", Kind::Choice, "lumped",
             "engine: lumped (seed 003 lumped force model), realtime2d (seed 003 2D FE tissue with a needle "
-            "beam), kinematic, energy, beam-foundation (bevel-tip steering, seed 002), mpm (seed 000 3D "
-            "material point method), explicit (large-deformation explicit FE with needle contact, seeds 001/004)",
-            false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "explicit", "mpm"}));
+            "beam), realtime3d (its 3D form on a tetrahedral block, kHz steps), kinematic, energy, beam-foundation "
+            "(bevel-tip steering, seed 002), mpm (seed 000 3D material point method), explicit (large-deformation "
+            "explicit FE with needle contact, seeds 001/004)",
+            false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "realtime3d", "explicit", "mpm"}));
   add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
   add(other("model", "lumped", Kind::Section, "", "parameters of the lumped force model", false, "lumped"));
   add(nonneg("lumped", "relaxation_time", D::Time, "0 s", "decay time of the friction held during a pause (0 = held)"));
@@ -300,6 +301,33 @@ std::vector<FieldDoc> build() {
   add(q("realtime2d", "stiffening_factor", D::None, "1", 1.0, 1000.0, false, false,
         "Young's modulus factor of the tissue around the needle path (seed 003 section 3.5 item 4)"));
   add(nonneg("realtime2d", "stiffening_radius", D::Length, "0 mm", "half-width of the stiffened zone around the path line"));
+  add(other("model", "realtime3d", Kind::Section, "", "parameters of the real-time 3D FE engine (tetrahedral block)",
+            false, "realtime3d"));
+  add(count("realtime3d", "nodes_depth", "41", 3.0, 2000.0, "nodes along the insertion axis (block.length)"));
+  add(count("realtime3d", "nodes_lateral", "16", 3.0, 400.0, "nodes across block.width; a grid line lies on the path"));
+  add(count("realtime3d", "nodes_height", "16", 3.0, 400.0, "nodes across block.height"));
+  add(q("realtime3d", "refinement", D::None, "8", 1.0, 100.0, false, false,
+        "coarsest / finest lateral element size; the finest elements lie on the needle path"));
+  add(other("realtime3d", "mass", Kind::Choice, "consistent", "mass matrix (seed 003 eq 3.7)", false, {}, {"consistent", "lumped"}));
+  add(nonneg("realtime3d", "rayleigh_alpha", D::Frequency, "0.01 1/s", "mass-proportional Rayleigh damping (seed 003 eq 3.8)"));
+  add(nonneg("realtime3d", "rayleigh_beta", D::Time, "0.1 s", "stiffness-proportional Rayleigh damping (seed 003 eq 3.8)"));
+  add(q("realtime3d", "newmark_gamma", D::None, "0.5", 0.5, 1.0, false, false,
+        "Newmark gamma (delta of seed 003 eq 3.2); below 1/2 the scheme amplifies every mode"));
+  add(q("realtime3d", "newmark_beta", D::None, "0.25", 0.0, 1.0, true, false, "Newmark beta (seed 003 eq 3.3)"));
+  add(other("realtime3d", "boundary", Kind::Choice, "held",
+            "held: all faces but the entry face fixed (seed 003 section 3.5); far-face: only the face opposite the entry",
+            false, {}, {"held", "far-face"}));
+  add(other("realtime3d", "solver", Kind::Choice, "auto",
+            "direct: sparse LDLT; modal: all modes (exact); reduced: lowest modes plus residual flexibility "
+            "(10k-node blocks at kHz rates); auto: modal up to 1500 free DOFs, else reduced",
+            false, {}, {"auto", "direct", "modal", "reduced"}));
+  add(count("realtime3d", "modes", "60", 1.0, 2000.0, "reduced: most kept modes (the rest: residual flexibility)"));
+  add(nonneg("realtime3d", "tip_load_ratio", D::None, "cot(bevel_angle)",
+             "transverse bevel load per unit cutting force"));
+  add(nonneg("realtime3d", "field_interval", D::Time, "0.5 s", "interval of the tissue field output for ParaView (0 = none)"));
+  add(other("realtime3d", "relaxation", Kind::Choice, "prony",
+            "prony: the material's Prony terms relax the whole tissue stiffness (QLV); off: elastic", false, {},
+            {"prony", "off"}));
   add(other("marker", "name", Kind::String, "", "label in results", true));
   add(q("marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
   add(q("marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point)", true));

@@ -7,6 +7,7 @@
 #include <Eigen/SparseCore>
 #include <vector>
 
+#include "needlesim/engines/realtime/dof_map.hpp"
 #include "needlesim/engines/realtime2d/mesh.hpp"
 
 namespace needlesim::realtime2d {
@@ -41,15 +42,10 @@ Assembled assemble(const Mesh& mesh, const ElasticMaterial& mat, bool lumped_mas
 // One material per element (layered blocks).
 Assembled assemble(const Mesh& mesh, const std::vector<ElasticMaterial>& per_element, bool lumped_mass);
 
-// Numbering of the free DOFs after removing the held ones.
-struct DofMap {
-  std::vector<int> free_of_dof;  // -1 for a held DOF
-  std::vector<int> dof_of_free;
-  int freeCount() const { return static_cast<int>(dof_of_free.size()); }
-};
-DofMap makeDofMap(int total_dofs, const std::vector<bool>& held);
-// Rows and columns of the free DOFs only.
-Eigen::SparseMatrix<double> restrictToFree(const Eigen::SparseMatrix<double>& A, const DofMap& map);
+// Free-DOF numbering (engines/realtime/dof_map.hpp), shared with realtime3d.
+using realtime::DofMap;
+using realtime::makeDofMap;
+using realtime::restrictToFree;
 
 // Boundary of the thesis (seed 003 section 3.5 assumption 3): every side except
 // the entry face x = 0. Returns per-node flags.

@@ -7,6 +7,8 @@
 #include <cmath>
 
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/run_report.hpp"
+#include "needlesim/engines/realtime/scenario_config.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/results/forces_table.hpp"
@@ -56,25 +58,13 @@ Eigen::Vector2d markerDisplacement(const Tissue& tissue, const Marker& m) {
   return u;
 }
 
-const char* backendName(Backend b) {
-  switch (b) {
-    case Backend::Direct: return "direct";
-    case Backend::Modal: return "modal";
-    case Backend::Reduced: return "reduced";
-    default: return "auto";
-  }
-}
-
 std::vector<io::Column> engineColumns() {
   return {{"force_stiffness", "N"}, {"force_cutting", "N"}, {"force_friction", "N"},
           {"torque", "N m"},        {"tip_load", "N"},      {"tip_angle", "rad"},
           {"phase", "1"},           {"coupled_nodes", "1"}, {"sticking_nodes", "1"}};
 }
 
-std::vector<double> mm(std::vector<double> v) {
-  for (double& x : v) x *= 1e3;
-  return v;
-}
+std::vector<double> mm(std::vector<double> v) { return realtimeMm(std::move(v)); }
 
 constexpr int kShapePoints = 41;
 
@@ -289,22 +279,9 @@ class Realtime2dRun {
 
   void plotForces() {
     const io::Table& f = forces_.table();
-    const auto depth = mm(f.column("depth"));
-    const auto time = f.column("time");
-    io::Plot byDepth{"Axial force against tip depth", "tip depth [mm]", "force on the needle [N]", {}};
-    io::Plot byTime{"Axial force against time", "time [s]", "force on the needle [N]", {}};
-    for (auto* p : {&byDepth, &byTime}) {
-      const auto& x = p == &byDepth ? depth : time;
-      p->series.push_back({"total", x, f.column("force_total"), false, false});
-      p->series.push_back({"stiffness (eq 3.16)", x, f.column("force_stiffness"), false, true});
-      p->series.push_back({"cutting (eq 3.24)", x, f.column("force_cutting"), false, true});
-      p->series.push_back({"friction (eq 3.23)", x, f.column("force_friction"), false, true});
-    }
-    results::markLayerBoundaries(byDepth, sc_);
-    sink_.plot(std::move(byDepth));
-    sink_.plot(std::move(byTime));
+    plotAxialForces(f, sc_, sink_);
     io::Plot defl{"Tip deflection against time", "time [s]", "elastic tip deflection [mm]", {}};
-    defl.series.push_back({"tip deflection", time, mm(f.column("tip_deflection")), false, false});
+    defl.series.push_back({"tip deflection", f.column("time"), mm(f.column("tip_deflection")), false, false});
     sink_.plot(std::move(defl));
   }
 
@@ -340,7 +317,7 @@ class Realtime2dRun {
         "Real-time 2D FE model of seed 003 sections 3.1-3.5: {} x {} nodes ({} free DOFs, {} back-end), Newmark "
         "dt = {:g} ms, Rayleigh alpha = {:g} 1/s, beta = {:g} s; Euler-Bernoulli needle EI = {:.4g} N m^2. {} steps "
         "in {:.3g} s ({:.3g} steps/s on this machine; setup {:.3g} s). docs/models/realtime2d.md.",
-        mesh.nx, mesh.ny, session_.tissue().freeDofs(), backendName(session_.tissue().backend()), dt_ * 1e3,
+        mesh.nx, mesh.ny, session_.tissue().freeDofs(), realtimeBackendName(session_.tissue().backend()), dt_ * 1e3,
         cfg_.tissue.rayleigh_alpha, cfg_.tissue.rayleigh_beta, cfg_.needle.EI, steps_, run_s_,
         run_s_ > 0 ? steps_ / run_s_ : 0.0, setup_s_));
     bool hyper = false, prony = false;
@@ -394,17 +371,11 @@ class Realtime2dRun {
 // along the depth (mesh.cpp): a step must not carry the tip past them.
 StepPlan realtime2dStepPlan(const Scenario& sc) {
   realtime2dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
-  StepPlan p = fixedStepPlan(sc, "realtime2d");
-  p.spacing = sc.tissue.length / std::max(1, sc.model.realtime2d.nodes_depth - 1);
-  p.spacingName = "the node spacing along the depth (block.length / (model.realtime2d.nodes_depth - 1))";
-  return p;
+  return realtimeStepPlan(sc, "realtime2d", sc.model.realtime2d.nodes_depth);
 }
 
 void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
-  guardAndAnnounce(sc, realtime2dStepPlan(sc), sink, options);
-  Realtime2dRun run(sc, sink, options);
-  run.run();
-  run.finish();
+  runRealtimeEngine<Realtime2dRun>(sc, sink, options, realtime2dStepPlan(sc));
 }
 
 }  // namespace needlesim::engines

@@ -13,6 +13,9 @@
 #include <Eigen/Core>
 #include <vector>
 
+#include "needlesim/engines/realtime/needle_settings.hpp"
+#include "needlesim/engines/realtime/shaft_coupling.hpp"
+#include "needlesim/engines/realtime/tip_forces.hpp"
 #include "needlesim/engines/realtime2d/tissue.hpp"
 #include "needlesim/forces/stiffness.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
@@ -20,40 +23,12 @@
 
 namespace needlesim::realtime2d {
 
-struct NeedleConfig {
-  double length = 0.1;          // m, base (hub, clamped) to tip
-  double EI = 0.0;              // N m^2, bending stiffness
-  double bevel_angle = 0.5236;  // rad, tip (bevel) angle alpha
-  // Transverse bevel load Q / cutting force; < 0 selects the wedge estimate cot(alpha)
-  // (the bevel face carries the cutting force: axial N sin a = F_cut, lateral N cos a).
-  double tip_load_ratio = -1.0;
-};
+using realtime::LayerForces;
+using realtime::NeedleConfig;
+using realtime::Phase;
 
-// Forces of one layer of a layered block (depth bands from the entry face).
-struct LayerForces {
-  double depth_end = 0.0;      // m, x of the layer's far boundary
-  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
-  double cutting_force = 0.0;  // N (eq 3.24)
-  // N, threshold of eq 3.16 (with the layer's E, nu from TissueConfig::layers) at the
-  // layer's near boundary; the first layer's is SessionConfig::puncture_force.
-  double puncture_force = 0.0;
-};
-
-struct SessionConfig {
-  TissueConfig tissue;
-  NeedleConfig needle;
-  FrictionSpec friction;       // per unit length (eq 3.23); D = 0 defaults to C
-  double cutting_force = 0.0;  // N (eq 3.24)
-  // Optional layered forces: when not empty they replace `friction` and `cutting_force`,
-  // by the depth x of each path node (friction) and of the tip (cutting).
-  std::vector<LayerForces> layers;
-  double puncture_force = 0.0; // N, threshold of eq 3.16
-  // The insertion frame (needle/insertion_frame.hpp) in the centred tissue frame; the session
-  // uses its in-plane (x, y) parts: entry point, reference axis, lateral, bevel orientation.
-  needle::InsertionFrame frame;
-  double dt = 1e-3;            // s
-  int max_active_set_iterations = 12;
-};
+// Tissue, needle, forces, frame (its in-plane parts) and step (engines/realtime/needle_settings.hpp).
+using SessionConfig = realtime::SessionSettings<TissueConfig>;
 
 // The thesis experiment (seed 003 section 5.1: 10 wt% gelatin friction and cutting,
 // 18 G regular-wall steel needle, 100 mm free length, 30 deg bevel) on a mesh of
@@ -70,8 +45,6 @@ struct BasePose {
   // pushes the tip towards -bevelSign(roll) lateral (frame.bevelSign).
   double roll = 0.0;
 };
-
-enum class Phase : int { Outside = 0, Pressing = 1, Cutting = 2, Inside = 3, Through = 4 };
 
 struct StepResult {
   double time = 0.0;
@@ -117,49 +90,14 @@ class Session {
   double exitDepth() const { return s_exit_; }
 
  private:
-  enum class Status : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
-  struct Motion {
-    double ds = 0.0, v_ax = 0.0;  // m, m/s: axial base motion of this step
-    double s_tip = 0.0;           // m, tip along the reference axis
-  };
-  // A layer boundary the tip must puncture (eq 3.16 with the layer's material).
-  struct Membrane {
-    double s = 0.0;          // m, along the reference axis
-    double threshold = 0.0;  // N
-    forces::StiffnessLaw law;
-    int node = 0;            // path node that takes the indentation load
-  };
+  using Motion = realtime::AxialMotion;
   Motion moveBase(const BasePose& pose, double dt);
-  double pressMembrane(double s_tip, StepResult& o);
-  double cutAtTip(const Motion& mo);
-  void coupleNodes(double s_tip);
-  void measureShaft(double s_tip);
-  int solveCoupling(const Motion& mo, double dt);
-  void addKnownLoads();
-  // The path nodes' Newmark state the coupling works on (references into the tissue).
-  struct PathState {
-    const Eigen::MatrixXd& S;  // path compliance: u_P = u0_P + S f
-    const NewmarkCoefficients& c;
-    const Eigen::VectorXd &u, &v, &a;  // path displacement, velocity, acceleration at the step's start
-    double gamma;
-  };
-  PathState pathState() const {
-    return {tissue_.pathCompliance(), tissue_.coefficients(), tissue_.pathU(), tissue_.pathV(), tissue_.pathA(),
-            cfg_.tissue.newmark.gamma};
-  }
-  int assembleCoupling(const Motion& mo, double dt);
-  bool updateFrictionStatus(const Motion& mo, double dt);
   void reportLoads(const BasePose& pose, double F1, double Fc, StepResult& o);
-  Phase phaseOf(const Motion& mo, double Fc) const;
-  double tipLoadRatio() const;
-  bool entered() const { return pending_ > 0; }  // the entry face is punctured
-  void placeMembranes();
+  std::vector<realtime::Membrane> membranesOf() const;
+  realtime::ShaftSettings shaftSettings() const;
   double nodeDepth(int pathNode) const;
   std::size_t layerAt(double x, double tolerance) const;
   double cuttingAt(double s_tip) const;
-  double rigidLateral(double p) const { return dB_ + (p - sB_) * tanphi_; }
-  double needleLateralAt(double p) const;  // total lateral position (+n) of the needle at axial p
-  bool solveSmall(int m);
 
   SessionConfig cfg_;
   Eigen::Vector2d shift_, entry_, t0_, n0_;
@@ -170,17 +108,10 @@ class Session {
   // Needle state of the current step.
   double sB_ = 0.0, dB_ = 0.0, phi_ = 0.0, tanphi_ = 0.0, cosphi_ = 1.0, Q_ = 0.0;
   double sB_prev_ = 0.0;
-  bool started_ = false, pressing_ = false;
-  std::vector<Membrane> membranes_;  // the entry face first, then inner layer boundaries
-  std::size_t pending_ = 0;          // first membrane not yet punctured
-  double front_ = 0.0, time_ = 0.0;
-  int k_ = 0;  // coupled nodes (a prefix of the path)
-  std::vector<Status> status_;
-  std::vector<FrictionSpec> nodeFriction_;  // per path node (layer of its depth)
-  std::vector<double> offset_, sigma_, ell_, pos_, lambda_;
-  std::vector<int> idx_;
-  Eigen::VectorXd fK_, f_, y_, rhs_, x_;
-  Eigen::MatrixXd H_;
+  bool started_ = false;
+  double time_ = 0.0;
+  realtime::TipForces tip_;        // membranes (the entry face first) and cutting
+  realtime::ShaftCoupling shaft_;  // lateral ties and Karnopp friction on the coupled nodes
   StepResult out_;
 };
 

@@ -26,25 +26,16 @@
 #include <memory>
 #include <vector>
 
+#include "needlesim/engines/realtime/tissue_dynamics.hpp"
 #include "needlesim/engines/realtime2d/fe.hpp"
 #include "needlesim/engines/realtime2d/mesh.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::realtime2d {
 
-struct NewmarkParams {
-  double gamma = 0.5;   // delta of eq 3.2
-  double beta = 0.25;   // xi of eq 3.3 (average acceleration: unconditionally stable)
-  bool unconditionallyStable() const { return gamma >= 0.5 && beta >= 0.25 * (gamma + 0.5) * (gamma + 0.5); }
-};
-
-struct NewmarkCoefficients {  // eq 3.4 written as A u = Q + M(...) + C(...)
-  double dt = 0, a0 = 0, a1 = 0, a2 = 0, a3 = 0, a4 = 0, a5 = 0;
-  NewmarkCoefficients() = default;
-  NewmarkCoefficients(const NewmarkParams& p, double dt);
-};
-
-enum class Backend { Auto, Direct, Modal, Reduced };
+using realtime::Backend;
+using realtime::NewmarkCoefficients;
+using realtime::NewmarkParams;
 
 // A disc of its own material (an inclusion's section in the insertion plane); the elements
 // whose centre lies inside take its material. Mesh coordinates.
@@ -54,13 +45,10 @@ struct MaterialRegion {
   ElasticMaterial material;                          // thickness and plane from TissueConfig::material
 };
 
-struct TissueConfig {
+// Damping, Newmark, Prony and back-end settings: realtime::DynamicsSettings.
+struct TissueConfig : realtime::DynamicsSettings {
   ElasticMaterial material;
   MeshSpec mesh;
-  bool lumped_mass = false;
-  double rayleigh_alpha = 0.01;  // 1/s (seed 003 eq 3.8: alpha = 0.01)
-  double rayleigh_beta = 0.1;    // s   (seed 003 eq 3.8: beta = 0.1)
-  NewmarkParams newmark;
   // Boundary: all sides except the entry face held (seed 003 section 3.5 item 3),
   // or, with support_stiffness > 0, spring supports there instead (N/m^3: a
   // Winkler foundation per unit boundary area; node spring = k * tributary length * thickness).
@@ -70,19 +58,10 @@ struct TissueConfig {
   std::vector<std::pair<double, ElasticMaterial>> layers;
   // Material regions over the layers (bonded inclusions), in order: a later one wins.
   std::vector<MaterialRegion> regions;
-  // Prony terms (materials/viscoelastic.hpp, seed 001 eqs 1-4): QLV relaxation of the whole
-  // stiffness, K -> K G(t) with G = g_inf + sum g_i exp(-t/tau_i); empty = elastic.
-  std::vector<materials::PronyTerm> prony;
   // Stiffening around the needle (seed 003 section 3.5 item 4): elements whose centre lies
   // within `stiffening_radius` of the path line have E times `stiffening_factor`.
   double stiffening_factor = 1.0;
   double stiffening_radius = 0.0;  // m
-  Backend backend = Backend::Auto;
-  int modal_max_dofs = 2600;  // Auto picks Modal up to this many free DOFs, Reduced above
-  // Reduced: keep the modes below this frequency (rad/s; 0 = sqrt(20 / (beta dt))), at most
-  // reduced_max_modes; the rest enter as residual flexibility with Rayleigh creep.
-  double reduced_cutoff = 0.0;
-  int reduced_max_modes = 400;
 };
 
 // Reference needle axis and the nodes on it.
@@ -91,8 +70,6 @@ struct PathNode {
   double s = 0.0;    // m, reference position along the axis from the entry point
   double offset = 0; // m, lateral distance of the node from the axis line
 };
-
-class TissueIntegrator;
 
 class Tissue {
  public:
@@ -106,23 +83,23 @@ class Tissue {
   int pathDofs() const { return 2 * static_cast<int>(path_.size()); }
   const Eigen::Vector2d& axis() const { return t_; }
   const Eigen::Vector2d& normal() const { return n_; }
-  Backend backend() const;
-  double dt() const { return nm_.dt; }
-  const NewmarkCoefficients& coefficients() const { return nm_; }
-  void setTimeStep(double dt);  // refactorises (allocates); step sizes are normally constant
+  Backend backend() const { return dyn_->backend(); }
+  double dt() const { return dyn_->dt(); }
+  const NewmarkCoefficients& coefficients() const { return dyn_->coefficients(); }
+  void setTimeStep(double dt) { dyn_->setTimeStep(dt); }  // refactorises (allocates); step sizes are normally constant
 
   // Path compliance S (2P x 2P): path displacement per unit path load within one step.
-  const Eigen::MatrixXd& pathCompliance() const;
-  void predict();                                  // fills predictedPath()
-  const Eigen::VectorXd& predictedPath() const;    // u0_P (2P), t/n components
-  void commit(const Eigen::VectorXd& f);           // f: 2P path loads (N)
+  const Eigen::MatrixXd& pathCompliance() const { return dyn_->pathCompliance(); }
+  void predict() { dyn_->predict(); }              // fills predictedPath()
+  const Eigen::VectorXd& predictedPath() const { return dyn_->predictedPath(); }  // u0_P (2P), t/n
+  void commit(const Eigen::VectorXd& f) { dyn_->commit(f); }  // f: 2P path loads (N)
   // Path state after the last commit (t/n components): u, v, a.
-  const Eigen::VectorXd& pathU() const { return pu_; }
-  const Eigen::VectorXd& pathV() const { return pv_; }
-  const Eigen::VectorXd& pathA() const { return pa_; }
+  const Eigen::VectorXd& pathU() const { return dyn_->pathU(); }
+  const Eigen::VectorXd& pathV() const { return dyn_->pathV(); }
+  const Eigen::VectorXd& pathA() const { return dyn_->pathA(); }
   // Full nodal displacement (2 * nodes; held DOFs 0). Modal back-end rebuilds it lazily.
-  const Eigen::VectorXd& displacement() const;
-  const Eigen::VectorXd& velocity() const;
+  const Eigen::VectorXd& displacement() const { return dyn_->displacement(); }
+  const Eigen::VectorXd& velocity() const { return dyn_->velocity(); }
   // Displacement of one node (held: 0) without rebuilding the full field.
   Eigen::Vector2d nodeDisplacement(int node) const;
   // Mean displacement of the nodes of a material region's elements (its material's motion).
@@ -132,44 +109,33 @@ class Tissue {
   Eigen::Matrix4Xd elementStresses() const;
   // Highest free-mesh frequency (rad/s) and the Newmark time-step limit it sets
   // (infinity when gamma/beta are unconditionally stable).
-  double stableTimeStep() const { return dt_limit_; }
+  double stableTimeStep() const { return dyn_->stableTimeStep(); }
 
   // Energies of the current state (J): 0.5 v'Mv and 0.5 u'Ku.
-  double kineticEnergy() const;
-  double strainEnergy() const;
+  double kineticEnergy() const { return dyn_->kineticEnergy(); }
+  double strainEnergy() const { return dyn_->strainEnergy(); }
   // Sets the full state (2 * nodes vectors; held entries ignored); acceleration from
   // equilibrium with zero load: M a = -C v - K u.
-  void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v);
+  void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v) { dyn_->setState(u, v); }
   // Highest natural frequency (rad/s) of the free mesh, by power iteration.
-  double highestFrequency() const;
+  double highestFrequency() const { return dyn_->highestFrequency(); }
   // Static solve K u = f (f full 2 * nodes); used by tests and relaxation.
-  Eigen::VectorXd staticSolve(const Eigen::VectorXd& f) const;
-  int freeDofs() const { return map_.freeCount(); }
+  Eigen::VectorXd staticSolve(const Eigen::VectorXd& f) const { return dyn_->staticSolve(f); }
+  int freeDofs() const { return dyn_->freeDofs(); }
+  const realtime::TissueDynamics& dynamics() const { return *dyn_; }
 
  private:
   void assignMaterials(const Eigen::Vector2d& entry);
-  void assembleSupported(const std::vector<bool>& onSides);
+  realtime::PathedSystem assembleSupported(const std::vector<bool>& onSides);
   void pickPath(const Eigen::Vector2d& entry, const std::vector<bool>& onSides);
-  void makeIntegrator(double dt);
-  void refreshFull() const;
   Mesh mesh_;
   TissueConfig cfg_;
-  DofMap map_;
-  Eigen::SparseMatrix<double> K_, M_;  // free DOFs (springs included in K)
   std::vector<PathNode> path_;
-  std::vector<std::array<int, 2>> pdof_;  // free DOF of the x and y component of each path node (-1 held)
   Eigen::Vector2d t_, n_;
-  NewmarkCoefficients nm_;
-  std::unique_ptr<TissueIntegrator> impl_;
-  Eigen::VectorXd pu_, pv_, pa_;
-  Eigen::VectorXd u0P_;
-  mutable Eigen::VectorXd full_u_, full_v_, fu_, fv_;
-  mutable bool dirty_ = true;
-  double dt_limit_ = 0.0;
+  std::unique_ptr<realtime::TissueDynamics> dyn_;
   std::vector<ElasticMaterial> elem_mat_;
   std::vector<std::vector<int>> region_nodes_;  // nodes of each material region's elements
   std::vector<bool> held_;                      // per DOF
-  void checkStable(double dt) const;
 };
 
 }  // namespace needlesim::realtime2d

@@ -1,4 +1,4 @@
-#include "needlesim/engines/realtime2d/tissue_integrators.hpp"
+#include "needlesim/engines/realtime/tissue_integrators.hpp"
 
 #include <Eigen/Eigenvalues>
 #include <Eigen/SparseCholesky>
@@ -7,7 +7,7 @@
 
 #include "needlesim/core/error.hpp"
 
-namespace needlesim::realtime2d {
+namespace needlesim::realtime {
 
 namespace {
 
@@ -47,7 +47,7 @@ class DirectIntegrator final : public TissueIntegrator {
     ps_.set(prony_, c.dt);
     Eigen::SparseMatrix<double> A = K_ * (ps_.F + c.a1 * beta_) + M_ * (c.a0 + c.a1 * alpha_);
     ldlt_.compute(A);
-    if (ldlt_.info() != Eigen::Success) throw SolverError("realtime2d: the effective tissue matrix is not positive definite");
+    if (ldlt_.info() != Eigen::Success) throw SolverError("realtime tissue: the effective tissue matrix is not positive definite");
     invD_ = ldlt_.vectorD().cwiseInverse();  // vectorD() returns a copy: keep it out of step()
     const int P = map_.size();
     Z_.resize(K_.rows(), P);
@@ -120,7 +120,7 @@ class ModalIntegrator final : public TissueIntegrator {
       : alpha_(alpha), beta_(beta), map_(std::move(map)), prony_(std::move(prony)) {
     const Eigen::MatrixXd Kd(K), Md(M);
     Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Kd, Md);
-    if (es.info() != Eigen::Success) throw SolverError("realtime2d: modal decomposition of the tissue failed");
+    if (es.info() != Eigen::Success) throw SolverError("realtime tissue: modal decomposition of the tissue failed");
     Phi_ = es.eigenvectors();  // M-orthonormal
     w2_ = es.eigenvalues().cwiseMax(0.0);
     const auto n = Phi_.cols();
@@ -203,7 +203,7 @@ class ReducedIntegrator final : public TissueIntegrator {
                     double beta, PathMap map, double cutoff, int max_modes, materials::Prony prony = {})
       : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)), prony_(std::move(prony)) {
     kf_.compute(K_);
-    if (kf_.info() != Eigen::Success) throw SolverError("realtime2d: the tissue stiffness is singular (no supports?)");
+    if (kf_.info() != Eigen::Success) throw SolverError("realtime tissue: the tissue stiffness is singular (no supports?)");
     lanczos(cutoff, max_modes);
     const auto n = K_.rows();
     const int P = map_.size();
@@ -349,7 +349,7 @@ class ReducedIntegrator final : public TissueIntegrator {
       keep.push_back(i);
       if (1.0 / th > cutoff * cutoff) break;
     }
-    if (keep.empty()) throw SolverError("realtime2d: the reduced basis (Lanczos) did not converge");
+    if (keep.empty()) throw SolverError("realtime tissue: the reduced basis (Lanczos) did not converge");
     Phi_.resize(n, static_cast<Eigen::Index>(keep.size()));
     w2_.resize(static_cast<Eigen::Index>(keep.size()));
     for (std::size_t j = 0; j < keep.size(); ++j) {
@@ -401,4 +401,4 @@ std::unique_ptr<TissueIntegrator> makeReducedIntegrator(const Eigen::SparseMatri
   return std::make_unique<ReducedIntegrator>(K, M, alpha, beta, std::move(map), cutoff, max_modes, std::move(prony));
 }
 
-}  // namespace needlesim::realtime2d
+}  // namespace needlesim::realtime

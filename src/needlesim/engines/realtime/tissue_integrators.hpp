@@ -1,39 +1,45 @@
 #pragma once
-// The Newmark back-ends of the realtime2d tissue (tissue.hpp): direct sparse LDLT, modal
-// (all modes) and reduced (lowest modes plus residual flexibility), behind one interface.
+// The Newmark back-ends of the real-time tissues (realtime2d, realtime3d; tissue_dynamics.hpp):
+// direct sparse LDLT, modal (all modes) and reduced (lowest modes plus residual flexibility),
+// behind one interface, on the free DOFs of any mesh.
 #include <Eigen/Core>
 #include <Eigen/SparseCore>
-#include <array>
 #include <memory>
 #include <vector>
 
-#include "needlesim/engines/realtime2d/tissue.hpp"
+#include "needlesim/engines/realtime/newmark.hpp"
 #include "needlesim/materials/viscoelastic.hpp"
 
-namespace needlesim::realtime2d {
+namespace needlesim::realtime {
 
-struct PathMap {  // the path loads' placement on the free DOFs
-  const std::vector<std::array<int, 2>>* pdof;
-  Eigen::Vector2d t, n;
-  // Direction (x, y) of path load k (k = 2 i + 0: axial t, + 1: lateral n).
-  const Eigen::Vector2d& dir(int k) const { return (k % 2 == 0) ? t : n; }
+// The path loads' placement on the free DOFs: path node i has `dim` spatial DOFs
+// (dofs[dim i + d], -1 when held) and comps() load components, component c acting along
+// dirs.col(c) (axial first, then the lateral directions). Path load k = comps() i + c.
+struct PathMap {
+  const std::vector<int>* dofs = nullptr;
+  int dim = 2;
+  Eigen::MatrixXd dirs;  // dim x comps
+  int comps() const { return static_cast<int>(dirs.cols()); }
+  int nodes() const { return static_cast<int>(dofs->size()) / dim; }
+  int size() const { return comps() * nodes(); }
   template <class Vec>
   double gather(const Vec& u, int k) const {
-    const auto& d = (*pdof)[static_cast<std::size_t>(k / 2)];
-    const auto& e = dir(k);
+    const int i = k / comps(), c = k % comps();
     double s = 0.0;
-    if (d[0] >= 0) s += e.x() * u[d[0]];
-    if (d[1] >= 0) s += e.y() * u[d[1]];
+    for (int d = 0; d < dim; ++d) {
+      const int f = (*dofs)[static_cast<std::size_t>(dim * i + d)];
+      if (f >= 0) s += dirs(d, c) * u[f];
+    }
     return s;
   }
   template <class Vec>
   void scatterAdd(Vec& u, int k, double f) const {
-    const auto& d = (*pdof)[static_cast<std::size_t>(k / 2)];
-    const auto& e = dir(k);
-    if (d[0] >= 0) u[d[0]] += e.x() * f;
-    if (d[1] >= 0) u[d[1]] += e.y() * f;
+    const int i = k / comps(), c = k % comps();
+    for (int d = 0; d < dim; ++d) {
+      const int fd = (*dofs)[static_cast<std::size_t>(dim * i + d)];
+      if (fd >= 0) u[fd] += dirs(d, c) * f;
+    }
   }
-  int size() const { return 2 * static_cast<int>(pdof->size()); }
 };
 
 class TissueIntegrator {
@@ -61,4 +67,4 @@ std::unique_ptr<TissueIntegrator> makeReducedIntegrator(const Eigen::SparseMatri
                                                         double beta, PathMap map, double cutoff, int max_modes,
                                                         materials::Prony prony);
 
-}  // namespace needlesim::realtime2d
+}  // namespace needlesim::realtime

@@ -1,0 +1,238 @@
+#include "needlesim/engines/realtime/shaft_coupling.hpp"
+
+#include <algorithm>
+#include <cmath>
+
+#include "needlesim/core/error.hpp"
+#include "needlesim/needle/beam_element.hpp"
+
+namespace needlesim::realtime {
+
+using needle::cantileverDeflection;
+using needle::cantileverSlope;
+
+namespace {
+// A coupled node is released only once it lies this far ahead of the tip, so a node
+// dragged along right at the tip does not flicker between coupled and free.
+constexpr double kReleaseGap = 1e-4;  // m
+
+// Transition of the modified Karnopp law (eq 3.23): stick -> hold beyond the static limit
+// D l, hold -> slip beyond the band, slip -> stick inside it. Fa: axial load per length.
+FrictionStatus nextStatus(FrictionStatus s, double Fa, double vrel, const FrictionSpec& fr, double band) {
+  using S = FrictionStatus;
+  switch (s) {
+    case S::Stick: return Fa > fr.D_p ? S::HoldPos : (Fa < -fr.D_n ? S::HoldNeg : S::Stick);
+    case S::HoldPos: return vrel >= band ? S::SlipPos : (vrel <= 0.0 ? S::Stick : s);
+    case S::HoldNeg: return vrel <= -band ? S::SlipNeg : (vrel >= 0.0 ? S::Stick : s);
+    case S::SlipPos: return vrel < band ? S::Stick : s;
+    case S::SlipNeg: return vrel > -band ? S::Stick : s;
+  }
+  return s;
+}
+}  // namespace
+
+ShaftCoupling::ShaftCoupling(ShaftSettings s) : cfg_(std::move(s)) {
+  lat_ = cfg_.lateral;
+  comps_ = 1 + lat_;
+  P_ = static_cast<int>(cfg_.path_s.size());
+  for (auto& fr : cfg_.friction) {
+    if (fr.D_p <= 0.0) fr.D_p = fr.C_p;  // static limit defaults to dynamic
+    if (fr.D_n <= 0.0) fr.D_n = fr.C_n;
+  }
+  const auto P = static_cast<std::size_t>(P_), D = static_cast<std::size_t>(comps_ * P_);
+  status_.assign(P, FrictionStatus::Stick);
+  offset_.assign(P * static_cast<std::size_t>(lat_), 0.0);
+  lambda_.assign(P * static_cast<std::size_t>(lat_), 0.0);
+  sigma_.assign(P, 0.0); ell_.assign(P, 0.0); pos_.assign(P, 0.0);
+  idx_.assign(D, 0);
+  fK_.setZero(comps_ * P_); f_.setZero(comps_ * P_); y_.setZero(comps_ * P_);
+  rhs_.setZero(comps_ * P_); x_.setZero(comps_ * P_);
+  H_.setZero(comps_ * P_, comps_ * P_);
+}
+
+double ShaftCoupling::deflection(int j, double sigma) const {
+  const double EI = cfg_.EI, L = cfg_.length;
+  double w = nl_.Q[j] * cantileverDeflection(sigma, L, EI);
+  for (int i = 0; i < k_; ++i) w -= tieLoad(j, i) * cantileverDeflection(sigma, sigma_[static_cast<std::size_t>(i)], EI);
+  return w;
+}
+
+double ShaftCoupling::slope(int j, double sigma) const {
+  const double EI = cfg_.EI, L = cfg_.length;
+  double th = nl_.Q[j] * cantileverSlope(sigma, L, EI);
+  for (int i = 0; i < k_; ++i) th -= tieLoad(j, i) * cantileverSlope(sigma, sigma_[static_cast<std::size_t>(i)], EI);
+  return th;
+}
+
+void ShaftCoupling::couple(bool entered, double reach, const Eigen::VectorXd& pu) {
+  int k = 0;
+  if (entered)
+    while (k < P_ && cfg_.path_s[static_cast<std::size_t>(k)] + pu[comps_ * k] <= reach + (k < k_ ? kReleaseGap : 0.0)) ++k;
+  for (int i = k_; i < k; ++i) {
+    const double p = cfg_.path_s[static_cast<std::size_t>(i)] + pu[comps_ * i];
+    for (int j = 0; j < lat_; ++j)
+      offset_[static_cast<std::size_t>(i * lat_ + j)] = pu[comps_ * i + 1 + j] - lateralAt(j, p);
+    status_[static_cast<std::size_t>(i)] = FrictionStatus::Stick;
+  }
+  for (int i = k; i < k_; ++i)
+    for (int j = 0; j < lat_; ++j) lambda_[static_cast<std::size_t>(i * lat_ + j)] = 0.0;
+  k_ = k;
+}
+
+// Current axial positions of the coupled nodes, their tributary shaft lengths in contact
+// (boundaries clamped to the tissue: 0 .. tip or exit face) and arc positions from the base.
+void ShaftCoupling::measure(double s_tip, double s_exit, const Eigen::VectorXd& pu) {
+  const int k = k_;
+  for (int i = 0; i < k; ++i) pos_[static_cast<std::size_t>(i)] = cfg_.path_s[static_cast<std::size_t>(i)] + pu[comps_ * i];
+  const double top = std::min(s_tip, s_exit);
+  for (int i = 0; i < k; ++i) {
+    const auto p = static_cast<std::size_t>(i);
+    const double lo = i == 0 ? 0.0 : std::clamp(0.5 * (pos_[p - 1] + pos_[p]), 0.0, top);
+    const double hi = i + 1 == k ? top : std::clamp(0.5 * (pos_[p] + pos_[p + 1]), 0.0, top);
+    ell_[p] = std::max(hi - lo, 0.0);
+    sigma_[p] = std::max((pos_[p] - nl_.sB) / nl_.cosphi, 0.0);
+  }
+}
+
+// Active set on the axial status of each coupled node (eq 3.23), to a fixed point.
+int ShaftCoupling::solve(const TissueDynamics& t, const AxialMotion& mo, double dt) {
+  int it = 0;
+  for (; it < cfg_.max_iterations; ++it) {
+    addKnownLoads(t);
+    const int m = assemble(t, mo, dt);
+    if (!solveSmall(m)) throw SolverError(cfg_.engine + ": the coupling system is not positive definite");
+    for (int a = 0; a < m; ++a) f_[idx_[static_cast<std::size_t>(a)]] += x_[a];
+    if (!updateStatus(t, mo)) break;
+  }
+  for (int i = 0; i < k_; ++i)
+    for (int j = 0; j < lat_; ++j) lambda_[static_cast<std::size_t>(i * lat_ + j)] = f_[comps_ * i + 1 + j];
+  return it + 1;
+}
+
+// Known loads (press, cutting, held static friction, undamped slip) into f_, and the
+// path displacement they give, y = u0 + S f_known.
+void ShaftCoupling::addKnownLoads(const TissueDynamics& t) {
+  const auto& S = t.pathCompliance();
+  f_ = fK_;
+  using S_ = FrictionStatus;
+  for (int i = 0; i < k_; ++i) {
+    const auto st = status_[static_cast<std::size_t>(i)];
+    const double l = ell_[static_cast<std::size_t>(i)];
+    const auto& fr = cfg_.friction[static_cast<std::size_t>(i)];
+    if (!(l > 1e-9)) continue;
+    if (st == S_::HoldPos) f_[comps_ * i] += fr.D_p * l;
+    if (st == S_::HoldNeg) f_[comps_ * i] -= fr.D_n * l;
+    if (st == S_::SlipPos && !(fr.b_p * l > 1e-12)) f_[comps_ * i] += fr.C_p * l;
+    if (st == S_::SlipNeg && !(fr.b_n * l > 1e-12)) f_[comps_ * i] -= fr.C_n * l;
+  }
+  y_ = t.predictedPath();
+  for (int l = 0; l < f_.size(); ++l)
+    if (f_[l] != 0.0) y_.noalias() += f_[l] * S.col(l);
+}
+
+// Whether node i's axial load is an unknown of the system (stick or damped slip).
+bool ShaftCoupling::axialUnknown(int i) const {
+  const auto st = status_[static_cast<std::size_t>(i)];
+  const double l = ell_[static_cast<std::size_t>(i)];
+  const auto& fr = cfg_.friction[static_cast<std::size_t>(i)];
+  if (!(l > 1e-9)) return false;  // no shaft in contact (dragged out of the tissue): no axial load
+  return st == FrictionStatus::Stick || (st == FrictionStatus::SlipPos && fr.b_p * l > 1e-12) ||
+         (st == FrictionStatus::SlipNeg && fr.b_n * l > 1e-12);
+}
+
+// The SPD system on the unknown slots (all lateral ties, axial stick and damped slip):
+// H_ = S + needle flexibility between ties of one bending plane (eq 3.12), rhs_ from the
+// constraints. Returns its size.
+int ShaftCoupling::assemble(const TissueDynamics& t, const AxialMotion& mo, double dt) {
+  const auto& S = t.pathCompliance();
+  const auto& c = t.coefficients();
+  const Eigen::VectorXd &pu = t.pathU(), &pv = t.pathV(), &pa = t.pathA();
+  const double gam = c.gamma(), EI = cfg_.EI;
+  int m = 0;
+  for (int i = 0; i < k_; ++i) {
+    for (int j = 0; j < lat_; ++j) idx_[static_cast<std::size_t>(m++)] = comps_ * i + 1 + j;
+    if (axialUnknown(i)) idx_[static_cast<std::size_t>(m++)] = comps_ * i;
+  }
+  for (int a = 0; a < m; ++a) {
+    const int ia = idx_[static_cast<std::size_t>(a)], na = ia / comps_, ca = ia % comps_;
+    for (int b = 0; b <= a; ++b) {
+      const int ib = idx_[static_cast<std::size_t>(b)];
+      double h = S(ia, ib);
+      if (ca > 0 && ca == ib % comps_)  // needle flexibility between ties of one plane (eq 3.12)
+        h += cantileverDeflection(sigma_[static_cast<std::size_t>(na)], sigma_[static_cast<std::size_t>(ib / comps_)], EI);
+      H_(a, b) = h;
+      H_(b, a) = h;
+    }
+    const auto p = static_cast<std::size_t>(na);
+    if (ca > 0) {  // lateral tie: u_j = needle lateral + offset
+      const int j = ca - 1;
+      rhs_[a] = rigidLateral(j, pos_[p]) + nl_.Q[j] * cantileverDeflection(sigma_[p], cfg_.length, EI) +
+                offset_[p * static_cast<std::size_t>(lat_) + static_cast<std::size_t>(j)] - y_[ia];
+    } else if (status_[p] == FrictionStatus::Stick) {  // axial: moves with the needle
+      rhs_[a] = pu[ia] + mo.ds - y_[ia];
+    } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity)
+      const auto& fr = cfg_.friction[p];
+      const bool posv = status_[p] == FrictionStatus::SlipPos;
+      const double C = posv ? fr.C_p : -fr.C_n, b = posv ? fr.b_p : fr.b_n;
+      const double e = pv[ia] + dt * (1.0 - gam) * pa[ia] - c.a1 * pu[ia] - dt * gam * (c.a2 * pv[ia] + c.a3 * pa[ia]);
+      const double r = ell_[p] * (C + b * (mo.v_ax - e)), cc = ell_[p] * b * c.a1;
+      H_(a, a) += 1.0 / cc;
+      rhs_[a] = r / cc - y_[ia];
+    }
+  }
+  return m;
+}
+
+// New axial path velocity of each coupled node and its Karnopp status update (eq 3.23).
+// Returns whether any status changed.
+bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo) {
+  const auto& S = t.pathCompliance();
+  const auto& c = t.coefficients();
+  const Eigen::VectorXd& u0 = t.predictedPath();
+  const Eigen::VectorXd &pu = t.pathU(), &pv = t.pathV(), &pa = t.pathA();
+  const double band = 0.5 * cfg_.static_band;
+  bool changed = false;
+  for (int i = 0; i < k_; ++i) {
+    const auto p = static_cast<std::size_t>(i);
+    const int ia = comps_ * i;
+    double un = u0[ia];
+    for (int l = 0; l < f_.size(); ++l)
+      if (f_[l] != 0.0) un += S(ia, l) * f_[l];
+    const double vn = c.velocity(pv[ia], pa[ia], c.acceleration(un, pu[ia], pv[ia], pa[ia]));
+    const double Fa = ell_[p] > 0.0 ? f_[ia] / ell_[p] : 0.0;
+    const FrictionStatus next = nextStatus(status_[p], Fa, mo.v_ax - vn, cfg_.friction[p], band);
+    if (next != status_[p]) { status_[p] = next; changed = true; }
+  }
+  return changed;
+}
+
+// In-place Cholesky solve of the leading m x m block of H_ with rhs_ -> x_.
+bool ShaftCoupling::solveSmall(int m) {
+  double* A = H_.data();
+  const Eigen::Index ld = H_.outerStride();
+  for (int j = 0; j < m; ++j) {
+    double d = A[j + j * ld];
+    for (int k = 0; k < j; ++k) d -= A[j + k * ld] * A[j + k * ld];
+    if (!(d > 0.0)) return false;
+    d = std::sqrt(d);
+    A[j + j * ld] = d;
+    for (int i = j + 1; i < m; ++i) {
+      double s = A[i + j * ld];
+      for (int k = 0; k < j; ++k) s -= A[i + k * ld] * A[j + k * ld];
+      A[i + j * ld] = s / d;
+    }
+  }
+  for (int i = 0; i < m; ++i) {  // L z = rhs
+    double s = rhs_[i];
+    for (int k = 0; k < i; ++k) s -= A[i + k * ld] * x_[k];
+    x_[i] = s / A[i + i * ld];
+  }
+  for (int i = m - 1; i >= 0; --i) {  // L^T x = z
+    double s = x_[i];
+    for (int k = i + 1; k < m; ++k) s -= A[k + i * ld] * x_[k];
+    x_[i] = s / A[i + i * ld];
+  }
+  return true;
+}
+
+}  // namespace needlesim::realtime

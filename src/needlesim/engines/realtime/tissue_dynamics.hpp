@@ -1,0 +1,105 @@
+#pragma once
+// Tissue dynamics shared by the real-time engines (realtime2d, realtime3d):
+// M u'' + C u' + K u = Q (seed 003 eq 3.1) with Rayleigh damping C = alpha M + beta K
+// (eq 3.8) and Newmark integration (eqs 3.2-3.4) on the free DOFs of an assembled mesh.
+// All loads act on a fixed set of "path" nodes (the nodes the needle can couple to),
+// each with comps() load directions (axial t first, then the lateral ones). A step is split in two:
+//   predict():  u0_P, the path displacements the step would give without path loads;
+//   commit(f):  apply path loads f (comps() per path node) and advance the state.
+// Between the two, pathCompliance() S gives u_P = u0_P + S f exactly, so the needle
+// coupling is solved on the path nodes only (a Schur complement, eqs 3.20-3.21).
+// Back-ends (tissue_integrators.hpp): Direct, Modal (all modes), Reduced (lowest modes
+// plus residual flexibility; O((modes + path DOFs) * path DOFs) per step).
+#include <Eigen/Core>
+#include <Eigen/SparseCore>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "needlesim/engines/realtime/dof_map.hpp"
+#include "needlesim/engines/realtime/newmark.hpp"
+#include "needlesim/materials/viscoelastic.hpp"
+
+namespace needlesim::realtime {
+
+class TissueIntegrator;
+
+// Damping, integration and back-end settings of a real-time tissue.
+struct DynamicsSettings {
+  bool lumped_mass = false;
+  double rayleigh_alpha = 0.01;  // 1/s (seed 003 eq 3.8: alpha = 0.01)
+  double rayleigh_beta = 0.1;    // s   (seed 003 eq 3.8: beta = 0.1)
+  NewmarkParams newmark;
+  // Prony terms (materials/viscoelastic.hpp, seed 001 eqs 1-4): QLV relaxation of the whole
+  // stiffness, K -> K G(t) with G = g_inf + sum g_i exp(-t/tau_i); empty = elastic.
+  std::vector<materials::PronyTerm> prony;
+  Backend backend = Backend::Auto;
+  int modal_max_dofs = 2600;  // Auto picks Modal up to this many free DOFs, Reduced above
+  // Reduced: keep the modes below this frequency (rad/s; 0 = sqrt(20 / (beta dt))), at most
+  // reduced_max_modes; the rest enter as residual flexibility with Rayleigh creep.
+  double reduced_cutoff = 0.0;
+  int reduced_max_modes = 400;
+};
+
+// The assembled tissue and its path: K, M over all dim * nodes DOFs, held DOFs, and per
+// path node its dim DOFs' ids; dirs (dim x comps) the directions of the path loads.
+struct PathedSystem {
+  Eigen::SparseMatrix<double> K, M;
+  std::vector<bool> held;       // per DOF
+  std::vector<int> path_nodes;  // mesh node ids
+  int dim = 2;
+  Eigen::MatrixXd dirs;
+};
+
+class TissueDynamics {
+ public:
+  TissueDynamics(std::string engine, const DynamicsSettings& cfg, const PathedSystem& sys, double dt);
+  ~TissueDynamics();
+  TissueDynamics(TissueDynamics&&) noexcept;
+  TissueDynamics& operator=(TissueDynamics&&) noexcept;
+
+  int pathDofs() const { return comps_ * static_cast<int>(pdof_.size()) / dim_; }
+  Backend backend() const;
+  double dt() const { return nm_.dt; }
+  const NewmarkCoefficients& coefficients() const { return nm_; }
+  void setTimeStep(double dt);  // refactorises (allocates); step sizes are normally constant
+  const Eigen::MatrixXd& pathCompliance() const;
+  void predict();
+  const Eigen::VectorXd& predictedPath() const { return u0P_; }
+  void commit(const Eigen::VectorXd& f);
+  const Eigen::VectorXd& pathU() const { return pu_; }
+  const Eigen::VectorXd& pathV() const { return pv_; }
+  const Eigen::VectorXd& pathA() const { return pa_; }
+  // Full nodal fields (dim * nodes; held DOFs 0), rebuilt lazily.
+  const Eigen::VectorXd& displacement() const;
+  const Eigen::VectorXd& velocity() const;
+  double dofDisplacement(int dof) const;  // one DOF without rebuilding the full field
+  double kineticEnergy() const;
+  double strainEnergy() const;
+  void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v);
+  double highestFrequency() const;
+  Eigen::VectorXd staticSolve(const Eigen::VectorXd& f) const;
+  int freeDofs() const { return map_.freeCount(); }
+  double stableTimeStep() const { return dt_limit_; }
+  const DofMap& dofMap() const { return map_; }
+
+ private:
+  void makeIntegrator(double dt);
+  void checkStable(double dt) const;
+  void refreshFull() const;
+  std::string engine_;
+  DynamicsSettings cfg_;
+  DofMap map_;
+  Eigen::SparseMatrix<double> K_, M_;  // free DOFs
+  std::vector<int> pdof_;              // free DOF of each spatial component of each path node
+  int dim_ = 2, comps_ = 2;
+  Eigen::MatrixXd dirs_;
+  NewmarkCoefficients nm_;
+  std::unique_ptr<TissueIntegrator> impl_;
+  Eigen::VectorXd pu_, pv_, pa_, u0P_;
+  mutable Eigen::VectorXd full_u_, full_v_, fu_, fv_;
+  mutable bool dirty_ = true;
+  double dt_limit_ = 0.0;
+};
+
+}  // namespace needlesim::realtime

@@ -1,0 +1,244 @@
+#include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
+#include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/run_report.hpp"
+#include "needlesim/engines/realtime/scenario_config.hpp"
+#include "needlesim/insertion/motion_profile.hpp"
+#include "needlesim/io/field_series.hpp"
+#include "needlesim/results/forces_table.hpp"
+#include "needlesim/results/inclusion_motion.hpp"
+
+namespace needlesim::engines {
+
+using namespace realtime3d;
+
+namespace {
+
+std::vector<io::Column> engineColumns() {
+  return {{"force_stiffness", "N"},  {"force_cutting", "N"},      {"force_friction", "N"},
+          {"force_x", "N"},          {"force_y", "N"},            {"force_z", "N"},
+          {"force_out_of_plane", "N"}, {"tip_deflection_z", "m"}, {"tip_load_y", "N"},
+          {"tip_load_z", "N"},       {"phase", "1"},              {"coupled_nodes", "1"},
+          {"sticking_nodes", "1"}};
+}
+
+constexpr int kShapePoints = 41;
+
+// The fields of one run: the tissue (tets, displacement, von Mises) and the needle centre
+// line, in the centred tissue frame.
+class Fields3d {
+ public:
+  Fields3d(ResultSink& sink, const Session& s) : s_(s) {
+    tissue_ = sink.fields("tissue", 3);
+    needle_ = sink.fields("needle", 3);
+    const auto& m = s.mesh();
+    reference_ = m.X;
+    for (std::size_t i = 0; i < reference_.size(); ++i) reference_[i] -= s.cornerShift()[static_cast<Eigen::Index>(i % 3)];
+    if (tissue_) tissue_->setMesh(reference_, io::CellType::Tetra, m.conn);
+    std::vector<int> conn;
+    for (int k = 0; k + 1 < kShapePoints; ++k) { conn.push_back(k); conn.push_back(k + 1); }
+    s.needleShape(kShapePoints, line_);
+    if (needle_) needle_->setMesh(std::vector<double>(line_.data(), line_.data() + line_.size()), io::CellType::Line, conn);
+  }
+  void write(double t) {
+    if (tissue_) {
+      const auto& u = s_.displacement();
+      std::vector<double> ub(u.data(), u.data() + u.size()), moved(ub.size());
+      for (std::size_t i = 0; i < ub.size(); ++i) moved[i] = reference_[i] + ub[i];
+      const Eigen::VectorXd vm = s_.tissue().elementVonMises();
+      tissue_->beginStep(t);
+      tissue_->stepPoints(moved);
+      tissue_->pointData("displacement", ub, 3, "m");
+      tissue_->cellData("von_mises", std::vector<double>(vm.data(), vm.data() + vm.size()), 1, "Pa");
+      tissue_->endStep();
+    }
+    if (needle_) {
+      s_.needleShape(kShapePoints, line_);
+      needle_->beginStep(t);
+      needle_->stepPoints(std::vector<double>(line_.data(), line_.data() + line_.size()));
+      needle_->endStep();
+    }
+  }
+
+ private:
+  const Session& s_;
+  io::FieldSeries* tissue_ = nullptr;
+  io::FieldSeries* needle_ = nullptr;
+  std::vector<double> reference_;
+  Eigen::Matrix3Xd line_;
+};
+
+// Extremes tracked through the run.
+struct Extremes {
+  double peak = 0.0, peakDepth = 0.0, maxDepth = 0.0;
+  Eigen::Vector2d maxDefl = Eigen::Vector2d::Zero();
+  std::vector<double> punctures;
+  void track(const StepResult& o) {
+    if (o.punctured_now) punctures.push_back(o.depth);
+    if (o.axial_force > peak) { peak = o.axial_force; peakDepth = o.depth; }
+    for (int j = 0; j < 2; ++j)
+      if (std::abs(o.tip_deflection[j]) > std::abs(maxDefl[j])) maxDefl[j] = o.tip_deflection[j];
+    maxDepth = std::max(maxDepth, o.depth);
+  }
+};
+
+class Realtime3dRun {
+ public:
+  Realtime3dRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
+      : sc_(sc), sink_(sink), options_(options), cfg_(realtime3dConfig(sc)), session_(makeSession()),
+        motion_(sc.insertion), dt_(sc.model.time_step), forces_(true, engineColumns()),
+        inclusions_(sc.tissue.inclusions, cfg_.frame),
+        shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}}) {
+    steps_ = static_cast<long long>(std::ceil(motion_.duration() / dt_ - 1e-9));
+    every_ = outputStride(sc.output.interval, dt_);
+    const double fi = sc.model.realtime3d.field_interval;
+    fieldEvery_ = fi > 0.0 ? std::max(1LL, std::llround(fi / dt_)) : 0LL;
+    forces_.reserve(static_cast<std::size_t>(steps_ / every_ + 2));
+    if (fieldEvery_ > 0) fields_ = std::make_unique<Fields3d>(sink_, session_);
+  }
+
+  void run() {
+    record(0.0, motion_.at(0.0), StepResult{});
+    if (fields_) fields_->write(0.0);
+    Progress progress("realtime3d", options_.progress);
+    const auto run0 = std::chrono::steady_clock::now();
+    for (long long k = 1; k <= steps_; ++k) {
+      const double t = std::min(k * dt_, motion_.duration());
+      const MotionState m = motion_.at(t);
+      // The bevel's turn from the frame's orientation (axial_angle starts at bevel_orientation).
+      const BasePose pose =
+          session_.poseAtDepth(m.depth, 0.0, 0.0, m.plane_angle, 0.0, m.axial_angle - sc_.insertion.bevel_orientation);
+      const StepResult& o = session_.step(pose, dt_);
+      ext_.track(o);
+      if (k % every_ == 0 || k == steps_) record(t, m, o);
+      if (fields_ && (k % fieldEvery_ == 0 || k == steps_)) fields_->write(t);
+      if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(steps_));
+    }
+    progress.finish();
+    run_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - run0).count();
+    addShape(motion_.duration());
+  }
+
+  void finish() {
+    reportResults();
+    plotAxialForces(forces_.table(), sc_, sink_);
+    plotDeflection();
+    writeNotes();
+    inclusions_.report(sink_);
+    sink_.table("forces", forces_.release());
+    sink_.table("needle_shape", std::move(shape_));
+  }
+
+ private:
+  Session makeSession() {
+    const auto wall0 = std::chrono::steady_clock::now();
+    Session s(cfg_);
+    setup_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
+    return s;
+  }
+
+  void addShape(double t) {
+    Eigen::Matrix3Xd line;
+    session_.needleShape(kShapePoints, line);
+    for (int k = 0; k < kShapePoints; ++k)
+      shape_.addRow({t, cfg_.needle.length * k / (kShapePoints - 1), line(0, k), line(1, k), line(2, k)});
+  }
+
+  void record(double t, const MotionState& m, const StepResult& o) {
+    results::NeedleForces f;
+    f.time = t;
+    f.depth = t == 0.0 ? m.depth : o.depth;
+    f.velocity = m.velocity;
+    f.force_total = o.axial_force;
+    f.force_lateral = o.lateral_force;
+    const Eigen::Vector3d tip = t == 0.0 ? cfg_.frame.onAxis(m.depth) : o.tip_position;
+    f.tip_x = tip.x();
+    f.tip_y = tip.y();
+    f.tip_z = tip.z();
+    f.tip_deflection = o.tip_deflection[0];
+    forces_.add(f, {o.stiffness_force, o.cutting_force, o.friction_force, o.force.x(), o.force.y(), o.force.z(),
+                    o.out_of_plane_force, o.tip_deflection[1], o.tip_load[0], o.tip_load[1],
+                    static_cast<double>(o.phase), static_cast<double>(o.coupled), static_cast<double>(o.sticking)});
+    if (inclusions_.empty()) return;
+    std::vector<Eigen::Vector3d> u;
+    for (std::size_t i = 0; i < sc_.tissue.inclusions.size(); ++i) u.push_back(session_.tissue().regionDisplacement(i));
+    inclusions_.add(t, f.depth, u);
+  }
+
+  void reportResults() {
+    const StepResult& last = session_.last();
+    sink_.result("max_tip_deflection", ext_.maxDefl[0], "m", "elastic tip deflection along lateral (y) of largest magnitude");
+    sink_.result("max_tip_deflection_z", ext_.maxDefl[1], "m", "elastic tip deflection out of plane (z) of largest magnitude");
+    sink_.result("final_tip_deflection", last.tip_deflection[0], "m", "elastic lateral tip deflection at the end");
+    sink_.result("final_tip_deflection_z", last.tip_deflection[1], "m", "elastic out-of-plane tip deflection at the end");
+    sink_.result("peak_force", ext_.peak, "N", "largest axial force on the needle (resisting insertion)");
+    warnZeroForce(sc_, ext_.peak, sink_);
+    sink_.result("peak_force_depth", ext_.peakDepth, "m", "tip depth at the peak force");
+    sink_.result("final_force", last.axial_force, "N", "axial force on the needle at the end");
+    sink_.result("max_depth", ext_.maxDepth, "m", "deepest tip position along the reference axis");
+    for (std::size_t i = 0; i < ext_.punctures.size(); ++i)
+      sink_.result(i == 0 ? std::string("puncture_depth") : fmt::format("puncture_depth_{}", i + 1), ext_.punctures[i],
+                   "m", i == 0 ? "tip depth at puncture (eq 3.16 threshold)" : "tip depth at a layer boundary's puncture");
+    sink_.result("steps_per_second", run_s_ > 0 ? steps_ / run_s_ : 0.0, "1/s", "session steps per wall-clock second");
+  }
+
+  void plotDeflection() {
+    const io::Table& f = forces_.table();
+    io::Plot defl{"Tip deflection against time", "time [s]", "elastic tip deflection [mm]", {}};
+    defl.series.push_back({"lateral (y)", f.column("time"), realtimeMm(f.column("tip_deflection")), false, false});
+    defl.series.push_back({"out of plane (z)", f.column("time"), realtimeMm(f.column("tip_deflection_z")), false, true});
+    sink_.plot(std::move(defl));
+  }
+
+  void writeNotes() {
+    const auto& b = cfg_.tissue.block;
+    sink_.note(fmt::format(
+        "Real-time 3D FE model (seed 003 sections 3.1-3.5 on a tetrahedral block): {} x {} x {} nodes, {} tets ({} "
+        "free DOFs, {} back-end), Newmark dt = {:g} ms, Rayleigh alpha = {:g} 1/s, beta = {:g} s; needle EI = {:.4g} "
+        "N m^2 bending in two planes. {} steps in {:.3g} s ({:.3g} steps/s; setup {:.3g} s). docs/models/realtime3d.md.",
+        b.nodes_depth, b.nodes_lateral, b.nodes_height, session_.mesh().elements(), session_.tissue().dynamics().freeDofs(),
+        realtimeBackendName(session_.tissue().dynamics().backend()), dt_ * 1e3, cfg_.tissue.rayleigh_alpha,
+        cfg_.tissue.rayleigh_beta, cfg_.needle.EI, steps_, run_s_, run_s_ > 0 ? steps_ / run_s_ : 0.0, setup_s_));
+    for (const auto& L : sc_.tissue.layers)
+      if (L.material.law != "linear") {
+        sink_.note("The tissue law is linearised: realtime3d uses its small-strain moduli (initial shear and bulk).");
+        break;
+      }
+  }
+
+  const Scenario& sc_;
+  ResultSink& sink_;
+  RunOptions options_;
+  SessionConfig cfg_;
+  double setup_s_ = 0.0, run_s_ = 0.0;
+  Session session_;
+  MotionProfile motion_;
+  double dt_;
+  long long steps_ = 0, every_ = 1, fieldEvery_ = 0;
+  results::ForcesTable forces_;
+  results::InclusionMotion inclusions_;
+  io::Table shape_;
+  std::unique_ptr<Fields3d> fields_;
+  Extremes ext_;
+};
+
+}  // namespace
+
+// The needle couples to the tissue at the path nodes, one per depth plane of the grid:
+// a step must not carry the tip past them.
+StepPlan realtime3dStepPlan(const Scenario& sc) {
+  realtime3dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
+  return realtimeStepPlan(sc, "realtime3d", sc.model.realtime3d.nodes_depth);
+}
+
+void runRealtime3d(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
+  runRealtimeEngine<Realtime3dRun>(sc, sink, options, realtime3dStepPlan(sc));
+}
+
+}  // namespace needlesim::engines
