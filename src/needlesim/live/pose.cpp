@@ -42,8 +42,7 @@ void approach(Pose& p, const Pose& t, const MotionLimits& l, double dt) {
   p.roll = towards(p.roll, t.roll, l.rollRate * dt);
 }
 
-// api::Command has no tilt yet: the engines it steps are planar (controlsFor holds tilt at 0
-// for them). An engine that takes the tilt adds it to Command, and it is passed on here.
-api::Command commandFor(const Pose& p) { return api::Command{p.depth, p.lateral, p.rotation, p.roll}; }
+// The tilt goes to the engines that take it (realtime3d); controlsFor holds it at 0 for the planar ones.
+api::Command commandFor(const Pose& p) { return api::Command{p.depth, p.lateral, p.rotation, p.roll, p.tilt}; }
 
 }  // namespace needlesim::live
