@@ -72,6 +72,7 @@
   sun.position.set(0.3, -0.5, 1);
   scene.add(sun);
   let tissue = null, rest = null, needle = null;
+  let solid = false;  // a 3D block (realtime3d): drawn see-through, so the needle inside shows
 
   function colormap(t, out, i) {  // turbo-like: blue, cyan, green, yellow, red
     const stops = [[0.19, 0.07, 0.23], [0.27, 0.53, 0.98], [0.10, 0.89, 0.71], [0.64, 0.99, 0.24], [0.98, 0.73, 0.22], [0.89, 0.27, 0.04], [0.48, 0.02, 0.01]];
@@ -86,7 +87,12 @@
     g.setAttribute('color', new THREE.BufferAttribute(new Float32Array(rest.length).fill(0.3), 3));
     g.setIndex(surface.triangles);
     g.computeBoundingBox();
-    tissue = new THREE.Mesh(g, new THREE.MeshBasicMaterial({ vertexColors: THREE.VertexColors, side: THREE.DoubleSide }));
+    const extent = new THREE.Vector3();
+    g.boundingBox.getSize(extent);
+    solid = extent.z > 0.05 * Math.max(extent.x, extent.y);
+    const material = new THREE.MeshBasicMaterial({ vertexColors: THREE.VertexColors, side: THREE.DoubleSide });
+    if (solid) Object.assign(material, { transparent: true, opacity: 0.35, depthWrite: false });
+    tissue = new THREE.Mesh(g, material);
     scene.add(tissue);
     const outline = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxBufferGeometry(1, 1, 1)),
       new THREE.LineBasicMaterial({ color: 0x8090a8 }));
@@ -95,9 +101,14 @@
     outline.scale.set(size.x, size.y, Math.max(size.z, 0.02 * size.x));
     outline.position.copy(centre);
     scene.add(outline);
-    const span = Math.max(size.x, size.y);
-    controls.target.set(centre.x - 0.15 * span, centre.y, 0);
-    camera.position.set(centre.x - 0.5 * span, centre.y - 1.3 * span, 0.9 * span);
+    const span = Math.max(size.x, size.y, size.z);
+    if (solid) {  // the whole block in view, from the entry side, above and in front
+      controls.target.set(centre.x - 0.1 * span, centre.y, centre.z);
+      camera.position.set(centre.x - 1.3 * span, centre.y - 1.6 * span, centre.z + 1.1 * span);
+    } else {
+      controls.target.set(centre.x - 0.15 * span, centre.y, 0);
+      camera.position.set(centre.x - 0.5 * span, centre.y - 1.3 * span, 0.9 * span);
+    }
     camera.up.set(0, 0, 1);
     controls.update();
   }
@@ -120,7 +131,7 @@
   function updateNeedle(points) {
     if (!points || points.length < 6) return;
     const v = [];
-    for (let i = 0; i < points.length; i += 3) v.push(new THREE.Vector3(points[i] * MM, points[i + 1] * MM, points[i + 2] * MM + 0.3));
+    for (let i = 0; i < points.length; i += 3) v.push(new THREE.Vector3(points[i] * MM, points[i + 1] * MM, points[i + 2] * MM + (solid ? 0 : 0.3)));
     const g = new THREE.TubeBufferGeometry(new THREE.CatmullRomCurve3(v), 64, 0.6, 8, false);
     if (!needle) {
       needle = new THREE.Mesh(g, new THREE.MeshPhongMaterial({ color: 0xd8dde6, shininess: 80 }));
