@@ -102,7 +102,10 @@ int ShaftCoupling::solve(const TissueDynamics& t, const AxialMotion& mo, double 
     const int m = assemble(t, mo, dt);
     if (!solveSmall(m)) throw SolverError(cfg_.engine + ": the coupling system is not positive definite");
     for (int a = 0; a < m; ++a) f_[idx_[static_cast<std::size_t>(a)]] += x_[a];
-    if (!updateStatus(t, mo)) break;
+    // In the second half of the iterations a node may only leave stick (to hold, then slip), never
+    // return to it: coupled nodes can otherwise pass the stick force between them in a cycle
+    // (seen when a 3D block's shaft restarts after a pause) and end on an inconsistent set.
+    if (!updateStatus(t, mo, 2 * it >= cfg_.max_iterations)) break;
   }
   for (int i = 0; i < k_; ++i)
     for (int j = 0; j < lat_; ++j) lambda_[static_cast<std::size_t>(i * lat_ + j)] = f_[comps_ * i + 1 + j];
@@ -183,9 +186,9 @@ int ShaftCoupling::assemble(const TissueDynamics& t, const AxialMotion& mo, doub
   return m;
 }
 
-// New axial path velocity of each coupled node and its Karnopp status update (eq 3.23).
-// Returns whether any status changed.
-bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo) {
+// New axial path velocity of each coupled node and its Karnopp status update (eq 3.23);
+// `monotone`: no return to stick. Returns whether any status changed.
+bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo, bool monotone) {
   const auto& S = t.pathCompliance();
   const auto& c = t.coefficients();
   const Eigen::VectorXd& u0 = t.predictedPath();
@@ -201,6 +204,7 @@ bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo)
     const double vn = c.velocity(pv[ia], pa[ia], c.acceleration(un, pu[ia], pv[ia], pa[ia]));
     const double Fa = ell_[p] > 0.0 ? f_[ia] / ell_[p] : 0.0;
     const FrictionStatus next = nextStatus(status_[p], Fa, mo.v_ax - vn, cfg_.friction[p], band);
+    if (monotone && next == FrictionStatus::Stick) continue;
     if (next != status_[p]) { status_[p] = next; changed = true; }
   }
   return changed;

@@ -74,7 +74,7 @@ class ShaftCoupling {
  private:
   void addKnownLoads(const TissueDynamics& t);
   int assemble(const TissueDynamics& t, const AxialMotion& mo, double dt);
-  bool updateStatus(const TissueDynamics& t, const AxialMotion& mo);
+  bool updateStatus(const TissueDynamics& t, const AxialMotion& mo, bool monotone);
   bool axialUnknown(int i) const;
   bool solveSmall(int m);
   ShaftSettings cfg_;
