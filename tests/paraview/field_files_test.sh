@@ -32,12 +32,25 @@ need() {  # program, Debian package
 open_in_paraview() {
   need pvpython python3-paraview
   need Xvfb xvfb
+  # pvpython that dies on a signal (Debian's 5.11 aborts now and then on its X connection) is
+  # run once more against a fresh Xvfb; a file that does not open (exit 1) is a failure at once.
+  local rc=0
+  open_once || rc=$?
+  if [ "$rc" -ge 128 ]; then
+    echo "pvpython died on signal $((rc - 128)); once more with a fresh Xvfb"
+    rc=0
+    open_once || rc=$?
+  fi
+  return $rc
+}
+
+open_once() {
   local display_file="$work/xvfb.display"
   rm -f "$display_file"
   Xvfb -displayfd 3 -screen 0 1024x768x24 -nolisten tcp 3> "$display_file" > "$work/xvfb.log" 2>&1 &
   xvfb_pid=$!
   trap 'kill "$xvfb_pid" 2> /dev/null || true' EXIT
-  for _ in $(seq 100); do [ -s "$display_file" ] && break; sleep 0.1; done
+  for _ in $(seq 300); do [ -s "$display_file" ] && break; sleep 0.1; done
   [ -s "$display_file" ] || { echo "Xvfb did not start:"; cat "$work/xvfb.log"; exit 1; }
   rm -rf "$work/png"
   cd "$results"
