@@ -14,6 +14,7 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <fstream>
+#include <numbers>
 #include <numeric>
 #include <string>
 
@@ -21,6 +22,7 @@
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/engines/realtime2d/fe.hpp"
+#include "needlesim/forces/stiffness.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
@@ -252,4 +254,35 @@ Mesh.MeshSizeMax = 8; Physical Volume("gel") = {1};
   EXPECT_NE(why.find("engine realtime2d does not take an imported 3D geometry"), std::string::npos) << why;
   EXPECT_NE(why.find("explicit"), std::string::npos) << why;
   EXPECT_NE(why.find("mpm"), std::string::npos) << why;
+}
+
+// A disc of tissue (x from 2 to 22 mm): the entry membrane is where the axis meets its boundary
+// (eq 3.16 from there to the puncture force), and the cutting stops where the axis leaves it.
+TEST_F(Realtime2dImported, TheNeedleEntersAndLeavesWhereTheAxisCrossesTheMesh) {
+  std::ofstream(dir() / "disc.geo") << R"(SetFactory("OpenCASCADE"); Disk(1) = {12, 0, 0, 10};
+Mesh.MeshSizeMax = 0.7; Physical Surface("gel") = {1};
+)";
+  std::string yaml = scenarioText("geometry: {file: disc.geo, unit: mm}", 21, ", solver: reduced");
+  yaml.replace(yaml.find("to: 15 mm"), 9, "to: 24 mm");
+  const Scenario sc = read(yaml);
+  const double entry = sc.tissue.geometry->entry_depth;
+  EXPECT_NEAR(entry, 2e-3, 0.7e-3 * 0.7e-3 / (8 * 10e-3) + 1e-9);  // a chord of the circle
+  const auto out = runInMemory(sc);
+  const forces::StiffnessLaw law{10e3, 0.45, std::numbers::pi / 6, std::numbers::pi / 2};
+  const double step = 10e-3 * 1e-3;  // 10 mm/s, 1 ms
+  EXPECT_NEAR(out.results.at("puncture_depth").value, entry + law.depthAt(0.05) + 0.5 * step, 0.5 * step + 1e-9);
+  const auto depth = column(out, "depth"), cut = column(out, "force_cutting");
+  int inside = 0, beyond = 0;
+  for (std::size_t i = 0; i < depth.size(); ++i) {
+    if (depth[i] > 22.1e-3) {
+      ++beyond;
+      EXPECT_EQ(cut[i], 0.0) << depth[i];
+    } else if (depth[i] > entry + law.depthAt(0.05) + step && depth[i] < 21.9e-3) {
+      ++inside;
+      EXPECT_NEAR(cut[i], 0.04, 1e-12) << depth[i];
+    }
+  }
+  EXPECT_GT(inside, 50);
+  EXPECT_GT(beyond, 5);
+  for (double v : column(out, "force_total")) ASSERT_TRUE(std::isfinite(v));
 }
