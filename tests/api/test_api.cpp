@@ -179,6 +179,18 @@ TEST(ApiSession, SurfaceFieldAndNeedleForAViewer) {
   EXPECT_NEAR(line[30], s.state().tip_x, 1e-9);
   EXPECT_NEAR(line[31], s.state().tip_y, 1e-9);
 
+  // an imported triangle mesh (collapsed quads a, b, c, c): one triangle each, the needle steps in
+  api::Session imported(api::Scenario::fromFile(kExamples / "realtime2d" / "imported_block.yaml"));
+  for (int k = 1; k <= 500; ++k) imported.step(1e-5 * k, 1e-3);
+  const api::Surface triangles = imported.surface();
+  EXPECT_EQ(triangles.triangles.size() % 3, 0u);
+  for (std::size_t t = 0; t < triangles.triangles.size(); t += 3) {
+    EXPECT_NE(triangles.triangles[t + 1], triangles.triangles[t + 2]);
+    EXPECT_NE(triangles.triangles[t], triangles.triangles[t + 2]);
+  }
+  EXPECT_EQ(triangles.vertices.size() / 3, imported.nodePositions().size() / 2);
+  EXPECT_GT(imported.state().axial_force, 0.0);  // cutting at 5 mm
+
   api::Session lumped(api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml"));
   lumped.step(0.01, 1e-3);
   EXPECT_EQ(lumped.surface().triangles.size(), 6u);

@@ -14,7 +14,7 @@ set -euo pipefail
 mode=$1 needlesim=$2 source_dir=$3 work=$4
 here="$source_dir/tests/paraview"
 results="$work/results"
-engines=(explicit_2d explicit_3d realtime2d realtime3d mpm)
+engines=(explicit_2d explicit_3d realtime2d realtime2d_imported realtime3d mpm)
 
 write_fields() {
   rm -rf "$results"
@@ -23,6 +23,8 @@ write_fields() {
     "$needlesim" run -q "$here/scenarios/$e.yaml" -o "$results/$e"
   done
   "$needlesim" run -q "$source_dir/examples/mpm/quick_needle_block.yaml" -o "$results/mpm"
+  # an imported triangle mesh: Triangle cells (engines/realtime2d/imported_mesh.hpp)
+  "$needlesim" run -q "$source_dir/examples/realtime2d/imported_block.yaml" -o "$results/realtime2d_imported"
 }
 
 need() {  # program, Debian package

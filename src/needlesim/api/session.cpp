@@ -198,7 +198,8 @@ Surface Session::surface() const {
       out.triangles.reserve(6 * mesh.quads.cols());
       for (Eigen::Index e = 0; e < mesh.quads.cols(); ++e) {
         const auto q = mesh.quads.col(e);
-        out.triangles.insert(out.triangles.end(), {q(0), q(1), q(2), q(0), q(2), q(3)});
+        out.triangles.insert(out.triangles.end(), {q(0), q(1), q(2)});
+        if (q(3) != q(2)) out.triangles.insert(out.triangles.end(), {q(0), q(2), q(3)});  // not a collapsed triangle
       }
       return out;
     }

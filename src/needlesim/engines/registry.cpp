@@ -26,7 +26,7 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"lumped", "lumped insertion-force model (seed 003 section 3.2)", runLumped, false, false,
        guarded<lumpedStepPlan>},
       {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", runRealtime2d, false,
-       true, guarded<realtime2dStepPlan>},
+       true, guarded<realtime2dStepPlan>, {2}},
       {"realtime3d", "real-time 3D FE tissue (tetrahedral block) with a needle beam bending in two planes",
        runRealtime3d, false, true, guarded<realtime3dStepPlan>},
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", runKinematic, false, false,

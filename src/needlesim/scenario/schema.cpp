@@ -90,7 +90,7 @@ std::vector<FieldDoc> build() {
   add(other("tissue", "block", Kind::Section, "", "block size (required unless tissue.geometry is given)", false, "block"));
   add(other("tissue", "geometry", Kind::Section, "",
             "an imported tissue geometry instead of the block: a Gmsh mesh or script, or closed surfaces meshed by "
-            "Gmsh; its groups are the layers and inclusions, by name (engines explicit, mpm)",
+            "Gmsh; its groups are the layers and inclusions, by name (engines explicit, mpm, realtime2d)",
             false, "geometry"));
   add(other("tissue", "layers", Kind::List, "",
             "layers from the entry face inwards; omit for one layer and write the layer's fields "

@@ -87,8 +87,9 @@ void ShaftCoupling::measure(double s_tip, double s_exit, const Eigen::VectorXd& 
   const double top = std::min(s_tip, s_exit);
   for (int i = 0; i < k; ++i) {
     const auto p = static_cast<std::size_t>(i);
-    const double lo = i == 0 ? 0.0 : std::clamp(0.5 * (pos_[p - 1] + pos_[p]), 0.0, top);
-    const double hi = i + 1 == k ? top : std::clamp(0.5 * (pos_[p] + pos_[p + 1]), 0.0, top);
+    const double in = std::min(cfg_.entry_s, top);
+    const double lo = i == 0 ? in : std::clamp(0.5 * (pos_[p - 1] + pos_[p]), in, top);
+    const double hi = i + 1 == k ? top : std::clamp(0.5 * (pos_[p] + pos_[p + 1]), in, top);
     ell_[p] = std::max(hi - lo, 0.0);
     sigma_[p] = std::max((pos_[p] - nl_.sB) / nl_.cosphi, 0.0);
   }

@@ -40,6 +40,7 @@ struct ShaftSettings {
   std::vector<FrictionSpec> friction;  // per path node (eq 3.23; D = 0 defaults to C)
   double static_band = 0.0;       // m/s, Karnopp's Delta v
   int max_iterations = 12;
+  double entry_s = 0.0;           // m, where the axis enters the tissue (the first node's rubbed length starts there)
 };
 
 class ShaftCoupling {

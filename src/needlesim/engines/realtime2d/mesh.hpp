@@ -18,16 +18,29 @@ struct MeshSpec {
   double grading = 1.0;   // ratio coarsest / finest lateral spacing (1 = uniform)
 };
 
+// A generated mesh is structured (nx x ny nodes on the lines xs, ys); an imported one
+// (imported_mesh.hpp) is not: its quads are the file's quadrilaterals and its triangles as
+// collapsed quads (a, b, c, c), and xs, ys are empty.
 struct Mesh {
-  int nx = 0, ny = 0;                 // nodes along x (depth) and y (lateral)
-  std::vector<double> xs, ys;         // node coordinates along each direction
-  Eigen::Matrix2Xd nodes;             // node positions, node id = i * ny + j
+  int nx = 0, ny = 0;                 // nodes along x (depth) and y (lateral); 0 when unstructured
+  std::vector<double> xs, ys;         // node coordinates along each direction (structured only)
+  Eigen::Matrix2Xd nodes;             // node positions, node id = i * ny + j (structured)
   Eigen::Matrix4Xi quads;             // counter-clockwise node ids
+  bool triangles = false;             // every quad is a collapsed triangle (a, b, c, c)
+  double extent_x = 0.0, extent_y = 0.0;  // m, largest node coordinates (the corner is at 0, 0)
+  bool structured() const { return !xs.empty(); }
   int node(int i, int j) const { return i * ny + j; }
-  int nodeCount() const { return nx * ny; }
+  int nodeCount() const { return static_cast<int>(nodes.cols()); }
   int elementCount() const { return static_cast<int>(quads.cols()); }
-  double length() const { return xs.back(); }
-  double width() const { return ys.back(); }
+  double length() const { return structured() ? xs.back() : extent_x; }
+  double width() const { return structured() ? ys.back() : extent_y; }
+};
+
+// Reference needle axis and the nodes on it.
+struct PathNode {
+  int node = 0;      // mesh node id
+  double s = 0.0;    // m, reference position along the axis from the entry point
+  double offset = 0; // m, lateral distance of the node from the axis line
 };
 
 // Builds the mesh; throws needlesim::Error on bad input.

@@ -61,6 +61,28 @@ std::vector<MaterialRegion> inclusionRegions(const Scenario& sc) {
   return regions;
 }
 
+// An imported mesh (tissue.geometry) carries one layer's friction, cutting and puncture along
+// the path (the depth bands of several layers do not follow its groups), held sides only, and
+// no markers (they are placed in the generated grid's cells).
+void checkGeometry(const Scenario& sc) {
+  const auto& g = sc.tissue.geometry;
+  if (!g) return;
+  if (sc.tissue.layers.size() > 1)
+    refuse(sc, "tissue.layers",
+           fmt::format("an imported mesh takes one layer (with inclusions); {} has {} layers, whose friction, cutting "
+                       "and puncture the engine would place by depth bands, not by the mesh's groups",
+                       g->file, sc.tissue.layers.size()),
+           "one layer, or engine explicit (which follows the groups)");
+  const auto& r = sc.model.realtime2d;
+  if (r.spring_boundary)
+    refuse(sc, "model.realtime2d.boundary", "an imported mesh is held at its supported far side and its sides "
+                                            "(tissue.geometry.support_depth); spring supports need the generated block",
+           "boundary: held");
+  if (!r.markers.empty())
+    refuse(sc, "model.realtime2d.markers", "markers are placed in the generated block's grid, not in an imported mesh",
+           "no markers with tissue.geometry");
+}
+
 TissueConfig tissueConfig(const Scenario& sc) {
   const auto& r = sc.model.realtime2d;
   TissueConfig t;
@@ -70,6 +92,7 @@ TissueConfig tissueConfig(const Scenario& sc) {
     for (const auto& L : sc.tissue.layers) t.layers.emplace_back(x += L.thickness, elasticOf(L.material, r));
   }
   t.regions = inclusionRegions(sc);
+  t.geometry = sc.tissue.geometry;
   t.mesh.length = sc.tissue.length;
   t.mesh.width = sc.tissue.width;
   t.mesh.nodes_depth = r.nodes_depth;
@@ -93,6 +116,7 @@ TissueConfig tissueConfig(const Scenario& sc) {
 SessionConfig realtime2dConfig(const Scenario& sc) {
   checkRealtimeLayers(sc, "realtime2d", sc.model.realtime2d.relaxation);
   checkInclusions(sc);
+  checkGeometry(sc);
   SessionConfig c;
   c.tissue = tissueConfig(sc);
   c.needle = realtimeNeedle(sc, sc.model.realtime2d.tip_load_ratio);

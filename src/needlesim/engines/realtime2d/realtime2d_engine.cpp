@@ -9,6 +9,8 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/engines/realtime/run_report.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
+#include "needlesim/engines/realtime2d/imported_mesh.hpp"
+#include "needlesim/engines/step_guard.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/results/forces_table.hpp"
@@ -56,6 +58,22 @@ Eigen::Vector2d markerDisplacement(const Tissue& tissue, const Marker& m) {
   for (int a = 0; a < 4; ++a)
     if (m.w[a] != 0.0) u += m.w[a] * tissue.nodeDisplacement(m.nodes[a]);
   return u;
+}
+
+// Field cells: the quads, or the triangles of an imported triangle mesh (collapsed quads a, b, c, c).
+std::vector<int> cells(const Mesh& mesh) {
+  if (!mesh.triangles) return std::vector<int>(mesh.quads.data(), mesh.quads.data() + mesh.quads.size());
+  std::vector<int> c;
+  for (int e = 0; e < mesh.elementCount(); ++e)
+    for (int a = 0; a < 3; ++a) c.push_back(mesh.quads(a, e));
+  return c;
+}
+
+// "21 x 31 nodes" of the generated block, or the imported mesh's nodes and elements.
+std::string meshSize(const Mesh& mesh, const Scenario& sc) {
+  if (mesh.structured()) return fmt::format("{} x {} nodes", mesh.nx, mesh.ny);
+  return fmt::format("an imported mesh of {} nodes and {} {} ({})", mesh.nodeCount(), mesh.elementCount(),
+                     mesh.triangles ? "triangles (collapsed quads)" : "quadrilaterals", sc.tissue.geometry->file);
 }
 
 std::vector<io::Column> engineColumns() {
@@ -147,9 +165,7 @@ class Realtime2dRun {
     needleSeries_ = sink_.fields("needle", 2);
     const Eigen::Matrix2Xd centred = mesh.nodes.colwise() - session_.cornerShift();
     reference_.assign(centred.data(), centred.data() + centred.size());
-    if (tissueSeries_)
-      tissueSeries_->setMesh(reference_, io::CellType::Quad,
-                             std::vector<int>(mesh.quads.data(), mesh.quads.data() + mesh.quads.size()));
+    if (tissueSeries_) tissueSeries_->setMesh(reference_, mesh.triangles ? io::CellType::Triangle : io::CellType::Quad, cells(mesh));
     session_.needleShape(kShapePoints, needle_);
     std::vector<int> conn;
     for (int k = 0; k + 1 < kShapePoints; ++k) { conn.push_back(k); conn.push_back(k + 1); }
@@ -314,10 +330,10 @@ class Realtime2dRun {
     const auto& r = sc_.model.realtime2d;
     const Mesh& mesh = session_.mesh();
     sink_.note(fmt::format(
-        "Real-time 2D FE model of seed 003 sections 3.1-3.5: {} x {} nodes ({} free DOFs, {} back-end), Newmark "
+        "Real-time 2D FE model of seed 003 sections 3.1-3.5: {} ({} free DOFs, {} back-end), Newmark "
         "dt = {:g} ms, Rayleigh alpha = {:g} 1/s, beta = {:g} s; Euler-Bernoulli needle EI = {:.4g} N m^2. {} steps "
         "in {:.3g} s ({:.3g} steps/s on this machine; setup {:.3g} s). docs/models/realtime2d.md.",
-        mesh.nx, mesh.ny, session_.tissue().freeDofs(), realtimeBackendName(session_.tissue().backend()), dt_ * 1e3,
+        meshSize(mesh, sc_), session_.tissue().freeDofs(), realtimeBackendName(session_.tissue().backend()), dt_ * 1e3,
         cfg_.tissue.rayleigh_alpha, cfg_.tissue.rayleigh_beta, cfg_.needle.EI, steps_, run_s_,
         run_s_ > 0 ? steps_ / run_s_ : 0.0, setup_s_));
     bool hyper = false, prony = false;
@@ -370,8 +386,16 @@ class Realtime2dRun {
 // The needle couples to the tissue at the mesh's path nodes, evenly spaced
 // along the depth (mesh.cpp): a step must not carry the tip past them.
 StepPlan realtime2dStepPlan(const Scenario& sc) {
-  realtime2dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
-  return realtimeStepPlan(sc, "realtime2d", sc.model.realtime2d.nodes_depth);
+  const SessionConfig cfg = realtime2dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
+  const auto& g = sc.tissue.geometry;
+  if (!g) return realtimeStepPlan(sc, "realtime2d", sc.model.realtime2d.nodes_depth);
+  // An imported mesh: the closest two path nodes (imported_mesh.hpp).
+  const auto path = importedPath(*g, sc.tissue.width, cfg.frame.entry.head<2>(), cfg.frame.axial.head<2>());
+  StepPlan p = fixedStepPlan(sc, "realtime2d");
+  p.spacing = sc.tissue.length;
+  for (std::size_t i = 1; i < path.size(); ++i) p.spacing = std::min(p.spacing, path[i].s - path[i - 1].s);
+  p.spacingName = "the closest path nodes of the imported mesh (" + g->file + ")";
+  return p;
 }
 
 void runRealtime2d(const Scenario& sc, ResultSink& sink, const RunOptions& options) {

@@ -5,6 +5,7 @@
 #include <numbers>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/realtime2d/imported_mesh.hpp"
 #include "needlesim/needle/beam_element.hpp"
 
 namespace needlesim::realtime2d {
@@ -39,7 +40,12 @@ Session::Session(const SessionConfig& cfg_in)
       tissue_(cfg_.tissue, entry_ + shift_, t0_, cfg_.dt) {
   EI_ = cfg_.needle.EI;
   L_ = cfg_.needle.length;
-  s_exit_ = (tissue_.mesh().length() - entry_.x()) / t0_.x();
+  if (const auto& g = cfg_.tissue.geometry) {
+    s_entry_ = g->entry_depth;
+    s_exit_ = exitAlongAxis(*g, entry_, t0_);
+  } else {
+    s_exit_ = (tissue_.mesh().length() - entry_.x()) / t0_.x();
+  }
   P_ = static_cast<int>(tissue_.path().size());
   std::vector<double> path_s;
   for (const auto& p : tissue_.path()) path_s.push_back(p.s);
@@ -48,7 +54,8 @@ Session::Session(const SessionConfig& cfg_in)
 }
 
 realtime::ShaftSettings Session::shaftSettings() const {
-  realtime::ShaftSettings s{"realtime2d", 1, EI_, L_, {}, {}, cfg_.friction.static_band, cfg_.max_active_set_iterations};
+  realtime::ShaftSettings s{"realtime2d", 1, EI_, L_, {}, {}, cfg_.friction.static_band, cfg_.max_active_set_iterations,
+                            s_entry_};
   for (const auto& p : tissue_.path()) s.path_s.push_back(p.s);
   s.friction.assign(static_cast<std::size_t>(P_), cfg_.friction);
   if (!cfg_.layers.empty())
@@ -74,9 +81,10 @@ std::vector<realtime::Membrane> Session::membranesOf() const {
     const auto& m = L < cfg_.tissue.layers.size() ? cfg_.tissue.layers[L].second : cfg_.tissue.material;
     return forces::StiffnessLaw{m.E, m.nu, cfg_.needle.bevel_angle, 0.5 * std::numbers::pi - std::abs(theta0_)};
   };
-  std::vector<realtime::Membrane> out{{0.0, cfg_.puncture_force, lawOf(0), 0}};
   std::vector<double> path_s;
   for (const auto& p : tissue_.path()) path_s.push_back(p.s);
+  std::vector<realtime::Membrane> out{
+      {s_entry_, cfg_.puncture_force, lawOf(0), realtime::TipForces::nearestNode(path_s, s_entry_)}};
   for (std::size_t L = 1; L < cfg_.layers.size(); ++L) {
     const double s = (cfg_.layers[L - 1].depth_end - entry_.x()) / t0_.x();
     if (!(s > 0.0) || !(s < s_exit_)) continue;

@@ -88,6 +88,7 @@ class Session {
   const Eigen::Vector2d& entryPoint() const { return entry_; }   // centred tissue frame
   const Eigen::Vector2d& cornerShift() const { return shift_; }  // centred -> mesh coordinates
   double exitDepth() const { return s_exit_; }
+  double entryDepth() const { return s_entry_; }  // where the axis meets the tissue (imported mesh: its boundary)
 
  private:
   using Motion = realtime::AxialMotion;
@@ -103,7 +104,7 @@ class Session {
   Eigen::Vector2d shift_, entry_, t0_, n0_;
   double theta0_ = 0.0;
   Tissue tissue_;
-  double EI_ = 0.0, L_ = 0.0, s_exit_ = 0.0;
+  double EI_ = 0.0, L_ = 0.0, s_entry_ = 0.0, s_exit_ = 0.0;
   int P_ = 0;  // path nodes
   // Needle state of the current step.
   double sB_ = 0.0, dB_ = 0.0, phi_ = 0.0, tanphi_ = 0.0, cosphi_ = 1.0, Q_ = 0.0;

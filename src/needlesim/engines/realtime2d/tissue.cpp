@@ -9,6 +9,8 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/realtime/element_materials.hpp"
+#include "needlesim/engines/realtime2d/imported_mesh.hpp"
+#include "needlesim/needle/insertion_frame.hpp"
 
 namespace needlesim::realtime2d {
 
@@ -43,15 +45,38 @@ Eigen::SparseMatrix<double> boundarySprings(const Mesh& mesh, double k, double t
   Ks.setFromTriplets(t.begin(), t.end());
   return Ks;
 }
+
+
+// An imported element's material by its region: the (one) layer, or inclusion i.
+ElasticMaterial regionMaterial(const TissueConfig& cfg, int region, std::vector<bool>& hit) {
+  hit.assign(cfg.regions.size(), false);
+  const int layers = static_cast<int>(std::max<std::size_t>(1, cfg.layers.size()));
+  if (region < layers) return cfg.material;
+  hit.at(static_cast<std::size_t>(region - layers)) = true;
+  return cfg.regions[static_cast<std::size_t>(region - layers)].material;
+}
+
+Mesh meshOf(const TissueConfig& cfg) {
+  if (!cfg.geometry) return generateMesh(cfg.mesh);
+  TissueSpec block;
+  block.width = cfg.mesh.width;
+  return importedMesh(*cfg.geometry, needle::cornerShift(block).head<2>());
+}
+
+std::vector<bool> heldNodes(const TissueConfig& cfg, const Mesh& mesh) {
+  if (cfg.geometry && cfg.support_stiffness > 0.0)
+    throw SolverError("realtime2d: spring supports are not available on an imported mesh");
+  return cfg.geometry ? importedHeld(*cfg.geometry) : nodesOnHeldSides(mesh);
+}
 }  // namespace
 
 // ---------------------------------------------------------------------------
 Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector2d& entry, const Eigen::Vector2d& axis, double dt)
-    : mesh_(generateMesh(cfg.mesh)), cfg_(cfg) {
+    : mesh_(meshOf(cfg)), cfg_(cfg) {
   t_ = axis.normalized();
   n_ = Eigen::Vector2d(-t_.y(), t_.x());
   assignMaterials(entry);
-  const std::vector<bool> onSides = nodesOnHeldSides(mesh_);
+  const std::vector<bool> onSides = heldNodes(cfg_, mesh_);
   realtime::PathedSystem sys = assembleSupported(onSides);
   pickPath(entry, onSides);
   for (const auto& p : path_) sys.path_nodes.push_back(p.node);
@@ -69,7 +94,8 @@ void Tissue::assignMaterials(const Eigen::Vector2d& entry) {
   std::vector<bool> hit;
   for (int e = 0; e < mesh_.elementCount(); ++e) {
     ElasticMaterial& m = elem_mat_[static_cast<std::size_t>(e)];
-    m = realtime::materialAt(elementCentre(mesh_, e), cfg.material, cfg.layers, cfg.regions, hit);
+    m = cfg.geometry ? regionMaterial(cfg, cfg.geometry->region.at(static_cast<std::size_t>(e)), hit)
+                     : realtime::materialAt(elementCentre(mesh_, e), cfg.material, cfg.layers, cfg.regions, hit);
     for (std::size_t r = 0; r < cfg.regions.size(); ++r)
       for (int a = 0; a < 4 && hit[r]; ++a) inRegion[r][static_cast<std::size_t>(mesh_.quads(a, e))] = true;
     m.thickness = cfg.material.thickness;
@@ -112,6 +138,11 @@ realtime::PathedSystem Tissue::assembleSupported(const std::vector<bool>& onSide
 // Path: per depth column the node nearest to the reference axis line (axis within
 // 45 deg of the depth direction), from the entry face on; held nodes excluded.
 void Tissue::pickPath(const Eigen::Vector2d& entry, const std::vector<bool>& onSides) {
+  if (!mesh_.structured()) {
+    path_ = pathNearAxis(mesh_, onSides, entry, t_);
+    if (path_.empty()) throw SolverError("realtime2d: no free node of the imported mesh lies on the needle path");
+    return;
+  }
   if (!(t_.x() > std::sqrt(0.5) - 1e-12))
     throw SolverError("realtime2d: the needle axis must be within 45 degrees of the entry-face normal");
   for (int i = 0; i < mesh_.nx; ++i) {

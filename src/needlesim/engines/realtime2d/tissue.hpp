@@ -29,6 +29,7 @@
 #include "needlesim/engines/realtime/tissue_dynamics.hpp"
 #include "needlesim/engines/realtime2d/fe.hpp"
 #include "needlesim/engines/realtime2d/mesh.hpp"
+#include "needlesim/scenario/scenario.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::realtime2d {
@@ -62,14 +63,12 @@ struct TissueConfig : realtime::DynamicsSettings {
   // within `stiffening_radius` of the path line have E times `stiffening_factor`.
   double stiffening_factor = 1.0;
   double stiffening_radius = 0.0;  // m
+  // Imported 2D mesh (tissue.geometry, imported_mesh.hpp): replaces `mesh`; elements take the
+  // material of their region (one layer: `material`; inclusion i: regions[i].material), the
+  // held nodes are its supported far side and the sides facing across the path.
+  std::shared_ptr<const ImportedGeometry> geometry;
 };
 
-// Reference needle axis and the nodes on it.
-struct PathNode {
-  int node = 0;      // mesh node id
-  double s = 0.0;    // m, reference position along the axis from the entry point
-  double offset = 0; // m, lateral distance of the node from the axis line
-};
 
 class Tissue {
  public:
