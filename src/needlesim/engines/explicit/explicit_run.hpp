@@ -52,6 +52,7 @@ class ExplicitRun {
   std::vector<Material> regionMaterials() const;
   SolverOptions solverOptions() const;
   void setupSeam();
+  void requireSeamOnPlane() const;
   void setupCohesive();
   CohesiveLaw cohesiveLawAt(const Eigen::Vector3d& x) const;
   void fixDistalFace();

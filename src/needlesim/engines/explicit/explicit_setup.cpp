@@ -242,9 +242,10 @@ SolverOptions ExplicitRun::solverOptions() const {
 void ExplicitRun::setupSeam() {
   if (cohesive_ && !sleeve_ && (!seamOn_ || mesh_.type == ElementType::Tri3 || mesh_.type == ElementType::Tet4))
     throw InputError(sc_.where("model.explicit.cohesive"), "model.explicit.cohesive", "enable: true",
-                     "needs the pre-cut seam of a generated quad4 (2d) or hex8 (3d) mesh",
-                     "pre_cut: true, no imported mesh, element quad4 or hex8, entry_angle 90 deg, bevel_orientation "
-                     "0 or 180 deg");
+                     "needs the pre-cut seam of a quad4 (2d) or hex8 (3d) mesh",
+                     "pre_cut: true, element quad4 or hex8 (generated, or an imported mesh of them), entry_angle 90 deg, "
+                     "bevel_orientation 0 or 180 deg");
+  if (cohesive_ && !sleeve_ && sc_.tissue.geometry) requireSeamOnPlane();
   // splitSeam gives the copies to the +y lip; the bevel faces +y when bevelSide.y > 0
   const int copySide = sleeve_ || bevelSide_.y() >= 0 ? 1 : -1;  // sleeve: core side -1, outer side +1
   for (auto [a, b] : seam_) {
@@ -256,6 +257,20 @@ void ExplicitRun::setupSeam() {
     solver_->setContactSide(a, -copySide);
     solver_->setContactSide(b, copySide);
   }
+}
+
+// The cohesive zone lies on the seam plane: through an imported mesh every seam pair must have been
+// moved onto it (a node line, or plane, along the needle path), not left beside it.
+void ExplicitRun::requireSeamOnPlane() const {
+  int off = 0;
+  for (auto [a, b] : seam_) off += std::abs(mesh_.coord(a, 1) - seamY_) > 1e-12 ? 1 : 0;
+  if (off > 0)
+    throw InputError(sc_.where("model.explicit.cohesive"), "model.explicit.cohesive", "enable: true",
+                     fmt::format("explicit: {} of the {} seam node pairs through {} lie beside the seam plane y = {:.4g} mm, "
+                                 "where the cohesive zone must lie",
+                                 off, seam_.size(), sc_.tissue.geometry->file, seamY_ * 1e3),
+                     "an imported mesh with a node line (2d) or plane (3d) along the needle path, e.g. a transfinite "
+                     "band in the Gmsh script; or pre_cut without the cohesive zone");
 }
 
 // The cohesive law of a seam pair at x: G_c of the layer or inclusion there (or fracture_energy),
