@@ -270,3 +270,25 @@ TEST(GmshSurfaces, ASelfIntersectingSurfaceIsRefused) {
   EXPECT_NE(why.find("cross neither themselves nor each other"), std::string::npos) << why;
   std::filesystem::remove_all(stl.parent_path());
 }
+
+TEST(GmshSurfaces, AnObjSurfaceIsReadAndUnreadableFormatsAreRefused) {
+  // the tetrahedron of tetrahedronStl as Wavefront OBJ: a comment, texture/normal indices, a
+  // negative index; its volume exactly
+  const auto obj = writeTemp("tet.obj", "# a tetrahedron\nv 0 0 0\nv 10 0 0\nv 0 10 0\nv 0 0 10\n"
+                                        "f 1/1/1 3/1/1 2/1/1\nf 1//1 2//1 4//1\nf 1 4 3\nf 2 3 -1\n");
+  const auto m = mesh::meshSurfaces({{obj.string(), "gel"}}, 2.0);
+  EXPECT_NEAR(totalMeasure(m), 1000.0 / 6.0, 1e-9);
+  const auto bad = writeTemp("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
+  std::string why = expectRefused([&] { mesh::meshSurfaces({{bad.string(), "gel"}}, 2.0); });
+  EXPECT_NE(why.find("bad.obj:4"), std::string::npos) << why;  // the line
+  EXPECT_NE(why.find("face corner 9 names no vertex"), std::string::npos) << why;
+  // legacy VTK 5.1 (meshio 5, VTK 9) aborts Gmsh 4.8's reader: refused before it sees the file
+  const auto vtk5 = writeTemp("organ.vtk", "# vtk DataFile Version 5.1\nvtk output\nASCII\nDATASET POLYDATA\n");
+  why = expectRefused([&] { mesh::meshSurfaces({{vtk5.string(), "gel"}}, 2.0); });
+  EXPECT_NE(why.find("legacy VTK version 5.1"), std::string::npos) << why;
+  EXPECT_NE(why.find("vtk42"), std::string::npos) << why;
+  const auto vtp = writeTemp("organ.vtp", "<VTKFile type=\"PolyData\"></VTKFile>\n");
+  why = expectRefused([&] { mesh::meshSurfaces({{vtp.string(), "gel"}}, 2.0); });
+  EXPECT_NE(why.find("VTK XML"), std::string::npos) << why;
+  std::filesystem::remove_all(obj.parent_path());
+}

@@ -13,6 +13,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/closed_surface.hpp"
+#include "needlesim/mesh/surface_formats.hpp"
 
 namespace needlesim::mesh {
 
@@ -246,11 +247,23 @@ VolumeMesh readGmsh(const std::string& path, double maxElementSize) {
 
 namespace {
 
-// A surface file's triangles (Gmsh merges the vertices an STL repeats), refused when open.
+TriangleSurface closedOrRefused(const std::string& path, TriangleSurface s) {
+  if (s.triangles() == 0)
+    throw geometryError(path, "holds no triangles", "a closed triangulated surface (quadrilaterals: split them first)");
+  if (const std::string open = openEdge(s); !open.empty())
+    throw geometryError(path, "is not a closed surface: " + open,
+                        "a closed (watertight) surface, every edge shared by exactly two triangles");
+  return s;
+}
+
+// A surface file's triangles (Gmsh merges the vertices an STL repeats; OBJ is read here), refused
+// when open or in a format Gmsh's library would misread.
 TriangleSurface readSurface(const std::string& path) {
   requireFile(path);
+  if (const auto bad = surfaceFormatProblem(path)) throw geometryError(path, bad->problem, bad->allowed);
+  if (isObj(path)) return closedOrRefused(path, readObj(path));
   GmshSession session;
-  gmshCall(path, "read it", "a closed surface Gmsh reads (.stl, .ply, .vtk, .off, .obj, ...)", [&] { gmsh::merge(path); });
+  gmshCall(path, "read it", "a closed surface Gmsh reads (.stl, .ply, .vtk 4.2, .off; or .obj)", [&] { gmsh::merge(path); });
   TriangleSurface s;
   std::vector<std::size_t> tags, triangleTags, triangleNodes;
   std::vector<double> parametric;
@@ -259,12 +272,7 @@ TriangleSurface readSurface(const std::string& path) {
   for (std::size_t i = 0; i < tags.size(); ++i) index[tags[i]] = static_cast<int>(i);
   gmsh::model::mesh::getElementsByType(2, triangleTags, triangleNodes);
   for (std::size_t t : triangleNodes) s.tri.push_back(index.at(t));
-  if (s.triangles() == 0)
-    throw geometryError(path, "holds no triangles", "a closed triangulated surface (quadrilaterals: split them first)");
-  if (const std::string open = openEdge(s); !open.empty())
-    throw geometryError(path, "is not a closed surface: " + open,
-                        "a closed (watertight) surface, every edge shared by exactly two triangles");
-  return s;
+  return closedOrRefused(path, std::move(s));
 }
 
 // The surfaces as discrete Gmsh surfaces whose triangles bound the tetrahedra; one surface loop

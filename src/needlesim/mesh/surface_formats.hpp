@@ -1,0 +1,25 @@
+#pragma once
+// Surface files Gmsh's library does not read (or reads wrongly) handled before it sees them:
+// Wavefront OBJ is read here (vertices and faces; polygons split into fans), and the formats that
+// would crash or mislead it are refused with what to write instead.
+#include <optional>
+#include <string>
+
+#include "needlesim/mesh/closed_surface.hpp"
+
+namespace needlesim::mesh {
+
+// Why Gmsh must not be given this surface file, with what to write instead; nullopt when it may.
+// Legacy VTK 5.x (aborts Gmsh 4.8), VTK XML (.vtp, .vtu: not read).
+struct SurfaceFormatProblem {
+  std::string problem, allowed;
+};
+std::optional<SurfaceFormatProblem> surfaceFormatProblem(const std::string& path);
+
+bool isObj(const std::string& path);
+// The vertices and faces of a Wavefront OBJ file (v and f records; "f a/b/c ..." takes the vertex
+// index, negative indices count from the end; faces of n > 3 vertices are split into n - 2
+// triangles). Throws InputError naming the file and line on a malformed record.
+TriangleSurface readObj(const std::string& path);
+
+}  // namespace needlesim::mesh
