@@ -13,10 +13,14 @@
 #include <functional>
 #include <fstream>
 #include <numbers>
+#include <sstream>
+#include <string>
+#include <vector>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/gmsh_reader.hpp"
+#include "needlesim/mesh/vtp_reader.hpp"
 
 using namespace needlesim;
 
@@ -287,8 +291,74 @@ TEST(GmshSurfaces, AnObjSurfaceIsReadAndUnreadableFormatsAreRefused) {
   why = expectRefused([&] { mesh::meshSurfaces({{vtk5.string(), "gel"}}, 2.0); });
   EXPECT_NE(why.find("legacy VTK version 5.1"), std::string::npos) << why;
   EXPECT_NE(why.find("vtk42"), std::string::npos) << why;
-  const auto vtp = writeTemp("organ.vtp", "<VTKFile type=\"PolyData\"></VTKFile>\n");
-  why = expectRefused([&] { mesh::meshSurfaces({{vtp.string(), "gel"}}, 2.0); });
+  const auto vtu = writeTemp("organ.vtu", "<VTKFile type=\"UnstructuredGrid\"></VTKFile>\n");
+  why = expectRefused([&] { mesh::meshSurfaces({{vtu.string(), "gel"}}, 2.0); });
+  EXPECT_NE(why.find("organ.vtu"), std::string::npos) << why;
   EXPECT_NE(why.find("VTK XML"), std::string::npos) << why;
   std::filesystem::remove_all(obj.parent_path());
+}
+
+namespace {
+std::string vtpData(const std::string& name) { return std::string(NEEDLESIM_SOURCE_DIR) + "/tests/mesh/data/" + name; }
+
+std::string fileText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::ostringstream all;
+  all << in.rdbuf();
+  return all.str();
+}
+
+std::filesystem::path writeTempBinary(const std::string& name, const std::string& bytes) {
+  auto p = tempDir() / name;
+  std::ofstream(p, std::ios::binary) << bytes;
+  return p;
+}
+}  // namespace
+
+TEST(GmshSurfaces, VtpSurfacesInEveryEncodingAreRead) {
+  // written by VTK's own writer (tests/mesh/data/make_vtp.py)
+  const std::vector<std::string> encodings = {"ascii",           "binary",           "binary_zlib",
+                                              "binary_zlib_u64", "appended_raw",     "appended_zlib",
+                                              "appended_zlib_u64", "appended_base64", "appended_base64_zlib",
+                                              "v10_appended_zlib", "v10_binary"};
+  for (const auto& e : encodings) {
+    SCOPED_TRACE(e);
+    const auto m = mesh::meshSurfaces({{vtpData("tet_" + e + ".vtp"), "gel"}}, 2.0);
+    EXPECT_EQ(m.element, "tet4");
+    EXPECT_NEAR(totalMeasure(m), 1000.0 / 6.0, 1e-9);  // flat faces: the volume exactly
+  }
+  const auto ascii = mesh::readVtp(vtpData("sphere_ascii.vtp"));
+  EXPECT_EQ(ascii.xyz.size(), 3u * 50u);  // vtkSphereSource, resolution 8: 8 x 6 + 2 poles
+  EXPECT_EQ(ascii.triangles(), 96);
+  for (const auto& e : encodings) {
+    SCOPED_TRACE(e);
+    const auto s = mesh::readVtp(vtpData("sphere_" + e + ".vtp"));
+    EXPECT_EQ(s.xyz, ascii.xyz);
+    EXPECT_EQ(s.tri, ascii.tri);
+  }
+  const auto sphere = mesh::meshSurfaces({{vtpData("sphere_appended_zlib.vtp"), "gel"}}, 0.3);
+  EXPECT_NEAR(totalMeasure(sphere), 4.0 / 3.0 * std::numbers::pi, 0.15 * 4.0 / 3.0 * std::numbers::pi);
+
+  // malformed files: refused naming the file, never a crash
+  const std::string zlib = fileText(vtpData("tet_appended_zlib.vtp"));
+  const std::size_t data = zlib.find('_', zlib.find("<AppendedData")) + 1;
+  const auto refusal = [&](const std::string& name, const std::string& bytes, const std::string& expected) {
+    SCOPED_TRACE(name);
+    const auto path = writeTempBinary(name, bytes);
+    const std::string why = expectRefused([&] { mesh::meshSurfaces({{path.string(), "gel"}}, 2.0); });
+    EXPECT_NE(why.find(name), std::string::npos) << why;
+    EXPECT_NE(why.find(expected), std::string::npos) << why;
+  };
+  refusal("truncated.vtp", zlib.substr(0, data + (zlib.size() - data) / 2), "truncated");
+  std::string wrongSize = zlib;  // the points' compressed size (the 4th UInt32 of their header), 2 short
+  wrongSize[data + 12] = static_cast<char>(wrongSize[data + 12] - 2);
+  refusal("wrongsize.vtp", wrongSize, "does not inflate");
+  const std::string text = fileText(vtpData("tet_ascii.vtp"));
+  std::string grid = text;
+  grid.replace(grid.find("PolyData"), 8, "UnstructuredGrid");
+  refusal("grid.vtp", grid, "not PolyData");
+  std::string big = text;
+  big.replace(big.find("LittleEndian"), 12, "BigEndian");
+  refusal("big.vtp", big, "big-endian");
+  std::filesystem::remove_all(tempDir());
 }

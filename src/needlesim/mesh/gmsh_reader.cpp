@@ -14,6 +14,7 @@
 #include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/closed_surface.hpp"
 #include "needlesim/mesh/surface_formats.hpp"
+#include "needlesim/mesh/vtp_reader.hpp"
 
 namespace needlesim::mesh {
 
@@ -256,14 +257,15 @@ TriangleSurface closedOrRefused(const std::string& path, TriangleSurface s) {
   return s;
 }
 
-// A surface file's triangles (Gmsh merges the vertices an STL repeats; OBJ is read here), refused
-// when open or in a format Gmsh's library would misread.
+// A surface file's triangles (Gmsh merges the vertices an STL repeats; OBJ and VTK XML PolyData
+// are read here), refused when open or in a format Gmsh's library would misread.
 TriangleSurface readSurface(const std::string& path) {
   requireFile(path);
   if (const auto bad = surfaceFormatProblem(path)) throw geometryError(path, bad->problem, bad->allowed);
   if (isObj(path)) return closedOrRefused(path, readObj(path));
+  if (isVtp(path)) return closedOrRefused(path, readVtp(path));
   GmshSession session;
-  gmshCall(path, "read it", "a closed surface Gmsh reads (.stl, .ply, .vtk 4.2, .off; or .obj)", [&] { gmsh::merge(path); });
+  gmshCall(path, "read it", "a closed surface Gmsh reads (.stl, .ply, .vtk 4.2, .off; or .obj, .vtp)", [&] { gmsh::merge(path); });
   TriangleSurface s;
   std::vector<std::size_t> tags, triangleTags, triangleNodes;
   std::vector<double> parametric;

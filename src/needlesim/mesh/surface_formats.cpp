@@ -42,10 +42,10 @@ int cornerIndex(const std::string& token, int vertices, const std::string& path,
 
 std::optional<SurfaceFormatProblem> surfaceFormatProblem(const std::string& path) {
   const std::string e = extensionOf(path);
-  if (e == ".vtp" || e == ".vtu")
-    return SurfaceFormatProblem{"is a VTK XML file, which Gmsh's library does not read",
-                                "legacy VTK (.vtk, version 4.2 or older) or STL: in ParaView File > Save Data, or "
-                                "meshio.write(path, mesh, file_format=\"vtk42\")"};
+  if (e == ".vtu")
+    return SurfaceFormatProblem{"is a VTK XML unstructured grid, not a surface needlesim reads",
+                                "its surface as VTK XML PolyData (.vtp: in ParaView Extract Surface, then File > Save "
+                                "Data), legacy VTK (.vtk, version 4.2 or older) or STL"};
   if (e != ".vtk") return std::nullopt;
   std::ifstream in(path, std::ios::binary);
   std::string header;

@@ -10,7 +10,8 @@
 namespace needlesim::mesh {
 
 // Why Gmsh must not be given this surface file, with what to write instead; nullopt when it may.
-// Legacy VTK 5.x (aborts Gmsh 4.8), VTK XML (.vtp, .vtu: not read).
+// Legacy VTK 5.x (aborts Gmsh 4.8), VTK XML unstructured grids (.vtu: not read; .vtp surfaces
+// are read by mesh/vtp_reader).
 struct SurfaceFormatProblem {
   std::string problem, allowed;
 };
