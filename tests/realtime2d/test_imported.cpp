@@ -24,6 +24,7 @@
 #include "needlesim/engines/realtime2d/fe.hpp"
 #include "needlesim/forces/stiffness.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "../support/block_script.hpp"
 
 using namespace needlesim;
 using namespace needlesim::realtime2d;
@@ -39,14 +40,7 @@ std::filesystem::path dir() {
 // The generated block's 1 mm grid (21 x 21 nodes, a node row on the path y = 0) as a Gmsh
 // script in units of `scale` metres.
 void writeBlockScript(const std::string& name, double scale) {
-  std::ofstream(dir() / name) << fmt::format(R"(L = {0}; W = {0}; n = 20;
-Point(1) = {{0, -W/2, 0}}; Point(2) = {{L, -W/2, 0}}; Point(3) = {{L, W/2, 0}}; Point(4) = {{0, W/2, 0}};
-Line(1) = {{1, 2}}; Line(2) = {{2, 3}}; Line(3) = {{3, 4}}; Line(4) = {{4, 1}};
-Curve Loop(1) = {{1, 2, 3, 4}}; Plane Surface(1) = {{1}};
-Transfinite Curve {{1, 2, 3, 4}} = n + 1; Transfinite Surface {{1}}; Recombine Surface {{1}};
-Physical Surface("gel") = {{1}};
-)",
-                                             0.020 / scale);
+  std::ofstream(dir() / name) << test_support::blockScript(0.020, 20, scale);
 }
 
 // The block as Gmsh's unstructured triangles of size h (mm).
