@@ -63,39 +63,56 @@ bool bevelWedge2D(const needle::NeedleShape& sh, const needle::NeedlePose& pose,
   return true;
 }
 
+namespace {
+
+// A lip's bound across a 3D bevel's seam through the axis (along bevelSide, from the axis plane), its axial
+// slope -d(bound)/ds (the needle's axial reaction per unit lateral force: the gap's growth per unit advance of
+// the tip) and whether it is the tip (frictionless tip contact) or the shaft's outline.
+struct LipBound {
+  double a = 0.0, slope = 0.0;
+  bool tip = true;
+};
+
+// Wall-side lip: at or below the 2D virtual chisel across the chord ahead of the point, s tan(beta) - w, then the
+// lower outline -w.
+LipBound wallLipCeiling3D(double s, double w, double tb) {
+  if (s > 0.0) return {s * tb - w, tb, true};
+  return {-w, 0.0, false};
+}
+
+// Bevel-side lip: at or above
+//  - ahead of the hold (s > w / tan(beta)) the wall-side chisel mirrored about the axis plane, w - s tan(beta):
+//    below the plane, so it meets only a lip dragged down by its still-cohesive partner, and zero where the hold
+//    begins, so the gap is continuous in s (a hold switched on at s = w / tan(beta) would give a lip already below
+//    the plane the gap -a at once: work done by the contact that no energy term records);
+//  - the hold on the axis plane until the bevel face -R - s tan(alpha) rises above it, the face, the upper outline w.
+LipBound bevelLipFloor3D(double s, double w, double R, double ta, double tb) {
+  if (s > w / tb) return {w - s * tb, tb, true};
+  const double face = -R - s * ta;
+  if (face <= 0.0) return {0.0, 0.0, true};
+  if (face < w) return {face, ta, true};
+  return {w, 0.0, false};
+}
+
+}  // namespace
+
 bool bevelWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                   needle::NeedleHit& hit, double& axialPerLateral) {
   if (sh.tip != TipType::Bevel || side == 0) return false;
   const Eigen::Vector3d q = x - pose.tip, third = pose.axis.cross(pose.bevelSide);
   const double s = q.dot(pose.axis), a = q.dot(pose.bevelSide), b = q.dot(third), R = sh.radius;
-  const double ta = std::tan(sh.tipAngle);
   if (s < -sh.length || std::abs(b) >= R) return false;
-  const double w = std::sqrt(R * R - b * b);
+  const double w = std::sqrt(R * R - b * b), ta = std::tan(sh.tipAngle), tb = std::tan(needle::kLipRampAngle);
   // the opened slit: from the lower outline (reached by the wall-side chisel ahead of the point) up to the
   // axis plane, and above it the needle where it rises over the plane (the bevel face, then the upper outline)
-  double gap = 0.0, slope = 0.0;
-  const double dir = side > 0 ? 1.0 : -1.0;
-  needle::NeedleFace face = needle::NeedleFace::Tip;
-  if (side > 0) {
-    if (s > w / std::tan(needle::kLipRampAngle)) return false;
-    const double faceA = -R - s * ta, top = std::max(0.0, std::min(w, faceA));
-    gap = top - a;
-    if (top > 0.0 && faceA < w) slope = ta;
-    if (faceA >= w) face = needle::NeedleFace::OuterWall;
-  } else {
-    const double tb = std::tan(needle::kLipRampAngle);
-    gap = a + w - std::max(0.0, s) * tb;  // the chisel ahead of the point, then the lower outline
-    if (s > 0.0)
-      slope = tb;
-    else
-      face = needle::NeedleFace::OuterWall;
-  }
+  const LipBound bound = side > 0 ? bevelLipFloor3D(s, w, R, ta, tb) : wallLipCeiling3D(s, w, tb);
+  const double gap = side > 0 ? bound.a - a : a - bound.a;
   if (!(gap > 0.0)) return false;
   hit.inside = true;
   hit.depth = gap;
-  hit.normal = dir * pose.bevelSide;
-  hit.face = face;
-  axialPerLateral = slope;
+  hit.normal = (side > 0 ? 1.0 : -1.0) * pose.bevelSide;
+  hit.face = bound.tip ? needle::NeedleFace::Tip : needle::NeedleFace::OuterWall;
+  axialPerLateral = bound.slope;
   return true;
 }
 

@@ -36,10 +36,13 @@ bool bevelWedge2D(const needle::NeedleShape& shape, const needle::NeedlePose& po
 // the half chord of the outer section (|b| < R; a hollow needle is taken by its outer section):
 //  side < 0 (wall lip): ahead of the point the virtual chisel of 2D across the whole chord,
 //    gap = a + w - s tan(beta), reaction tan(beta); behind it gap = a + w (the lower outline);
-//  side > 0 (bevel lip), where the chisel reaches (s <= w / tan(beta)): held on the axis plane, then
-//    lifted to top = max(0, min(w, -R - s tan(alpha))), gap = top - a (reaction tan(alpha) on the face).
-// Both gaps are continuous in s and b (they vanish at |b| = R), so the lips end at +-w around the
-// shaft, the eye-shaped opening of the cone wedge (docs/models/cohesive.md "3D bevel").
+//  side > 0 (bevel lip), gap = top - a: where the chisel reaches (s <= w / tan(beta)) held on the axis
+//    plane, then lifted to top = max(0, min(w, -R - s tan(alpha))) (reaction tan(alpha) on the face);
+//    ahead of that the chisel mirrored about the plane, top = w - s tan(beta) (reaction tan(beta)).
+// Both gaps are continuous in s, so the lips end at +-w around the shaft, the eye-shaped opening of
+// the cone wedge (docs/models/cohesive.md "3D bevel"). x: the node's position with its displacements
+// along the axis and along the seam removed (solver.cpp), so the gap changes with the current
+// position only across the seam and the lateral push is its gradient.
 bool bevelWedge3D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                   needle::NeedleHit& hit, double& axialPerLateral);
 

@@ -89,6 +89,13 @@ std::string fmtNum(double v) {
   return o.str();
 }
 
+// x less the node's displacement u (dim components) along the unit direction e.
+Vector3d lessDisplacementAlong(const Vector3d& x, const double* u, int dim, const Vector3d& e) {
+  double ue = 0.0;
+  for (int i = 0; i < dim; ++i) ue += u[i] * e[i];
+  return x - ue * e;
+}
+
 }  // namespace
 
 ExplicitSolver::ExplicitSolver(Mesh mesh, std::vector<Material> materials, SolverOptions options)
@@ -550,9 +557,15 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
                    (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel);
   if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
       (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
-    double uAx = 0.0;
-    for (int i = 0; i < d; ++i) uAx += u_[static_cast<std::size_t>(n) * d + i] * pose.axis[i];
-    const Vector3d xw = x - uAx * pose.axis;
+    // the gap at the node's reference axial station; for the 3D bevel's seam through the axis also at its
+    // reference coordinate along the seam, which sets the half chord sqrt(R^2 - b^2): the gap then varies
+    // with the current position only across the seam, where the lip is pushed, so the push k gap is the
+    // gradient of the penalty potential 1/2 k gap^2 (Wriggers, Computational Contact Mechanics, 2006) and
+    // the needle's reaction its time derivative (docs/models/cohesive.md "3D: the seam plane and the cone wedge")
+    const double* un = &u_[static_cast<std::size_t>(n) * d];
+    Vector3d xw = lessDisplacementAlong(x, un, d, pose.axis);
+    if (!planar && nd.shape.tip == TipType::Bevel && sleeveRadius_ <= 0)
+      xw = lessDisplacementAlong(xw, un, d, pose.axis.cross(pose.bevelSide));
     needle::NeedleHit wh;
     const Vector3d xRef(mesh_.X[static_cast<std::size_t>(n) * d], mesh_.X[static_cast<std::size_t>(n) * d + 1],
                         d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
