@@ -153,6 +153,38 @@ TEST(NeedleSurface, CrackLipSideChoosesTheLipsOwnFace) {
   EXPECT_FALSE(needle::queryNeedle(sh, pose, {0.5e-3, -R + lift, 0}, true, -1).inside);  // below the ramp
 }
 
+// 2D, 80 deg bevel: the bevel-side lip meets the bevel face continued across the cut line, so its
+// depth is continuous there. A hair above the cut line 0.05 mm behind the sharp point it leaves through
+// the bevel (depth ~ 0.05 mm sin 80 deg); a hair below it the depth is the same, not 0 (a jump of
+// k d^2 / 2 at each crossing: seed 004 Fig 13's 80 deg row, needle balance 77 %).
+TEST(NeedleSurface, InTwoDimensionsTheBevelSideLipSeesTheBevelFaceAcrossTheCutLine) {
+  NeedleSpec ns;
+  ns.outer_diameter = 2e-3;
+  ns.length = 0.02;
+  ns.bevel_angle = 80.0 * M_PI / 180.0;
+  const auto sh = needle::NeedleShape::fromSpec(ns);
+  needle::NeedlePose pose;  // sharp point at (0, -R)
+  const double R = sh.radius, s = -0.05e-3, eps = 1e-9;
+  const double sa = std::sin(ns.bevel_angle), ca = std::cos(ns.bevel_angle);
+  for (double a : {-R + eps, -R - eps, -R - 0.01e-3}) {
+    const auto h = needle::queryNeedle(sh, pose, {s, a, 0}, true, +1);
+    ASSERT_TRUE(h.inside) << a;
+    EXPECT_EQ(h.face, needle::NeedleFace::Tip);
+    EXPECT_NEAR(h.depth, -(sa * s + ca * (a + R)), 1e-15);
+    EXPECT_NEAR(h.normal.x(), sa, 1e-12);
+    EXPECT_NEAR(h.normal.y(), ca, 1e-12);
+  }
+  // ahead of the point below the cut line: inside only under the continued face (a + R < -s tan(alpha))
+  EXPECT_TRUE(needle::queryNeedle(sh, pose, {1e-6, -R - 10e-6, 0}, true, +1).inside);
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {1e-6, -R - 5e-6, 0}, true, +1).inside);
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {1e-6, -R + 5e-6, 0}, true, +1).inside);
+  // the wall-side lip and the nearest-exit rule still see the lower wall (outside below the cut line)
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {s, -R - eps, 0}, true, -1).inside);
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {s, -R - eps, 0}, true, 0).inside);
+  // 3D keeps its reach rule (InThreeDimensionsALipNodeUnderTheWallLeavesThroughIt)
+  EXPECT_FALSE(needle::queryNeedle(sh, pose, {s, -R - eps, 0}, false, +1).inside);
+}
+
 TEST(NeedleSurface, InThreeDimensionsALipNodeUnderTheWallLeavesThroughIt) {
   // 18 G hollow needle, 20 deg bevel; a bevel-side lip node (side +1) 0.75 mm behind the sharp
   // point, off the axis plane (b = -0.0877 mm), 0.1 um inside the lower outer wall: the sliver

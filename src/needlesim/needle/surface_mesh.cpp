@@ -40,6 +40,23 @@ Local toLocal(const NeedlePose& pose, const Vector3d& p, bool planar) {
   l.rhat = l.r > 1e-300 ? Vector3d((l.a * pose.bevelSide + l.b * third) / l.r) : pose.bevelSide;
   return l;
 }
+// 2D (plane through the axis), bevel-side lip: the lower wall is its forbidden exit (header), so the
+// needle this lip sees has no lower wall; its bevel face continues across the cut line. With the lower
+// wall as a boundary the depth would jump from 0 (a hair below the cut line, outside) to the bevel
+// margin, ~ sin(alpha) x the distance behind the sharp point (a hair above it, inside): penalty energy
+// U = k d^2 / 2 (contact/penalty.hpp) out of nothing at every crossing (seed 004 Fig 13, 80 deg bevel:
+// the entry corner node crosses back and forth; needle energy balance 77 % that way). On the continued face the
+// depth is the bevel plane's margin m = -(s sin(alpha) + (a + R) cos(alpha)) (the plane of the header)
+// wherever the lip is, so the force k m n is -dU/dx and does no work over a closed path; the face stands
+// in for the wall-side lip's material under the bevel-side lip at the point, as the chisel does for
+// the wall-side lip.
+bool bevelFaceContinued(const NeedleShape& sh, bool planar, int side) {
+  return planar && side > 0 && sh.tip == TipType::Bevel;
+}
+
+// The region of the continued face: across the needle's width plus one radius below the cut line
+// (a lip node further below would have broken the penetration tolerance long before).
+bool withinContinuedFace(double a, double R) { return a <= R && a >= -2.0 * R; }
 }  // namespace
 
 NeedleHit queryNeedle(const NeedleShape& sh, const NeedlePose& pose, const Vector3d& p, bool planar, int side) {
@@ -58,8 +75,10 @@ NeedleHit queryNeedle(const NeedleShape& sh, const NeedlePose& pose, const Vecto
     h.face = NeedleFace::Tip;
     return h;
   }
-  // Quick rejection: outside the bounding cylinder.
-  if (l.s > 0.0 || l.s < -sh.length || l.r > R) return h;
+  // Quick rejection: outside the bounding cylinder (for a 2D bevel-side lip: the needle with its bevel
+  // face continued below the cut line, see bevelFaceContinued).
+  if (bevelFaceContinued(sh, planar, side) ? !withinContinuedFace(l.a, R) : l.s > 0.0 || l.r > R) return h;
+  if (l.s < -sh.length) return h;
   // Crack-lip hint (see the header): a lip never leaves through the other lip's side of the sharp point.
   const bool lowerWall = l.rhat.dot(pose.bevelSide) < 0.0;
   const bool wallAllowed = !(side > 0 && lowerWall);

@@ -58,7 +58,9 @@ struct NeedleHit {
 // lip node a hair on the wrong side would be scooped onto the other lip's face and
 // dragged along (it stopped 2D quad insertions on hourglassing near the entry).
 // side < 0 (the lip on the wall side, -bevelSide): never leaves through the bevel;
-// side > 0 (the bevel-side lip): never through the wall half facing -bevelSide;
+// side > 0 (the bevel-side lip): never through the wall half facing -bevelSide (2D: that lip
+// sees no lower wall but the bevel face continued across the cut line, one radius deep, so its
+// depth stays continuous where it crosses the cut line behind the sharp point);
 // 0: nearest exit. If no allowed exit exists the nearest one is used. A side < 0 node
 // ahead of the sharp point meets a virtual chisel: the ramp a = -R + s tan(kLipRampAngle)
 // from the sharp point (face Tip), so a lip lifted above the cut line is pushed under
