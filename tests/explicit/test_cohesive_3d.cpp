@@ -183,7 +183,7 @@ TEST(Cohesive3dInsertion, ConeWedgesSeamOpenAndDissipationMatchesGcTimesCrackedA
 }
 
 // The same cut with the conservative penalty (fixed_contact_stiffness): the needle work balances kinetic +
-// internal + cohesive + friction + penalty energy within 6.3 % in 3D (the 3D cone wedge leaves the part of the
+// internal + cohesive + friction + penalty energy: measured 1.4 % in 3D (the 3D cone wedge leaves the part of the
 // gap's gradient along the seam off the lips; 37 % with k following the step).
 TEST(Cohesive3dInsertion, NeedleEnergyBalanceWithFixedContactStiffness) {
   MemorySink r = runInMemory(scenario::readText(insertion3dYaml("    fixed_contact_stiffness: true\n"), "<c3dk>"));
@@ -193,14 +193,14 @@ TEST(Cohesive3dInsertion, NeedleEnergyBalanceWithFixedContactStiffness) {
               r.results.at("cohesive_dissipation").value, r.results.at("cracked_area").value * 1e6,
               r.results.at("needle_energy_balance_error").value);
   EXPECT_GT(r.results.at("cracked_area").value, 2e-6);
-  EXPECT_LT(r.results.at("needle_energy_balance_error").value, 0.08);
+  EXPECT_LT(r.results.at("needle_energy_balance_error").value, 0.05);  // the defaults' tolerance
   EXPECT_LT(r.results.at("energy_balance_error").value, 1e-9);
 }
 
 // The same cut on the default contact settings (each node's penalty kept over its contact episode,
 // solver.cpp episodeStiffness): the needle work balances within 5 %. What is left is the cone wedge's
 // force, which leaves the along-seam part b/c of the gap's gradient off the lips (docs/models/cohesive.md):
-// not the gradient of 1/2 k gap^2, so its work differs from the stored energy's change (measured 4.0 %;
+// not the gradient of 1/2 k gap^2, so its work differs from the stored energy's change (measured 1.8 %;
 // 37 % with k following the shrinking step).
 TEST(Cohesive3dInsertion, NeedleEnergyBalanceOnDefaults) {
   MemorySink r = runInMemory(scenario::readText(insertion3dYaml(), "<c3d>"));
