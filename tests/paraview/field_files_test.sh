@@ -34,15 +34,18 @@ need() {  # program, Debian package
 open_in_paraview() {
   need pvpython python3-paraview
   need Xvfb xvfb
-  # pvpython that dies on a signal (Debian's 5.11 aborts now and then on its X connection) is
-  # run once more against a fresh Xvfb; a file that does not open (exit 1) is a failure at once.
-  local rc=0
-  open_once || rc=$?
-  if [ "$rc" -ge 128 ]; then
-    echo "pvpython died on signal $((rc - 128)); once more with a fresh Xvfb"
+  # pvpython that dies on a signal (Debian's 5.11 aborts now and then on its X connection, more
+  # often on a loaded machine) is run again against a fresh Xvfb, up to three times in all; a file
+  # that does not open (exit 1) is a failure at once.
+  local rc=0 attempt
+  for attempt in 1 2 3; do
     rc=0
     open_once || rc=$?
-  fi
+    [ "$rc" -ge 128 ] || break
+    echo "pvpython died on signal $((rc - 128)) (attempt $attempt of 3); Xvfb said:"
+    cat "$work/xvfb.log"
+    sleep 1
+  done
   return $rc
 }
 
