@@ -3,6 +3,9 @@
 // graded towards the needle path, 41 x 16 x 16 = 10,496 nodes (61,500 tets), reduced back-end.
 // The session is first warmed to 50 mm of insertion (needle 50 mm in); the timed steps then
 // move the needle 50 -> 55 -> 50 mm at 3 mm/s (insertion and retraction, force out each step).
+// The field benchmarks time the viewer's field of needlesim serve on the same warmed block: the
+// snapshot the physics thread copies every 16 steps, and the full displacement a viewer thread
+// rebuilds from it.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -31,9 +34,48 @@ void run(benchmark::State& state, int nx, int nl, Backend b) {
   state.counters["coupled"] = s.last().coupled;
   state.counters["path_dofs"] = s.tissue().dynamics().pathDofs();
 }
+
+// The 10,496-node block warmed to 50 mm as above, built once for the field benchmarks.
+Session& warmedBlock() {
+  static Session* s = [] {
+    Eigen::setNbThreads(1);
+    auto* block = new Session(gelatinBlockConfig(41, 16, Backend::Reduced));
+    double depth = -1e-3;
+    while (depth < 0.05) block->step(block->poseAtDepth(depth += 10e-3 * 1e-3), 1e-3);
+    return block;
+  }();
+  return *s;
+}
+
+void fieldSnapshot(benchmark::State& state) {
+  const Session& s = warmedBlock();
+  needlesim::realtime::DisplacementState saved;
+  for (auto _ : state) {
+    s.saveDisplacement(saved);
+    benchmark::DoNotOptimize(saved.coordinates.data());
+  }
+  state.counters["modes"] = static_cast<double>(saved.coordinates.size());
+  state.counters["path_loads"] = static_cast<double>(saved.residual.size());
+}
+
+void fieldFromSnapshot(benchmark::State& state) {
+  const Session& s = warmedBlock();
+  needlesim::realtime::DisplacementState saved;
+  s.saveDisplacement(saved);
+  Eigen::VectorXd u;
+  for (auto _ : state) {
+    s.displacementFrom(saved, u);
+    benchmark::DoNotOptimize(u.data());
+  }
+  state.counters["dofs"] = static_cast<double>(u.size());
+}
 }  // namespace
 
 static void BM_Block10496_Reduced(benchmark::State& st) { run(st, 41, 16, Backend::Reduced); }
 BENCHMARK(BM_Block10496_Reduced)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+static void BM_Block10496_FieldSnapshot(benchmark::State& st) { fieldSnapshot(st); }
+BENCHMARK(BM_Block10496_FieldSnapshot)->Unit(benchmark::kMicrosecond)->MinTime(1.0);
+static void BM_Block10496_FieldFromSnapshot(benchmark::State& st) { fieldFromSnapshot(st); }
+BENCHMARK(BM_Block10496_FieldFromSnapshot)->Unit(benchmark::kMillisecond)->MinTime(1.0);
 
 BENCHMARK_MAIN();

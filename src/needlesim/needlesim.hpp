@@ -180,6 +180,24 @@ struct SurfaceField {
   std::string scalarUnit = "m";
 };
 
+// The state a surface field is computed from, copied out of a Session by snapshotField: small
+// for the reduced and modal back-ends (modal coordinates and filtered path loads), the
+// displacement for the direct one, nothing for lumped. Move-only; reuse one to copy into it
+// without allocating.
+class NEEDLESIM_API FieldSnapshot {
+ public:
+  FieldSnapshot();
+  ~FieldSnapshot();
+  FieldSnapshot(FieldSnapshot&&) noexcept;
+  FieldSnapshot& operator=(FieldSnapshot&&) noexcept;
+  bool empty() const { return !impl_; }  // never filled
+
+ private:
+  friend class Session;
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
 // Steps the `realtime2d` engine (2D FE tissue and a flexible needle), the `realtime3d` engine
 // (tetrahedral block, needle bending in two planes) or the `lumped` force model under the
 // caller's control, e.g. in a 1 kHz haptic loop. Other engines: InputError. Move-only.
@@ -213,6 +231,14 @@ class NEEDLESIM_API Session {
   Surface surface() const;
   // Fills `field` for the current step (reuses its storage; sized for surface()).
   void surfaceField(SurfaceField& field) const;
+  // The same field in two parts, so that a control loop does not compute it: snapshotField
+  // copies the state of the current step (cheap; no allocation once `snapshot` holds one of this
+  // session), and surfaceField(snapshot, field) computes the field from it. The second reads
+  // only what step() leaves unchanged (mesh, mode shapes, path flexibility), so another thread
+  // may run it while step() runs, though not during reset(), a move or the destructor.
+  // InputError for an empty snapshot or one of a session with another mesh.
+  void snapshotField(FieldSnapshot& snapshot) const;
+  void surfaceField(const FieldSnapshot& snapshot, SurfaceField& field) const;
   std::vector<double> needleCentreLine(int points = 41) const;  // m, x y z per point, points >= 2
 
  private:

@@ -2,6 +2,7 @@
 // this test program links only the shared library needlesim::needlesim.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -200,6 +201,63 @@ TEST(ApiSession, SurfaceFieldAndNeedleForAViewer) {
   const auto straight = lumped.needleCentreLine(2);
   EXPECT_DOUBLE_EQ(straight[3], 0.01);  // the tip at the depth
   EXPECT_THROW(lumped.needleCentreLine(1), api::InputError);
+}
+
+namespace {
+double largestDifference(const std::vector<double>& a, const std::vector<double>& b) {
+  double d = a.size() == b.size() ? 0.0 : std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < std::min(a.size(), b.size()); ++i) d = std::max(d, std::abs(a[i] - b[i]));
+  return d;
+}
+double largest(const std::vector<double>& a) {
+  double m = 0.0;
+  for (double v : a) m = std::max(m, std::abs(v));
+  return m;
+}
+}  // namespace
+
+// A viewer's field in two parts (needlesim serve computes it off the physics thread): the field
+// computed from a snapshot is the one surfaceField gave at the snapshot's step, to round-off, for
+// every engine and back-end, though the session has stepped on; a snapshot of another mesh, or
+// none, is refused.
+TEST(ApiSession, FieldFromASnapshotIsTheFieldOfItsStep) {
+  const api::Scenario block = api::Scenario::fromFile(kExamples / "realtime3d/quick_block.yaml")
+                                  .with({{"model.realtime3d.nodes_depth", "7"},
+                                         {"model.realtime3d.nodes_lateral", "5"},
+                                         {"model.realtime3d.nodes_height", "5"}});
+  const std::vector<std::pair<std::string, api::Scenario>> cases = {
+      {"realtime3d reduced", block.with("model.realtime3d.solver", "reduced")},
+      {"realtime3d direct", block.with("model.realtime3d.solver", "direct")},
+      {"realtime3d modal", block.with("model.realtime3d.solver", "modal")},
+      {"realtime2d", shortRealtime2d("20 mm")},
+      {"lumped", api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml")}};
+  for (const auto& [name, scenario] : cases) {
+    api::Session s(scenario);
+    for (int k = 1; k <= 600; ++k) s.step(1e-5 * k, 1e-3);  // 6 mm in
+    api::FieldSnapshot snapshot;
+    EXPECT_TRUE(snapshot.empty());
+    s.snapshotField(snapshot);
+    EXPECT_FALSE(snapshot.empty());
+    api::SurfaceField then;
+    s.surfaceField(then);
+    for (int k = 601; k <= 800; ++k) s.step(1e-5 * k, 1e-3);  // on to 8 mm
+    api::SurfaceField fromSnapshot, now;
+    s.surfaceField(snapshot, fromSnapshot);
+    s.surfaceField(now);
+    const double scale = largest(then.displacement);
+    if (name != "lumped") EXPECT_GT(scale, 1e-6) << name;
+    EXPECT_LE(largestDifference(fromSnapshot.displacement, then.displacement), 1e-12 * scale) << name;
+    EXPECT_LE(largestDifference(fromSnapshot.scalar, then.scalar), 1e-12 * scale) << name;
+    EXPECT_EQ(fromSnapshot.scalarName, then.scalarName);
+    if (name != "lumped") EXPECT_GT(largestDifference(now.displacement, then.displacement), 1e-3 * scale) << name;
+  }
+  api::Session small(shortRealtime2d("2 mm")), other(block);
+  api::SurfaceField field;
+  EXPECT_THROW(small.surfaceField(api::FieldSnapshot{}, field), api::InputError);
+  api::FieldSnapshot ofTheBlock;
+  other.snapshotField(ofTheBlock);
+  const std::string wrong = messageOf<api::InputError>([&] { small.surfaceField(ofTheBlock, field); });
+  EXPECT_NE(wrong.find("another mesh"), std::string::npos) << wrong;
 }
 
 // realtime3d through the public Session: the engine run's forces step by step, 3D arrays, the

@@ -1,7 +1,8 @@
 // The live session layer of needlesim serve (src/needlesim/live): pose motion, the haptic
-// protocol's packets, the physics thread, recording and replay.
+// protocol's packets, the physics thread, the viewer thread's field, recording and replay.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -166,4 +167,63 @@ TEST(LiveSession, Realtime3dTakesTheTiltAndReplays) {
   EXPECT_EQ(again.engine(), "realtime3d");
   EXPECT_LT(live::largestDifference(replayed.forcesTable(true), dir / "forces.csv"), 1e-9);
   fs::remove_all(dir);
+}
+
+// The physics thread's work per step only snapshots the viewer's field: physics steps run
+// without the viewer thread (advance) compute no field and leave the published one as it was;
+// the viewer thread then computes the field of the latest snapshot, which is the field a session
+// stepped through the same commands gives at that step (the reduced back-end of a 3D block).
+TEST(LiveSession, PhysicsStepsOnlySnapshotTheFieldTheViewerThreadComputesIt) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 0.02;
+  settings.limits.maxDepth = 0.0;
+  const api::Scenario scenario = api::Scenario::fromFile(fs::path(NEEDLESIM_SOURCE_DIR) / "examples/realtime3d/quick_block.yaml")
+                                     .with("model.realtime3d.solver", "reduced");
+  live::LiveSession session(scenario, settings);
+  live::Frame initial;
+  session.frame(initial);
+  EXPECT_EQ(initial.fields, 0u);
+  session.setDrive({1.0});
+  session.advance(400);  // 8 mm in at 20 mm/s: 25 field snapshots
+  live::Frame physicsOnly;
+  session.frame(physicsOnly);
+  EXPECT_EQ(physicsOnly.latest.step, 400u);
+  EXPECT_GT(physicsOnly.latest.state.depth, 5e-3);
+  EXPECT_EQ(physicsOnly.fields, 0u);  // the physics work computed none
+  EXPECT_EQ(physicsOnly.fieldStep, 0u);
+  EXPECT_EQ(physicsOnly.field.displacement, initial.field.displacement);
+  EXPECT_EQ(physicsOnly.needle, initial.needle);
+
+  session.setDrive({});
+  session.start();
+  live::Frame viewed;
+  for (int wait = 0; wait < 500 && viewed.fields == 0; ++wait) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    session.frame(viewed);
+  }
+  session.stop();
+  session.frame(viewed);
+  ASSERT_GE(viewed.fields, 1u);
+  EXPECT_GE(viewed.fieldStep, 400u);
+  EXPECT_EQ(viewed.fieldStep % static_cast<std::uint64_t>(settings.fieldEvery), 0u);
+  EXPECT_GT(viewed.fieldCost, 0.0);
+
+  api::Session reference(scenario);  // the recorded commands up to the field's step
+  const auto& rows = session.log().rows();
+  ASSERT_GE(rows.size(), viewed.fieldStep);
+  for (std::size_t k = 0; k < viewed.fieldStep; ++k) reference.step(live::commandFor(rows[k].pose), rows[k].dt);
+  api::SurfaceField expected;
+  reference.surfaceField(expected);
+  ASSERT_EQ(viewed.field.displacement.size(), expected.displacement.size());
+  double scale = 0.0, difference = 0.0;
+  for (std::size_t i = 0; i < expected.displacement.size(); ++i) {
+    scale = std::max(scale, std::abs(expected.displacement[i]));
+    difference = std::max(difference, std::abs(viewed.field.displacement[i] - expected.displacement[i]));
+  }
+  EXPECT_GT(scale, 1e-6);
+  EXPECT_LE(difference, 1e-12 * scale);
+  const std::vector<double> needle = reference.needleCentreLine();
+  ASSERT_EQ(viewed.needle.size(), needle.size());
+  for (std::size_t i = 0; i < needle.size(); ++i) EXPECT_NEAR(viewed.needle[i], needle[i], 1e-12);
 }

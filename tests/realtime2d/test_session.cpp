@@ -180,11 +180,14 @@ TEST(Realtime2dSession, DeterministicAndAllocationFree) {
   c.tissue.reduced_max_modes = 30;
   c.puncture_force = 0.02;
   Session a(c), b(c);
+  needlesim::realtime::DisplacementState saved;  // a viewer's snapshot, sized once
+  a.saveDisplacement(saved);
   long during = 0;
   for (int n = 1; n <= 6000; ++n) {
     const auto pose = a.poseAtDepth(-1e-3 + 3e-3 * n * c.dt, 0.0, 0.0, 0.0);
     const long before = g_mallocs.load();
     const auto& ra = a.step(pose, c.dt);
+    if (n % 16 == 0) a.saveDisplacement(saved);
     during += g_mallocs.load() - before;
     const auto& rb = b.step(pose, c.dt);
     ASSERT_EQ(ra.force, rb.force);
@@ -192,6 +195,9 @@ TEST(Realtime2dSession, DeterministicAndAllocationFree) {
   }
   EXPECT_EQ(during, 0) << "variant " << variant << " mallocs " << during;
   EXPECT_EQ(a.displacement(), b.displacement());
+  Eigen::VectorXd rebuilt;  // the last snapshot is of the last step (6000 = 16 x 375)
+  a.displacementFrom(saved, rebuilt);
+  EXPECT_LT((rebuilt - a.displacement()).cwiseAbs().maxCoeff(), 1e-12 * a.displacement().cwiseAbs().maxCoeff());
   }
 }
 

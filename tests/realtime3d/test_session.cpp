@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <numbers>
+#include <thread>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/realtime3d/session.hpp"
@@ -151,11 +152,14 @@ TEST(Realtime3dSession, DeterministicAndAllocationFree) {
     if (b != Backend::Modal) c.tissue.prony = {{0.3, 0.5}, {0.2, 5.0}};
     c.tissue.reduced_max_modes = 20;
     Session a(c), bb(c);
+    needlesim::realtime::DisplacementState saved;  // a viewer's snapshot, sized once
+    a.saveDisplacement(saved);
     long during = 0;
     for (int n = 1; n <= 3000; ++n) {
       const auto pose = a.poseAtDepth(-1e-3 + 6e-3 * n * c.dt, 0, 0, 0.0, 0.0, n > 2000 ? 1.0 : 0.0);
       const long before = g_mallocs.load();
       const auto& ra = a.step(pose, c.dt);
+      if (n % 16 == 0) a.saveDisplacement(saved);
       during += g_mallocs.load() - before;
       const auto& rb = bb.step(pose, c.dt);
       ASSERT_EQ(ra.force, rb.force);
@@ -163,6 +167,38 @@ TEST(Realtime3dSession, DeterministicAndAllocationFree) {
     }
     EXPECT_EQ(during, 0) << "backend " << int(b) << " mallocs " << during;
     EXPECT_EQ(a.displacement(), bb.displacement());
+  }
+}
+
+// The displacement rebuilt from a snapshot (saveDisplacement) is the field of the snapshot's step,
+// to round-off, node by node as nodeDisplacement gives it, for every back-end, also when it is
+// computed in another thread while the session steps on.
+TEST(Realtime3dSession, DisplacementFromASnapshotIsTheFieldOfItsStep) {
+  for (Backend b : {Backend::Modal, Backend::Reduced, Backend::Direct}) {
+    auto c = small(9, 5, b);
+    c.tissue.reduced_max_modes = 20;
+    Session s(c);
+    EXPECT_EQ(s.tissue().dynamics().backend(), b);
+    int n = 0;
+    auto insert = [&](int steps) {
+      for (int k = 0; k < steps; ++k, ++n) s.step(s.poseAtDepth(-1e-3 + 6e-3 * n * c.dt, 0, 0, 0.0, 0.0, n > 1500 ? 1.0 : 0.0), c.dt);
+    };
+    insert(1600);  // in, and the bevel turned
+    needlesim::realtime::DisplacementState saved;
+    s.saveDisplacement(saved);
+    Eigen::VectorXd byNode(3 * s.mesh().nodes());  // one node at a time, before the full field is built
+    for (int node = 0; node < s.mesh().nodes(); ++node) byNode.segment<3>(3 * node) = s.tissue().nodeDisplacement(node);
+    const Eigen::VectorXd then = s.displacement();
+    const double scale = then.cwiseAbs().maxCoeff();
+    ASSERT_GT(scale, 1e-6);
+    EXPECT_LT((byNode - then).cwiseAbs().maxCoeff(), 1e-12 * scale) << "backend " << int(b);
+    Eigen::VectorXd rebuilt;
+    std::thread viewer([&] { s.displacementFrom(saved, rebuilt); });
+    insert(400);  // the session steps on meanwhile
+    viewer.join();
+    ASSERT_EQ(rebuilt.size(), then.size());
+    EXPECT_LT((rebuilt - then).cwiseAbs().maxCoeff(), 1e-12 * scale) << "backend " << int(b);
+    EXPECT_GT((s.displacement() - then).cwiseAbs().maxCoeff(), 1e-3 * scale);  // the session has moved on
   }
 }
 

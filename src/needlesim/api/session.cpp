@@ -125,6 +125,12 @@ struct Session::Impl {
     return *fe;
   }
   bool threeD() const { return fe3.has_value(); }
+  // Values of the full displacement: dimension x nodes of the FE mesh, 0 for lumped.
+  std::size_t displacementValues() const {
+    if (fe3) return fe3->mesh().X.size();
+    if (fe) return 2 * static_cast<std::size_t>(fe->mesh().nodeCount());
+    return 0;
+  }
 };
 
 Session::Session(const Scenario& scenario) : impl_(detail::translated([&] { return std::make_unique<Impl>(scenario); })) {}
@@ -212,27 +218,91 @@ Surface Session::surface() const {
   });
 }
 
-void Session::surfaceField(SurfaceField& field) const {
-  field.scalarName = "|u|";
-  field.scalarUnit = "m";
-  if (impl_->threeD()) {
-    const Eigen::VectorXd& u = impl_->fe3->displacement();  // x y z per node
-    const std::size_t n = static_cast<std::size_t>(u.size() / 3);
-    field.displacement.assign(u.data(), u.data() + u.size());
-    field.scalar.resize(n);
-    for (std::size_t i = 0; i < n; ++i) field.scalar[i] = u.segment<3>(static_cast<Eigen::Index>(3 * i)).norm();
-    return;
-  }
-  const std::size_t n = impl_->fe ? static_cast<std::size_t>(impl_->fe->mesh().nodeCount()) : 4;
+namespace {
+
+// The viewer's field of a 3D displacement (x y z per node) and its magnitude.
+void fieldOf3d(const Eigen::VectorXd& u, SurfaceField& field) {
+  const std::size_t n = static_cast<std::size_t>(u.size() / 3);
+  field.displacement.assign(u.data(), u.data() + u.size());
+  field.scalar.resize(n);
+  for (std::size_t i = 0; i < n; ++i) field.scalar[i] = u.segment<3>(static_cast<Eigen::Index>(3 * i)).norm();
+}
+
+// The viewer's field of a 2D displacement (x y per node), in z = 0.
+void fieldOf2d(const Eigen::VectorXd& u, SurfaceField& field) {
+  const std::size_t n = static_cast<std::size_t>(u.size() / 2);
   field.displacement.assign(3 * n, 0.0);
-  field.scalar.assign(n, 0.0);
-  if (!impl_->fe) return;
-  const Eigen::VectorXd& u = impl_->fe->displacement();
+  field.scalar.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
     field.displacement[3 * i] = u[2 * i];
     field.displacement[3 * i + 1] = u[2 * i + 1];
     field.scalar[i] = std::hypot(u[2 * i], u[2 * i + 1]);
   }
+}
+
+// The lumped model's plane (4 vertices) does not move.
+void stillField(SurfaceField& field) {
+  field.displacement.assign(12, 0.0);
+  field.scalar.assign(4, 0.0);
+}
+
+void nameField(SurfaceField& field) {
+  field.scalarName = "|u|";
+  field.scalarUnit = "m";
+}
+
+}  // namespace
+
+struct FieldSnapshot::Impl {
+  realtime::DisplacementState displacement;
+  std::size_t values = 0;  // the taking session's displacement values (dimension x nodes; 0 for lumped)
+};
+
+FieldSnapshot::FieldSnapshot() = default;
+FieldSnapshot::~FieldSnapshot() = default;
+FieldSnapshot::FieldSnapshot(FieldSnapshot&&) noexcept = default;
+FieldSnapshot& FieldSnapshot::operator=(FieldSnapshot&&) noexcept = default;
+
+void Session::surfaceField(SurfaceField& field) const {
+  nameField(field);
+  if (impl_->fe3)
+    fieldOf3d(impl_->fe3->displacement(), field);
+  else if (impl_->fe)
+    fieldOf2d(impl_->fe->displacement(), field);
+  else
+    stillField(field);
+}
+
+void Session::snapshotField(FieldSnapshot& snapshot) const {
+  if (!snapshot.impl_) snapshot.impl_ = std::make_unique<FieldSnapshot::Impl>();
+  FieldSnapshot::Impl& taken = *snapshot.impl_;
+  taken.values = impl_->displacementValues();
+  if (impl_->fe3)
+    impl_->fe3->saveDisplacement(taken.displacement);
+  else if (impl_->fe)
+    impl_->fe->saveDisplacement(taken.displacement);
+}
+
+void Session::surfaceField(const FieldSnapshot& snapshot, SurfaceField& field) const {
+  detail::translated([&] {
+    if (snapshot.empty())
+      detail::argumentError("Session::surfaceField", "snapshot", "empty", "holds no state", "a snapshot filled by snapshotField");
+    if (snapshot.impl_->values != impl_->displacementValues())
+      detail::argumentError("Session::surfaceField", "snapshot", fmt::format("{} displacement values", snapshot.impl_->values),
+                            fmt::format("is of another mesh than this session's ({} values)", impl_->displacementValues()),
+                            "a snapshot filled by snapshotField of this session or one of the same scenario");
+    nameField(field);
+    Eigen::VectorXd u;
+    if (impl_->fe3) {
+      impl_->fe3->displacementFrom(snapshot.impl_->displacement, u);
+      fieldOf3d(u, field);
+    } else if (impl_->fe) {
+      impl_->fe->displacementFrom(snapshot.impl_->displacement, u);
+      fieldOf2d(u, field);
+    } else {
+      stillField(field);
+    }
+  });
 }
 
 std::vector<double> Session::needleCentreLine(int points) const {

@@ -3,11 +3,32 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <stdexcept>
+
+#ifdef __linux__
+#include <pthread.h>
+#include <sched.h>
+#include <sys/resource.h>
+#include <unistd.h>
+#endif
 
 namespace needlesim::live {
 
 namespace {
 using Clock = std::chrono::steady_clock;
+
+double secondsSince(Clock::time_point before) { return std::chrono::duration<double>(Clock::now() - before).count(); }
+
+// Makes the calling thread yield to the physics thread: the batch policy (waking it does not
+// preempt the thread that woke it) at nice 10, so a field computation on the core the physics
+// thread runs on gives way to each step.
+void yieldToPhysics() {
+#ifdef __linux__
+  const sched_param none{};
+  pthread_setschedparam(pthread_self(), SCHED_BATCH, &none);
+  setpriority(PRIO_PROCESS, static_cast<id_t>(gettid()), 10);
+#endif
+}
 
 // The depth range: from a little outside the entry face to a little past the tissue,
 // no deeper than the needle is long.
@@ -38,12 +59,23 @@ LiveSession::~LiveSession() { stop(); }
 
 void LiveSession::start() {
   if (running_.exchange(true)) return;
+  {
+    std::lock_guard lock(snapshotMutex_);
+    viewing_ = true;
+  }
+  viewer_ = std::thread([this] { runViewer(); });
   thread_ = std::thread([this] { run(); });
 }
 
 void LiveSession::stop() {
   running_ = false;
   if (thread_.joinable()) thread_.join();
+  stopViewer();
+}
+
+void LiveSession::advance(int steps) {
+  if (running_) throw std::logic_error("LiveSession::advance while the physics thread runs");
+  for (int k = 0; k < steps; ++k) stepOnce();
 }
 
 void LiveSession::setDrive(const Drive& drive) {
@@ -75,9 +107,21 @@ LatestState LiveSession::latest() const {
 }
 
 void LiveSession::frame(Frame& out) const {
+  {
+    std::lock_guard lock(fieldMutex_);
+    out.field = frame_.field;
+    out.needle = frame_.needle;
+    out.fieldStep = frame_.fieldStep;
+    out.fields = frame_.fields;
+    out.fieldCost = frame_.fieldCost;
+  }
   std::lock_guard lock(stateMutex_);
-  out = frame_;
   out.latest = latest_;
+  out.rate = frame_.rate;
+  out.punctureDepth = frame_.punctureDepth;
+  out.overruns = frame_.overruns;
+  out.stepCost = frame_.stepCost;
+  out.stepMaxCost = frame_.stepMaxCost;
 }
 
 std::vector<Sample> LiveSession::samples(std::size_t from, std::size_t& total) const {
@@ -113,7 +157,10 @@ void LiveSession::resetIfAsked() {
     resetRequested_ = false;
     target_ = Pose{};
   }
-  session_.reset();  // rebuilds the engine's session (for realtime2d: its mesh and factorisation)
+  {
+    std::lock_guard rebuild(rebuildMutex_);  // waits for a field computation to finish
+    session_.reset();  // rebuilds the engine's session (for realtime2d: its mesh and factorisation)
+  }
   pose_ = Pose{};
   log_.clear();
   std::lock_guard stateLock(stateMutex_);
@@ -137,20 +184,19 @@ void LiveSession::stepOnce() {
   }
   const Clock::time_point before = Clock::now();
   const api::State& state = session_.step(commandFor(pose_), settings_.dt);
-  const double cost = std::chrono::duration<double>(Clock::now() - before).count();
-  windowCost_ += cost;
-  windowMaxCost_ = std::max(windowMaxCost_, cost);
-  totalCost_ += cost;
   ++step_;
   if (settings_.record) log_.add(settings_.dt, pose_, state);
   publish(state);
+  const double cost = secondsSince(before);
+  windowCost_ += cost;
+  windowMaxCost_ = std::max(windowMaxCost_, cost);
+  totalCost_ += cost;
 }
 
 void LiveSession::publish(const api::State& state) {
   const bool field = step_ % static_cast<std::uint64_t>(std::max(settings_.fieldEvery, 1)) == 0;
   const bool sample = step_ % static_cast<std::uint64_t>(std::max(settings_.sampleEvery, 1)) == 0;
-  std::vector<double> needle;
-  if (field) needle = session_.needleCentreLine();
+  if (field) snapshotField();
   std::lock_guard lock(stateMutex_);
   latest_.step = step_;
   latest_.state = state;
@@ -161,10 +207,71 @@ void LiveSession::publish(const api::State& state) {
   if (sample)
     samples_.push_back({state.time, state.depth, state.axial_force, state.friction_force, state.lateral_force,
                         state.tip_deflection, phase});
-  if (field) {
-    session_.surfaceField(frame_.field);
-    frame_.needle = std::move(needle);
+}
+
+// Physics thread: hands the viewer thread what this step's field is computed from (a snapshot
+// that replaces one it has not taken yet) and the needle's centre line.
+void LiveSession::snapshotField() {
+  std::vector<double> needle = session_.needleCentreLine();
+  {
+    std::lock_guard lock(snapshotMutex_);
+    session_.snapshotField(pendingSnapshot_);
+    pendingNeedle_.swap(needle);
+    pendingStep_ = step_;
+    snapshotPending_ = true;
   }
+  snapshotTaken_.notify_one();
+}
+
+// Viewer thread: computes and publishes the field of each snapshot it takes, until stopped.
+void LiveSession::runViewer() {
+  yieldToPhysics();
+  api::FieldSnapshot snapshot;
+  api::SurfaceField field;
+  std::vector<double> needle;
+  std::uint64_t step = 0;
+  while (nextSnapshot(snapshot, needle, step)) {
+    const Clock::time_point before = Clock::now();
+    computeField(snapshot, field);
+    publishField(field, needle, step, secondsSince(before));
+  }
+}
+
+// Waits for a snapshot and swaps it into `snapshot` (both keep their storage); false once the
+// viewer is stopped and none is left.
+bool LiveSession::nextSnapshot(api::FieldSnapshot& snapshot, std::vector<double>& needle, std::uint64_t& step) {
+  std::unique_lock lock(snapshotMutex_);
+  snapshotTaken_.wait(lock, [this] { return snapshotPending_ || !viewing_; });
+  if (!snapshotPending_) return false;
+  std::swap(snapshot, pendingSnapshot_);
+  needle.swap(pendingNeedle_);
+  step = pendingStep_;
+  snapshotPending_ = false;
+  return true;
+}
+
+void LiveSession::computeField(const api::FieldSnapshot& snapshot, api::SurfaceField& field) {
+  std::lock_guard rebuild(rebuildMutex_);
+  session_.surfaceField(snapshot, field);
+}
+
+// Swaps the new field and needle into the frame (the old ones' storage comes back for reuse).
+void LiveSession::publishField(api::SurfaceField& field, std::vector<double>& needle, std::uint64_t step, double cost) {
+  std::lock_guard lock(fieldMutex_);
+  std::swap(frame_.field, field);
+  frame_.needle.swap(needle);
+  frame_.fieldStep = step;
+  frame_.fieldCost = cost;
+  ++frame_.fields;
+}
+
+void LiveSession::stopViewer() {
+  {
+    std::lock_guard lock(snapshotMutex_);
+    viewing_ = false;
+  }
+  snapshotTaken_.notify_one();
+  if (viewer_.joinable()) viewer_.join();
 }
 
 void LiveSession::measureRate(Clock::time_point now) {

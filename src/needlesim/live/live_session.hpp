@@ -2,8 +2,13 @@
 // A live session: a physics thread steps an api::Session at a fixed dt (1 ms by
 // default) towards the latest commanded pose, while viewers and a haptic device
 // read the latest state. The exchange is one short mutex hold per publication.
+// The viewer's surface field is computed in a viewer thread: every fieldEvery steps the
+// physics thread only copies the state the field is computed from (api::FieldSnapshot) and
+// the needle's centre line; the viewer thread computes the field from that copy while the
+// physics thread steps on, and publishes it with the step it belongs to.
 #include <atomic>
 #include <chrono>
+#include <condition_variable>
 #include <cstdint>
 #include <mutex>
 #include <thread>
@@ -43,11 +48,16 @@ struct Frame {
   LatestState latest;
   api::SurfaceField field;
   std::vector<double> needle;  // x y z per point, base to tip
+  std::uint64_t fieldStep = 0; // the step field and needle belong to
+  std::uint64_t fields = 0;    // fields the viewer thread has computed since the start
+  double fieldCost = 0.0;      // s, wall time of the viewer thread's last field computation
   double rate = 0.0;           // Hz, steps per second over the last second
   double punctureDepth = -1.0; // m, depth at the first puncture (phase cutting or later), < 0 before it
   std::uint64_t overruns = 0;  // steps that started more than 10 dt late
-  double stepCost = 0.0;       // s, mean wall time of one session step over the last second
-  double stepMaxCost = 0.0;    // s, the longest over the last second
+  // The physics thread's work per step (the session step, recording, publication, the field
+  // snapshot), wall time over the last second:
+  double stepCost = 0.0;       // s, mean
+  double stepMaxCost = 0.0;    // s, the longest
 };
 
 class LiveSession {
@@ -57,8 +67,14 @@ class LiveSession {
   LiveSession(const LiveSession&) = delete;
   LiveSession& operator=(const LiveSession&) = delete;
 
-  void start();
-  void stop();  // joins the physics thread; idempotent
+  void start();  // starts the physics and viewer threads
+  // Joins the physics thread, then the viewer thread once it has computed the field of the last
+  // snapshot; idempotent.
+  void stop();
+  // Runs `steps` of the physics thread's work in the caller's thread, without the clock, before
+  // start() or after stop(): tests and scripted runs. The fields of their snapshots are computed
+  // once the viewer thread runs (start()).
+  void advance(int steps);
 
   void setDrive(const Drive& drive);   // held keys and buttons
   void setTarget(const Pose& target);  // an absolute pose (haptic device), followed quickly
@@ -87,7 +103,13 @@ class LiveSession {
   void stepOnce();
   void resetIfAsked();
   void publish(const api::State& state);
+  void snapshotField();
   void measureRate(std::chrono::steady_clock::time_point now);
+  void runViewer();
+  bool nextSnapshot(api::FieldSnapshot& snapshot, std::vector<double>& needle, std::uint64_t& step);
+  void computeField(const api::FieldSnapshot& snapshot, api::SurfaceField& field);
+  void publishField(api::SurfaceField& field, std::vector<double>& needle, std::uint64_t step, double cost);
+  void stopViewer();
 
   api::Scenario scenario_;
   LiveSettings settings_;
@@ -106,13 +128,28 @@ class LiveSession {
   StepLog log_;
   std::uint64_t step_ = 0;
 
-  mutable std::mutex stateMutex_;  // what follows
+  mutable std::mutex stateMutex_;  // what follows, but for frame_'s field part
   LatestState latest_;
   Frame frame_;
   std::vector<Sample> samples_;
+  // frame_'s field part (field, needle, fieldStep, fields, fieldCost): written by the viewer
+  // thread, so that copying a large field for a reader never holds up the physics thread.
+  mutable std::mutex fieldMutex_;
+
+  // The latest field snapshot, from the physics thread to the viewer thread.
+  std::mutex snapshotMutex_;
+  std::condition_variable snapshotTaken_;
+  api::FieldSnapshot pendingSnapshot_;
+  std::vector<double> pendingNeedle_;
+  std::uint64_t pendingStep_ = 0;
+  bool snapshotPending_ = false;
+  bool viewing_ = false;  // the viewer thread waits for snapshots
+  // Held by the viewer thread while it computes a field and by the physics thread while a reset
+  // rebuilds the session (what the computation reads); never by a step.
+  std::mutex rebuildMutex_;
 
   std::atomic<bool> running_{false};
-  std::thread thread_;
+  std::thread thread_, viewer_;
   std::chrono::steady_clock::time_point rateWindow_{};
   std::uint64_t rateSteps_ = 0;
   double windowCost_ = 0.0, windowMaxCost_ = 0.0, totalCost_ = 0.0;  // physics thread only

@@ -55,7 +55,8 @@ nlohmann::json frameJson(const LiveSession& live, std::size_t since) {
           {"state", stateJson(f.latest.state)},
           {"puncture", f.punctureDepth < 0.0 ? nlohmann::json(nullptr) : nlohmann::json(f.punctureDepth)},
           {"field", {{"displacement", floats(f.field.displacement)}, {"scalar", floats(f.field.scalar)},
-                     {"name", f.field.scalarName}, {"unit", f.field.scalarUnit}}},
+                     {"name", f.field.scalarName}, {"unit", f.field.scalarUnit},
+                     {"step", f.fieldStep}, {"cost", f.fieldCost}}},
           {"needle", floats(f.needle)},
           {"samples", std::move(samples)},
           {"next", total}};

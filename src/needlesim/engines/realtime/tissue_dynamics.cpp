@@ -89,33 +89,50 @@ void TissueDynamics::commit(const Eigen::VectorXd& f) {
     pa_[k] = an;
     pu_[k] = u;
   }
-  dirty_ = true;
+  displacementStale_ = velocityStale_ = true;
 }
 
-void TissueDynamics::refreshFull() const {
-  if (!dirty_) return;
-  impl_->fullState(fu_, fv_);
-  for (int k = 0; k < map_.freeCount(); ++k) {
-    full_u_[map_.dof_of_free[static_cast<std::size_t>(k)]] = fu_[k];
-    full_v_[map_.dof_of_free[static_cast<std::size_t>(k)]] = fv_[k];
-  }
-  dirty_ = false;
+// Free-DOF values into a full nodal vector; held DOFs keep what `full` has (0).
+void TissueDynamics::scatterFree(const Eigen::VectorXd& free, Eigen::VectorXd& full) const {
+  for (int k = 0; k < map_.freeCount(); ++k) full[map_.dof_of_free[static_cast<std::size_t>(k)]] = free[k];
 }
-const Eigen::VectorXd& TissueDynamics::displacement() const { refreshFull(); return full_u_; }
-const Eigen::VectorXd& TissueDynamics::velocity() const { refreshFull(); return full_v_; }
+
+void TissueDynamics::refreshDisplacement() const {
+  if (!displacementStale_) return;
+  impl_->fullDisplacement(fu_);
+  scatterFree(fu_, full_u_);
+  displacementStale_ = false;
+}
+void TissueDynamics::refreshVelocity() const {
+  if (!velocityStale_) return;
+  impl_->fullVelocity(fv_);
+  scatterFree(fv_, full_v_);
+  velocityStale_ = false;
+}
+const Eigen::VectorXd& TissueDynamics::displacement() const { refreshDisplacement(); return full_u_; }
+const Eigen::VectorXd& TissueDynamics::velocity() const { refreshVelocity(); return full_v_; }
+
+void TissueDynamics::saveDisplacement(DisplacementState& state) const { impl_->saveDisplacement(state); }
+
+void TissueDynamics::displacementFrom(const DisplacementState& state, Eigen::VectorXd& full) const {
+  Eigen::VectorXd free;
+  impl_->displacementOf(state, free);
+  full.setZero(static_cast<Eigen::Index>(map_.free_of_dof.size()));
+  scatterFree(free, full);
+}
 
 double TissueDynamics::dofDisplacement(int dof) const {
   const int k = map_.free_of_dof[static_cast<std::size_t>(dof)];
   if (k < 0) return 0.0;
-  return dirty_ ? impl_->freeDisplacement(k) : full_u_[dof];
+  return displacementStale_ ? impl_->freeDisplacement(k) : full_u_[dof];
 }
 
 double TissueDynamics::kineticEnergy() const {
-  refreshFull();
+  refreshVelocity();
   return 0.5 * fv_.dot(M_ * fv_);
 }
 double TissueDynamics::strainEnergy() const {
-  refreshFull();
+  refreshDisplacement();
   return 0.5 * fu_.dot(K_ * fu_);
 }
 
@@ -135,7 +152,7 @@ void TissueDynamics::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v
   for (int k = 0; k < pathDofs(); ++k) {
     pu_[k] = pm.gather(uf, k); pv_[k] = pm.gather(vf, k); pa_[k] = pm.gather(af, k);
   }
-  dirty_ = true;
+  displacementStale_ = velocityStale_ = true;
 }
 
 double TissueDynamics::highestFrequency() const {

@@ -24,6 +24,14 @@ namespace needlesim::realtime {
 
 class TissueIntegrator;
 
+// The state a full displacement field is rebuilt from (TissueDynamics::saveDisplacement):
+// the direct back-end's displacement on the free DOFs, the modal coordinates, and for the
+// reduced back-end also the filtered path loads of its residual modes.
+struct DisplacementState {
+  Eigen::VectorXd coordinates;  // direct: u on the free DOFs; modal, reduced: q
+  Eigen::VectorXd residual;     // reduced: the residual filter g (path loads); empty otherwise
+};
+
 // Damping, integration and back-end settings of a real-time tissue.
 struct DynamicsSettings {
   bool lumped_mass = false;
@@ -70,9 +78,15 @@ class TissueDynamics {
   const Eigen::VectorXd& pathU() const { return pu_; }
   const Eigen::VectorXd& pathV() const { return pv_; }
   const Eigen::VectorXd& pathA() const { return pa_; }
-  // Full nodal fields (dim * nodes; held DOFs 0), rebuilt lazily.
+  // Full nodal fields (dim * nodes; held DOFs 0), each rebuilt lazily on its own.
   const Eigen::VectorXd& displacement() const;
   const Eigen::VectorXd& velocity() const;
+  // The displacement in two parts, for a reader in another thread: saveDisplacement copies the
+  // small state it is rebuilt from (tissue_integrators.hpp; no allocation once `state` is
+  // sized), displacementFrom rebuilds the full field from it, reading only what stepping never
+  // changes (mode shapes, path flexibility, DOF map), so it may run while this tissue steps.
+  void saveDisplacement(DisplacementState& state) const;
+  void displacementFrom(const DisplacementState& state, Eigen::VectorXd& full) const;
   double dofDisplacement(int dof) const;  // one DOF without rebuilding the full field
   double kineticEnergy() const;
   double strainEnergy() const;
@@ -86,7 +100,9 @@ class TissueDynamics {
  private:
   void makeIntegrator(double dt);
   void checkStable(double dt) const;
-  void refreshFull() const;
+  void refreshDisplacement() const;
+  void refreshVelocity() const;
+  void scatterFree(const Eigen::VectorXd& free, Eigen::VectorXd& full) const;
   std::string engine_;
   DynamicsSettings cfg_;
   DofMap map_;
@@ -98,7 +114,7 @@ class TissueDynamics {
   std::unique_ptr<TissueIntegrator> impl_;
   Eigen::VectorXd pu_, pv_, pa_, u0P_;
   mutable Eigen::VectorXd full_u_, full_v_, fu_, fv_;
-  mutable bool dirty_ = true;
+  mutable bool displacementStale_ = true, velocityStale_ = true;
   double dt_limit_ = 0.0;
 };
 

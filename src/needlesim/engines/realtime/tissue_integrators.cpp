@@ -92,7 +92,10 @@ class DirectIntegrator final : public TissueIntegrator {
     a_.swap(an_);
     u_.swap(u0_);
   }
-  void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override { u = u_; v = v_; }
+  void fullDisplacement(Eigen::VectorXd& u) const override { u = u_; }
+  void fullVelocity(Eigen::VectorXd& v) const override { v = v_; }
+  void saveDisplacement(DisplacementState& state) const override { state.coordinates = u_; }
+  void displacementOf(const DisplacementState& state, Eigen::VectorXd& u) const override { u = state.coordinates; }
   double freeDisplacement(int k) const override { return u_[k]; }
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
     u_ = u; v_ = v; a_ = a;
@@ -162,9 +165,11 @@ class ModalIntegrator final : public TissueIntegrator {
     qdd_.swap(g_);
     q_.swap(q0_);
   }
-  void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override {
-    u.noalias() = Phi_ * q_;
-    v.noalias() = Phi_ * qd_;
+  void fullDisplacement(Eigen::VectorXd& u) const override { u.noalias() = Phi_ * q_; }
+  void fullVelocity(Eigen::VectorXd& v) const override { v.noalias() = Phi_ * qd_; }
+  void saveDisplacement(DisplacementState& state) const override { state.coordinates = q_; }
+  void displacementOf(const DisplacementState& state, Eigen::VectorXd& u) const override {
+    u.noalias() = Phi_ * state.coordinates;
   }
   double freeDisplacement(int k) const override { return Phi_.row(k).dot(q_); }
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
@@ -274,11 +279,14 @@ class ReducedIntegrator final : public TissueIntegrator {
     gres_.swap(t_);
     resid_dirty_ = true;
   }
-  void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const override {
-    u.noalias() = Phi_ * q_;
-    u += residualField(gres_);
-    v.noalias() = Phi_ * qd_;
-    v += residualField(gdot_);
+  void fullDisplacement(Eigen::VectorXd& u) const override { fieldOf(q_, gres_, u); }
+  void fullVelocity(Eigen::VectorXd& v) const override { fieldOf(qd_, gdot_, v); }
+  void saveDisplacement(DisplacementState& state) const override {
+    state.coordinates = q_;
+    state.residual = gres_;
+  }
+  void displacementOf(const DisplacementState& state, Eigen::VectorXd& u) const override {
+    fieldOf(state.coordinates, state.residual, u);
   }
   double freeDisplacement(int k) const override {
     if (resid_dirty_) { ures_ = residualField(gres_); resid_dirty_ = false; }
@@ -296,6 +304,13 @@ class ReducedIntegrator final : public TissueIntegrator {
   }
 
  private:
+  // Field of kept modal coordinates q and filtered path loads g (displacement: q, g;
+  // velocity: q', g'): Phi q + (K^-1 G - Phi W^-2 Phi_P^T) g, with one product by Phi.
+  void fieldOf(const Eigen::VectorXd& q, const Eigen::VectorXd& g, Eigen::VectorXd& out) const {
+    const Eigen::VectorXd kept = q - w2_.cwiseInverse().asDiagonal() * (PhiP_.transpose() * g);
+    out.noalias() = Phi_ * kept;
+    out.noalias() += Zs_ * g;
+  }
   // Field of the residual modes for filtered path loads g: (K^-1 G - Phi W^-2 Phi_P^T) g.
   Eigen::VectorXd residualField(const Eigen::VectorXd& g) const {
     Eigen::VectorXd r = Zs_ * g;

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include "needlesim/engines/realtime/newmark.hpp"
+#include "needlesim/engines/realtime/tissue_dynamics.hpp"
 #include "needlesim/materials/viscoelastic.hpp"
 
 namespace needlesim::realtime {
@@ -50,7 +51,13 @@ class TissueIntegrator {
   virtual const Eigen::MatrixXd& S() const = 0;
   virtual void predict(Eigen::VectorXd& u0P) = 0;
   virtual void commit(const Eigen::VectorXd& f) = 0;
-  virtual void fullState(Eigen::VectorXd& u, Eigen::VectorXd& v) const = 0;  // free DOFs
+  virtual void fullDisplacement(Eigen::VectorXd& u) const = 0;  // free DOFs
+  virtual void fullVelocity(Eigen::VectorXd& v) const = 0;      // free DOFs
+  // Copies the displacement's state into `state`: O(its size), no allocation once sized.
+  virtual void saveDisplacement(DisplacementState& state) const = 0;
+  // u on the free DOFs from a saved state. Reads only the basis and path placement, which
+  // stepping never changes, so it may run in another thread while the integrator steps.
+  virtual void displacementOf(const DisplacementState& state, Eigen::VectorXd& u) const = 0;
   virtual void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) = 0;
   virtual double freeDisplacement(int k) const = 0;  // one free DOF of u
 };

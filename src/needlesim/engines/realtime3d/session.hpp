@@ -71,6 +71,12 @@ class Session {
   const Tissue& tissue() const { return tissue_; }
   const TetMesh& mesh() const { return tissue_.mesh(); }
   const Eigen::VectorXd& displacement() const { return tissue_.dynamics().displacement(); }  // 3 per node
+  // The displacement for a reader in another thread (realtime::TissueDynamics::saveDisplacement):
+  // a cheap copy of its state here, the full field (3 per node) from it there, while this steps.
+  void saveDisplacement(realtime::DisplacementState& state) const { tissue_.dynamics().saveDisplacement(state); }
+  void displacementFrom(const realtime::DisplacementState& state, Eigen::VectorXd& u) const {
+    tissue_.dynamics().displacementFrom(state, u);
+  }
   // Needle centre line from base to tip, `count` points (>= 2) into out (3 x count), centred frame.
   void needleShape(int count, Eigen::Matrix3Xd& out) const;
   // Elastic deflection (lateral, outOfPlane) of the needle at arc length sigma from the base.
