@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 #include <stdexcept>
 
@@ -232,7 +233,15 @@ void LiveSession::runViewer() {
   std::uint64_t step = 0;
   while (nextSnapshot(snapshot, needle, step)) {
     const Clock::time_point before = Clock::now();
-    computeField(snapshot, field);
+    try {
+      computeField(snapshot, field);
+    } catch (const std::exception& e) {
+      // a snapshot the session can no longer read (taken before a reset) is dropped, never fatal:
+      // the next one replaces it; the view keeps the last good field meanwhile
+      std::fprintf(stderr, "warning: viewer field of step %llu skipped: %s\n", static_cast<unsigned long long>(step),
+                   e.what());
+      continue;
+    }
     publishField(field, needle, step, secondsSince(before));
   }
 }
