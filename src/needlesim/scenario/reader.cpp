@@ -26,6 +26,33 @@ const std::string kScenarioFile = "a scenario file (see docs/scenario-format.md)
 
 using materials::MaterialSpec;
 
+// The markers of a real-time engine's section: inside the block (with z across the height
+// when the engine is 3D), each name once.
+std::vector<MarkerSpec> readMarkers(Section& engine, const Scenario& sc, bool with_z) {
+  std::vector<MarkerSpec> out;
+  auto list = engine.list("markers");
+  const double ylo = -0.5 * sc.tissue.width - sc.insertion.entry_offset, yhi = ylo + sc.tissue.width;
+  const double zmax = 0.5 * sc.tissue.height;
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    Section m = engine.element(list[i], "markers", i);
+    MarkerSpec mk{m.text("name"), m.number("x"), m.number("y"), with_z ? m.number("z") : 0.0};
+    const bool inside = mk.x <= sc.tissue.length && mk.y >= ylo && mk.y <= yhi && std::abs(mk.z) <= zmax;
+    if (!inside && !with_z)
+      throw m.error("x", fmt::format("({:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3), "lies outside the tissue block",
+                    fmt::format("0 <= x <= {:g} mm and {:g} mm <= y <= {:g} mm", sc.tissue.length * 1e3,
+                                ylo * 1e3, yhi * 1e3));
+    if (!inside)
+      throw m.error(!(mk.x <= sc.tissue.length) ? "x" : !(mk.y >= ylo && mk.y <= yhi) ? "y" : "z", fmt::format("({:g}, {:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3, mk.z * 1e3),
+                    "lies outside the tissue block",
+                    fmt::format("0 <= x <= {:g} mm, {:g} mm <= y <= {:g} mm, |z| <= {:g} mm", sc.tissue.length * 1e3,
+                                ylo * 1e3, yhi * 1e3, zmax * 1e3));
+    for (const auto& o : out)
+      if (o.name == mk.name) throw m.error("name", mk.name, "is used by two markers", "unique names");
+    out.push_back(mk);
+  }
+  return out;
+}
+
 MaterialSpec readMaterial(Section& parent, const std::string& key) {
   YAML::Node n = parent.raw(key);
   const auto& lib = materials::materialLibrary();
@@ -554,19 +581,7 @@ Scenario readSections(Section top, const std::string& source) {
     r.relaxation = rt.choice("relaxation") == "prony";
     r.stiffening_factor = rt.number("stiffening_factor");
     r.stiffening_radius = rt.number("stiffening_radius");
-    auto markers = rt.list("markers");
-    for (std::size_t i = 0; i < markers.size(); ++i) {
-      Section m = rt.element(markers[i], "markers", i);
-      MarkerSpec mk{m.text("name"), m.number("x"), m.number("y")};
-      const double ylo = -0.5 * sc.tissue.width - sc.insertion.entry_offset, yhi = ylo + sc.tissue.width;
-      if (mk.x > sc.tissue.length || !(mk.y >= ylo && mk.y <= yhi))
-        throw m.error("x", fmt::format("({:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3), "lies outside the tissue block",
-                      fmt::format("0 <= x <= {:g} mm and {:g} mm <= y <= {:g} mm", sc.tissue.length * 1e3,
-                                  ylo * 1e3, yhi * 1e3));
-      for (const auto& o : r.markers)
-        if (o.name == mk.name) throw m.error("name", mk.name, "is used by two markers", "unique names");
-      r.markers.push_back(mk);
-    }
+    r.markers = readMarkers(rt, sc, false);
   }
   Section rt3 = model.sub("realtime3d");
   {
@@ -586,6 +601,7 @@ Scenario readSections(Section top, const std::string& source) {
     r.tip_load_ratio = rt3.optNumber("tip_load_ratio").value_or(-1.0);
     r.field_interval = rt3.number("field_interval");
     r.relaxation = rt3.choice("relaxation") == "prony";
+    r.markers = readMarkers(rt3, sc, true);
   }
   Section mpmSec = model.sub("mpm");
   {

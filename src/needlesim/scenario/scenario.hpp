@@ -127,11 +127,12 @@ struct LumpedModelSpec {
   double relaxation_time = 0.0;  // s, decay of the held friction during pauses (0 = none)
 };
 
-// A point of the tissue whose displacement is reported (realtime2d engine).
+// A point of the tissue whose displacement is reported (realtime2d, realtime3d engines).
 struct MarkerSpec {
   std::string name;
   double x = 0.0;  // m, depth from the entry face
   double y = 0.0;  // m, lateral from the needle path line through the entry point
+  double z = 0.0;  // m, from the insertion plane (mid-height of the block; realtime3d only)
 };
 
 // Real-time 2D FE engine (seed 003 sections 3.1-3.5; docs/models/realtime2d.md).
@@ -175,6 +176,7 @@ struct Realtime3dModelSpec {
   double tip_load_ratio = -1.0;  // transverse bevel load / cutting force; < 0 = cot(bevel angle)
   double field_interval = 0.5;   // s, tissue field output interval (0 = none)
   bool relaxation = true;        // Prony terms of the material relax the tissue (QLV)
+  std::vector<MarkerSpec> markers;
 };
 
 // Bevel-tip steering engines kinematic, energy, beam-foundation (seed 002;

@@ -328,9 +328,14 @@ std::vector<FieldDoc> build() {
   add(other("realtime3d", "relaxation", Kind::Choice, "prony",
             "prony: the material's Prony terms relax the whole tissue stiffness (QLV); off: elastic", false, {},
             {"prony", "off"}));
+  add(other("realtime3d", "markers", Kind::List, "", "tissue points whose displacement is reported", false, "marker3d"));
   add(other("marker", "name", Kind::String, "", "label in results", true));
   add(q("marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
   add(q("marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point)", true));
+  add(other("marker3d", "name", Kind::String, "", "label in results", true));
+  add(q("marker3d", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
+  add(q("marker3d", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point), in the insertion plane", true));
+  add(q("marker3d", "z", D::Length, "0 mm", -kInf, kInf, false, false, "distance from the insertion plane (mid-height of the block)"));
   add(other("model", "mpm", Kind::Section, "", "parameters of the 3D material point method engine (seed 000)", false, "mpm"));
   add(positive("mpm", "grid_spacing", D::Length, "0.8 mm", "background grid spacing h (seed 000 section 4.3: 0.8 mm)"));
   add(positive("mpm", "particle_spacing", D::Length, "grid_spacing / 2", "material point spacing (seed 000 section 4.3: 0.4 mm)"));

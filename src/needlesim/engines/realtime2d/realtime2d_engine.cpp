@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/markers.hpp"
 #include "needlesim/engines/realtime/run_report.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
 #include "needlesim/engines/realtime2d/imported_mesh.hpp"
@@ -23,15 +24,8 @@ using namespace realtime2d;
 
 namespace {
 
-// A tissue point followed through the run: bilinear interpolation in its element.
-struct Marker {
-  std::string name;
-  int nodes[4] = {0, 0, 0, 0};
-  double w[4] = {0, 0, 0, 0};
-  double max_ux = 0, max_uy = 0;  // signed values of largest magnitude
-};
-
-Marker locate(const Mesh& mesh, const MarkerSpec& spec, double path_y) {
+// A tissue point in its grid cell: the cell's corners and their bilinear shape functions.
+MarkerPoint locate(const Mesh& mesh, const MarkerSpec& spec, double path_y) {
   const double x = spec.x, y = path_y + spec.y;
   auto cell = [](const std::vector<double>& c, double v) {
     auto it = std::upper_bound(c.begin(), c.end(), v);
@@ -45,19 +39,11 @@ Marker locate(const Mesh& mesh, const MarkerSpec& spec, double path_y) {
   const double t = std::clamp((y - mesh.ys[static_cast<std::size_t>(j)]) /
                                   (mesh.ys[static_cast<std::size_t>(j + 1)] - mesh.ys[static_cast<std::size_t>(j)]),
                               0.0, 1.0);
-  Marker m;
+  MarkerPoint m;
   m.name = spec.name;
-  const int n[4] = {mesh.node(i, j), mesh.node(i + 1, j), mesh.node(i + 1, j + 1), mesh.node(i, j + 1)};
-  const double w[4] = {(1 - s) * (1 - t), s * (1 - t), s * t, (1 - s) * t};
-  for (int a = 0; a < 4; ++a) { m.nodes[a] = n[a]; m.w[a] = w[a]; }
+  m.nodes = {mesh.node(i, j), mesh.node(i + 1, j), mesh.node(i + 1, j + 1), mesh.node(i, j + 1)};
+  m.weights = {(1 - s) * (1 - t), s * (1 - t), s * t, (1 - s) * t};
   return m;
-}
-
-Eigen::Vector2d markerDisplacement(const Tissue& tissue, const Marker& m) {
-  Eigen::Vector2d u = Eigen::Vector2d::Zero();
-  for (int a = 0; a < 4; ++a)
-    if (m.w[a] != 0.0) u += m.w[a] * tissue.nodeDisplacement(m.nodes[a]);
-  return u;
 }
 
 // Field cells: the quads, or the triangles of an imported triangle mesh (collapsed quads a, b, c, c).
@@ -93,6 +79,7 @@ class Realtime2dRun {
       : sc_(sc), sink_(sink), options_(options), cfg_(realtime2dConfig(sc)), session_(makeSession()),
         motion_(sc.insertion), dt_(sc.model.time_step),
         forces_(true, engineColumns()), inclusions_(sc.tissue.inclusions, cfg_.frame),
+        markers_(2, [this](int node) { return nodeDisplacement3(node); }),
         shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}}) {
     steps_ = static_cast<long long>(std::ceil(motion_.duration() / dt_ - 1e-9));
     every_ = outputStride(sc.output.interval, dt_);
@@ -115,7 +102,7 @@ class Realtime2dRun {
       const StepResult& o = session_.step(pose, dt_);
       track(o);
       const bool sample = k % every_ == 0 || k == steps_;
-      if (sample || (k & 15) == 0) trackMarkers();  // extremes every 16 steps, rows at the output interval
+      if (sample || (k & 15) == 0) markers_.trackExtremes();  // extremes every 16 steps, rows at the output interval
       if (sample) record(t, m, o);
       if (fieldEvery_ > 0 && (k % fieldEvery_ == 0 || k == steps_)) writeFields(t);
       if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(steps_));
@@ -129,11 +116,11 @@ class Realtime2dRun {
     reportResults();
     plotForces();
     plotShape();
-    plotMarkers();
+    markers_.plot(sink_);
     writeNotes();
     inclusions_.report(sink_);
     sink_.table("forces", forces_.release());
-    if (!markers_.empty()) sink_.table("markers", std::move(markerTable_));
+    markers_.writeTable(sink_);
     sink_.table("needle_shape", std::move(shape_));
   }
 
@@ -148,13 +135,12 @@ class Realtime2dRun {
   // Markers: x = depth from the entry face, y = lateral from the path line (mesh coordinates).
   void placeMarkers() {
     const double path_y = session_.entryPoint().y() + session_.cornerShift().y();
-    std::vector<io::Column> cols{{"time", "s"}};
-    for (const auto& spec : sc_.model.realtime2d.markers) {
-      markers_.push_back(locate(session_.mesh(), spec, path_y));
-      cols.push_back({spec.name + "_ux", "m"});
-      cols.push_back({spec.name + "_uy", "m"});
-    }
-    markerTable_ = io::Table(cols);
+    for (const auto& spec : sc_.model.realtime2d.markers) markers_.add(locate(session_.mesh(), spec, path_y));
+  }
+
+  Eigen::Vector3d nodeDisplacement3(int node) const {
+    const Eigen::Vector2d u = session_.tissue().nodeDisplacement(node);
+    return {u.x(), u.y(), 0.0};
   }
 
   // ParaView series in the centred tissue frame: the tissue (the displaced nodes, displacement,
@@ -232,13 +218,7 @@ class Realtime2dRun {
     f.tip_deflection = o.tip_deflection;
     forces_.add(f, {o.stiffness_force, o.cutting_force, o.friction_force, o.torque, o.tip_load, o.tip_angle,
                     static_cast<double>(o.phase), static_cast<double>(o.coupled), static_cast<double>(o.sticking)});
-    std::vector<double> row{t};
-    for (const auto& mk : markers_) {
-      const Eigen::Vector2d u = markerDisplacement(session_.tissue(), mk);
-      row.push_back(u.x());
-      row.push_back(u.y());
-    }
-    markerTable_.addRow(row);
+    markers_.addRow(t);
     recordInclusions(t, o.depth);
   }
 
@@ -259,14 +239,6 @@ class Realtime2dRun {
     maxDepth_ = std::max(maxDepth_, o.depth);
   }
 
-  void trackMarkers() {
-    for (auto& mk : markers_) {
-      const Eigen::Vector2d u = markerDisplacement(session_.tissue(), mk);
-      if (std::abs(u.x()) > std::abs(mk.max_ux)) mk.max_ux = u.x();
-      if (std::abs(u.y()) > std::abs(mk.max_uy)) mk.max_uy = u.y();
-    }
-  }
-
   void reportResults() {
     const StepResult& last = session_.last();
     sink_.result("max_tip_deflection", maxDefl_, "m", "elastic lateral tip deflection of largest magnitude");
@@ -283,14 +255,7 @@ class Realtime2dRun {
       sink_.result(fmt::format("puncture_depth_{}", i + 1), punctures_[i], "m",
                    fmt::format("tip depth at the {}. puncture (a layer boundary, eq 3.16)", i + 1));
     sink_.result("final_torque", last.torque, "N m", "moment of the tissue forces about the needle base at the end");
-    for (const auto& mk : markers_) {
-      const Eigen::Vector2d u = markerDisplacement(session_.tissue(), mk);
-      const std::string k = "marker_" + mk.name;
-      sink_.result(k + "_ux_max", mk.max_ux, "m", "largest depth-wise displacement of marker " + mk.name);
-      sink_.result(k + "_uy_max", mk.max_uy, "m", "largest lateral displacement of marker " + mk.name);
-      sink_.result(k + "_ux_final", u.x(), "m", "final depth-wise displacement of marker " + mk.name);
-      sink_.result(k + "_uy_final", u.y(), "m", "final lateral displacement of marker " + mk.name);
-    }
+    markers_.reportResults(sink_);
   }
 
   void plotForces() {
@@ -309,21 +274,6 @@ class Realtime2dRun {
       if (shape_.at(i, 0) == tEnd) { x.push_back(shape_.at(i, 2) * 1e3); y.push_back(shape_.at(i, 3) * 1e3); }
     shp.series.push_back({fmt::format("t = {:g} s", tEnd), x, y, false, false});
     sink_.plot(std::move(shp));
-  }
-
-  void plotMarkers() {
-    if (markers_.empty()) return;
-    io::Plot paths{"Marker paths", "x displacement [mm]", "y displacement [mm]", {}};
-    io::Plot mt{"Marker displacement against time", "time [s]", "displacement [mm]", {}};
-    const auto mtime = markerTable_.column("time");
-    for (const auto& mk : markers_) {
-      const auto ux = mm(markerTable_.column(mk.name + "_ux")), uy = mm(markerTable_.column(mk.name + "_uy"));
-      paths.series.push_back({mk.name, ux, uy, false, false});
-      mt.series.push_back({mk.name + " x", mtime, ux, false, false});
-      mt.series.push_back({mk.name + " y", mtime, uy, false, true});
-    }
-    sink_.plot(std::move(paths));
-    sink_.plot(std::move(mt));
   }
 
   void writeNotes() {
@@ -369,8 +319,7 @@ class Realtime2dRun {
   long long steps_ = 0, every_ = 1, fieldEvery_ = 0;
   results::ForcesTable forces_;
   results::InclusionMotion inclusions_;
-  std::vector<Marker> markers_;
-  io::Table markerTable_{std::vector<io::Column>{{"time", "s"}}};
+  RealtimeMarkers markers_;
   io::Table shape_;
   io::FieldSeries* tissueSeries_ = nullptr;
   io::FieldSeries* needleSeries_ = nullptr;

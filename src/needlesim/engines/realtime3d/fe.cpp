@@ -2,6 +2,7 @@
 
 #include <Eigen/LU>
 #include <cmath>
+#include <limits>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/realtime/dof_map.hpp"
@@ -76,6 +77,30 @@ Eigen::Matrix<double, 3, 4> tetCorners(const TetMesh& mesh, int e) {
 }
 
 Eigen::Vector3d tetCentre(const TetMesh& mesh, int e) { return tetCorners(mesh, e).rowwise().mean(); }
+
+Eigen::Vector4d tetShapeFunctions(const Eigen::Matrix<double, 3, 4>& X, const Eigen::Vector3d& p) {
+  Eigen::Matrix<double, 3, 4> dN;
+  tetGradients(X, dN);
+  const Eigen::Vector3d centre = X.rowwise().mean();
+  return Eigen::Vector4d::Constant(0.25) + dN.transpose() * (p - centre);
+}
+
+TetPoint locateInTets(const TetMesh& mesh, const Eigen::Vector3d& p) {
+  TetPoint best;
+  double bestMin = -std::numeric_limits<double>::infinity();
+  for (int e = 0; e < mesh.elements(); ++e) {
+    const auto X = tetCorners(mesh, e);
+    const double pad = 1e-9 * (X.rowwise().maxCoeff() - X.rowwise().minCoeff()).norm();
+    if (((p - X.rowwise().minCoeff()).array() < -pad).any() || ((X.rowwise().maxCoeff() - p).array() < -pad).any())
+      continue;
+    const Eigen::Vector4d N = tetShapeFunctions(X, p);
+    if (N.minCoeff() > bestMin) {
+      bestMin = N.minCoeff();
+      best = {e, N};
+    }
+  }
+  return best;
+}
 
 Assembled assemble(const TetMesh& mesh, const std::vector<ElasticMaterial>& mats, bool lumped_mass) {
   if (mats.size() != static_cast<std::size_t>(mesh.elements()))

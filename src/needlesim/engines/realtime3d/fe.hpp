@@ -35,6 +35,18 @@ double vonMises(const Eigen::Matrix<double, 6, 1>& s);
 Eigen::Matrix<double, 3, 4> tetCorners(const TetMesh& mesh, int e);
 Eigen::Vector3d tetCentre(const TetMesh& mesh, int e);
 
+// Linear shape functions of a tet at a point (its barycentric coordinates, eq 3.5):
+// N_a(p) = 1/4 + grad N_a . (p - centre).
+Eigen::Vector4d tetShapeFunctions(const Eigen::Matrix<double, 3, 4>& X, const Eigen::Vector3d& p);
+// The tet holding point p (of those whose bounding box holds it, the one whose smallest
+// shape function at p is largest: on a shared face or node any holder) and the shape
+// functions there. -1 and zeros when no tet's bounding box holds p.
+struct TetPoint {
+  int element = -1;
+  Eigen::Vector4d weights = Eigen::Vector4d::Zero();
+};
+TetPoint locateInTets(const TetMesh& mesh, const Eigen::Vector3d& p);
+
 struct Assembled {
   Eigen::SparseMatrix<double> K, M;  // 3 * nodes DOFs, dof = 3 * node + component
 };

@@ -6,7 +6,9 @@
 #include <chrono>
 #include <cmath>
 
+#include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/markers.hpp"
 #include "needlesim/engines/realtime/run_report.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
@@ -94,6 +96,7 @@ class Realtime3dRun {
       : sc_(sc), sink_(sink), options_(options), cfg_(realtime3dConfig(sc)), session_(makeSession()),
         motion_(sc.insertion), dt_(sc.model.time_step), forces_(true, engineColumns()),
         inclusions_(sc.tissue.inclusions, cfg_.frame),
+        markers_(3, [this](int node) { return session_.tissue().nodeDisplacement(node); }),
         shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}}) {
     steps_ = static_cast<long long>(std::ceil(motion_.duration() / dt_ - 1e-9));
     every_ = outputStride(sc.output.interval, dt_);
@@ -101,6 +104,7 @@ class Realtime3dRun {
     fieldEvery_ = fi > 0.0 ? std::max(1LL, std::llround(fi / dt_)) : 0LL;
     forces_.reserve(static_cast<std::size_t>(steps_ / every_ + 2));
     if (fieldEvery_ > 0) fields_ = std::make_unique<Fields3d>(sink_, session_);
+    placeMarkers();
   }
 
   void run() {
@@ -129,9 +133,11 @@ class Realtime3dRun {
     reportResults();
     plotAxialForces(forces_.table(), sc_, sink_);
     plotDeflection();
+    markers_.plot(sink_);
     writeNotes();
     inclusions_.report(sink_);
     sink_.table("forces", forces_.release());
+    markers_.writeTable(sink_);
     sink_.table("needle_shape", std::move(shape_));
   }
 
@@ -141,6 +147,24 @@ class Realtime3dRun {
     Session s(cfg_);
     setup_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
     return s;
+  }
+
+  // Markers: x = depth from the entry face, y = lateral from the path line through the entry
+  // point, z = from the insertion plane; each in the tet holding it (linear shape functions).
+  void placeMarkers() {
+    for (const auto& spec : sc_.model.realtime3d.markers) {
+      const Eigen::Vector3d p = cfg_.frame.entry + Eigen::Vector3d(spec.x, spec.y, spec.z) + session_.cornerShift();
+      const TetPoint at = locateInTets(session_.mesh(), p);
+      if (at.element < 0)
+        throw SolverError(fmt::format("realtime3d: marker {} lies outside the tissue mesh", spec.name));
+      MarkerPoint m;
+      m.name = spec.name;
+      for (int a = 0; a < 4; ++a) {
+        m.nodes[static_cast<std::size_t>(a)] = session_.mesh().conn[static_cast<std::size_t>(4 * at.element + a)];
+        m.weights[static_cast<std::size_t>(a)] = at.weights[a];
+      }
+      markers_.add(std::move(m));
+    }
   }
 
   void addShape(double t) {
@@ -162,6 +186,10 @@ class Realtime3dRun {
     f.tip_y = tip.y();
     f.tip_z = tip.z();
     f.tip_deflection = o.tip_deflection[0];
+    // Markers at the output interval only: off the path the reduced back-end rebuilds its
+    // residual field by a sparse solve.
+    markers_.addRow(t);
+    markers_.trackExtremes();
     forces_.add(f, {o.stiffness_force, o.cutting_force, o.friction_force, o.force.x(), o.force.y(), o.force.z(),
                     o.out_of_plane_force, o.tip_deflection[1], o.tip_load[0], o.tip_load[1],
                     static_cast<double>(o.phase), static_cast<double>(o.coupled), static_cast<double>(o.sticking)});
@@ -185,6 +213,7 @@ class Realtime3dRun {
     for (std::size_t i = 0; i < ext_.punctures.size(); ++i)
       sink_.result(i == 0 ? std::string("puncture_depth") : fmt::format("puncture_depth_{}", i + 1), ext_.punctures[i],
                    "m", i == 0 ? "tip depth at puncture (eq 3.16 threshold)" : "tip depth at a layer boundary's puncture");
+    markers_.reportResults(sink_);
     sink_.result("steps_per_second", run_s_ > 0 ? steps_ / run_s_ : 0.0, "1/s", "session steps per wall-clock second");
   }
 
@@ -223,6 +252,7 @@ class Realtime3dRun {
   long long steps_ = 0, every_ = 1, fieldEvery_ = 0;
   results::ForcesTable forces_;
   results::InclusionMotion inclusions_;
+  RealtimeMarkers markers_;
   io::Table shape_;
   std::unique_ptr<Fields3d> fields_;
   Extremes ext_;
