@@ -2,6 +2,7 @@
 // reader and run into an in-memory sink (seed 003 sections 3.1-3.5, 5.1-5.6).
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -10,6 +11,7 @@
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "../support/thesis_force.hpp"
 
 using namespace needlesim;
 
@@ -42,10 +44,12 @@ MemorySink run(const Scenario& sc) {
 }
 }  // namespace
 
-// The thesis experiment (seed 003 section 5.4): 60 mm at 3 mm/s. The axial force at
-// the end is the lumped model's friction over the shaft in contact plus cutting,
-// (C_p + b_p v) d + F_c (eqs 3.23-3.24 with eq 5.1), within the creep of the dragged
-// nodes; the tissue pushes the bevel tip away from the bevel face (-lateral at bevel
+// The thesis experiment (seed 003 section 5.4): 60 mm at 3 mm/s. The axial force while the
+// needle still slides at the end is the lumped model's friction over the shaft in contact plus
+// cutting, (C_p + b_p v) d + F_c (eqs 3.23-3.24 with eq 5.1), less the creep of the dragged nodes:
+// they move forward with the shaft, so their slip speed is below v; b_p v is 18 % of the
+// friction at 3 mm/s, so a slip deficit of up to a tenth costs at most 2 % (the tolerance); the
+// tissue pushes the bevel tip away from the bevel face (-lateral at bevel
 // orientation 0, needle/insertion_frame.hpp) by a millimetre or so (thesis 1.200 mm,
 // measured 1.301 +- 0.274 mm in magnitude).
 TEST(Realtime2dEngine, ThesisExampleForceAndDeflection) {
@@ -54,8 +58,13 @@ TEST(Realtime2dEngine, ThesisExampleForceAndDeflection) {
   ASSERT_EQ(sc.model.realtime2d.markers.size(), 4u);
   const MemorySink out = run(sc);
   const double v = 3e-3, d = 0.06;
-  const double lumped = (3.791 + 285.053 * v) * d + 0.04335;
-  EXPECT_NEAR(out.results.at("final_force"), lumped, 0.1 * lumped);
+  const thesis::ForceSample end = thesis::lastMovingForce(out.tables.at("forces"));
+  EXPECT_NEAR(end.depth, d, 0.1e-3);
+  EXPECT_DOUBLE_EQ(end.velocity, v);
+  const double lumped = thesis::axialForce(v, end.depth, 0.04335);
+  std::printf("axial force at %.2f mm, sliding: %.4f N, closed form %.4f N (%+.2f %%); stopped at 60 mm: %.4f N\n",
+              end.depth * 1e3, end.force, lumped, 100 * (end.force / lumped - 1), out.results.at("final_force"));
+  EXPECT_NEAR(end.force, lumped, 0.02 * lumped);
   EXPECT_NEAR(out.results.at("max_depth"), d, 1e-6);
   // the example's bevel face looks to -y (bevel_orientation 180 deg): the tip is pushed to +y.
   // Seed 003 section 5.4: measured 1.353, 1.005, 1.545 mm, mean 1.301 mm, SD 0.274 mm; held to
