@@ -289,8 +289,8 @@ void Session::surfaceField(const FieldSnapshot& snapshot, SurfaceField& field) c
       detail::argumentError("Session::surfaceField", "snapshot", "empty", "holds no state", "a snapshot filled by snapshotField");
     if (snapshot.impl_->values != impl_->displacementValues())
       detail::argumentError("Session::surfaceField", "snapshot", fmt::format("{} displacement values", snapshot.impl_->values),
-                            fmt::format("is of another mesh than this session's ({} values)", impl_->displacementValues()),
-                            "a snapshot filled by snapshotField of this session or one of the same scenario");
+                            fmt::format("was filled on another mesh than the simulated one ({} values)", impl_->displacementValues()),
+                            "a snapshot filled by snapshotField on a Session of the same scenario");
     nameField(field);
     Eigen::VectorXd u;
     if (impl_->fe3) {

@@ -1,8 +1,17 @@
 #include "needlesim/engines/realtime/run_report.hpp"
 
+#include <algorithm>
+#include <cmath>
+
+#include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/results/layer_boundaries.hpp"
 
 namespace needlesim::engines {
+
+RunCadence::RunCadence(double duration_, double dt_, double outputInterval, double fieldInterval)
+    : duration(duration_), dt(dt_), steps(static_cast<long long>(std::ceil(duration_ / dt_ - 1e-9))),
+      every(outputStride(outputInterval, dt_)),
+      fieldEvery(fieldInterval > 0.0 ? std::max(1LL, std::llround(fieldInterval / dt_)) : 0LL) {}
 
 std::vector<double> realtimeMm(std::vector<double> v) {
   for (double& x : v) x *= 1e3;

@@ -76,39 +76,36 @@ constexpr int kShapePoints = 41;
 class Realtime2dRun {
  public:
   Realtime2dRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
-      : sc_(sc), sink_(sink), options_(options), cfg_(realtime2dConfig(sc)), session_(makeSession()),
+      : sc_(sc), sink_(sink), options_(options), cfg_(realtime2dConfig(sc)), session_(timed(setup_s_, [this] { return Session(cfg_); })),
         motion_(sc.insertion), dt_(sc.model.time_step),
+        cadence_(motion_.duration(), dt_, sc.output.interval, sc.model.realtime2d.field_interval),
         forces_(true, engineColumns()), inclusions_(sc.tissue.inclusions, cfg_.frame),
         markers_(2, [this](int node) { return nodeDisplacement3(node); }),
         shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}}) {
-    steps_ = static_cast<long long>(std::ceil(motion_.duration() / dt_ - 1e-9));
-    every_ = outputStride(sc.output.interval, dt_);
-    const double fi = sc.model.realtime2d.field_interval;
-    fieldEvery_ = fi > 0.0 ? std::max(1LL, std::llround(fi / dt_)) : 0LL;
-    forces_.reserve(static_cast<std::size_t>(steps_ / every_ + 2));
+    forces_.reserve(cadence_.rows());
     placeMarkers();
-    if (fieldEvery_ > 0) openFields();
+    if (cadence_.fieldEvery > 0) openFields();
   }
 
   void run() {
     recordStart();
     Progress progress("realtime2d", options_.progress);
     const auto run0 = std::chrono::steady_clock::now();
-    for (long long k = 1; k <= steps_; ++k) {
-      const double t = std::min(k * dt_, motion_.duration());
+    for (long long k = 1; k <= cadence_.steps; ++k) {
+      const double t = cadence_.timeOf(k);
       const MotionState m = motion_.at(t);
       // The bevel's turn from the frame's orientation (axial_angle starts at bevel_orientation).
       const BasePose pose = session_.poseAtDepth(m.depth, 0.0, m.plane_angle, m.axial_angle - sc_.insertion.bevel_orientation);
       const StepResult& o = session_.step(pose, dt_);
       track(o);
-      const bool sample = k % every_ == 0 || k == steps_;
+      const bool sample = cadence_.sample(k);
       if (sample || (k & 15) == 0) markers_.trackExtremes();  // extremes every 16 steps, rows at the output interval
       if (sample) record(t, m, o);
-      if (fieldEvery_ > 0 && (k % fieldEvery_ == 0 || k == steps_)) writeFields(t);
-      if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(steps_));
+      if (cadence_.field(k)) writeFields(t);
+      if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
     }
     progress.finish();
-    if (fieldEvery_ == 0) addShape(motion_.duration());  // the final needle shape is always reported
+    if (cadence_.fieldEvery == 0) addShape(motion_.duration());  // the final needle shape is always reported
     run_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - run0).count();
   }
 
@@ -125,13 +122,6 @@ class Realtime2dRun {
   }
 
  private:
-  Session makeSession() {
-    const auto wall0 = std::chrono::steady_clock::now();
-    Session s(cfg_);  // refuses unstable settings with the limit they break
-    setup_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    return s;
-  }
-
   // Markers: x = depth from the entry face, y = lateral from the path line (mesh coordinates).
   void placeMarkers() {
     const double path_y = session_.entryPoint().y() + session_.cornerShift().y();
@@ -202,7 +192,7 @@ class Realtime2dRun {
     o0.depth = m0.depth;
     o0.tip_position = session_.entryPoint() + m0.depth * cfg_.frame.axial.head<2>();
     record(0.0, m0, o0);
-    if (fieldEvery_ > 0) writeFields(0.0);
+    if (cadence_.fieldEvery > 0) writeFields(0.0);
   }
 
   void record(double t, const MotionState& m, const StepResult& o) {
@@ -284,8 +274,8 @@ class Realtime2dRun {
         "dt = {:g} ms, Rayleigh alpha = {:g} 1/s, beta = {:g} s; Euler-Bernoulli needle EI = {:.4g} N m^2. {} steps "
         "in {:.3g} s ({:.3g} steps/s on this machine; setup {:.3g} s). docs/models/realtime2d.md.",
         meshSize(mesh, sc_), session_.tissue().freeDofs(), realtimeBackendName(session_.tissue().backend()), dt_ * 1e3,
-        cfg_.tissue.rayleigh_alpha, cfg_.tissue.rayleigh_beta, cfg_.needle.EI, steps_, run_s_,
-        run_s_ > 0 ? steps_ / run_s_ : 0.0, setup_s_));
+        cfg_.tissue.rayleigh_alpha, cfg_.tissue.rayleigh_beta, cfg_.needle.EI, cadence_.steps, run_s_,
+        run_s_ > 0 ? cadence_.steps / run_s_ : 0.0, setup_s_));
     bool hyper = false, prony = false;
     for (const auto& L : sc_.tissue.layers) {
       hyper = hyper || L.material.law != "linear";
@@ -316,7 +306,7 @@ class Realtime2dRun {
   Session session_;
   MotionProfile motion_;
   double dt_;
-  long long steps_ = 0, every_ = 1, fieldEvery_ = 0;
+  RunCadence cadence_;
   results::ForcesTable forces_;
   results::InclusionMotion inclusions_;
   RealtimeMarkers markers_;

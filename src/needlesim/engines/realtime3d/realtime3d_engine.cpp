@@ -93,17 +93,14 @@ struct Extremes {
 class Realtime3dRun {
  public:
   Realtime3dRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
-      : sc_(sc), sink_(sink), options_(options), cfg_(realtime3dConfig(sc)), session_(makeSession()),
-        motion_(sc.insertion), dt_(sc.model.time_step), forces_(true, engineColumns()),
+      : sc_(sc), sink_(sink), options_(options), cfg_(realtime3dConfig(sc)), session_(timed(setup_s_, [this] { return Session(cfg_); })),
+        motion_(sc.insertion), dt_(sc.model.time_step),
+        cadence_(motion_.duration(), dt_, sc.output.interval, sc.model.realtime3d.field_interval), forces_(true, engineColumns()),
         inclusions_(sc.tissue.inclusions, cfg_.frame),
         markers_(3, [this](int node) { return session_.tissue().nodeDisplacement(node); }),
         shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}}) {
-    steps_ = static_cast<long long>(std::ceil(motion_.duration() / dt_ - 1e-9));
-    every_ = outputStride(sc.output.interval, dt_);
-    const double fi = sc.model.realtime3d.field_interval;
-    fieldEvery_ = fi > 0.0 ? std::max(1LL, std::llround(fi / dt_)) : 0LL;
-    forces_.reserve(static_cast<std::size_t>(steps_ / every_ + 2));
-    if (fieldEvery_ > 0) fields_ = std::make_unique<Fields3d>(sink_, session_);
+    forces_.reserve(cadence_.rows());
+    if (cadence_.fieldEvery > 0) fields_ = std::make_unique<Fields3d>(sink_, session_);
     placeMarkers();
   }
 
@@ -112,17 +109,17 @@ class Realtime3dRun {
     if (fields_) fields_->write(0.0);
     Progress progress("realtime3d", options_.progress);
     const auto run0 = std::chrono::steady_clock::now();
-    for (long long k = 1; k <= steps_; ++k) {
-      const double t = std::min(k * dt_, motion_.duration());
+    for (long long k = 1; k <= cadence_.steps; ++k) {
+      const double t = cadence_.timeOf(k);
       const MotionState m = motion_.at(t);
       // The bevel's turn from the frame's orientation (axial_angle starts at bevel_orientation).
       const BasePose pose =
           session_.poseAtDepth(m.depth, 0.0, 0.0, m.plane_angle, 0.0, m.axial_angle - sc_.insertion.bevel_orientation);
       const StepResult& o = session_.step(pose, dt_);
       ext_.track(o);
-      if (k % every_ == 0 || k == steps_) record(t, m, o);
-      if (fields_ && (k % fieldEvery_ == 0 || k == steps_)) fields_->write(t);
-      if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(steps_));
+      if (cadence_.sample(k)) record(t, m, o);
+      if (fields_ && cadence_.field(k)) fields_->write(t);
+      if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
     }
     progress.finish();
     run_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - run0).count();
@@ -142,13 +139,6 @@ class Realtime3dRun {
   }
 
  private:
-  Session makeSession() {
-    const auto wall0 = std::chrono::steady_clock::now();
-    Session s(cfg_);
-    setup_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - wall0).count();
-    return s;
-  }
-
   // Markers: x = depth from the entry face, y = lateral from the path line through the entry
   // point, z = from the insertion plane; each in the tet holding it (linear shape functions).
   void placeMarkers() {
@@ -214,7 +204,7 @@ class Realtime3dRun {
       sink_.result(i == 0 ? std::string("puncture_depth") : fmt::format("puncture_depth_{}", i + 1), ext_.punctures[i],
                    "m", i == 0 ? "tip depth at puncture (eq 3.16 threshold)" : "tip depth at a layer boundary's puncture");
     markers_.reportResults(sink_);
-    sink_.result("steps_per_second", run_s_ > 0 ? steps_ / run_s_ : 0.0, "1/s", "session steps per wall-clock second");
+    sink_.result("steps_per_second", run_s_ > 0 ? cadence_.steps / run_s_ : 0.0, "1/s", "session steps per wall-clock second");
   }
 
   void plotDeflection() {
@@ -233,7 +223,7 @@ class Realtime3dRun {
         "N m^2 bending in two planes. {} steps in {:.3g} s ({:.3g} steps/s; setup {:.3g} s). docs/models/realtime3d.md.",
         b.nodes_depth, b.nodes_lateral, b.nodes_height, session_.mesh().elements(), session_.tissue().dynamics().freeDofs(),
         realtimeBackendName(session_.tissue().dynamics().backend()), dt_ * 1e3, cfg_.tissue.rayleigh_alpha,
-        cfg_.tissue.rayleigh_beta, cfg_.needle.EI, steps_, run_s_, run_s_ > 0 ? steps_ / run_s_ : 0.0, setup_s_));
+        cfg_.tissue.rayleigh_beta, cfg_.needle.EI, cadence_.steps, run_s_, run_s_ > 0 ? cadence_.steps / run_s_ : 0.0, setup_s_));
     for (const auto& L : sc_.tissue.layers)
       if (L.material.law != "linear") {
         sink_.note("The tissue law is linearised: realtime3d uses its small-strain moduli (initial shear and bulk).");
@@ -249,7 +239,7 @@ class Realtime3dRun {
   Session session_;
   MotionProfile motion_;
   double dt_;
-  long long steps_ = 0, every_ = 1, fieldEvery_ = 0;
+  RunCadence cadence_;
   results::ForcesTable forces_;
   results::InclusionMotion inclusions_;
   RealtimeMarkers markers_;
