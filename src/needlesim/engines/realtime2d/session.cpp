@@ -19,12 +19,6 @@ Eigen::Vector2d cornerShiftOf(const SessionConfig& c) {
 SessionConfig normalised(SessionConfig c) {
   // The refined line of the mesh runs through the entry point.
   c.tissue.mesh.path_y = c.frame.entry.y() + cornerShiftOf(c).y();
-  if (c.friction.D_p <= 0.0) c.friction.D_p = c.friction.C_p;  // static limit defaults to dynamic
-  if (c.friction.D_n <= 0.0) c.friction.D_n = c.friction.C_n;
-  for (auto& L : c.layers) {
-    if (L.friction.D_p <= 0.0) L.friction.D_p = L.friction.C_p;
-    if (L.friction.D_n <= 0.0) L.friction.D_n = L.friction.C_n;
-  }
   realtime::checkSessionSettings(c, "realtime2d");
   return c;
 }
