@@ -13,6 +13,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/closed_surface.hpp"
+#include "needlesim/mesh/msh_check.hpp"
 #include "needlesim/mesh/surface_formats.hpp"
 #include "needlesim/mesh/vtp_reader.hpp"
 
@@ -233,6 +234,7 @@ bool isScript(const std::string& path) {
 
 VolumeMesh readGmsh(const std::string& path, double maxElementSize) {
   requireFile(path);
+  if (isMsh(path)) checkMshFile(path);
   GmshSession session;
   gmshCall(path, "read it", "a Gmsh .msh (format 2 or 4, ASCII or binary) or .geo script", [&] { gmsh::open(path); });
   if (isScript(path)) {
@@ -242,6 +244,7 @@ VolumeMesh readGmsh(const std::string& path, double maxElementSize) {
     });
   }
   VolumeMesh m = extractMesh(path);
+  checkMeshCoordinates(path, m);
   checkOrientation(path, m);
   return m;
 }
@@ -257,15 +260,14 @@ TriangleSurface closedOrRefused(const std::string& path, TriangleSurface s) {
   return s;
 }
 
-// A surface file's triangles (Gmsh merges the vertices an STL repeats; OBJ and VTK XML PolyData
-// are read here), refused when open or in a format Gmsh's library would misread.
+// A surface file's triangles (needlesim's own readers; Gmsh's for legacy VTK), refused when open
+// or in a format Gmsh's library would misread.
 TriangleSurface readSurface(const std::string& path) {
   requireFile(path);
   if (const auto bad = surfaceFormatProblem(path)) throw geometryError(path, bad->problem, bad->allowed);
-  if (isObj(path)) return closedOrRefused(path, readObj(path));
-  if (isVtp(path)) return closedOrRefused(path, readVtp(path));
+  if (auto own = readOwnSurfaceFormat(path)) return closedOrRefused(path, std::move(*own));
   GmshSession session;
-  gmshCall(path, "read it", "a closed surface Gmsh reads (.stl, .ply, .vtk 4.2, .off; or .obj, .vtp)", [&] { gmsh::merge(path); });
+  gmshCall(path, "read it", "a closed surface in legacy VTK 4.2 or older (or .stl, .ply, .off, .obj, .vtp)", [&] { gmsh::merge(path); });
   TriangleSurface s;
   std::vector<std::size_t> tags, triangleTags, triangleNodes;
   std::vector<double> parametric;
