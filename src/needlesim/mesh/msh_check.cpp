@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <limits>
 #include <string_view>
 #include <unordered_set>
 #include <vector>
@@ -49,6 +50,15 @@ class MshScanner {
         if (name == "Nodes") v4_ ? nodes4() : nodes2();
         else v4_ ? elements4() : elements2();
         expectEnd(name);
+      } else if (name == "PhysicalNames") {
+        physicalNames();
+        expectEnd(name);
+      } else if (name == "Entities" && v4_) {
+        entities4();
+        expectEnd(name);
+      } else if (isDataSection(name)) {
+        throw error(lineStart_, fmt::format("holds a ${} section, which needlesim does not read", name) +
+                                    " (save the mesh alone: nodes, elements, entities and physical names)");
       } else if (name.starts_with("End")) {
         throw error(lineStart_, fmt::format("has ${} where no ${} section is open", name, name.substr(3)));
       } else {
@@ -202,6 +212,68 @@ class MshScanner {
     const int n = nodesOfType(type);
     if (n == 0) throw error(at, fmt::format("has elements of type {}", type) + " (Gmsh types 1 to 31 are read)");
     return n;
+  }
+
+  // Sections Gmsh reads that a tissue mesh has no use for, whose counts needlesim does not check.
+  static bool isDataSection(const std::string& name) {
+    for (const char* d : {"NodeData", "ElementData", "ElementNodeData", "InterpolationScheme", "Periodic", "GhostElements",
+                          "PartitionedEntities", "Parametrizations"})
+      if (name == d) return true;
+    return false;
+  }
+
+  // $PhysicalNames (text in every format): a count, then 'dimension tag "name"' per group.
+  void physicalNames() {
+    const long long n = count(expectWords(1, "the number of physical names")[0], "physical names", 8);
+    for (long long i = 0; i < n; ++i) {
+      const std::string_view line = expectLine("a physical name");
+      const auto w = words(line);
+      const std::size_t open = line.find('"');
+      if (w.size() < 3 || open == std::string_view::npos || line.back() != '"' || open == line.size() - 1 || line.size() > 250)
+        throw error(lineStart_, fmt::format("has \"{}\" where 'dimension tag \"name\"' (at most 250 characters) is expected",
+                                            printable(line)));
+      const long long dim = integer(w[0], "a dimension"), tag = integer(w[1], "a physical tag");
+      if (dim < 0 || dim > 3 || tag < 1 || tag > std::numeric_limits<std::int32_t>::max())
+        throw error(lineStart_, fmt::format("physical name {} has dimension {} and tag {}", i + 1, dim, tag) +
+                                    " (dimension 0 to 3, tag 1 to 2147483647)");
+    }
+  }
+
+  // $Entities of format 4.1: points, curves, surfaces, volumes, each with its physical tags (and
+  // bounding entities but for points); the lists' lengths bounded by the bytes that follow.
+  void entities4() {
+    std::array<std::uint64_t, 4> counts{};
+    if (binary_) {
+      for (auto& c : counts) c = binaryCount(raw<std::uint64_t>("the entity counts"), "entities", 36);
+    } else {
+      const auto w = expectWords(4, "the entity counts 'points curves surfaces volumes'");
+      for (int k = 0; k < 4; ++k) counts[k] = static_cast<std::uint64_t>(count(w[k], "entities", 8));
+    }
+    for (int kind = 0; kind < 4; ++kind)
+      for (std::uint64_t i = 0; i < counts[kind]; ++i) binary_ ? binaryEntity(kind) : textEntity(kind);
+  }
+  void binaryEntity(int kind) {
+    raw<std::int32_t>("an entity");
+    const std::size_t reals = kind == 0 ? 3 : 6;
+    if (left() < 8 * reals) throw error(at_, "ends inside an entity");
+    at_ += 8 * reals;
+    for (int list = 0; list < (kind == 0 ? 1 : 2); ++list) {
+      const auto n = binaryCount(raw<std::uint64_t>("an entity"), list == 0 ? "physical tags" : "bounding entities", 4);
+      at_ += 4 * static_cast<std::size_t>(n);
+    }
+  }
+  void textEntity(int kind) {
+    const auto w = words(expectLine("an entity"));
+    const std::size_t reals = kind == 0 ? 3 : 6;
+    std::size_t at = 1 + reals;
+    for (int list = 0; list < (kind == 0 ? 1 : 2); ++list) {
+      if (at >= w.size()) throw error(lineStart_, fmt::format("an entity line has {} values, too few", w.size()));
+      const long long n = integer(w[at], "a count of tags");
+      if (n < 0 || static_cast<std::size_t>(n) > w.size() - at - 1)
+        throw error(lineStart_, fmt::format("an entity line declares {} tags where {} values follow", n, w.size() - at - 1));
+      at += 1 + static_cast<std::size_t>(n);
+    }
+    if (at != w.size()) throw error(lineStart_, fmt::format("an entity line has {} values where {} are expected", w.size(), at));
   }
 
   void nodes2() {
