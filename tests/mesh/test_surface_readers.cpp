@@ -374,3 +374,20 @@ TEST(MshCheck, MalformedMeshFilesAreRefusedNamingTheFileAndPlace) {
   expectMshRefused("binarynan.msh", binaryNan, {"binarynan.msh", "node 3 has y = nan", "byte"});
   fs::remove_all(tempDir());
 }
+
+TEST(SurfaceReaders, LegacyVtkPointsAndCountsAreCheckedBeforeGmshReadsThem) {
+  std::string vtk = "# vtk DataFile Version 4.2\nbox\nASCII\nDATASET POLYDATA\nPOINTS 8 double\n";
+  for (const auto& c : kCorner) vtk += fmt::format("{} {} {}\n", c[0], c[1], c[2]);
+  vtk += "POLYGONS 12 48\n";
+  for (const auto& f : kFace) vtk += fmt::format("3 {} {} {}\n", f[0], f[1], f[2]);
+  const auto m = mesh::meshSurfaces({{writeFile("box.vtk", vtk).string(), "gel"}}, 4.0);
+  double volume = 0.0;
+  for (int e = 0; e < m.elements(); ++e) volume += mesh::elementMeasure(m, e);
+  EXPECT_NEAR(volume, 1000.0, 1e-9);
+  expectSurfaceRefused("nan.vtk", replacedText(vtk, "\n10 0 0\n", "\n10 nan 0\n"), {"nan.vtk:7:", "point 1", "y = nan"});
+  expectSurfaceRefused("count.vtk", replacedText(vtk, "POLYGONS 12 48", "POLYGONS 12 4800000000"),
+                       {"count.vtk:14:", "POLYGONS declares 4800000000 cell values"});
+  expectSurfaceRefused("points.vtk", replacedText(vtk, "POINTS 8 double", "POINTS 9 double"),
+                       {"points.vtk", "not a number"});
+  fs::remove_all(tempDir());
+}

@@ -9,6 +9,7 @@
 #include <sstream>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/mesh/legacy_vtk_check.hpp"
 #include "needlesim/mesh/off_reader.hpp"
 #include "needlesim/mesh/ply_reader.hpp"
 #include "needlesim/mesh/stl_reader.hpp"
@@ -67,7 +68,10 @@ std::optional<TriangleSurface> readOwnSurfaceFormat(const std::string& path) {
   if (e == ".off") return readOff(path);
   if (e == ".obj") return readObj(path);
   if (e == ".vtp") return readVtp(path);
-  if (e == ".vtk") return std::nullopt;
+  if (e == ".vtk") {
+    checkLegacyVtk(path);
+    return std::nullopt;
+  }
   throw surfaceError(path, 0, fmt::format("has the extension \"{}\", which is not a surface format needlesim reads", printable(e)),
                      "a closed surface as .stl (ASCII or binary), .ply, .off, .obj, .vtp (VTK XML PolyData) or legacy "
                      ".vtk (version 4.2 or older)");

@@ -19,7 +19,7 @@ struct SurfaceFormatProblem {
 std::optional<SurfaceFormatProblem> surfaceFormatProblem(const std::string& path);
 
 // The surface of a file in a format needlesim reads itself (.stl, .ply, .off, .obj, .vtp), or
-// nullopt for legacy VTK (.vtk, read by Gmsh); any other extension is an InputError listing the
+// nullopt for legacy VTK (.vtk, read by Gmsh after mesh/legacy_vtk_check); any other extension is an InputError listing the
 // formats. Coordinates, counts and triangles are checked (mesh/surface_checks).
 std::optional<TriangleSurface> readOwnSurfaceFormat(const std::string& path);
 
