@@ -8,7 +8,7 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <map>
+#include <unordered_map>
 #include <sstream>
 #include <vector>
 
@@ -27,14 +27,27 @@ class VertexMerger {
  public:
   explicit VertexMerger(TriangleSurface& s) : s_(s) {}
   int add(const double* p) {
-    const auto [at, added] = index_.try_emplace({p[0], p[1], p[2]}, static_cast<int>(s_.xyz.size() / 3));
+    const Key key{p[0] + 0.0, p[1] + 0.0, p[2] + 0.0};  // -0 and 0 alike
+    const auto [at, added] = index_.try_emplace(key, static_cast<int>(s_.xyz.size() / 3));
     if (added) s_.xyz.insert(s_.xyz.end(), {p[0], p[1], p[2]});
     return at->second;
   }
 
  private:
+  using Key = std::array<double, 3>;
+  struct Hash {
+    std::size_t operator()(const Key& k) const {
+      std::size_t h = 0;
+      for (double x : k) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &x, 8);
+        h = (h ^ bits) * 0x100000001b3ull;
+      }
+      return h ^ (h >> 29);
+    }
+  };
   TriangleSurface& s_;
-  std::map<std::array<double, 3>, int> index_;
+  std::unordered_map<Key, int, Hash> index_;
 };
 
 // ---- binary
