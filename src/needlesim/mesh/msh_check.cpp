@@ -323,6 +323,7 @@ class MshScanner {
       const int nodes = elementNodes(integer(w[1], "an element type"), lineStart_);
       if (tags < 0 || tags > 100 || w.size() != static_cast<std::size_t>(3 + tags + nodes))
         throw error(lineStart_, fmt::format("element {} has {} values; its type and {} tags need {}", tag, w.size(), tags, 3 + tags + nodes));
+      for (std::size_t k = 3; k < static_cast<std::size_t>(3 + tags); ++k) integer(w[k], "an element's tag");
       for (std::size_t k = static_cast<std::size_t>(3 + tags); k < w.size(); ++k) usesNode(integer(w[k], "a node tag"), tag, lineStart_);
     }
   }
