@@ -371,6 +371,8 @@ TEST(LiveWeb, DriveRefusesUnknownKeysAndWrongTypesNamingTheField) {
       EXPECT_NE(std::string(e.what()).find("allowed: "), std::string::npos) << e.what();
     }
   }
+  const std::string deep = R"({"insert": )" + std::string(20000, '[') + std::string(20000, ']') + "}";
+  EXPECT_THROW(live::driveFromJson(deep), needlesim::InputError);  // refused, not echoed by a deep recursion
   EXPECT_THROW(live::requireNoArguments("POST /api/reset", R"({"hard": true})"), needlesim::InputError);
   EXPECT_NO_THROW(live::requireNoArguments("POST /api/reset", "{}"));
   EXPECT_NO_THROW(live::requireNoArguments("POST /api/reset", ""));

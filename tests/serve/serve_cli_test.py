@@ -124,6 +124,11 @@ def refused_requests(url):
                         ({'roll': True}, 'roll')):
         code, answer = post_error(url, '/api/drive', body)
         assert code == 400 and answer['field'] == field and 'allowed: ' in answer['error'], (body, code, answer)
+    try:
+        post(url, '/api/drive', {'insert': 0, 'pad': 'x' * 100000})
+        raise AssertionError('a body of 100 kB was taken')
+    except urllib.error.HTTPError as e:
+        assert e.code == 413, e.code  # bodies over 64 KiB are not read
     code, answer = post_error(url, '/api/reset', {'hard': True})
     assert code == 400 and answer['field'] == 'hard', answer
     try:
@@ -131,7 +136,7 @@ def refused_requests(url):
         raise AssertionError('since=abc was taken')
     except urllib.error.HTTPError as e:
         assert e.code == 400 and json.load(e)['field'] == 'since', e.code
-    print('refused with 400: {"insert": "fast"}, {"warp": 9}, {"insert": 5}, {"roll": true}, reset {"hard": true}, since=abc')
+    print('refused with 400: {"insert": "fast"}, {"warp": 9}, {"insert": 5}, {"roll": true}, reset {"hard": true}, since=abc; 413: a 100 kB body')
 
 
 def stepped_after_reset(url, seconds):

@@ -73,6 +73,12 @@ const std::pair<const char*, double Drive::*> kDriveAxes[] = {
     {"insert", &Drive::insert}, {"lateral", &Drive::lateral}, {"rotate", &Drive::rotate},
     {"tilt", &Drive::tilt},     {"roll", &Drive::roll}};
 
+// A JSON value as echoed in a message: scalars as written, arrays and objects by their kind
+// (never dumped: a deeply nested value would take a deep recursion).
+std::string describe(const nlohmann::json& value) {
+  return value.is_structured() ? std::string("an ") + value.type_name() : value.dump();
+}
+
 InputError requestError(const std::string& request, const std::string& field, const std::string& value,
                         const std::string& problem, const std::string& allowed) {
   return InputError(SourceLocation{request, 0, 0}, field, printable(value), problem, allowed);
@@ -89,10 +95,10 @@ Drive driveFromJson(const std::string& body) {
     const auto axis = std::find_if(std::begin(kDriveAxes), std::end(kDriveAxes),
                                    [&key](const auto& a) { return key == a.first; });
     if (axis == std::end(kDriveAxes))
-      throw requestError("POST /api/drive", printable(key), value.dump(), "is not a motion of the trainer",
+      throw requestError("POST /api/drive", printable(key), describe(value), "is not a motion of the trainer",
                          "the keys insert, lateral, rotate, tilt and roll");
     if (!value.is_number() || !(value.get<double>() >= -1.0 && value.get<double>() <= 1.0))
-      throw requestError("POST /api/drive", key, value.dump(), "is not a number from -1 to 1",
+      throw requestError("POST /api/drive", key, describe(value), "is not a number from -1 to 1",
                          "a number from -1 (full speed back) to 1 (full speed on), 0 to stop");
     drive.*(axis->second) = value.get<double>();
   }
@@ -104,7 +110,7 @@ void requireNoArguments(const std::string& request, const std::string& body) {
   const nlohmann::json j = nlohmann::json::parse(body, nullptr, false);
   if (!j.is_object()) throw requestError(request, "body", body, "is not a JSON object", "an empty body or {}");
   if (!j.empty())
-    throw requestError(request, printable(j.items().begin().key()), j.begin()->dump(), "is not an argument of " + request,
+    throw requestError(request, printable(j.items().begin().key()), describe(*j.begin()), "is not an argument of " + request,
                        "an empty body or {}: the request takes no arguments");
 }
 
