@@ -236,6 +236,7 @@ def second_signal_still_writes_the_recording():
     post(url, '/api/drive', {'insert': 1})
     time.sleep(0.5)
     idle = socket.create_connection(('127.0.0.1', int(url.rsplit(':', 1)[1])), timeout=5)
+    urllib.request.urlopen(url + '/api/info', timeout=10).read()  # accepted after `idle`: that one is held now
     proc.send_signal(signal.SIGTERM)
     time.sleep(0.3)
     proc.send_signal(signal.SIGTERM)
