@@ -24,6 +24,7 @@
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/scenario/schema.hpp"
+#include "needlesim/scenario/yaml_document.hpp"
 #include "needlesim/study/field_path.hpp"
 #include "needlesim/study/study.hpp"
 #include "needlesim/study/with_values.hpp"
@@ -78,20 +79,25 @@ bool endsWith(const std::string& s, const std::string& tail) {
 // The rule of kLoadDoc for a str argument.
 bool looksLikePath(const std::string& s) {
   if (s.find('\n') != std::string::npos) return false;
-  if (std::filesystem::is_regular_file(s)) return true;
+  std::error_code ec;  // a name the file system refuses (too long) is not a file
+  if (std::filesystem::is_regular_file(s, ec)) return true;
   return endsWith(s, ".yaml") || endsWith(s, ".yml") || endsWith(s, ".json") || s.find(':') == std::string::npos;
 }
 
 PyScenario loadFile(const std::filesystem::path& path) {
   const std::string name = path.string();
-  if (std::filesystem::is_directory(path))
-    throw InputError(SourceLocation{name, 0, 0}, "", "", "is a folder", "a scenario file (YAML) or YAML text");
-  if (!std::filesystem::exists(path))
-    throw InputError(SourceLocation{name, 0, 0}, "", "", "file not found", "an existing scenario file or YAML text");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{name, 0, 0}, "", "", "cannot be opened (unreadable)", "a readable scenario file");
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  return PyScenario{scenario::readText(text, name), text};
+  const auto refused = [&](const std::string& problem, const std::string& allowed) {
+    return InputError(SourceLocation{name, 0, 0}, "", "", problem, allowed);
+  };
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(status)) throw refused("is a folder", "a scenario file (YAML) or YAML text");
+  if (!std::filesystem::exists(status)) throw refused("file not found", "an existing scenario file or YAML text");
+  // a device, pipe or socket could be read without end (/dev/zero)
+  if (!std::filesystem::is_regular_file(status))
+    throw refused("is not a regular file (a device, pipe or socket)", "a scenario file (YAML) or YAML text");
+  std::string text = scenario::readYamlFile(path, "a scenario file (see docs/scenario-format.md)");  // size-checked
+  return PyScenario{scenario::readText(text, name), text, {}};
 }
 
 bool isPathLike(const py::handle& o) { return py::hasattr(o, "__fspath__"); }

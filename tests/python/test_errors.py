@@ -8,6 +8,8 @@ import math
 import os
 import pathlib
 import shutil
+import subprocess
+import sys
 
 import numpy as np
 import pytest
@@ -181,6 +183,22 @@ def test_text_that_is_not_unicode(gelatin, tmp_path):
     undecodable = os.fsdecode(bytes(tmp_path) + b"/\xff.yaml")  # a file name with a byte that is not UTF-8
     assert "file not found" in message(needlesim.InputError, needlesim.load, undecodable)
     assert "not valid text" in message(needlesim.InputError, gelatin.with_values, {"tissue.friction.C_p": "\udcff"})
+
+
+def test_a_pipe_or_device_is_not_read_as_a_scenario(tmp_path):
+    """/dev/zero would be read without end, a pipe without a writer waits for ever: both are refused
+    at once (in a child process, so that a hang fails the test instead of stopping it)."""
+    os.mkfifo(tmp_path / "pipe.yaml")
+    script = ("import needlesim, sys\n"
+              "for p in sys.argv[1:]:\n"
+              "    try:\n"
+              "        needlesim.load(p)\n"
+              "    except needlesim.InputError as e:\n"
+              "        print(e)\n")
+    done = subprocess.run([sys.executable, "-c", script, "/dev/zero", str(tmp_path / "pipe.yaml")],
+                          capture_output=True, text=True, timeout=60)
+    lines = done.stdout.splitlines()
+    assert len(lines) == 2 and all("is not a regular file" in line for line in lines), done.stdout + done.stderr
 
 
 # --- Sessions: the step guard from the first step, the tissue's reach ----------------------
