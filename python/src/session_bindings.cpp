@@ -115,6 +115,7 @@ class SessionBase {
     StepArgs a{depth, dt.value_or(dt_), velocity, rotation, roll, lateral, tilt};
     checkArgs(a);
     SessionStep s = advance(a);
+    requireFiniteOutputs(s, a);
     time_ += a.dt;
     s.time = time_;
     last_ = a.depth;
@@ -160,6 +161,29 @@ class SessionBase {
                        "0 (or a realtime3d scenario)");
     checkReach(a);
     checkTravel(a.depth);
+    checkVelocity(a);
+  }
+
+  // The tip velocity a step implies (the depth change over dt, or the lumped model's given one)
+  // must be a number: a dt of a few denormals makes it infinite.
+  void checkVelocity(const StepArgs& a) const {
+    const double change = a.depth - last_.value_or(reach_.startDepth);
+    const double v = a.velocity.value_or(change / a.dt);
+    if (!std::isfinite(v))
+      throw InputError(kPython, "Session.step(dt)", fmt::format("{:g}", a.dt),
+                       fmt::format("makes the tip velocity infinite (a depth change of {:g} mm over it)", 1e3 * change),
+                       "a time step long enough for a finite velocity, such as the scenario's model.time_step");
+  }
+
+  // A step whose forces or tip are not finite numbers is a SolverError, not a result.
+  void requireFiniteOutputs(const SessionStep& s, const StepArgs& a) const {
+    const double values[] = {s.depth, s.force_total, s.force_stiffness, s.force_cutting, s.force_friction,
+                             s.force_lateral, s.tip_deflection, s.tip_position[0], s.tip_position[1], s.tip_position[2]};
+    for (double v : values)
+      if (!std::isfinite(v))
+        throw SolverError(fmt::format("Session.step: the step to depth {:g} mm over dt = {:g} s gave non-finite forces or "
+                                      "tip position; take steps with a longer dt (the scenario's model.time_step is {:g} s)",
+                                      1e3 * a.depth, a.dt, dt_));
   }
 
   void checkReach(const StepArgs& a) const {

@@ -256,6 +256,16 @@ def test_realtime3d_refuses_poses_outside_the_tissue(example, kwargs, words):
     assert all(w in text for w in words), text
 
 
+def test_a_step_too_short_for_a_finite_velocity(gelatin):
+    session = needlesim.Session(gelatin)
+    for k in range(101):
+        session.step(k * 1e-4)  # 10 mm in, cutting
+    text = message(needlesim.InputError, session.step, 0.0102, dt=5e-324)
+    assert "Session.step(dt)" in text and "makes the tip velocity infinite" in text, text
+    s = session.step(0.0102)
+    assert math.isfinite(s.force_total) and s.phase == "cutting"
+
+
 def test_needle_shape_points_are_bounded(coarse):
     text = message(needlesim.InputError, needlesim.Session(coarse).needle_shape, 2_000_000_000)
     assert "Session.needle_shape(count)" in text and "2 to 1000000" in text
