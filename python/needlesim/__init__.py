@@ -132,4 +132,4 @@ def _run_to_folder(scenario, out, overwrite):
     """The results folder read back, with the tables exactly as the engine made them."""
     written = _core.run_to_folder(scenario, out, overwrite)
     tables = {name: Table(name, cols, data) for name, (cols, data) in written["tables"].items()}
-    return open_results(written["folder"], tables=tables)
+    return open_results(os.fsdecode(written["folder"]), tables=tables)

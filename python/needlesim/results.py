@@ -198,6 +198,9 @@ def open_results(folder, tables=None):
     if not isinstance(folder, (str, os.PathLike)):
         raise ArgumentTypeError("needlesim.open_results: folder must be a str or a pathlib.Path, not %s"
                                 % type(folder).__name__)
+    if tables is not None and not isinstance(tables, dict):
+        raise ArgumentTypeError("needlesim.open_results: tables must be a dict {name: Table} or None, not %s"
+                                % type(tables).__name__)
     folder = pathlib.Path(folder)
     if not folder.is_dir():
         problem = "is not a folder" if folder.exists() else "does not exist"

@@ -250,7 +250,7 @@ py::dict runToFolder(const PyScenario& s, const py::object& outArg, bool overwri
   py::dict tables;
   for (const auto& [name, t] : o.tables) tables[py::str(name)] = tableTuple(t);
   py::dict d;
-  d["folder"] = o.folder.string();
+  d["folder"] = py::bytes(o.folder.string());  // the file system's bytes (os.fsdecode in Python)
   d["tables"] = tables;
   return d;
 }
@@ -287,25 +287,32 @@ PYBIND11_MODULE(_core, m) {
   // Every C++ error reaches Python as InputError or SolverError (docs/python.md "Errors"):
   // needlesim's own errors as the CLI reports them (a bad input, a solver that stops), a file
   // system error as the input that named the file, anything else as a SolverError (a RuntimeError).
+  // The message as text even where it holds bytes that are not UTF-8 (escaped, as \xff).
+  static const auto setError = [](PyObject* type, const std::string& what) {
+    py::object text = py::reinterpret_steal<py::object>(
+        PyUnicode_DecodeUTF8(what.data(), static_cast<Py_ssize_t>(what.size()), "backslashreplace"));
+    if (!text) return;  // the decoding error is then the one raised
+    PyErr_SetObject(type, text.ptr());
+  };
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
     } catch (const py::builtin_exception&) {
       throw;  // pybind11's own (TypeError, ValueError, ...) go to its translator
     } catch (const InputError& e) {
-      PyErr_SetString(inputError.ptr(), e.what());
+      setError(inputError.ptr(), e.what());
     } catch (const SolverError& e) {
-      PyErr_SetString(solverError.ptr(), e.what());
+      setError(solverError.ptr(), e.what());
     } catch (const RunInterrupted& e) {
-      PyErr_SetString(PyExc_KeyboardInterrupt, e.what());
+      setError(PyExc_KeyboardInterrupt, e.what());
     } catch (const Error& e) {
-      PyErr_SetString(inputError.ptr(), e.what());
+      setError(inputError.ptr(), e.what());
     } catch (const std::filesystem::filesystem_error& e) {
-      PyErr_SetString(inputError.ptr(), printable(e.what(), 4000).c_str());
+      setError(inputError.ptr(), printable(e.what(), 4000));
     } catch (const std::bad_alloc&) {
-      PyErr_SetString(solverError.ptr(), "not enough memory for this run: use a coarser mesh or fewer steps");
+      setError(solverError.ptr(), "not enough memory for this run: use a coarser mesh or fewer steps");
     } catch (const std::exception& e) {
-      PyErr_SetString(solverError.ptr(), printable(e.what(), 4000).c_str());
+      setError(solverError.ptr(), printable(e.what(), 4000));
     }
   });
 

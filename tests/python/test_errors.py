@@ -150,6 +150,12 @@ def test_run_into_a_folder_under_a_file(gelatin, tmp_path):
     assert (tmp_path / "file").read_text() == "mine"
 
 
+def test_a_results_folder_whose_name_is_not_utf8(gelatin, tmp_path):
+    out = os.fsdecode(bytes(tmp_path) + b"/run-\xff")  # a name with a byte that is not UTF-8
+    r = needlesim.run(gelatin, out=out)
+    assert r.results["exit_force"].unit == "N" and os.path.samefile(r.folder, out)
+
+
 # --- arguments of the wrong type -----------------------------------------------------------
 
 
