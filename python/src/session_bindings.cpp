@@ -217,9 +217,9 @@ class SessionBase {
         last_ ? std::abs(depth - *last_) : std::abs(std::max(depth, e) - std::max(reach_.startDepth, e));
     if (!(travel > maxTravel_)) return;
     const std::string from = last_ ? fmt::format("in one step (from {:g} mm)", 1e3 * *last_)
-                                   : fmt::format("in its first step (from {:g} mm, insertion.start_depth, where a "
-                                                 "Session starts)",
-                                                 1e3 * std::max(reach_.startDepth, e));
+                                   : fmt::format("in its first step (a Session starts at insertion.start_depth, {:g} mm; "
+                                                 "only before the tissue (depth <= {:g} mm) may it be placed anywhere)",
+                                                 1e3 * reach_.startDepth, 1e3 * e);
     throw InputError(kPython, "Session.step(depth)", fmt::format("{:g}", depth),
                      fmt::format("moves the tip {:g} mm {}", 1e3 * travel, from),
                      fmt::format("at most {:g} mm per step ({}); take smaller steps", 1e3 * maxTravel_, travelLimit_));

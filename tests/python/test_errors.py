@@ -218,10 +218,11 @@ def coarse(example):
 def test_the_first_step_keeps_the_step_guard(gelatin, coarse):
     # lumped: the thinnest layer is the 55 mm block, 27.5 mm per step at most
     text = message(needlesim.InputError, needlesim.Session(gelatin).step, 0.100)
-    assert "moves the tip 100 mm in its first step (from 0 mm, insertion.start_depth" in text, text
+    assert "moves the tip 100 mm in its first step (a Session starts at insertion.start_depth, 0 mm" in text, text
     assert "at most 27.5 mm per step" in text
     text = message(needlesim.InputError, needlesim.Session(coarse).step, 0.050)
-    assert "moves the tip 50 mm in its first step" in text and "at most 4 mm per step" in text
+    assert "moves the tip 50 mm in its first step (a Session starts at insertion.start_depth, -1 mm" in text, text
+    assert "at most 4 mm per step" in text
     # before the tissue the needle may start anywhere; from there on every step is guarded
     session = needlesim.Session(coarse)
     assert session.step(-0.030).depth == pytest.approx(-0.030)
