@@ -3,8 +3,12 @@
 // refused with exit code 2 naming the file and line or the budget, and the next file is checked.
 #include <gtest/gtest.h>
 
+#include <sys/wait.h>
 #include <unistd.h>
 
+#include <csignal>
+
+#include <algorithm>
 #include <chrono>
 #include <filesystem>
 #include <fstream>
@@ -47,14 +51,17 @@ fs::path blockScenario(const std::string& name, const std::string& tail, const s
 }  // namespace
 
 TEST(GeometryCli, AScriptThatExitsIsRefusedAndTheNextFileIsStillChecked) {
-  const auto exits = blockScenario("exits", "Exit;\n");  // line 24 of the script
+  const auto exits = blockScenario("exits", "Exit;\n");  // the line after the example script's last
   const auto runs = blockScenario("runs", "SystemCall \"touch PWNED\";\n");
+  const std::string script = slurp(example("realtime2d/imported_block.geo"));
+  const std::string line = ":" + std::to_string(std::count(script.begin(), script.end(), '\n') + 1) + ":";
   const auto good = example("gelatin_18G_3mms.yaml");
   const auto r = runCli("check " + exits.string() + " " + runs.string() + " " + good.string());
   EXPECT_EQ(r.code, 2) << r.out;
-  EXPECT_NE(r.out.find("exits.geo:24"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("runs.geo:24"), std::string::npos) << r.out;
-  EXPECT_NE(r.out.find("2 of 3 files"), std::string::npos) << r.out;  // the third was checked
+  EXPECT_NE(r.out.find("exits.geo" + line), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("runs.geo" + line), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("2 of 3 files"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("gelatin_18G_3mms.yaml: ok"), std::string::npos) << r.out;  // the third was checked
   EXPECT_FALSE(fs::exists(exits.parent_path() / "PWNED"));
   const auto fine = runCli("check " + blockScenario("fine", "").string());
   EXPECT_EQ(fine.code, 0) << fine.out;
@@ -77,4 +84,27 @@ TEST(GeometryCli, MeshingBudgetsAreScenarioFields) {
   EXPECT_EQ(slow.code, 2) << slow.out;
   EXPECT_NE(slow.out.find("max_mesh_time (2 s)"), std::string::npos) << slow.out;
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 40.0);
+}
+
+TEST(GeometryCli, CtrlCWhileAScriptIsMeshedStopsTheRunWithinASecond) {
+  const auto loops = blockScenario("stops", "For i In {1:2000000000}\n  x = i;\nEndFor\n");
+  const auto log = loops.parent_path() / "stops.log";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    const std::string cmd = "exec " + std::string(NEEDLESIM_BINARY) + " run " + loops.string() + " --out " +
+                            (loops.parent_path() / "stops_out").string() + " > '" + log.string() + "' 2>&1";
+    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    ::_exit(127);
+  }
+  ::sleep(2);  // reading the scenario, the script looping in the reader
+  const auto asked = std::chrono::steady_clock::now();
+  ::kill(pid, SIGINT);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  const double took = std::chrono::duration<double>(std::chrono::steady_clock::now() - asked).count();
+  ASSERT_TRUE(WIFEXITED(status)) << slurp(log);
+  EXPECT_EQ(WEXITSTATUS(status), 130) << slurp(log);
+  EXPECT_NE(slurp(log).find("stops.geo: interrupted by SIGINT"), std::string::npos) << slurp(log);
+  EXPECT_LT(took, 1.0);
+  EXPECT_FALSE(fs::exists(loops.parent_path() / "stops_out"));
 }

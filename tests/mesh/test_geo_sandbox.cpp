@@ -17,6 +17,7 @@
 #include <map>
 #include <string>
 #include <thread>
+#include <vector>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
@@ -142,6 +143,18 @@ TEST(GeoSandbox, AChildThatEndsOrCrashesIsAnInputErrorNamingTheFile) {
   why = refusal([] { mesh::runIsolated("crashes.stl", {}, []() -> std::string { std::abort(); }); });
   EXPECT_NE(why.find("crashes.stl"), std::string::npos) << why;
   EXPECT_NE(why.find("Gmsh failed reading this file (signal SIGABRT"), std::string::npos) << why;
+}
+
+TEST(GeoSandbox, TheChildCannotTakeMoreMemoryThanItsBudget) {
+  const mesh::MeshBudget budget{2e6, 60.0, 64.0 * 1048576};
+  const std::string why = refusal([&] {
+    mesh::runIsolated("big.geo", budget, [] {
+      std::vector<char> block(std::size_t{1} << 30, 1);  // 1 GiB
+      return std::string(1, block[12345]);
+    });
+  });
+  EXPECT_NE(why.find("big.geo"), std::string::npos) << why;
+  EXPECT_NE(why.find("more memory than tissue.geometry.max_mesh_memory_mib (64 MiB)"), std::string::npos) << why;
 }
 
 TEST(GeoSandbox, AnEndlessScriptIsStoppedAtTheTimeBudget) {

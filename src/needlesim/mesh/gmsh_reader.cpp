@@ -304,6 +304,7 @@ TriangleSurface readSurface(const std::string& path, const MeshBudget& budget) {
   if (const auto bad = surfaceFormatProblem(path)) throw geometryError(path, bad->problem, bad->allowed);
   if (isObj(path)) return closedOrRefused(path, readObj(path));
   if (isVtp(path)) return closedOrRefused(path, readVtp(path));
+  if (gmshReadsAsScript(path)) checkGeoScript(path);  // Gmsh would read it as a script (e.g. an .off)
   const std::string file = absolute(path);
   return closedOrRefused(path, decodeSurface(runIsolated(path, budget, [&] {
                            GmshSession session;

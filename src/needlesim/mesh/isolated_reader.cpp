@@ -161,7 +161,8 @@ bool limit(int resource, rlim_t soft, rlim_t hard) {
   return ::setrlimit(resource, &wanted) == 0;
 }
 
-// The address space the process maps now (its first pages of /proc/self/statm).
+// The address space the process maps now (the first number of /proc/self/statm, in pages); read
+// by the parent before it forks (the child maps the same).
 rlim_t mappedBytes() {
   std::ifstream statm("/proc/self/statm");
   unsigned long long pages = 0;
@@ -169,9 +170,9 @@ rlim_t mappedBytes() {
   return static_cast<rlim_t>(pages) * static_cast<rlim_t>(::sysconf(_SC_PAGESIZE));
 }
 
-std::string applyLimits(const MeshBudget& budget) {
+std::string applyLimits(const MeshBudget& budget, rlim_t mapped) {
   const auto cpu = static_cast<rlim_t>(std::max(1.0, std::ceil(budget.seconds)));
-  const auto as = mappedBytes() + static_cast<rlim_t>(budget.bytes);
+  const auto as = mapped + static_cast<rlim_t>(budget.bytes);
   if (!limit(RLIMIT_CPU, cpu, cpu + 1) || !limit(RLIMIT_AS, as, as) || !limit(RLIMIT_FSIZE, 0, 0) ||
       !limit(RLIMIT_CORE, 0, 0))
     return fmt::format("setrlimit failed: {}", std::strerror(errno));
@@ -222,7 +223,7 @@ std::string applySeccomp() {
   return rc == 0 ? "" : fmt::format("seccomp_load failed: {}", std::strerror(-rc));
 }
 
-[[noreturn]] void runChild(int pipeWrite, const std::string& folder, const MeshBudget& budget,
+[[noreturn]] void runChild(int pipeWrite, const std::string& folder, const MeshBudget& budget, rlim_t mapped,
                            const std::function<std::string()>& work) {
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
   std::signal(SIGINT, SIG_DFL);
@@ -230,7 +231,7 @@ std::string applySeccomp() {
   const int out = isolateDescriptors(pipeWrite);
   std::string reply;
   std::string problem = ::chdir(folder.c_str()) == 0 ? "" : "chdir failed";
-  if (problem.empty()) problem = applyLimits(budget);
+  if (problem.empty()) problem = applyLimits(budget, mapped);
   if (problem.empty()) problem = applySeccomp();
   if (!problem.empty()) {
     reply = std::string(1, kNoSandbox) + problem;
@@ -378,6 +379,7 @@ std::string interpret(const std::string& file, const std::string& reply, const M
 
 std::string runIsolated(const std::string& file, const MeshBudget& budget, const std::function<std::string()>& work) {
   WorkFolder folder;
+  const rlim_t mapped = mappedBytes();
   int fds[2];
   if (::pipe2(fds, O_CLOEXEC) != 0) throw Error(fmt::format("could not make a pipe: {}", std::strerror(errno)));
   const pid_t pid = ::fork();
@@ -386,7 +388,7 @@ std::string runIsolated(const std::string& file, const MeshBudget& budget, const
     ::close(fds[1]);
     throw Error(fmt::format("could not start the geometry reader: {}", std::strerror(errno)));
   }
-  if (pid == 0) runChild(fds[1], folder.path(), budget, work);
+  if (pid == 0) runChild(fds[1], folder.path(), budget, mapped, work);
   ::close(fds[1]);
   Child child(pid, fds[0]);
   const auto deadline = std::chrono::steady_clock::now() + std::chrono::duration<double>(budget.seconds);
@@ -395,7 +397,7 @@ std::string runIsolated(const std::string& file, const MeshBudget& budget, const
   bool open = true, ended = false;
   while (open || !ended) {
     if (open) open = child.readSome(reply);
-    else std::this_thread::sleep_for(std::chrono::milliseconds(10));
+    else std::this_thread::sleep_for(std::chrono::milliseconds(1));
     if (!ended) ended = child.exited(status);
     if (stopRequested()) {
       child.kill();
