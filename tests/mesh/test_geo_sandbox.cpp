@@ -91,6 +91,55 @@ TEST(GeoSandbox, CommandsThatActAreRefusedAtTheirLineAndNothingChanges) {
   fs::remove_all(dir);
 }
 
+TEST(GeoSandbox, ASurfaceFileHoldingAScriptCannotAct) {
+  const auto dir = freshDir("off");
+  std::ofstream(dir / "scripts" / "organ.off") << "SystemCall \"touch PWNED\";\nExit;\n";
+  const auto before = listing(dir);
+  const std::string why = refusal([&] { mesh::meshSurfaces({{(dir / "scripts" / "organ.off").string(), "organ"}}, 1.0); });
+  EXPECT_NE(why.find("organ.off"), std::string::npos) << why;
+  EXPECT_EQ(listing(dir), before);
+  fs::remove_all(dir);
+}
+
+TEST(GeoSandbox, SurfacesTooFineForTheElementBudgetAreRefusedBeforeMeshing) {
+  const auto dir = freshDir("fine_surface");
+  // a closed tetrahedron of edge 10: 166.7 in regular tetrahedra of edge 0.01 is 1.4e9 of them
+  std::ofstream(dir / "scripts" / "tet.stl") << R"(solid t
+facet normal 0 0 0
+outer loop
+vertex 0 0 0
+vertex 0 10 0
+vertex 10 0 0
+endloop
+endfacet
+facet normal 0 0 0
+outer loop
+vertex 0 0 0
+vertex 10 0 0
+vertex 0 0 10
+endloop
+endfacet
+facet normal 0 0 0
+outer loop
+vertex 0 0 0
+vertex 0 0 10
+vertex 0 10 0
+endloop
+endfacet
+facet normal 0 0 0
+outer loop
+vertex 10 0 0
+vertex 0 10 0
+vertex 0 0 10
+endloop
+endfacet
+endsolid t
+)";
+  const std::string why = refusal([&] { mesh::meshSurfaces({{(dir / "scripts" / "tet.stl").string(), "gel"}}, 0.01); });
+  EXPECT_NE(why.find("about 1.41e+09 elements at an element size of 0.01 (file units), more than tissue.geometry.max_elements"), std::string::npos) << why;
+  fs::remove_all(dir);
+}
+
 TEST(GeoSandbox, IncludesInTheFolderAreReadAndCheckedInTurn) {
   const auto dir = freshDir("include");
   std::ofstream(dir / "scripts" / "square.geo") << squareWith("");
@@ -178,7 +227,7 @@ TEST(GeoSandbox, ATooSmallElementSizeIsRefusedWithTheEstimateBeforeMeshing) {
     SCOPED_TRACE(file);
     const std::string why = refusal([&] { mesh::readGmsh((dir / "scripts" / file).string(), size); });
     // 64000 mm^3 in regular tetrahedra of edge 0.05 mm: 4.3e9
-    EXPECT_NE(why.find("about 4.34e+09 elements, more than tissue.geometry.max_elements (2e+06)"), std::string::npos) << why;
+    EXPECT_NE(why.find("about 4.34e+09 elements at an element size of 0.05 (file units), more than tissue.geometry.max_elements (2e+06)"), std::string::npos) << why;
     EXPECT_NE(why.find("element_size"), std::string::npos) << why;
   }
   EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 20.0);

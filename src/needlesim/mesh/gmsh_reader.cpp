@@ -235,10 +235,12 @@ double modelMeasure(int dim) {
   return dim == 3 ? (x1 - x0) * (y1 - y0) * (z1 - z0) : (x1 - x0) * (y1 - y0);
 }
 
-[[noreturn]] void refuseElementCount(const std::string& path, const std::string& count, double n, int dim, double h,
+// `verb` "holds", "made" or "would make about"; h the element size asked (0: none).
+[[noreturn]] void refuseElementCount(const std::string& path, const std::string& verb, double n, int dim, double h,
                                      const MeshBudget& budget) {
   const double larger = h > 0 ? h * std::pow(n / budget.maxElements, 1.0 / dim) : 0.0;
-  throw geometryError(path, fmt::format("{} {:.3g} elements, more than tissue.geometry.max_elements ({:g})", count, n,
+  throw geometryError(path, fmt::format("{} {:.3g} elements{}, more than tissue.geometry.max_elements ({:g})", verb, n,
+                                        h > 0 ? fmt::format(" at an element size of {:g} (file units)", h) : "",
                                         budget.maxElements),
                       larger > 0 ? fmt::format("a larger tissue.geometry.element_size (or Mesh.MeshSizeMax): about {:.3g} "
                                                "(file units) or more for this budget; or a larger max_elements", larger)
@@ -256,7 +258,7 @@ void checkEstimate(const std::string& path, const MeshBudget& budget) {
   const double h = largest * factor;
   const double n = elementsAtSize(modelMeasure(dim), dim, h);
   if (n > budget.maxElements)
-    refuseElementCount(path, fmt::format("would make at an element size of {:g} about", h), n, dim, h, budget);
+    refuseElementCount(path, "would make about", n, dim, h, budget);
 }
 
 // Runs in the sandboxed child: the file opened, a script meshed, the mesh checked.
@@ -272,7 +274,8 @@ VolumeMesh openAndMesh(const std::string& path, const std::string& file, double 
     });
   }
   VolumeMesh m = extractMesh(path);
-  if (m.elements() > budget.maxElements) refuseElementCount(path, "holds", m.elements(), m.dim, 0.0, budget);
+  if (m.elements() > budget.maxElements)
+    refuseElementCount(path, isScript(path) ? "made" : "holds", m.elements(), m.dim, 0.0, budget);
   checkOrientation(path, m);
   return m;
 }
@@ -345,8 +348,7 @@ void checkSurfaceEstimate(const std::vector<SurfaceBody>& bodies, const std::vec
     if (!inner[b]) volume += enclosedVolume(surfaces[b]);
   const double n = elementsAtSize(volume, 3, maxElementSize);
   if (n > budget.maxElements)
-    refuseElementCount(bodies[0].path, fmt::format("would make at an element size of {:g} about", maxElementSize), n, 3,
-                       maxElementSize, budget);
+    refuseElementCount(bodies[0].path, "would make about", n, 3, maxElementSize, budget);
 }
 
 // The surfaces as discrete Gmsh surfaces whose triangles bound the tetrahedra; one surface loop
@@ -409,7 +411,7 @@ VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElemen
       gmsh::model::mesh::generate(3);
     });
     VolumeMesh m = extractMesh(all);
-    if (m.elements() > budget.maxElements) refuseElementCount(all, "made", m.elements(), 3, maxElementSize, budget);
+    if (m.elements() > budget.maxElements) refuseElementCount(all, "made", m.elements(), 3, 0.0, budget);
     checkOrientation(all, m);
     return encodeMesh(m);
   }));
