@@ -118,6 +118,7 @@ std::pair<fs::path, fs::path> resolveTarget(const RunArgs& args, const Scenario&
 }
 
 void runCommand(const RunArgs& args) {
+  installStopHandlers();  // Ctrl-C while the scenario's geometry is read and meshed stops it too
   Scenario sc = args.file.empty() ? scenario::defaultScenario() : scenario::readFile(args.file);
   const auto [targetPath, ckFolder] = resolveTarget(args, sc);
   const EngineInfo* engine = findEngine(sc.model.engine);
@@ -137,7 +138,6 @@ void runCommand(const RunArgs& args) {
   opts.progress = !args.quiet;
   opts.printWarnings = !args.quiet;
   if (checkpoints || args.resume) opts.checkpoint = &checkpoint;
-  installStopHandlers();
   try {
     const RunOutcome outcome = runScenario(sc, targetPath, args.overwrite, opts);
     if (!args.quiet) printResults(outcome, sc, args, checkpoint, ckFolder);

@@ -119,6 +119,13 @@ std::vector<FieldDoc> build() {
                "size of the elements Gmsh makes from surfaces or a .geo script"));
   add(positive("geometry", "support_depth", D::Length, "20 % of the body's depth",
                "the boundary facing away from the needle within this depth of the deepest point is held fixed"));
+  add(count("geometry", "max_elements", "2e6", 1.0, 1e9,
+             "refuse a geometry that holds or would make more elements (estimated before meshing from the volume "
+             "and the largest element size); raise it to allow a finer mesh"));
+  add(positive("geometry", "max_mesh_time", D::Time, "120 s",
+               "reading and meshing the geometry is stopped and refused after this long (wall clock and CPU time)"));
+  add(q("geometry", "max_mesh_memory_mib", D::None, "4096", 64.0, 1e7, false, false,
+        "memory (MiB) reading and meshing the geometry may take; more is refused"));
   add(other("surface", "file", Kind::String, "", "a closed surface (.stl, .ply, .vtk, .off, .obj); relative to the scenario file", true));
   add(other("surface", "body", Kind::String, "the file's stem", "name of the body it bounds: a layer or inclusion name"));
   for (const char* axis : {"x", "y", "z"}) {
