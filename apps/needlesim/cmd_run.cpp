@@ -166,6 +166,7 @@ void registerCheckCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("check", "Validate scenario and study files without running them");
   cmd->add_option("file", *files, "scenario or study files (a study is recognised by its 'vary' list)")->required();
   cmd->callback([files] {
+    installStopHandlers();  // Ctrl-C while a geometry is read and meshed: the clean stop (exit 130)
     int bad = 0;
     for (const auto& f : *files) {
       try {

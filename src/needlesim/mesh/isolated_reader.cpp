@@ -226,8 +226,9 @@ std::string applySeccomp() {
 [[noreturn]] void runChild(int pipeWrite, const std::string& folder, const MeshBudget& budget, rlim_t mapped,
                            const std::function<std::string()>& work) {
   ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-  std::signal(SIGINT, SIG_DFL);
-  std::signal(SIGTERM, SIG_DFL);
+  // Ctrl-C reaches the whole process group: the parent decides (it kills the child on a stop request)
+  std::signal(SIGINT, SIG_IGN);
+  std::signal(SIGTERM, SIG_IGN);
   const int out = isolateDescriptors(pipeWrite);
   std::string reply;
   std::string problem = ::chdir(folder.c_str()) == 0 ? "" : "chdir failed";
@@ -408,6 +409,7 @@ std::string runIsolated(const std::string& file, const MeshBudget& budget, const
       throw timeBudgetError(file, budget);
     }
   }
+  throwIfStopRequested("reading " + file);
   if (WIFSIGNALED(status)) throw diedError(file, status, budget);
   if (reply.empty())
     throw readerError(file, "ended the reader without a result (Exit or Abort in a script)",
