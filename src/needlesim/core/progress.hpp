@@ -3,6 +3,7 @@
 // requests (Ctrl-C, SIGTERM) for the same loops. Quiet when asked (--quiet)
 // or when stderr is not a terminal.
 #include <chrono>
+#include <filesystem>
 #include <string>
 
 #include "needlesim/core/error.hpp"
@@ -23,8 +24,9 @@ class RunInterrupted : public Error {
 
 // Stop requests. installStopHandlers() makes SIGINT and SIGTERM set a flag
 // (a second one of the same signal ends the process at once, as without the
-// handler); engines' step loops see it through Progress::update (or ask
-// stopRequested() where they write a checkpoint first).
+// handler); engines' loops, set-up included, see it through Progress::update
+// or throwIfStopRequested (or ask stopRequested() where they write a
+// checkpoint first). It also starts the watcher of BlockingCall.
 void installStopHandlers();
 bool stopRequested();
 int stopSignal();  // the signal that asked for the stop, 0 when none
@@ -33,6 +35,29 @@ void requestStop(int signal);  // what the handlers call (tests call it directly
 void clearStopRequest();
 // Throws RunInterrupted("<what>: interrupted by SIGINT ...") when a stop was requested.
 void throwIfStopRequested(const std::string& what);
+
+// One library call that cannot look at stop requests and may run for seconds
+// (a sparse factorisation). While one is open in a process that installed the
+// stop handlers, a stop request ends the process within half a second, as
+// RunInterrupted would: the paths registered with removeIfStoppedHard are
+// removed, "stopped: <what>: interrupted by ..." is printed on stderr and the
+// exit code is 128 + the signal. Opening one first checks for a stop request
+// (throwIfStopRequested(what)).
+class BlockingCall {
+ public:
+  explicit BlockingCall(const std::string& what);
+  ~BlockingCall();
+  BlockingCall(const BlockingCall&) = delete;
+  BlockingCall& operator=(const BlockingCall&) = delete;
+};
+
+// What a stop inside a BlockingCall removes before the process ends (staging
+// folders, lock files); forgetOnStop takes a path off the list. The command
+// sets what its line says after the interruption (setStopNote: "; nothing was
+// written to ...", as its own RunInterrupted message says).
+void removeIfStoppedHard(const std::filesystem::path& path);
+void forgetOnStop(const std::filesystem::path& path);
+void setStopNote(const std::string& note);
 
 class Progress {
  public:
