@@ -143,7 +143,7 @@ void runCommand(const RunArgs& args) {
   opts.printWarnings = !args.quiet;
   if (checkpoints || args.resume) opts.checkpoint = &checkpoint;
   installStopHandlers();
-  setStopNote(afterInterruption(args, targetPath, ckFolder));  // a stop inside a long library call
+  exitOnStopInBlockingCalls(afterInterruption(args, targetPath, ckFolder));  // a stop inside a factorisation
   try {
     const RunOutcome outcome = runScenario(sc, targetPath, args.overwrite, opts);
     if (!args.quiet) printResults(outcome, sc, args, checkpoint, ckFolder);

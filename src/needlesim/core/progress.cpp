@@ -36,7 +36,7 @@ struct HardStop {
   int open = 0;
   std::string what;
   std::vector<std::filesystem::path> paths;
-  std::string note = "; the results being written were removed";
+  std::string note;
 };
 HardStop& hardStop() {
   static HardStop* h = new HardStop;  // never destroyed: the watcher may use it while the process ends
@@ -79,8 +79,6 @@ void installStopHandlers() {
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = SA_RESTART;  // system calls (file writes) go on
   for (int s : {SIGINT, SIGTERM}) sigaction(s, &sa, nullptr);
-  static std::once_flag started;
-  std::call_once(started, [] { std::thread(watchBlockingCalls).detach(); });
 }
 
 BlockingCall::BlockingCall(const std::string& what) {
@@ -103,10 +101,14 @@ void removeIfStoppedHard(const std::filesystem::path& path) {
   h.paths.push_back(path);
 }
 
-void setStopNote(const std::string& note) {
-  auto& h = hardStop();
-  std::lock_guard<std::mutex> lock(h.mutex);
-  h.note = note;
+void exitOnStopInBlockingCalls(const std::string& note) {
+  {
+    auto& h = hardStop();
+    std::lock_guard<std::mutex> lock(h.mutex);
+    h.note = note;
+  }
+  static std::once_flag started;
+  std::call_once(started, [] { std::thread(watchBlockingCalls).detach(); });
 }
 
 void forgetOnStop(const std::filesystem::path& path) {

@@ -26,7 +26,7 @@ class RunInterrupted : public Error {
 // (a second one of the same signal ends the process at once, as without the
 // handler); engines' loops, set-up included, see it through Progress::update
 // or throwIfStopRequested (or ask stopRequested() where they write a
-// checkpoint first). It also starts the watcher of BlockingCall.
+// checkpoint first).
 void installStopHandlers();
 bool stopRequested();
 int stopSignal();  // the signal that asked for the stop, 0 when none
@@ -37,12 +37,14 @@ void clearStopRequest();
 void throwIfStopRequested(const std::string& what);
 
 // One library call that cannot look at stop requests and may run for seconds
-// (a sparse factorisation). While one is open in a process that installed the
-// stop handlers, a stop request ends the process within half a second, as
-// RunInterrupted would: the paths registered with removeIfStoppedHard are
-// removed, "stopped: <what>: interrupted by ..." is printed on stderr and the
-// exit code is 128 + the signal. Opening one first checks for a stop request
-// (throwIfStopRequested(what)).
+// (a sparse factorisation). Opening one first checks for a stop request
+// (throwIfStopRequested(what)). In a command that called
+// exitOnStopInBlockingCalls, a stop request while one is open ends the process
+// within half a second, as RunInterrupted would: the paths registered with
+// removeIfStoppedHard are removed, "stopped: <what>: interrupted by <signal>
+// <note>" is printed on stderr and the exit code is 128 + the signal.
+// Elsewhere (needlesim serve, which must write its recording; Python) the call
+// runs to its end and the next check stops.
 class BlockingCall {
  public:
   explicit BlockingCall(const std::string& what);
@@ -51,13 +53,14 @@ class BlockingCall {
   BlockingCall& operator=(const BlockingCall&) = delete;
 };
 
-// What a stop inside a BlockingCall removes before the process ends (staging
-// folders, lock files); forgetOnStop takes a path off the list. The command
-// sets what its line says after the interruption (setStopNote: "; nothing was
-// written to ...", as its own RunInterrupted message says).
+// Lets a stop inside a BlockingCall end the process (for commands that have
+// nothing to save on a stop: run, sweep); `note` ends its line ("; nothing was
+// written to ...", as the command's own RunInterrupted message says). What it
+// removes before the process ends: the paths given to removeIfStoppedHard
+// (staging folders, lock files); forgetOnStop takes a path off the list.
+void exitOnStopInBlockingCalls(const std::string& note);
 void removeIfStoppedHard(const std::filesystem::path& path);
 void forgetOnStop(const std::filesystem::path& path);
-void setStopNote(const std::string& note);
 
 class Progress {
  public:
