@@ -367,7 +367,7 @@ std::vector<FieldDoc> build() {
   add(q("mpm", "mass_scaling", D::None, "1", 1.0, 1e12, false, false,
         "factor on every particle mass (seed 000 eq 28 discussion: 1e4); the time step grows with its square root"));
   add(count("mpm", "margin", "3", 2.0, 100.0, "grid cells beyond the tissue block on each side"));
-  add(count("mpm", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores)"));
+  add(count("mpm", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)"));
   add(other("mpm", "faces", Kind::Section, "exit fixed, others free", "boundary condition of each face of the block", false, "mpm_faces"));
   for (const char* f : {"entry", "exit", "y_min", "y_max", "z_min", "z_max"}) {
     const std::string k = f;
@@ -455,7 +455,7 @@ std::vector<FieldDoc> build() {
   add(nonneg("explicit_cohesive", "sleeve_radius", D::Length, "0 mm",
              "radius of the sleeve seam, between the needle's inner and outer radius; 0 = the wall's mid radius"));
   add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
-  add(count("explicit", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores)"));
+  add(count("explicit", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)"));
 
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));
