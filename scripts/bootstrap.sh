@@ -1,7 +1,7 @@
 #!/usr/bin/env bash
 # Installs the Debian packages needlesim needs to build, test and run
 # (libgmsh-dev: imported meshes, Gmsh scripts and surfaces, tissue.geometry; zlib1g-dev: compressed
-# VTK XML surfaces, .vtp)
+# VTK XML surfaces, .vtp; libseccomp-dev: the sandbox Gmsh runs in)
 # (python3-paraview, xvfb, libgl1-mesa-dri, python3-meshio, python3-h5py: the field-file test,
 # tests/paraview).
 # (libcpp-httplib-dev, libjs-three: `needlesim serve`, its page's 3D view; chromium, python3-websocket:
@@ -18,7 +18,7 @@ PKGS=(
   python3-numpy python3-pytest python3-h5py python3-matplotlib
   python3-venv python3-pip python3-setuptools python3-wheel
   calculix-ccx
-  libgmsh-dev zlib1g-dev
+  libgmsh-dev zlib1g-dev libseccomp-dev
   python3-paraview xvfb libgl1-mesa-dri python3-meshio python3-h5py
   libcpp-httplib-dev libjs-three
   chromium python3-websocket

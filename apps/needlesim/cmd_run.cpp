@@ -17,6 +17,7 @@
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/io/checkpoint.hpp"
+#include "needlesim/io/folder_lock.hpp"
 #include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
@@ -118,8 +119,13 @@ std::pair<fs::path, fs::path> resolveTarget(const RunArgs& args, const Scenario&
 }
 
 void runCommand(const RunArgs& args) {
+  installStopHandlers();  // Ctrl-C while the scenario's geometry is read and meshed stops it too
   Scenario sc = args.file.empty() ? scenario::defaultScenario() : scenario::readFile(args.file);
   const auto [targetPath, ckFolder] = resolveTarget(args, sc);
+  // One writer per folder: held until the results are in place (a second run into it is refused).
+  const bool byOut = !args.out.empty(), byDirectory = !byOut && !sc.output.directory.empty();
+  const io::FolderLock lock(targetPath, byOut ? "--out" : byDirectory ? "output.directory" : "name",
+                            byOut ? commandLine() : byDirectory ? sc.where("output.directory") : SourceLocation{sc.source, 0, 0});
   const EngineInfo* engine = findEngine(sc.model.engine);
   const bool checkpoints = engine && engine->checkpoints && sc.output.checkpoint_interval > 0;
   if (args.resume && !(engine && engine->checkpoints))
@@ -137,7 +143,7 @@ void runCommand(const RunArgs& args) {
   opts.progress = !args.quiet;
   opts.printWarnings = !args.quiet;
   if (checkpoints || args.resume) opts.checkpoint = &checkpoint;
-  installStopHandlers();
+  exitOnStopInBlockingCalls(afterInterruption(args, targetPath, ckFolder));  // a stop inside a factorisation
   try {
     const RunOutcome outcome = runScenario(sc, targetPath, args.overwrite, opts);
     if (!args.quiet) printResults(outcome, sc, args, checkpoint, ckFolder);
@@ -166,6 +172,7 @@ void registerCheckCommand(CLI::App& app) {
   auto* cmd = app.add_subcommand("check", "Validate scenario and study files without running them");
   cmd->add_option("file", *files, "scenario or study files (a study is recognised by its 'vary' list)")->required();
   cmd->callback([files] {
+    installStopHandlers();  // Ctrl-C while a geometry is read and meshed: the clean stop (exit 130)
     int bad = 0;
     for (const auto& f : *files) {
       try {

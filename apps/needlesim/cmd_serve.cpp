@@ -14,6 +14,8 @@
 #include "needlesim/io/results_folder.hpp"
 #include "needlesim/live/haptic_server.hpp"
 #include "needlesim/live/live_session.hpp"
+#include "needlesim/live/net_address.hpp"
+#include "needlesim/live/stop_signals.hpp"
 #include "needlesim/live/web_server.hpp"
 
 namespace needlesim::app {
@@ -63,7 +65,11 @@ class StopWatcher {
  public:
   explicit StopWatcher(live::WebServer& web) : thread_([this, &web] {
       while (!stopRequested() && !asked_) std::this_thread::sleep_for(std::chrono::milliseconds(50));
-      web.stop();
+      live::markStopping();
+      while (!web.served()) {  // until serve() returned: a stop before it listened is lost
+        web.stop();
+        std::this_thread::sleep_for(std::chrono::milliseconds(20));
+      }
     }) {}
   ~StopWatcher() {
     asked_ = true;
@@ -76,23 +82,65 @@ class StopWatcher {
   std::thread thread_;
 };
 
-void serveCommand(const ServeArgs& args) {
-  const api::Scenario scenario = readScenario(args.file);
-  const fs::path target = recordTarget(args);
-  live::LiveSession session(scenario, settingsFor(args));
-  std::optional<live::HapticServer> haptic;
-  if (args.hapticPort >= 0) haptic.emplace(session, args.host, args.hapticPort);
-  live::WebServer web(session, {scenario.name(), target.string(), haptic ? haptic->port() : -1});
-  const int port = web.bind(args.host, args.port);
-  installStopHandlers();
-  session.start();
-  if (haptic) haptic->start();
-  const auto started = Clock::now();
-  fmt::print("needlesim serve: '{}' with engine '{}', physics every {} ms\n", scenario.name(), session.engine(), args.dtMs);
+// The trainer has no authentication: say so where anyone on the network may reach it.
+void warnIfReachable(const ServeArgs& args) {
+  live::socketAddress(args.host, 0, "--host", "--port");  // InputError for a host that is no IPv4 address
+  if (live::isLoopback(args.host)) return;
+  fmt::print(stderr,
+             "warning: --host {} serves the trainer beyond this machine WITHOUT AUTHENTICATION: anyone who can reach "
+             "its port{} can watch, drive, reset and stop the session. Use --host 127.0.0.1 (the default) unless every "
+             "machine on this network is trusted.\n",
+             args.host, args.hapticPort >= 0 ? " or the haptic bridge's" : "");
+  std::fflush(stderr);
+}
+
+void printStarted(const ServeArgs& args, const live::LiveSession& session, int port, const live::HapticServer* haptic,
+                  const fs::path& target) {
+  fmt::print("needlesim serve: '{}' with engine '{}', physics every {} ms\n", session.scenario().name(), session.engine(), args.dtMs);
   fmt::print("trainer: http://{}:{}/\n", args.host, port);
   if (haptic) fmt::print("haptic bridge: udp://{}:{} (docs/haptic-protocol.md, version 1)\n", args.host, haptic->port());
   fmt::print("Ctrl-C stops{}\n", target.empty() ? "" : " and writes the recording to " + target.string());
   std::fflush(stdout);
+}
+
+void printStopped(const ServeArgs& args, const live::LiveSession& session, double wall, const live::HapticServer* haptic) {
+  const live::LatestState last = session.latest();
+  fmt::print("stopped: {} physics steps in {:.1f} s ({:.0f} steps/s, target {:.0f}; a step took {:.0f} us on average)",
+             last.step, wall, static_cast<double>(last.step) / wall, 1e3 / args.dtMs, 1e6 * session.meanStepCost());
+  if (haptic) fmt::print("; haptic packets answered {}, refused {}", haptic->answered(), haptic->refused());
+  fmt::print("\n");
+  std::fflush(stdout);
+}
+
+// Writes the recording however the stop came (a further signal meanwhile does not end the
+// process: stop_signals.hpp); a write that fails says so and names the folder.
+void writeSessionRecording(const ServeArgs& args, const api::Scenario& scenario, const live::LiveSession& session,
+                           const fs::path& target, double wall) {
+  const std::size_t steps = session.log().size();
+  try {
+    live::writeRecording(scenario, session.log(), target, args.overwrite, wall,
+                         fmt::format("live session of needlesim serve: {} steps of {} ms, replay with needlesim replay", steps, args.dtMs));
+  } catch (const std::exception& e) {
+    throw Error(fmt::format("the recording of {} steps could not be written to {}: {}", steps, target.string(), e.what()));
+  }
+  fmt::print("recording: {}/ (summary.json, commands.csv, forces.csv, report.html){}\n", target.string(),
+             live::signalsWhileStopping() > 0 ? ", written despite the further stop signal" : "");
+}
+
+void serveCommand(const ServeArgs& args) {
+  const api::Scenario scenario = readScenario(args.file);
+  const fs::path target = recordTarget(args);
+  live::LiveSession session(scenario, settingsFor(args));
+  warnIfReachable(args);
+  std::optional<live::HapticServer> haptic;
+  if (args.hapticPort >= 0) haptic.emplace(session, args.host, args.hapticPort);
+  live::WebServer web(session, {scenario.name(), target.string(), haptic ? haptic->port() : -1});
+  const int port = web.bind(args.host, args.port);
+  live::installServeStopHandlers(target.string());
+  session.start();
+  if (haptic) haptic->start();
+  const auto started = Clock::now();
+  printStarted(args, session, port, haptic ? &*haptic : nullptr, target);
   {
     StopWatcher watcher(web);
     web.onStopRequest([&watcher] { watcher.ask(); });
@@ -101,16 +149,9 @@ void serveCommand(const ServeArgs& args) {
   if (haptic) haptic->stop();
   session.stop();
   const double wall = std::chrono::duration<double>(Clock::now() - started).count();
-  const live::LatestState last = session.latest();
-  fmt::print("stopped: {} physics steps in {:.1f} s ({:.0f} steps/s, target {:.0f}; a step took {:.0f} us on average)",
-             last.step, wall, static_cast<double>(last.step) / wall, 1e3 / args.dtMs, 1e6 * session.meanStepCost());
-  if (haptic) fmt::print("; haptic packets answered {}, refused {}", haptic->answered(), haptic->refused());
-  fmt::print("\n");
+  printStopped(args, session, wall, haptic ? &*haptic : nullptr);
   clearStopRequest();
-  if (target.empty()) return;
-  live::writeRecording(scenario, session.log(), target, args.overwrite, wall,
-                       fmt::format("live session of needlesim serve: {} steps of {} ms, replay with needlesim replay", session.log().size(), args.dtMs));
-  fmt::print("recording: {}/ (summary.json, commands.csv, forces.csv, report.html)\n", target.string());
+  if (!target.empty()) writeSessionRecording(args, scenario, session, target, wall);
 }
 
 void replayCommand(const std::string& folder, std::string out, bool overwrite) {

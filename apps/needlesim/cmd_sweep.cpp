@@ -70,6 +70,7 @@ void registerSweepCommand(CLI::App& app) {
 #endif
     study::SweepReport rep;
     installStopHandlers();  // Ctrl-C: running cases stop cleanly, finished ones stay for --resume
+    exitOnStopInBlockingCalls(fmt::format("; each finished case is kept: continue with needlesim sweep {} --resume", a->file));
     try {
       rep = study::runSweep(spec, opt);
     } catch (...) {

@@ -9,19 +9,27 @@
     r = needlesim.run(s2, fields=True)          # with the engine's fields as arrays
     session = needlesim.Session(s)              # realtime2d or lumped, stepped by the caller
 
+Every error the package raises is a needlesim.InputError (bad input: a scenario,
+an argument, a results folder) or a needlesim.SolverError (a solver that stops),
+with the message the CLI gives; docs/python.md "Errors" lists them.
+
 docs/python.md describes the package.
 """
+import functools
 import os
 import tempfile
 
 from needlesim._core import (
+    ArgumentTypeError,
     InputError,
     LumpedForceModel,
     MotionSample,
+    NotFoundError,
     Scenario,
     Session,
     SessionStep,
     SolverError,
+    UnknownNameError,
     __version__,
     default_scenario,
     engines,
@@ -30,15 +38,18 @@ from needlesim._core import (
     schema,
 )
 from needlesim import _core
+from needlesim._errors import printable as _printable, require_type as _require_type
 from needlesim.fields import FieldSeries, FieldStep
 from needlesim.results import Quantity, Results, Table, open_results
 
 __all__ = [
+    "ArgumentTypeError",
     "FieldSeries",
     "FieldStep",
     "InputError",
     "LumpedForceModel",
     "MotionSample",
+    "NotFoundError",
     "Quantity",
     "Results",
     "Scenario",
@@ -46,6 +57,7 @@ __all__ = [
     "SessionStep",
     "SolverError",
     "Table",
+    "UnknownNameError",
     "__version__",
     "default_scenario",
     "engines",
@@ -55,6 +67,38 @@ __all__ = [
     "run",
     "schema",
 ]
+
+
+def _typed_arguments(function, name):
+    """`function` (compiled) with a call whose arguments have the wrong types raising
+    ArgumentTypeError (an InputError and a TypeError) rather than pybind11's TypeError."""
+
+    @functools.wraps(function)
+    def call(*args, **kwargs):
+        try:
+            return function(*args, **kwargs)
+        except TypeError as e:
+            if isinstance(e, InputError):
+                raise
+            raise ArgumentTypeError("needlesim.%s: %s" % (name, _printable(e, 1000))) from None
+
+    return call
+
+
+def _wrap_compiled():
+    global load, default_scenario, schema, engines
+    load = _typed_arguments(load, "load")
+    default_scenario = _typed_arguments(default_scenario, "default_scenario")
+    schema = _typed_arguments(schema, "schema")
+    engines = _typed_arguments(engines, "engines")
+    for cls, methods in ((Scenario, ("motion_at", "with_values")),
+                         (Session, ("__init__", "step", "needle_shape")),
+                         (LumpedForceModel, ("__init__", "step", "reset"))):
+        for method in methods:
+            setattr(cls, method, _typed_arguments(getattr(cls, method), "%s.%s" % (cls.__name__, method)))
+
+
+_wrap_compiled()
 
 
 def run(scenario, out=None, *, overwrite=False, fields=False):
@@ -68,11 +112,11 @@ def run(scenario, out=None, *, overwrite=False, fields=False):
     .h5 files when used). `overwrite` replaces an earlier needlesim results
     folder at `out`. Bad input raises InputError, a solver that stops SolverError.
     """
-    if not isinstance(scenario, Scenario):
-        raise TypeError("needlesim.run: expected a needlesim.Scenario (needlesim.load), got %s"
-                        % type(scenario).__name__)
-    if out is not None and not isinstance(out, (str, os.PathLike)):
-        raise TypeError("needlesim.run: out must be a str or a pathlib.Path, got %s" % type(out).__name__)
+    _require_type("needlesim.run", "scenario", scenario, Scenario, "a needlesim.Scenario (needlesim.load)")
+    if out is not None:
+        _require_type("needlesim.run", "out", out, (str, os.PathLike), "a str or a pathlib.Path")
+    _require_type("needlesim.run", "overwrite", overwrite, bool, "True or False")
+    _require_type("needlesim.run", "fields", fields, bool, "True or False")
     if out is not None and os.fspath(out) != "":
         return _run_to_folder(scenario, out, overwrite)
     if fields:
@@ -88,4 +132,4 @@ def _run_to_folder(scenario, out, overwrite):
     """The results folder read back, with the tables exactly as the engine made them."""
     written = _core.run_to_folder(scenario, out, overwrite)
     tables = {name: Table(name, cols, data) for name, (cols, data) in written["tables"].items()}
-    return open_results(written["folder"], tables=tables)
+    return open_results(os.fsdecode(written["folder"]), tables=tables)

@@ -2,12 +2,25 @@
 as NumPy arrays. The XDMF file is the index: each step's time, geometry, topology
 and attributes name their HDF5 datasets, which are read with h5py (Debian
 python3-h5py) as stored, with any number of components (a scalar is 1-D, a
-vector or tensor rows x components)."""
+vector or tensor rows x components). A file that cannot be read raises
+needlesim.InputError naming it (needlesim.NotFoundError where it does not exist)."""
+import os
 import pathlib
 import re
 import xml.etree.ElementTree as ET
 
 import numpy as np
+
+from needlesim._errors import ArgumentTypeError, UnknownNameError, input_error, printable, reading
+
+_XDMF_ALLOWED = "an XDMF file as needlesim writes it, naming HDF5 datasets beside it (docs/results.md)"
+_H5_ALLOWED = "the HDF5 file of a needlesim field series, beside its XDMF file (docs/results.md)"
+
+
+def inside_folder(name):
+    """Whether `name` names a file inside the folder it is read from (relative, no '..')."""
+    p = pathlib.PurePosixPath(name)
+    return bool(name) and "\\" not in name and not p.is_absolute() and ".." not in p.parts
 
 
 def _h5py():
@@ -23,13 +36,18 @@ class _Ref:
     """An HDF5 dataset named by an XDMF DataItem ("file.h5:/path")."""
 
     def __init__(self, xdmf, item):
+        if item is None:
+            raise input_error(xdmf, "an Attribute, Geometry or Topology without a DataItem", _XDMF_ALLOWED)
         if item.get("Format", "XML") != "HDF":
-            raise ValueError("%s: a DataItem in format '%s'; needlesim reads HDF data items"
-                             % (xdmf, item.get("Format", "XML")))
+            raise input_error(xdmf, "a DataItem in format '%s'" % printable(item.get("Format", "XML")),
+                              "HDF data items (needlesim reads those)")
         text = (item.text or "").strip()
         file, sep, dataset = text.partition(":/")
         if not sep:
-            raise ValueError("%s: DataItem '%s' does not name 'file.h5:/dataset'" % (xdmf, text))
+            raise input_error(xdmf, "DataItem '%s' does not name 'file.h5:/dataset'" % printable(text), _XDMF_ALLOWED)
+        if not inside_folder(file):
+            raise input_error(xdmf, "DataItem '%s' names a file outside the XDMF file's folder" % printable(text),
+                              "HDF5 files beside the XDMF file")
         self.file = pathlib.Path(xdmf).parent / file
         self.dataset = "/" + dataset
 
@@ -43,18 +61,23 @@ class _Store:
     def array(self, ref):
         key = (str(ref.file), ref.dataset)
         if key not in self._cache:
-            with _h5py().File(ref.file, "r") as f:
-                if ref.dataset not in f:
-                    raise KeyError("%s has no dataset %s" % (ref.file, ref.dataset))
-                self._cache[key] = f[ref.dataset][()]
+            self._cache[key] = self._read(ref, lambda d: np.asarray(d[()]))
         return self._cache[key]
 
     def attributes(self, ref):
         key = ("attrs", str(ref.file), ref.dataset)
         if key not in self._cache:
-            with _h5py().File(ref.file, "r") as f:
-                self._cache[key] = {k: _text(v) for k, v in f[ref.dataset].attrs.items()}
+            self._cache[key] = self._read(ref, lambda d: {k: _text(v) for k, v in d.attrs.items()})
         return self._cache[key]
+
+    @staticmethod
+    def _read(ref, what):
+        h5py = _h5py()
+        with reading(ref.file, _H5_ALLOWED):
+            with h5py.File(ref.file, "r") as f:
+                if ref.dataset not in f or not isinstance(f[ref.dataset], h5py.Dataset):
+                    raise input_error(ref.file, "has no dataset %s" % printable(ref.dataset), _H5_ALLOWED)
+                return what(f[ref.dataset])
 
 
 def _text(v):
@@ -73,12 +96,10 @@ class _Arrays:
         self._refs = refs
 
     def __getitem__(self, name):
-        try:
-            return self._store.array(self._refs[name])
-        except KeyError:
-            if name in self._refs:
-                raise
-            raise KeyError("no array '%s' in this step; it has: %s" % (name, ", ".join(self._refs) or "none")) from None
+        if name not in self._refs:
+            raise UnknownNameError("no array '%s' in this step; it has: %s"
+                                   % (printable(name), ", ".join(self._refs) or "none"))
+        return self._store.array(self._refs[name])
 
     def __contains__(self, name):
         return name in self._refs
@@ -128,7 +149,10 @@ class FieldStep:
         if self._topology is None:
             return None
         cells = self._store.array(self._topology)
-        return cells.reshape(-1, self._nodes_per_cell) if cells.ndim == 1 else cells
+        if cells.ndim != 1:
+            return cells
+        with reading(self._topology.file, _H5_ALLOWED):
+            return cells.reshape(-1, self._nodes_per_cell)
 
     def _load(self):
         _ = self.points, self.cells
@@ -153,22 +177,26 @@ class FieldSeries:
     """
 
     def __init__(self, xdmf):
+        if not isinstance(xdmf, (str, os.PathLike)):
+            raise ArgumentTypeError("needlesim.FieldSeries: xdmf must be a str or a pathlib.Path, not %s"
+                                    % type(xdmf).__name__)
         self.path = pathlib.Path(xdmf)
         self.name = self.path.stem
         self._store = _Store()
         self.steps = self._read_index()
 
     def _read_index(self):
-        try:
-            root = ET.parse(self.path).getroot()
-        except (ET.ParseError, OSError) as e:
-            raise ValueError("%s: not a readable XDMF file (%s)" % (self.path, e)) from None
-        grids = root.findall("./Domain/Grid")
-        steps = []
-        for grid in grids:
-            members = grid.findall("./Grid") if grid.get("GridType") == "Collection" else [grid]
-            steps.extend(self._step(g, k) for k, g in enumerate(members))
-        return steps
+        with reading(self.path, _XDMF_ALLOWED):
+            try:
+                root = ET.fromstring(self.path.read_bytes())
+            except ET.ParseError as e:
+                raise input_error(self.path, "is not a readable XDMF file (%s)" % printable(e), _XDMF_ALLOWED) from None
+            grids = root.findall("./Domain/Grid")
+            steps = []
+            for grid in grids:
+                members = grid.findall("./Grid") if grid.get("GridType") == "Collection" else [grid]
+                steps.extend(self._step(g, k) for k, g in enumerate(members))
+            return steps
 
     def _step(self, grid, k):
         time = grid.find("./Time")
@@ -178,12 +206,14 @@ class FieldSeries:
         topo_item = topology.find("./DataItem") if topology is not None else None
         geometry = grid.find("./Geometry/DataItem")
         if geometry is None:
-            raise ValueError("%s: step %d has no geometry" % (self.path, k))
+            raise input_error(self.path, "step %d has no geometry" % k, _XDMF_ALLOWED)
         point_refs, cell_refs = {}, {}
         for attr in grid.findall("./Attribute"):
             refs = cell_refs if attr.get("Center", "Node") == "Cell" else point_refs
-            refs[_array_name(attr.get("Name"))] = _Ref(self.path, attr.find("./DataItem"))
+            refs[_array_name(attr.get("Name", ""))] = _Ref(self.path, attr.find("./DataItem"))
         nodes_per_cell = int(topology.get("NodesPerElement", "1")) if topology is not None else 1
+        if nodes_per_cell < 1:
+            raise input_error(self.path, "step %d: NodesPerElement %d" % (k, nodes_per_cell), _XDMF_ALLOWED)
         return FieldStep(self._store, t, cell_type, _Ref(self.path, geometry),
                          None if topo_item is None else _Ref(self.path, topo_item), point_refs, cell_refs,
                          nodes_per_cell)
@@ -223,12 +253,12 @@ class FieldSeries:
     def _stacked(self, name, kind):
         arrays = [getattr(s, kind)[name] for s in self.steps if name in getattr(s, kind)]
         if not arrays:
-            raise KeyError("field series '%s' has no %s '%s'; it has: %s" % (
-                self.name, kind.replace("_", " "), name,
+            raise UnknownNameError("field series '%s' has no %s '%s'; it has: %s" % (
+                self.name, kind.replace("_", " "), printable(name),
                 ", ".join(getattr(self, kind + "_names")()) or "none"))
         if len(arrays) != len(self.steps) or len({a.shape for a in arrays}) != 1:
-            raise ValueError("'%s' changes shape or is missing in some steps of '%s': use steps[k].%s['%s']"
-                             % (name, self.name, kind, name))
+            raise input_error(self.path, "'%s' changes shape or is missing in some steps" % printable(name),
+                              "steps[k].%s['%s'] for each step" % (kind, printable(name)))
         return np.stack(arrays)
 
     @property

@@ -9,26 +9,42 @@
 
 #include <cctype>
 #include <cmath>
+#include <new>
+#include <optional>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
 #include "needlesim/core/version.hpp"
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/scenario/schema.hpp"
+#include "needlesim/scenario/yaml_document.hpp"
 #include "needlesim/study/field_path.hpp"
 #include "needlesim/study/study.hpp"
 #include "needlesim/study/with_values.hpp"
 #include "bindings.hpp"
 
 namespace py = pybind11;
+using namespace pybind11::literals;
 
 namespace needlesim::python {
+
+namespace {
+PyObject* argumentTypeError = nullptr;  // needlesim.ArgumentTypeError, made in PYBIND11_MODULE
+}  // namespace
+
+void throwArgumentType(const std::string& call, const std::string& what, const std::string& allowed,
+                       const py::handle& got) {
+  const std::string type = py::str(py::type::of(got).attr("__name__")).cast<std::string>();
+  PyErr_SetString(argumentTypeError, (call + ": " + what + " must be " + allowed + ", not " + type).c_str());
+  throw py::error_already_set();
+}
 
 void requireFinite(const std::string& call, const std::string& arg, double v, const std::string& allowed) {
   if (!std::isfinite(v))
@@ -63,59 +79,99 @@ bool endsWith(const std::string& s, const std::string& tail) {
 // The rule of kLoadDoc for a str argument.
 bool looksLikePath(const std::string& s) {
   if (s.find('\n') != std::string::npos) return false;
-  if (std::filesystem::is_regular_file(s)) return true;
+  std::error_code ec;  // a name the file system refuses (too long) is not a file
+  if (std::filesystem::is_regular_file(s, ec)) return true;
   return endsWith(s, ".yaml") || endsWith(s, ".yml") || endsWith(s, ".json") || s.find(':') == std::string::npos;
 }
 
 PyScenario loadFile(const std::filesystem::path& path) {
   const std::string name = path.string();
-  if (std::filesystem::is_directory(path))
-    throw InputError(SourceLocation{name, 0, 0}, "", "", "is a folder", "a scenario file (YAML) or YAML text");
-  if (!std::filesystem::exists(path))
-    throw InputError(SourceLocation{name, 0, 0}, "", "", "file not found", "an existing scenario file or YAML text");
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(SourceLocation{name, 0, 0}, "", "", "cannot be opened (unreadable)", "a readable scenario file");
-  std::string text((std::istreambuf_iterator<char>(in)), {});
-  return PyScenario{scenario::readText(text, name), text};
+  const auto refused = [&](const std::string& problem, const std::string& allowed) {
+    return InputError(SourceLocation{name, 0, 0}, "", "", problem, allowed);
+  };
+  std::error_code ec;
+  const std::filesystem::file_status status = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(status)) throw refused("is a folder", "a scenario file (YAML) or YAML text");
+  if (!std::filesystem::exists(status)) throw refused("file not found", "an existing scenario file or YAML text");
+  // a device, pipe or socket could be read without end (/dev/zero)
+  if (!std::filesystem::is_regular_file(status))
+    throw refused("is not a regular file (a device, pipe or socket)", "a scenario file (YAML) or YAML text");
+  std::string text = scenario::readYamlFile(path, "a scenario file (see docs/scenario-format.md)");  // size-checked
+  return PyScenario{scenario::readText(text, name), text, {}};
 }
 
 bool isPathLike(const py::handle& o) { return py::hasattr(o, "__fspath__"); }
 
-// A pathlib.Path (any os.PathLike) as text.
-std::string pathText(const py::handle& o) { return py::module_::import("os").attr("fsdecode")(o).cast<std::string>(); }
+// A str or pathlib.Path (any os.PathLike) as the file system's bytes (os.fsencode: a name
+// that is not UTF-8 keeps its bytes).
+std::string pathText(const py::handle& o) {
+  return py::module_::import("os").attr("fsencode")(o).cast<py::bytes>().cast<std::string>();
+}
+
+// A str as UTF-8, or nothing when it holds lone surrogates (undecodable bytes of a file name).
+std::optional<std::string> utf8Of(const py::handle& s) {
+  Py_ssize_t size = 0;
+  const char* data = PyUnicode_AsUTF8AndSize(s.ptr(), &size);
+  if (data == nullptr) {
+    PyErr_Clear();
+    return std::nullopt;
+  }
+  return std::string(data, static_cast<std::size_t>(size));
+}
+
+PyScenario loadFile(const std::string& name) {
+  PyScenario s = loadFile(std::filesystem::path(name));
+  s.folder = study::dataFolderOf(name);
+  return s;
+}
 
 PyScenario load(const py::object& pathOrYaml) {
   if (py::isinstance<py::str>(pathOrYaml)) {
-    auto s = pathOrYaml.cast<std::string>();
-    if (looksLikePath(s)) return loadFile(s);
-    return PyScenario{scenario::readText(s, "<python>"), s};
+    const std::optional<std::string> s = utf8Of(pathOrYaml);
+    if (!s) return loadFile(pathText(pathOrYaml));  // not text: a file name with undecodable bytes
+    if (looksLikePath(*s)) return loadFile(*s);
+    return PyScenario{scenario::readText(*s, "<python>"), *s, {}};
   }
   if (isPathLike(pathOrYaml)) return loadFile(pathText(pathOrYaml));
-  throw py::type_error("needlesim.load: expected a str (path or YAML text) or a pathlib.Path, got " +
-                       std::string(py::str(py::type::of(pathOrYaml).attr("__name__"))));
+  throwArgumentType("needlesim.load", "path_or_yaml", "a str (path or YAML text) or a pathlib.Path", pathOrYaml);
 }
 
 // with_values: the base YAML with fields set; a bad field path is an InputError
 // naming the path and the bad part's position.
 // A with_values value as YAML text: a str as written ("3 N/m"), a bool, or a finite number.
 std::string valueText(const std::string& path, const py::handle& v) {
-  if (py::isinstance<py::str>(v)) return v.cast<std::string>();
+  if (py::isinstance<py::str>(v)) {
+    if (std::optional<std::string> text = utf8Of(v)) return *text;
+    throw InputError(SourceLocation{"<python with_values>", 0, 0}, path, "", "is not valid text (lone surrogates)",
+                     "a str of Unicode characters such as '3 N/m'");
+  }
   if (py::isinstance<py::bool_>(v)) return v.cast<bool>() ? "true" : "false";
   if (py::isinstance<py::int_>(v) || py::isinstance<py::float_>(v)) {
     double x = v.cast<double>();
     requireFinite("with_values", path, x, "a finite number, or a str with its unit such as '3 N/m'");
     return py::repr(v).cast<std::string>();
   }
-  throw py::type_error("with_values: the value of '" + path + "' must be a str (e.g. '3 N/m'), a number or a bool, not " +
-                       py::type::of(v).attr("__name__").cast<std::string>());
+  throwArgumentType("Scenario.with_values", "the value of '" + path + "'", "a str (e.g. '3 N/m'), a number or a bool", v);
 }
 
-PyScenario withValues(const PyScenario& s, const std::map<std::string, py::object>& values) {
+// Relative data paths, in the scenario file or among the values, resolve from the scenario
+// file's folder (study::withValuesYaml).
+PyScenario withValues(const PyScenario& s, const py::object& values) {
+  if (!py::isinstance<py::dict>(values))
+    throwArgumentType("Scenario.with_values", "values", "a dict {field path: value}", values);
   std::vector<std::pair<std::string, std::string>> assignments;
-  for (const auto& [path, object] : values) assignments.emplace_back(path, valueText(path, object));
+  for (const auto& [key, object] : values.cast<py::dict>()) {
+    if (!py::isinstance<py::str>(key))
+      throwArgumentType("Scenario.with_values", "each key", "a str field path such as 'tissue.friction.C_p'", key);
+    const std::optional<std::string> path = utf8Of(key);
+    if (!path)
+      throw InputError(SourceLocation{"<python with_values>", 0, 0}, "with_values key", "", "is not valid text (lone surrogates)",
+                       "a field path such as 'tissue.friction.C_p'");
+    assignments.emplace_back(*path, valueText(*path, object));
+  }
   const SourceLocation where{"<python with_values>", 0, 0};
-  std::string text = study::withValuesYaml(s.text, assignments, where, "with_values key");
-  return PyScenario{scenario::readText(text, where.file), text};
+  std::string text = study::withValuesYaml(s.text, assignments, where, "with_values key", s.folder);
+  return PyScenario{scenario::readText(text, where.file), text, s.folder};
 }
 
 // A table as (columns [(name, unit)], rows x columns float64 array).
@@ -156,22 +212,45 @@ py::dict runInMemoryDict(const PyScenario& s) {
 
 // Runs into the results folder `out`: {'folder': its path, 'tables': as run_in_memory's, exact}
 // (Python reads the rest back from the folder).
+// A results folder that cannot be made or written (a file system error, a write that
+// failed) is an InputError about `out`, with the file system's or the writer's message.
+RunOutcome runScenarioTo(const Scenario& sc, const std::string& out, bool overwrite, const RunOptions& ro) {
+  try {
+    return runScenario(sc, out, overwrite, ro);
+  } catch (const InputError&) {
+    throw;
+  } catch (const SolverError&) {
+    throw;
+  } catch (const RunInterrupted&) {
+    throw;
+  } catch (const std::bad_alloc&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(SourceLocation{"<python>", 0, 0}, "needlesim.run(out)", out,
+                     std::string("cannot be written as a results folder: ") + e.what(),
+                     "a folder path where needlesim can create and write files");
+  }
+}
+
 py::dict runToFolder(const PyScenario& s, const py::object& outArg, bool overwrite) {
   if (!py::isinstance<py::str>(outArg) && !isPathLike(outArg))
-    throw py::type_error("needlesim.run: out must be a str or a pathlib.Path");
-  const std::string out = isPathLike(outArg) ? pathText(outArg) : outArg.cast<std::string>();
+    throwArgumentType("needlesim.run", "out", "a str or a pathlib.Path", outArg);
+  const std::string out = pathText(outArg);
+  if (out.find('\0') != std::string::npos)
+    throw InputError(SourceLocation{"<python>", 0, 0}, "needlesim.run(out)", out, "holds a NUL character",
+                     "a folder path without NUL characters");
   RunOptions ro;
   ro.progress = false;
   ro.printWarnings = false;  // they are in Results.warnings
   RunOutcome o;
   {
     py::gil_scoped_release release;
-    o = runScenario(s.scenario, out, overwrite, ro);
+    o = runScenarioTo(s.scenario, out, overwrite, ro);
   }
   py::dict tables;
   for (const auto& [name, t] : o.tables) tables[py::str(name)] = tableTuple(t);
   py::dict d;
-  d["folder"] = o.folder.string();
+  d["folder"] = py::bytes(o.folder.string());  // the file system's bytes (os.fsdecode in Python)
   d["tables"] = tables;
   return d;
 }
@@ -189,13 +268,51 @@ PYBIND11_MODULE(_core, m) {
 
   static py::exception<InputError> inputError(m, "InputError", PyExc_ValueError);
   static py::exception<SolverError> solverError(m, "SolverError", PyExc_RuntimeError);
+  // Subclasses that also derive from the builtin exception of the same meaning.
+  // The message as given (KeyError would quote it).
+  const py::dict plainText("__str__"_a = py::handle(PyExc_BaseException).attr("__str__"));
+  const auto subclass = [&](const char* name, PyObject* builtin, const char* doc) {
+    PyObject* cls = PyErr_NewExceptionWithDoc((std::string("needlesim._core.") + name).c_str(), doc,
+                                              py::make_tuple(inputError, py::handle(builtin)).ptr(), plainText.ptr());
+    if (cls == nullptr) throw py::error_already_set();
+    m.add_object(name, py::handle(cls));
+    return cls;
+  };
+  argumentTypeError = subclass("ArgumentTypeError", PyExc_TypeError,
+                               "An argument of the wrong type (an InputError and a TypeError).");
+  subclass("NotFoundError", PyExc_FileNotFoundError,
+           "A file or folder that does not exist (an InputError and a FileNotFoundError).");
+  subclass("UnknownNameError", PyExc_KeyError,
+           "A table column, field array or result key that does not exist (an InputError and a KeyError).");
+  // Every C++ error reaches Python as InputError or SolverError (docs/python.md "Errors"):
+  // needlesim's own errors as the CLI reports them (a bad input, a solver that stops), a file
+  // system error as the input that named the file, anything else as a SolverError (a RuntimeError).
+  // The message as text even where it holds bytes that are not UTF-8 (escaped, as \xff).
+  static const auto setError = [](PyObject* type, const std::string& what) {
+    py::object text = py::reinterpret_steal<py::object>(
+        PyUnicode_DecodeUTF8(what.data(), static_cast<Py_ssize_t>(what.size()), "backslashreplace"));
+    if (!text) return;  // the decoding error is then the one raised
+    PyErr_SetObject(type, text.ptr());
+  };
   py::register_exception_translator([](std::exception_ptr p) {
     try {
       if (p) std::rethrow_exception(p);
+    } catch (const py::builtin_exception&) {
+      throw;  // pybind11's own (TypeError, ValueError, ...) go to its translator
     } catch (const InputError& e) {
-      PyErr_SetString(inputError.ptr(), e.what());
+      setError(inputError.ptr(), e.what());
     } catch (const SolverError& e) {
-      PyErr_SetString(solverError.ptr(), e.what());
+      setError(solverError.ptr(), e.what());
+    } catch (const RunInterrupted& e) {
+      setError(PyExc_KeyboardInterrupt, e.what());
+    } catch (const Error& e) {
+      setError(inputError.ptr(), e.what());
+    } catch (const std::filesystem::filesystem_error& e) {
+      setError(inputError.ptr(), printable(e.what(), 4000));
+    } catch (const std::bad_alloc&) {
+      setError(solverError.ptr(), "not enough memory for this run: use a coarser mesh or fewer steps");
+    } catch (const std::exception& e) {
+      setError(solverError.ptr(), printable(e.what(), 4000));
     }
   });
 

@@ -8,9 +8,11 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <array>
 #include <cmath>
 #include <memory>
+#include <numbers>
 #include <optional>
 
 #include "bindings.hpp"
@@ -67,11 +69,45 @@ struct StepArgs {
   double tilt = 0.0;  // rad, out of the insertion plane (realtime3d)
 };
 
+// Where a Session's needle may go (docs/python.md "Sessions"): the tip no deeper than the
+// needle is long, the base offset across the axis and the angles that keep the needle's
+// axis pointing into the tissue through its entry face.
+struct Reach {
+  double startDepth = 0.0;  // m, insertion.start_depth: where a Session's needle starts
+  double entryDepth = 0.0;  // m, tip depth where the axis meets the tissue
+  double maxDepth = 0.0;    // m, needle.length
+  double lateralLo = 0.0, lateralHi = 0.0;    // m, open range of the base offset
+  double rotationLo = 0.0, rotationHi = 0.0;  // rad, open range of the in-plane turn
+  double width = 0.0;                         // m, the entry face across the insertion plane
+};
+
+Reach reachOf(const Scenario& sc) {
+  constexpr double kQuarter = 0.5 * std::numbers::pi;
+  Reach r;
+  r.startDepth = sc.insertion.start_depth;
+  r.entryDepth = sc.tissue.geometry ? sc.tissue.geometry->entry_depth : 0.0;
+  r.maxDepth = sc.needle.length;
+  r.width = sc.tissue.width;
+  const needle::InsertionFrame frame = needle::InsertionFrame::fromInsertion(sc.insertion);
+  const Eigen::Vector3d& e = frame.entry;
+  const Eigen::Vector3d& t = frame.axial;
+  const Eigen::Vector3d& n = frame.lateral;
+  // The axis shifted by l across it meets the entry plane x = 0 at y = y0 + l c.
+  const double y0 = e.y() - e.x() * t.y() / t.x(), c = n.y() - n.x() * t.y() / t.x();
+  const double a = (-0.5 * r.width - y0) / c, b = (0.5 * r.width - y0) / c;
+  r.lateralLo = std::min(a, b);
+  r.lateralHi = std::max(a, b);
+  const double theta0 = std::atan2(t.y(), t.x());
+  r.rotationLo = std::max(-kQuarter, -kQuarter - theta0);
+  r.rotationHi = std::min(kQuarter, kQuarter - theta0);
+  return r;
+}
+
 class SessionBase {
  public:
   SessionBase(const Scenario& sc, double maxTravel, std::string travelLimit)
       : engine_(sc.model.engine), name_(sc.name), dt_(sc.model.time_step), maxTravel_(maxTravel),
-        travelLimit_(std::move(travelLimit)) {}
+        travelLimit_(std::move(travelLimit)), reach_(reachOf(sc)) {}
   virtual ~SessionBase() = default;
 
   SessionStep step(double depth, std::optional<double> dt, std::optional<double> velocity, double rotation, double roll,
@@ -79,6 +115,7 @@ class SessionBase {
     StepArgs a{depth, dt.value_or(dt_), velocity, rotation, roll, lateral, tilt};
     checkArgs(a);
     SessionStep s = advance(a);
+    requireFiniteOutputs(s, a);
     time_ += a.dt;
     s.time = time_;
     last_ = a.depth;
@@ -108,7 +145,8 @@ class SessionBase {
   std::optional<double> last_;  // depth of the previous step
 
  private:
-  // Finite numbers, dt > 0, and a tip that moves no more than the engine's step guard allows.
+  // Finite numbers, dt > 0, a pose within the tissue's reach, and a tip that moves no more
+  // than the engine's step guard allows, from the first step on.
   void checkArgs(const StepArgs& a) const {
     requireFinite("Session.step", "depth", a.depth, "a tip depth in m");
     requirePositive("Session.step", "dt", a.dt, "a time step > 0 s");
@@ -121,16 +159,76 @@ class SessionBase {
       throw InputError(kPython, "Session.step(tilt)", fmt::format("{:g}", a.tilt),
                        "tilts the needle out of the insertion plane, which engine " + engine_ + " cannot",
                        "0 (or a realtime3d scenario)");
-    if (last_ && std::abs(a.depth - *last_) > maxTravel_)
-      throw InputError(kPython, "Session.step(depth)", fmt::format("{:g}", a.depth),
-                       fmt::format("moves the tip {:g} mm in one step (from {:g} mm)", 1e3 * std::abs(a.depth - *last_),
-                                   1e3 * *last_),
-                       fmt::format("at most {:g} mm per step ({}); take smaller steps", 1e3 * maxTravel_, travelLimit_));
+    checkReach(a);
+    checkTravel(a.depth);
+    checkVelocity(a);
+  }
+
+  // The tip velocity a step implies (the depth change over dt, or the lumped model's given one)
+  // must be a number: a dt of a few denormals makes it infinite.
+  void checkVelocity(const StepArgs& a) const {
+    const double change = a.depth - last_.value_or(reach_.startDepth);
+    const double v = a.velocity.value_or(change / a.dt);
+    if (!std::isfinite(v))
+      throw InputError(kPython, "Session.step(dt)", fmt::format("{:g}", a.dt),
+                       fmt::format("makes the tip velocity infinite (a depth change of {:g} mm over it)", 1e3 * change),
+                       "a time step long enough for a finite velocity, such as the scenario's model.time_step");
+  }
+
+  // A step whose forces or tip are not finite numbers is a SolverError, not a result.
+  void requireFiniteOutputs(const SessionStep& s, const StepArgs& a) const {
+    const double values[] = {s.depth, s.force_total, s.force_stiffness, s.force_cutting, s.force_friction,
+                             s.force_lateral, s.tip_deflection, s.tip_position[0], s.tip_position[1], s.tip_position[2]};
+    for (double v : values)
+      if (!std::isfinite(v))
+        throw SolverError(fmt::format("Session.step: the step to depth {:g} mm over dt = {:g} s gave non-finite forces or "
+                                      "tip position; take steps with a longer dt (the scenario's model.time_step is {:g} s)",
+                                      1e3 * a.depth, a.dt, dt_));
+  }
+
+  void checkReach(const StepArgs& a) const {
+    const Reach& r = reach_;
+    if (a.depth > r.maxDepth)
+      throw InputError(kPython, "Session.step(depth)", fmt::format("{:g}", a.depth), "is deeper than the needle is long",
+                       fmt::format("depth <= needle.length = {:g} m", r.maxDepth));
+    if (!(a.lateral > r.lateralLo && a.lateral < r.lateralHi))
+      throw InputError(kPython, "Session.step(lateral)", fmt::format("{:g}", a.lateral),
+                       fmt::format("moves the needle's axis off the tissue's entry face, which spans {:g} mm across "
+                                   "(tissue width)",
+                                   1e3 * r.width),
+                       fmt::format("{:.6g} m < lateral < {:.6g} m", r.lateralLo, r.lateralHi));
+    if (!(a.rotation > r.rotationLo && a.rotation < r.rotationHi))
+      throw InputError(kPython, "Session.step(rotation)", fmt::format("{:g}", a.rotation),
+                       "turns the needle's axis away from the tissue (it must point in through the entry face)",
+                       fmt::format("{:.6g} rad < rotation < {:.6g} rad ({:.4g} to {:.4g} deg)", r.rotationLo,
+                                   r.rotationHi, r.rotationLo * 180 / std::numbers::pi, r.rotationHi * 180 / std::numbers::pi));
+    constexpr double kQuarter = 0.5 * std::numbers::pi;
+    if (!(std::abs(a.tilt) < kQuarter))
+      throw InputError(kPython, "Session.step(tilt)", fmt::format("{:g}", a.tilt),
+                       "tilts the needle's axis away from the tissue (it must point in through the entry face)",
+                       fmt::format("{:.6g} rad < tilt < {:.6g} rad (-90 to 90 deg)", -kQuarter, kQuarter));
+  }
+
+  // The first step starts from insertion.start_depth, where the engine's own run starts;
+  // before the tissue (depth <= the entry depth) the needle may be placed anywhere.
+  void checkTravel(double depth) const {
+    const double e = reach_.entryDepth;
+    const double travel =
+        last_ ? std::abs(depth - *last_) : std::abs(std::max(depth, e) - std::max(reach_.startDepth, e));
+    if (!(travel > maxTravel_)) return;
+    const std::string from = last_ ? fmt::format("in one step (from {:g} mm)", 1e3 * *last_)
+                                   : fmt::format("in its first step (a Session starts at insertion.start_depth, {:g} mm; "
+                                                 "only before the tissue (depth <= {:g} mm) may it be placed anywhere)",
+                                                 1e3 * reach_.startDepth, 1e3 * e);
+    throw InputError(kPython, "Session.step(depth)", fmt::format("{:g}", depth),
+                     fmt::format("moves the tip {:g} mm {}", 1e3 * travel, from),
+                     fmt::format("at most {:g} mm per step ({}); take smaller steps", 1e3 * maxTravel_, travelLimit_));
   }
 
   std::string engine_, name_;
   double dt_, maxTravel_, time_ = 0.0;
   std::string travelLimit_;
+  Reach reach_;
 };
 
 std::string travelText(const StepPlan& p) { return fmt::format("{:g} x {}", kMaxTravelPerStep, p.spacingName); }
@@ -171,6 +269,14 @@ class LumpedSession final : public SessionBase {
   forces::LumpedForceModel model_;
   needle::InsertionFrame frame_;
 };
+
+// needle_shape's point count: 2 to a million (a bound on the memory it takes).
+void checkShapePoints(int count) {
+  if (count < 2 || count > 1000000)
+    throw InputError(kPython, "Session.needle_shape(count)", std::to_string(count),
+                     count < 2 ? "must be at least 2" : "is more points than a centre line needs",
+                     "a number of points from 2 to 1000000");
+}
 
 // The FE sessions take the velocity from the depth change over dt.
 void refuseVelocity(const StepArgs& a, const std::string& engine) {
@@ -216,9 +322,7 @@ class Realtime2dSession final : public SessionBase {
     return out;
   }
   py::array_t<double> needleShape(int count) const override {
-    if (count < 2)
-      throw InputError(kPython, "Session.needle_shape(count)", std::to_string(count), "must be at least 2",
-                       "a number of points >= 2");
+    checkShapePoints(count);
     Eigen::Matrix2Xd shape;
     session_.needleShape(count, shape);
     return rowsOf(shape);
@@ -278,9 +382,7 @@ class Realtime3dSession final : public SessionBase {
     return pointsOf(T.data(), static_cast<std::size_t>(T.size()), 3);
   }
   py::array_t<double> needleShape(int count) const override {
-    if (count < 2)
-      throw InputError(kPython, "Session.needle_shape(count)", std::to_string(count), "must be at least 2",
-                       "a number of points >= 2");
+    checkShapePoints(count);
     Eigen::Matrix3Xd shape;
     session_.needleShape(count, shape);
     return pointsOf(shape.data(), static_cast<std::size_t>(shape.size()), 3);
@@ -373,7 +475,8 @@ void bindSessions(py::module_& m) {
            "Advance to tip depth [m] (along the reference axis from the entry point) over dt [s] (default: the "
            "scenario's model.time_step); rotation [rad] in the plane, roll [rad] about the axis from the bevel "
            "orientation and lateral [m] base offset (realtime2d, realtime3d); tilt [rad] out of the plane (realtime3d); velocity [m/s] (lumped; default: depth change / dt). "
-           "Returns a SessionStep. Bad arguments raise needlesim.InputError.")
+           "Returns a SessionStep. Bad arguments, a depth change beyond the step guard (from the first step, which starts at "
+           "insertion.start_depth) and poses outside the tissue's reach raise needlesim.InputError (docs/python.md).")
       .def_property_readonly("points", &SessionBase::referencePoints, "tissue nodes, n x 2 (realtime3d: n x 3) [m] (centred frame)")
       .def_property_readonly("displacement", &SessionBase::displacement, "node displacements, n x 2 (realtime3d: n x 3) [m]")
       .def_property_readonly("cells", &SessionBase::cells, "quadrilaterals (realtime3d: tetrahedra), m x 4 node indices")

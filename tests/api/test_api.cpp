@@ -86,6 +86,29 @@ TEST(ApiRun, WithChangesTheSpeed) {
   EXPECT_NEAR(api::run(fast).value("exit_force").value, eq51(0.055, 0.010), 2e-3);
 }
 
+// Scenario::with resolves the scenario's relative data paths (tissue.geometry.file), and
+// relative paths among the values, from the scenario file's folder, not the current one.
+TEST(ApiScenario, WithResolvesRelativePathsFromTheScenarioFolder) {
+  const fs::path here = fs::current_path();
+  const fs::path elsewhere = freshTemp("with_paths");
+  fs::current_path(elsewhere);
+  const auto base = api::Scenario::fromFile(kExamples / "realtime2d/imported_block.yaml");  // file: imported_block.geo
+  std::string varied, again;
+  try {
+    varied = base.with("insertion.profile[0].insert.to", "10 mm").yaml();
+    again = base.with({{"tissue.geometry.file", "imported_block.geo"}, {"insertion.profile[0].insert.to", "12 mm"}})
+                .with("insertion.profile[0].insert.to", "14 mm")
+                .yaml();
+  } catch (const api::InputError& e) {
+    ADD_FAILURE() << e.what();
+  }
+  fs::current_path(here);
+  fs::remove_all(elsewhere);
+  const std::string geometry = (kExamples / "realtime2d" / "imported_block.geo").lexically_normal().string();
+  EXPECT_NE(varied.find(geometry), std::string::npos) << varied;
+  EXPECT_NE(again.find(geometry), std::string::npos) << again;
+}
+
 TEST(ApiRun, ToAFolderWritesTablesAndFieldFiles) {
   const fs::path dir = freshTemp("folder");
   const auto sc = shortRealtime2d("2 mm").with("model.realtime2d.field_interval", "0.5 s");

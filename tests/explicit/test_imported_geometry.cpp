@@ -22,6 +22,7 @@
 #include "needlesim/mesh/gmsh_reader.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "../support/block_script.hpp"
+#include "../support/gmsh_writes.hpp"
 
 using namespace needlesim;
 
@@ -167,10 +168,10 @@ TEST(ImportedGeometry, AnEngineThatTakesNoGeometryRefusesIt) {
 
 TEST(ImportedGeometry, ClosedSurfacesMakeABodyAndATargetInclusion) {
   // Gmsh writes the two spheres' surfaces; needlesim meshes them into tetrahedra
-  std::ofstream(dir() / "spheres.geo") << R"(SetFactory("OpenCASCADE");
+  test_support::gmshWrites(dir(), "spheres.geo", R"(SetFactory("OpenCASCADE");
 Sphere(1) = {10, 0, 0, 10}; Mesh.MeshSizeMax = 1.5; Mesh 2; Save "organ.stl";
 Delete All; SetFactory("OpenCASCADE"); Sphere(2) = {10, 1, 0, 3}; Mesh.MeshSizeMax = 0.8; Mesh 2; Save "tumour.stl";
-)";
+)");
   std::filesystem::current_path(dir());
   const std::string yaml = R"(name: organ
 tissue:
@@ -186,7 +187,6 @@ insertion: {profile: [{insert: {to: 12 mm, speed: 10 mm/s}}]}
 model: {engine: explicit, explicit: {dimension: 3d, element: tet4}}
 )";
   std::ofstream(dir() / "organ.yaml") << yaml;
-  mesh::readGmsh((dir() / "spheres.geo").string());  // runs the script, which saves the surfaces
   const Scenario sc = scenario::readFile(dir() / "organ.yaml");
   ASSERT_TRUE(sc.tissue.geometry);
   const auto& I = sc.tissue.inclusions.at(0);

@@ -1,8 +1,8 @@
 #!/usr/bin/env python3
 """The haptic bridge (docs/haptic-protocol.md) with the example client examples/haptic/haptic_client.py:
 `needlesim serve --haptic-port 0` on a realtime2d scenario, an insertion and retraction at 1 kHz,
-forces that rise on insertion and reverse on retraction, a wrong version, size and a non-finite
-pose refused with error packets, and the round-trip latency percentiles (printed).
+forces that rise on insertion and reverse on retraction, a wrong version, size, a non-finite
+pose and undefined flag bits refused with error packets, and the round-trip latency percentiles (printed).
 
 usage: haptic_bridge_test.py NEEDLESIM SCENARIO SOURCE_DIR [CXX_CLIENT]
 """
@@ -45,12 +45,18 @@ def check_refusals(client):
         raise AssertionError('a NaN pose was not refused')
     except hc.HapticError as e:
         assert e.code == 4, e
+    for flags in (2, 0x80000001):  # undefined flag bits (only bit 0, reset, is defined)
+        client.sock.sendto(hc.POSE_PACKET.pack(hc.MAGIC, hc.VERSION, hc.POSE, 101, flags, 0, 0.0, 0.0, 0.0, 0.0, 0.0),
+                           client.address)
+        data, _ = client.sock.recvfrom(512)
+        kind, sequence, code = struct.unpack_from('<HII', data, 6)
+        assert (kind, sequence, code) == (hc.ERROR, 101, 4), (flags, kind, sequence, code)
     client.sock.sendto(struct.pack('<IHHI', hc.MAGIC, hc.VERSION, hc.POSE, 99), client.address)  # 12 bytes: no header
     client.sock.sendto(struct.pack('<IHHI4x', hc.MAGIC, hc.VERSION, hc.POSE, 100), client.address)  # 16 bytes: wrong size
     data, _ = client.sock.recvfrom(512)
     kind, sequence, code = struct.unpack_from('<HII', data, 6)
     assert (kind, sequence, code) == (hc.ERROR, 100, 2), (kind, sequence, code)
-    print('refused: versions 0 and 2 (code 1), a NaN pose (code 4), a short packet (code 2)')
+    print('refused: versions 0 and 2 (code 1), a NaN pose and undefined flag bits (code 4), a short packet (code 2)')
 
 
 def check_forces(poses, states):

@@ -6,13 +6,18 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <thread>
 
 #include <unistd.h>
 
 #include "needlesim/live/haptic_protocol.hpp"
+#include "needlesim/core/error.hpp"
 #include "needlesim/live/live_session.hpp"
+#include "needlesim/live/net_address.hpp"
 #include "needlesim/live/step_log.hpp"
+#include "needlesim/live/web_server.hpp"
 
 namespace live = needlesim::live;
 namespace haptic = needlesim::live::haptic;
@@ -226,4 +231,197 @@ TEST(LiveSession, PhysicsStepsOnlySnapshotTheFieldTheViewerThreadComputesIt) {
   const std::vector<double> needle = reference.needleCentreLine();
   ASSERT_EQ(viewed.needle.size(), needle.size());
   for (std::size_t i = 0; i < needle.size(); ++i) EXPECT_NEAR(viewed.needle[i], needle[i], 1e-12);
+}
+
+namespace {
+fs::path scratch(const std::string& name) {
+  const fs::path dir = fs::temp_directory_path() / ("needlesim_" + name + "_" + std::to_string(::getpid()));
+  fs::remove_all(dir);
+  return dir;
+}
+
+// Drives a session by held keys at the physics rate (advance: no wall clock).
+void drive(live::LiveSession& session, double insert, int steps) {
+  session.setDrive({insert});
+  session.advance(steps);
+}
+}  // namespace
+
+// A reset is part of the recording: every step before and after it is kept, the step after it
+// is marked, and the replay resets there too and reproduces every force.
+TEST(LiveRecording, ResetsAreRecordedAndReplayed) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 0.02;
+  settings.limits.maxDepth = 0.0;
+  live::LiveSession session(realtime2d(), settings);
+  drive(session, 1.0, 600);  // 12 mm in: punctured
+  const double firstPeak = session.latest().state.axial_force;
+  session.reset();
+  drive(session, 1.0, 150);
+  session.reset();
+  session.reset();  // two requests before the next step: one reset
+  drive(session, -1.0, 50);
+  const auto& rows = session.log().rows();
+  ASSERT_EQ(rows.size(), 800u);
+  EXPECT_TRUE(rows[600].reset && rows[750].reset);
+  EXPECT_EQ(std::count_if(rows.begin(), rows.end(), [](const live::StepRecord& r) { return r.reset; }), 2);
+  EXPECT_NEAR(rows[600].state.depth, rows[0].state.depth, 1e-12);  // started over
+  EXPECT_NEAR(rows[799].time, 0.8, 1e-12);                         // time since the recording started
+  const fs::path dir = scratch("live_reset");
+  live::writeRecording(session.scenario(), session.log(), dir, false, 1.0, "test");
+  const std::string summary = [&] {
+    std::ifstream in(dir / "summary.json");
+    return std::string(std::istreambuf_iterator<char>(in), {});
+  }();
+  EXPECT_NE(summary.find("\"resets\""), std::string::npos);
+  api::Scenario again = api::Scenario::builtIn();
+  const live::StepLog replayed = live::replay(dir, again);
+  ASSERT_EQ(replayed.size(), 800u);
+  EXPECT_TRUE(replayed.rows()[600].reset && replayed.rows()[750].reset);
+  EXPECT_GT(firstPeak, 0.05);
+  EXPECT_EQ(replayed.rows()[599].state.axial_force, firstPeak);
+  EXPECT_LT(live::largestDifference(replayed.forcesTable(true), dir / "forces.csv"), 1e-9);
+  fs::remove_all(dir);
+}
+
+// A recorded reset flag that is neither 0 nor 1 names the file, its line and the column.
+TEST(LiveRecording, ReplayRefusesABadResetFlagWithItsLine) {
+  live::LiveSettings settings;
+  settings.record = true;
+  live::LiveSession session(realtime2d(), settings);
+  drive(session, 1.0, 5);
+  const fs::path dir = scratch("live_badreset");
+  live::writeRecording(session.scenario(), session.log(), dir, false, 1.0, "test");
+  std::ifstream in(dir / "commands.csv");
+  std::string text(std::istreambuf_iterator<char>(in), {});
+  in.close();
+  const std::size_t lineEnd = text.find('\n', text.find('\n', text.find('\n') + 1) + 1);  // end of the 3rd line
+  ASSERT_EQ(text[lineEnd - 1], '0');
+  text[lineEnd - 1] = '7';
+  std::ofstream(dir / "commands.csv") << text;
+  api::Scenario again = api::Scenario::builtIn();
+  try {
+    live::replay(dir, again);
+    ADD_FAILURE() << "a reset flag 7 was taken";
+  } catch (const needlesim::InputError& e) {
+    const std::string what = e.what();
+    EXPECT_NE(what.find("commands.csv"), std::string::npos) << what;
+    EXPECT_NE(what.find(":3"), std::string::npos) << what;
+    EXPECT_EQ(e.field(), "reset");
+  }
+  fs::remove_all(dir);
+}
+
+// A session held for minutes between insertion and retraction replays exactly, stepped at the
+// physics rate without the clock (advance): 43.6 mm in at 5 mm/s, 145 s still, 10 mm out. The
+// recording keeps the commands as the doubles that were stepped. The shaft friction of a held
+// needle alternates between two values from step to step (round-off small), and the force at the
+// first retraction step depends on that alternation's phase: with commands rounded to 10 digits
+// (the pose 0.0436 m instead of 0.043599999999999445 m) the hold shifted the phase, and the
+// replay's friction differed by 1e-3 to 3e-2 N from the first retraction step on.
+TEST(LiveRecording, AHoldOfMinutesReplaysExactly) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 5e-3;
+  settings.limits.maxDepth = 0.0;
+  live::LiveSession session(realtime2d(), settings);
+  session.setDrive({1.0});
+  session.advance(8720);
+  session.setDrive({});
+  session.advance(145000);
+  session.setDrive({-1.0});
+  session.advance(2000);
+  const fs::path dir = scratch("live_hold");
+  live::writeRecording(session.scenario(), session.log(), dir, false, 1.0, "test");
+  api::Scenario again = api::Scenario::builtIn();
+  const live::StepLog replayed = live::replay(dir, again);
+  ASSERT_EQ(replayed.size(), session.log().size());
+  std::size_t firstDifferent = replayed.size();
+  for (std::size_t k = 0; k < replayed.size() && firstDifferent == replayed.size(); ++k)
+    if (replayed.rows()[k].state.friction_force != session.log().rows()[k].state.friction_force) firstDifferent = k;
+  EXPECT_EQ(firstDifferent, replayed.size()) << "friction differs first at step " << firstDifferent;
+  EXPECT_LT(live::largestDifference(replayed.forcesTable(true), dir / "forces.csv"), 1e-9);
+  EXPECT_LT(session.log().rows().back().state.friction_force, 0.0);  // retracting: the friction reversed
+  fs::remove_all(dir);
+}
+
+// POST /api/drive takes the five axes as numbers in [-1, 1]; any other key, a value of another
+// type or out of range is refused with the key as the field and what is allowed.
+TEST(LiveWeb, DriveRefusesUnknownKeysAndWrongTypesNamingTheField) {
+  const live::Drive d = live::driveFromJson(R"({"insert": 1, "rotate": -0.5, "tilt": 0})");
+  EXPECT_EQ(d.insert, 1.0);
+  EXPECT_EQ(d.rotate, -0.5);
+  EXPECT_EQ(live::driveFromJson("{}").insert, 0.0);
+  const std::pair<const char*, const char*> refused[] = {
+      {R"({"insert": "fast"})", "insert"}, {R"({"warp": 9})", "warp"},       {R"({"insert": 2})", "insert"},
+      {R"({"roll": true})", "roll"},       {R"({"lateral": null})", "lateral"}, {R"({"insert": [1]})", "insert"},
+      {R"([1, 2])", "body"},              {"insert=1", "body"}};
+  try {
+    live::driveFromJson(R"({"warp": 9})");
+  } catch (const needlesim::InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("insert, lateral, rotate, tilt and roll"), std::string::npos) << e.what();
+  }
+  for (const auto& [body, field] : refused) {
+    try {
+      live::driveFromJson(body);
+      ADD_FAILURE() << body << " was taken";
+    } catch (const needlesim::InputError& e) {
+      EXPECT_EQ(e.field(), field) << body;
+      EXPECT_NE(std::string(e.what()).find("allowed: "), std::string::npos) << e.what();
+    }
+  }
+  const std::string deep = R"({"insert": )" + std::string(20000, '[') + std::string(20000, ']') + "}";
+  EXPECT_THROW(live::driveFromJson(deep), needlesim::InputError);  // refused, not echoed by a deep recursion
+  EXPECT_THROW(live::requireNoArguments("POST /api/reset", R"({"hard": true})"), needlesim::InputError);
+  EXPECT_NO_THROW(live::requireNoArguments("POST /api/reset", "{}"));
+  EXPECT_NO_THROW(live::requireNoArguments("POST /api/reset", ""));
+  EXPECT_EQ(live::sinceFromQuery("42"), 42u);
+  EXPECT_THROW(live::sinceFromQuery("-1"), needlesim::InputError);
+  EXPECT_THROW(live::sinceFromQuery("abc"), needlesim::InputError);
+}
+
+// In 3D the frame's state.tip is the tip in space: the end of the needle's centre line, out of
+// the insertion plane (z) once the needle is tilted.
+TEST(LiveWeb, FrameTipIsTheCentreLineEndIn3d) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 0.02;
+  settings.limits.maxDepth = 0.0;
+  const api::Scenario scenario =
+      api::Scenario::fromFile(fs::path(NEEDLESIM_SOURCE_DIR) / "examples/realtime3d/quick_block.yaml")
+          .with({{"model.realtime3d.nodes_lateral", "5"}, {"model.realtime3d.nodes_height", "5"}, {"model.realtime3d.refinement", "1"}});
+  live::LiveSession session(scenario, settings);
+  session.setDrive({1.0, 0.0, 0.0, 1.0});  // insert while tilting
+  session.advance(250);
+  const std::vector<double> tip = live::frameJson(session, 0)["state"]["tip"].get<std::vector<double>>();
+  ASSERT_EQ(tip.size(), 3u);
+  api::Session reference(scenario);  // the recorded commands, for the centre line at this step
+  for (const live::StepRecord& r : session.log().rows()) reference.step(live::commandFor(r.pose), r.dt);
+  const std::vector<double> line = reference.needleCentreLine();
+  const std::size_t end = line.size() - 3;
+  EXPECT_GT(std::abs(line[end + 2]), 1e-4);  // the tilted needle ends out of the insertion plane
+  for (int c = 0; c < 3; ++c) EXPECT_NEAR(tip[static_cast<std::size_t>(c)], line[end + static_cast<std::size_t>(c)], 1e-6) << c;
+}
+
+TEST(HapticProtocol, RefusesUndefinedFlagBitsWithTheValueCode) {
+  EXPECT_TRUE(haptic::decode(haptic::encode(haptic::PosePacket{5, haptic::kPoseReset, 0, {}})).packet);
+  for (const std::uint32_t flags : {2u, 0x80u, 0x80000000u, 3u}) {
+    const haptic::Decoded d = haptic::decode(haptic::encode(haptic::PosePacket{5, flags, 0, {}}));
+    ASSERT_TRUE(d.error) << flags;
+    EXPECT_FALSE(d.packet);
+    EXPECT_EQ(d.error->code, haptic::ErrorCode::Value) << flags;
+    EXPECT_EQ(d.error->sequence, 5u);
+    EXPECT_NE(d.error->message.find("flags"), std::string::npos) << d.error->message;
+    EXPECT_LE(d.error->message.size(), 55u);
+  }
+}
+
+TEST(LiveNet, LoopbackHostsAreThisMachineOnly) {
+  EXPECT_TRUE(live::isLoopback("127.0.0.1"));
+  EXPECT_TRUE(live::isLoopback("127.3.2.1"));
+  EXPECT_TRUE(live::isLoopback("localhost"));
+  EXPECT_FALSE(live::isLoopback("0.0.0.0"));
+  EXPECT_FALSE(live::isLoopback("192.168.1.20"));
+  EXPECT_FALSE(live::isLoopback("128.0.0.1"));
 }

@@ -21,6 +21,7 @@
 #include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/gmsh_reader.hpp"
 #include "needlesim/mesh/vtp_reader.hpp"
+#include "../support/gmsh_writes.hpp"
 
 using namespace needlesim;
 
@@ -55,12 +56,14 @@ std::string expectRefused(const std::function<void()>& f) {
   return "";
 }
 
-// A 20 x 10 block of triangles (group "gel"), saved by the script in every format it names.
+// A 20 x 10 block of triangles (group "gel"); Gmsh saves it in every format kSaveBlock names.
 const char* kBlockScript = R"(
 Point(1) = {0, -5, 0, 2}; Point(2) = {20, -5, 0, 2}; Point(3) = {20, 5, 0, 2}; Point(4) = {0, 5, 0, 2};
 Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
 Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
 Physical Surface("gel", 5) = {1};
+)";
+const char* kSaveBlock = R"(Include "block.geo";
 Mesh 2;
 Mesh.MshFileVersion = 2.2; Mesh.Binary = 0; Save "block22.msh";
 Mesh.MshFileVersion = 2.2; Mesh.Binary = 1; Save "block22b.msh";
@@ -73,7 +76,7 @@ SetOrder 2; Save "block41q.msh";
 
 TEST(GmshReader, EveryFormatAndOrderGivesTheSameElements) {
   const auto script = writeTemp("block.geo", kBlockScript);
-  std::filesystem::current_path(script.parent_path());
+  test_support::gmshWrites(script.parent_path(), "save_block.geo", kSaveBlock);
   const auto fromScript = mesh::readGmsh(script.string());
   EXPECT_EQ(fromScript.dim, 2);
   EXPECT_EQ(fromScript.element, "tri3");
@@ -216,15 +219,13 @@ std::string selfCrossingStl(double a) {
 
 // Sphere surfaces (radius, centre x) written as STL by Gmsh's OpenCASCADE kernel.
 void writeSphereStl(const std::string& name, double radius, double cx) {
-  const auto script = writeTemp(name + ".geo", fmt::format(R"(SetFactory("OpenCASCADE");
+  test_support::gmshWrites(tempDir(), name + ".geo", fmt::format(R"(SetFactory("OpenCASCADE");
 Sphere(1) = {{{}, 0, 0, {}}};
 Mesh.MeshSizeMax = {};
 Mesh 2;
 Save "{}.stl";
 )",
-                                                           cx, radius, radius / 6, name));
-  std::filesystem::current_path(script.parent_path());
-  mesh::readGmsh(script.string());
+                                                                  cx, radius, radius / 6, name));
 }
 }  // namespace
 

@@ -51,7 +51,7 @@ def test_mapping_access_reaches_the_same_arrays(lumped_run):
 
 
 def test_an_unknown_column_names_the_columns(lumped_run):
-    with pytest.raises(KeyError, match="table 'forces' has no column 'force'; its columns: time, depth"):
+    with pytest.raises(needlesim.UnknownNameError, match="table 'forces' has no column 'force'; its columns: time, depth"):
         lumped_run.tables["forces"]["force"]
 
 
@@ -80,10 +80,10 @@ def test_a_results_folder_reads_back_the_same_numbers(gelatin, lumped_run, tmp_p
 
 
 def test_open_results_refuses_a_folder_without_summary(tmp_path):
-    with pytest.raises(FileNotFoundError, match="not a needlesim results folder: it has no summary.json"):
+    with pytest.raises(needlesim.NotFoundError, match="not a needlesim results folder: it has no summary.json"):
         needlesim.open_results(tmp_path)
 
 
 def test_run_refuses_what_is_not_a_scenario():
-    with pytest.raises(TypeError, match="expected a needlesim.Scenario"):
+    with pytest.raises(needlesim.ArgumentTypeError, match="scenario must be a needlesim.Scenario"):
         needlesim.run("examples/gelatin_18G_3mms.yaml")

@@ -141,5 +141,5 @@ def test_a_run_into_a_folder_reads_its_fields_from_the_files(example, tmp_path):
 
 def test_an_unknown_field_array_names_those_there(run_of):
     particles = run_of("mpm").fields["particles"]
-    with pytest.raises(KeyError, match="has no point data 'pressure'; it has: .*displacement"):
+    with pytest.raises(needlesim.UnknownNameError, match="has no point data 'pressure'; it has: .*displacement"):
         particles.point_data("pressure")

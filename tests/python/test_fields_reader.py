@@ -64,15 +64,15 @@ def test_load_reads_every_array_so_the_files_may_go(series, tmp_path):
 
 def test_unreadable_series_name_the_file(tmp_path):
     (tmp_path / "bad.xdmf").write_text("<Xdmf><Domain>")
-    with pytest.raises(ValueError, match="bad.xdmf: not a readable XDMF file"):
+    with pytest.raises(needlesim.InputError, match="bad.xdmf: is not a readable XDMF file"):
         needlesim.FieldSeries(tmp_path / "bad.xdmf")
     (tmp_path / "xml.xdmf").write_text(XDMF.replace('Format="HDF">s.h5:/mesh/points', 'Format="XML">0 0 1 0'))
-    with pytest.raises(ValueError, match="xml.xdmf: a DataItem in format 'XML'"):
+    with pytest.raises(needlesim.InputError, match="xml.xdmf: a DataItem in format 'XML'"):
         needlesim.FieldSeries(tmp_path / "xml.xdmf")
 
 
 def test_a_missing_dataset_names_the_file_and_dataset(tmp_path, series):
     (tmp_path / "gone.xdmf").write_text(XDMF.replace("/step000001/cell/force", "/step000001/cell/missing"))
     gone = needlesim.FieldSeries(tmp_path / "gone.xdmf")
-    with pytest.raises(KeyError, match="s.h5 has no dataset /step000001/cell/missing"):
+    with pytest.raises(needlesim.InputError, match="s.h5: has no dataset /step000001/cell/missing"):
         gone[1].cell_data["force"]

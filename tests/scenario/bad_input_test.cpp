@@ -171,6 +171,21 @@ TEST(ScenarioBadInput, OversizedFileIsRefusedBeforeParsing) {
   std::filesystem::remove(path);
 }
 
+// A device or a pipe that never ends (here /dev/zero) is read only up to the size limit, then refused.
+TEST(ScenarioBadInput, EndlessDeviceIsRefusedBySize) {
+  if (!std::filesystem::exists("/dev/zero")) GTEST_SKIP() << "no /dev/zero";
+  const auto t0 = std::chrono::steady_clock::now();
+  try {
+    scenario::readFile("/dev/zero");
+    ADD_FAILURE() << "no error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_NE(msg.find("larger than the 16.0 MB"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("/dev/zero"), std::string::npos) << msg;
+  }
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(), 5.0);
+}
+
 TEST(ScenarioBadInput, UnknownKeysStopAtTheFirst) {
   std::string yaml = kBase + "extra:\n";
   for (int i = 0; i < 20000; ++i) yaml += "  k" + std::to_string(i) + ": 1\n";

@@ -9,9 +9,9 @@
 namespace needlesim::api {
 
 namespace {
-Scenario fromText(std::string text, const std::string& source) {
+Scenario fromText(std::string text, const std::string& source, std::filesystem::path folder = {}) {
   needlesim::Scenario typed = scenario::readText(text, source);
-  return detail::ScenarioAccess::make(std::move(typed), std::move(text));
+  return detail::ScenarioAccess::make(std::move(typed), std::move(text), std::move(folder));
 }
 }  // namespace
 
@@ -19,7 +19,8 @@ Scenario::Scenario(std::shared_ptr<const Impl> impl) : impl_(std::move(impl)) {}
 
 Scenario Scenario::fromFile(const std::filesystem::path& path) {
   return detail::translated([&] {
-    return fromText(scenario::readYamlFile(path, "a scenario file (see docs/scenario-format.md)"), path.string());
+    return fromText(scenario::readYamlFile(path, "a scenario file (see docs/scenario-format.md)"), path.string(),
+                    study::dataFolderOf(path.string()));
   });
 }
 
@@ -37,7 +38,9 @@ Scenario Scenario::with(const std::map<std::string, std::string>& values) const 
   return detail::translated([&] {
     const SourceLocation where{"<C++ API Scenario::with>", 0, 0};
     std::vector<std::pair<std::string, std::string>> assignments(values.begin(), values.end());
-    return fromText(study::withValuesYaml(impl_->yaml, assignments, where, "Scenario::with field path"), where.file);
+    // relative data paths (in the file or among the values) resolve from the scenario file's folder
+    return fromText(study::withValuesYaml(impl_->yaml, assignments, where, "Scenario::with field path", impl_->folder),
+                    where.file, impl_->folder);
   });
 }
 

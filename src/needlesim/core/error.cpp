@@ -103,4 +103,11 @@ InputError::InputError(SourceLocation where, std::string field, std::string valu
       where_(std::move(where)),
       field_(std::move(field)) {}
 
+InputError::InputError(Composed, SourceLocation where, std::string field, std::string message)
+    : Error(std::move(message)), where_(std::move(where)), field_(std::move(field)) {}
+
+InputError InputError::withMessage(SourceLocation where, std::string field, std::string message) {
+  return InputError(Composed{}, std::move(where), std::move(field), std::move(message));
+}
+
 }  // namespace needlesim

@@ -42,8 +42,12 @@ class InputError : public Error {
              std::string allowed);
   const SourceLocation& where() const { return where_; }
   const std::string& field() const { return field_; }
+  // The same error with its message as composed before (an error handed back by another process).
+  static InputError withMessage(SourceLocation where, std::string field, std::string message);
 
  private:
+  struct Composed {};
+  InputError(Composed, SourceLocation where, std::string field, std::string message);
   SourceLocation where_;
   std::string field_;
 };

@@ -7,7 +7,11 @@
 #include <atomic>
 #include <csignal>
 #include <cstdio>
+#include <cstdlib>
 #include <cstring>
+#include <mutex>
+#include <thread>
+#include <vector>
 
 namespace needlesim {
 
@@ -25,12 +29,93 @@ extern "C" void onStopSignal(int signal) {
 }
 }  // namespace
 
+namespace {
+// The open BlockingCalls (what the latest one does) and the paths a hard stop removes.
+struct HardStop {
+  std::mutex mutex;
+  int open = 0;
+  std::string what;
+  std::vector<std::filesystem::path> paths;
+  std::string note;
+};
+HardStop& hardStop() {
+  static HardStop* h = new HardStop;  // never destroyed: the watcher may use it while the process ends
+  return *h;
+}
+
+[[noreturn]] void stopHard(const std::string& what) {
+  auto& h = hardStop();
+  for (auto it = h.paths.rbegin(); it != h.paths.rend(); ++it) {
+    std::error_code ec;
+    std::filesystem::remove_all(*it, ec);
+  }
+  std::fflush(stdout);
+  fmt::print(stderr, "\nstopped: {}: interrupted by {}{}\n", what, stopSignalName(), h.note);
+  std::fflush(stderr);
+  std::_Exit(128 + stopSignal());
+}
+
+// Ends the process when a stop request has waited 0.4 s on an open BlockingCall.
+void watchBlockingCalls() {
+  using clock = std::chrono::steady_clock;
+  clock::time_point seen{};
+  for (;;) {
+    std::this_thread::sleep_for(std::chrono::milliseconds(50));
+    auto& h = hardStop();
+    std::lock_guard<std::mutex> lock(h.mutex);
+    if (!stopRequested() || h.open == 0) {
+      seen = {};
+      continue;
+    }
+    if (seen == clock::time_point{}) seen = clock::now();
+    if (clock::now() - seen > std::chrono::milliseconds(400)) stopHard(h.what);
+  }
+}
+}  // namespace
+
 void installStopHandlers() {
   struct sigaction sa {};
   sa.sa_handler = onStopSignal;
   sigemptyset(&sa.sa_mask);
   sa.sa_flags = SA_RESTART;  // system calls (file writes) go on
   for (int s : {SIGINT, SIGTERM}) sigaction(s, &sa, nullptr);
+}
+
+BlockingCall::BlockingCall(const std::string& what) {
+  throwIfStopRequested(what);
+  auto& h = hardStop();
+  std::lock_guard<std::mutex> lock(h.mutex);
+  ++h.open;
+  h.what = what;
+}
+
+BlockingCall::~BlockingCall() {
+  auto& h = hardStop();
+  std::lock_guard<std::mutex> lock(h.mutex);
+  --h.open;
+}
+
+void removeIfStoppedHard(const std::filesystem::path& path) {
+  auto& h = hardStop();
+  std::lock_guard<std::mutex> lock(h.mutex);
+  h.paths.push_back(path);
+}
+
+void exitOnStopInBlockingCalls(const std::string& note) {
+  {
+    auto& h = hardStop();
+    std::lock_guard<std::mutex> lock(h.mutex);
+    h.note = note;
+  }
+  static std::once_flag started;
+  std::call_once(started, [] { std::thread(watchBlockingCalls).detach(); });
+}
+
+void forgetOnStop(const std::filesystem::path& path) {
+  auto& h = hardStop();
+  std::lock_guard<std::mutex> lock(h.mutex);
+  const auto it = std::find(h.paths.rbegin(), h.paths.rend(), path);
+  if (it != h.paths.rend()) h.paths.erase(std::next(it).base());
 }
 
 bool stopRequested() { return gStopSignal.load(std::memory_order_relaxed) != 0; }

@@ -3,6 +3,7 @@
 // requests (Ctrl-C, SIGTERM) for the same loops. Quiet when asked (--quiet)
 // or when stderr is not a terminal.
 #include <chrono>
+#include <filesystem>
 #include <string>
 
 #include "needlesim/core/error.hpp"
@@ -23,8 +24,9 @@ class RunInterrupted : public Error {
 
 // Stop requests. installStopHandlers() makes SIGINT and SIGTERM set a flag
 // (a second one of the same signal ends the process at once, as without the
-// handler); engines' step loops see it through Progress::update (or ask
-// stopRequested() where they write a checkpoint first).
+// handler); engines' loops, set-up included, see it through Progress::update
+// or throwIfStopRequested (or ask stopRequested() where they write a
+// checkpoint first).
 void installStopHandlers();
 bool stopRequested();
 int stopSignal();  // the signal that asked for the stop, 0 when none
@@ -33,6 +35,32 @@ void requestStop(int signal);  // what the handlers call (tests call it directly
 void clearStopRequest();
 // Throws RunInterrupted("<what>: interrupted by SIGINT ...") when a stop was requested.
 void throwIfStopRequested(const std::string& what);
+
+// One library call that cannot look at stop requests and may run for seconds
+// (a sparse factorisation). Opening one first checks for a stop request
+// (throwIfStopRequested(what)). In a command that called
+// exitOnStopInBlockingCalls, a stop request while one is open ends the process
+// within half a second, as RunInterrupted would: the paths registered with
+// removeIfStoppedHard are removed, "stopped: <what>: interrupted by <signal>
+// <note>" is printed on stderr and the exit code is 128 + the signal.
+// Elsewhere (needlesim serve, which must write its recording; Python) the call
+// runs to its end and the next check stops.
+class BlockingCall {
+ public:
+  explicit BlockingCall(const std::string& what);
+  ~BlockingCall();
+  BlockingCall(const BlockingCall&) = delete;
+  BlockingCall& operator=(const BlockingCall&) = delete;
+};
+
+// Lets a stop inside a BlockingCall end the process (for commands that have
+// nothing to save on a stop: run, sweep); `note` ends its line ("; nothing was
+// written to ...", as the command's own RunInterrupted message says). What it
+// removes before the process ends: the paths given to removeIfStoppedHard
+// (staging folders, lock files); forgetOnStop takes a path off the list.
+void exitOnStopInBlockingCalls(const std::string& note);
+void removeIfStoppedHard(const std::filesystem::path& path);
+void forgetOnStop(const std::filesystem::path& path);
 
 class Progress {
  public:

@@ -1,6 +1,11 @@
 #include "needlesim/engines/run_scenario.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <chrono>
+#include <optional>
+#include <thread>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/io/checkpoint.hpp"
@@ -8,6 +13,29 @@
 namespace needlesim {
 
 namespace {
+
+// One engine's `threads` beyond the machine's hardware threads, capped with a warning
+// (more threads than cores only slow a run down, and thousands make OpenMP fail).
+void capThreads(int& threads, const std::string& field, int cores, ResultSink& sink) {
+  if (threads <= cores) return;
+  sink.warning(fmt::format("{}: {} is more than this machine's {} hardware threads; {} are used", field, threads, cores,
+                           cores));
+  threads = cores;
+}
+
+// The scenario with model.mpm.threads and model.explicit.threads capped (capThreads);
+// empty when nothing needs a cap.
+std::optional<Scenario> withThreadsCapped(const Scenario& sc, ResultSink& sink) {
+  const int cores = static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+  if (sc.model.mpm.threads <= cores && sc.model.explicit_fe.threads <= cores) return std::nullopt;
+  std::optional<Scenario> capped(sc);
+  if (sc.model.engine == "mpm") capThreads(capped->model.mpm.threads, "model.mpm.threads", cores, sink);
+  if (sc.model.engine == "explicit") capThreads(capped->model.explicit_fe.threads, "model.explicit.threads", cores, sink);
+  capped->model.mpm.threads = std::min(capped->model.mpm.threads, cores);
+  capped->model.explicit_fe.threads = std::min(capped->model.explicit_fe.threads, cores);
+  return capped;
+}
+
 // Runs the engine into `folder` and commits it (as "stopped" with the reason
 // when the solver stops); returns the wall time.
 double runAndCommit(const EngineInfo& engine, const Scenario& sc, io::ResultsFolder& folder, bool overwrite,
@@ -15,7 +43,8 @@ double runAndCommit(const EngineInfo& engine, const Scenario& sc, io::ResultsFol
   const auto t0 = std::chrono::steady_clock::now();
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   try {
-    engine.run(sc, folder, options);
+    const std::optional<Scenario> capped = withThreadsCapped(sc, folder);
+    engine.run(capped ? *capped : sc, folder, options);
   } catch (const SolverError& e) {
     // Keep what was computed up to the failure, marked as stopped, then report.
     folder.commit(overwrite, elapsed(), e.what());
@@ -57,7 +86,8 @@ namespace needlesim {
 MemorySink runInMemory(const Scenario& sc, const RunOptions& options) {
   const EngineInfo* engine = &engineFor(sc);
   MemorySink sink;
-  engine->run(sc, sink, options);
+  const std::optional<Scenario> capped = withThreadsCapped(sc, sink);
+  engine->run(capped ? *capped : sc, sink, options);
   return sink;
 }
 

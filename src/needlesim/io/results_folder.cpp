@@ -206,9 +206,11 @@ void moveStageIntoPlace(const fs::path& stage, const fs::path& target) {
 ResultsFolder::ResultsFolder(const Scenario& scenario, fs::path target, bool printWarnings)
     : scenario_(scenario), target_(outputPath(target, "--out", commandLine())), printWarnings_(printWarnings) {
   stage_ = stagingFolder(target_);
+  removeIfStoppedHard(stage_);  // a stop inside a BlockingCall ends the process without unwinding
 }
 
 ResultsFolder::~ResultsFolder() {
+  forgetOnStop(stage_);
   fields_.clear();
   if (!committed_) {
     std::error_code ec;
@@ -239,11 +241,15 @@ void ResultsFolder::warning(const std::string& text) {
 }
 
 void ResultsFolder::commit(bool replace, double wall_seconds, const std::string& failure) {
+  const std::string writing = "writing " + target_.string();
+  throwIfStopRequested(writing);  // a stop before the folder is in place commits nothing
   checkReplaceable(target_, replace);
   fs::create_directories(stage_);
   for (auto& f : fields_) f->close();  // the last HDF5 data reaches the disk, or Error
   fields_.clear();
+  throwIfStopRequested(writing);
   nlohmann::json files = writeTables();
+  throwIfStopRequested(writing);
   for (const auto& f : field_names_) {
     files.push_back(f + ".xdmf");
     files.push_back(f + ".h5");
@@ -252,6 +258,7 @@ void ResultsFolder::commit(bool replace, double wall_seconds, const std::string&
   files.push_back("summary.json");
   writeFileAtomic(stage_ / "summary.json", summaryJson(files, wall_seconds, failure).dump(2) + "\n");
   if (scenario_.output.html) writeFileAtomic(stage_ / "report.html", report(wall_seconds, failure).render());
+  throwIfStopRequested(writing);
   moveIntoPlace();
   committed_ = true;
   files_ = files.get<std::vector<std::string>>();

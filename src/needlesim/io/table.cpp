@@ -37,7 +37,12 @@ std::string Table::csv() const {
   s += '\n';
   auto out = std::back_inserter(s);
   for (std::size_t r = 0; r < rows(); ++r) {
-    for (std::size_t c = 0; c < columns_.size(); ++c) fmt::format_to(out, "{}{:.10g}", c ? "," : "", at(r, c));
+    for (std::size_t c = 0; c < columns_.size(); ++c) {
+      if (exact_)
+        fmt::format_to(out, "{}{}", c ? "," : "", at(r, c));
+      else
+        fmt::format_to(out, "{}{:.10g}", c ? "," : "", at(r, c));
+    }
     s += '\n';
   }
   return s;

@@ -25,11 +25,15 @@ class Table {
   double at(std::size_t row, std::size_t col) const { return data_[row * columns_.size() + col]; }
   std::size_t columnIndex(const std::string& name) const;  // throws if absent
   std::vector<double> column(const std::string& name) const;
-  std::string csv() const;  // header "name [unit]", full precision, '\n' line ends
+  // Header "name [unit]", '\n' line ends; values with 10 significant digits, or exact (the
+  // shortest text that reads back as the same double) once exact() was asked for.
+  std::string csv() const;
+  void exact(bool on = true) { exact_ = on; }
 
  private:
   std::vector<Column> columns_;
   std::vector<double> data_;
+  bool exact_ = false;
 };
 
 }  // namespace needlesim::io

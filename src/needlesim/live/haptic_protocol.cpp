@@ -139,6 +139,8 @@ Decoded decode(std::span<const std::uint8_t> d) {
   if (type == Type::State) return {readState(r, sequence), {}};
   if (type == Type::Error) return {readError(r, sequence, d), {}};
   PosePacket p = readPose(r, sequence);
+  if (p.flags & ~kPoseFlags)
+    return {{}, refusal(sequence, ErrorCode::Value, fmt::format("flags 0x{:x}: only bit 0 (reset) is defined", p.flags))};
   if (!finite(p.pose)) return {{}, refusal(sequence, ErrorCode::Value, "a pose value is not a finite number")};
   return {p, {}};
 }

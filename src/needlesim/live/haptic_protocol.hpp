@@ -17,7 +17,10 @@ inline constexpr std::uint16_t kVersion = 1;
 inline constexpr std::size_t kPoseSize = 64, kStateSize = 128, kErrorSize = 80;
 
 enum class Type : std::uint16_t { Pose = 1, State = 2, Error = 3 };
+// Value: a pose value that is not finite, or a flag bit that is not defined (kPoseFlags).
 enum class ErrorCode : std::uint32_t { Version = 1, Size = 2, Type = 3, Value = 4 };
+inline constexpr std::uint32_t kPoseReset = 1u;          // pose flag bit 0
+inline constexpr std::uint32_t kPoseFlags = kPoseReset;  // the defined flag bits
 
 struct PosePacket {
   std::uint32_t sequence = 0;

@@ -81,7 +81,7 @@ void HapticServer::run() {
       ++refused_;
     } else if (d.packet && std::holds_alternative<haptic::PosePacket>(*d.packet)) {
       const auto& pose = std::get<haptic::PosePacket>(*d.packet);
-      if (pose.flags & 1u) live_.reset();
+      if (pose.flags & haptic::kPoseReset) live_.reset();
       live_.setTarget(pose.pose);
       reply = haptic::encode(stateFor(live_.latest(), pose));
       ++answered_;

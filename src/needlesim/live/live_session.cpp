@@ -163,7 +163,7 @@ void LiveSession::resetIfAsked() {
     session_.reset();  // rebuilds the engine's session (for realtime2d: its mesh and factorisation)
   }
   pose_ = Pose{};
-  log_.clear();
+  if (settings_.record) log_.markReset();  // the recording goes on: its replay resets here too
   std::lock_guard stateLock(stateMutex_);
   samples_.clear();
   frame_.punctureDepth = -1.0;

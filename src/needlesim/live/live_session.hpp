@@ -79,7 +79,7 @@ class LiveSession {
   void setDrive(const Drive& drive);   // held keys and buttons
   void setTarget(const Pose& target);  // an absolute pose (haptic device), followed quickly
   void flipBevel();                    // roll the bevel by half a turn
-  // Back to the first step's state (a recording starts over). The physics thread rebuilds the
+  // Back to the first step's state (the recording marks it). The physics thread rebuilds the
   // session: for realtime2d a pause of up to a second or two while readers see the last state.
   void reset();
 
@@ -93,7 +93,7 @@ class LiveSession {
   const Controls& controls() const { return controls_; }
   const LiveSettings& settings() const { return settings_; }
   const api::Scenario& scenario() const { return scenario_; }
-  // Every step since the start or the last reset (settings.record), once stopped.
+  // Every step since the start, resets marked (settings.record), once stopped.
   const StepLog& log() const { return log_; }
   // Mean wall time of one session step since the start (read once stopped).
   double meanStepCost() const { return step_ ? totalCost_ / static_cast<double>(step_) : 0.0; }

@@ -20,3 +20,13 @@ sockaddr_in socketAddress(const std::string& host, int port, const std::string& 
 }
 
 }  // namespace needlesim::live
+
+namespace needlesim::live {
+
+bool isLoopback(const std::string& host) {
+  if (host == "localhost") return true;
+  in_addr a{};
+  return inet_pton(AF_INET, host.c_str(), &a) == 1 && (ntohl(a.s_addr) >> 24) == 127;
+}
+
+}  // namespace needlesim::live

@@ -11,3 +11,10 @@ namespace needlesim::live {
 sockaddr_in socketAddress(const std::string& host, int port, const std::string& hostOption, const std::string& portOption);
 
 }  // namespace needlesim::live
+
+namespace needlesim::live {
+
+// Whether `host` ("localhost" or dotted IPv4) is this machine only (127.0.0.0/8).
+bool isLoopback(const std::string& host);
+
+}  // namespace needlesim::live

@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 
 #include "needlesim/api/scenario_impl.hpp"
+#include "needlesim/core/error.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/io/results_folder.hpp"
 #include "needlesim/results/forces_table.hpp"
@@ -22,10 +23,11 @@ int phaseIndex(const std::string& phase) {
 
 io::Table StepLog::commandsTable() const {
   io::Table t({{"time", "s"}, {"dt", "s"}, {"depth", "m"}, {"lateral", "m"}, {"rotation", "rad"}, {"tilt", "rad"},
-               {"roll", "rad"}});
+               {"roll", "rad"}, {"reset", "1"}});
+  t.exact();  // a replay steps the very doubles the session stepped
   t.reserve(rows_.size());
   for (const StepRecord& r : rows_)
-    t.addRow({r.state.time, r.dt, r.pose.depth, r.pose.lateral, r.pose.rotation, r.pose.tilt, r.pose.roll});
+    t.addRow({r.time, r.dt, r.pose.depth, r.pose.lateral, r.pose.rotation, r.pose.tilt, r.pose.roll, r.reset ? 1.0 : 0.0});
   return t;
 }
 
@@ -35,8 +37,9 @@ io::Table StepLog::forcesTable(bool flexible) const {
   double previous = 0.0;
   for (const StepRecord& r : rows_) {
     const api::State& s = r.state;
+    if (r.reset) previous = 0.0;  // the session starts over at depth 0
     results::NeedleForces f;
-    f.time = s.time;
+    f.time = r.time;
     f.depth = s.depth;
     f.velocity = (r.pose.depth - previous) / r.dt;
     f.force_total = s.axial_force;
@@ -78,6 +81,8 @@ void keyResults(io::ResultsFolder& folder, const StepLog& log) {
   folder.result("max_depth", deepest, "m", "deepest tip position");
   if (!std::isnan(punctureDepth)) folder.result("puncture_depth", punctureDepth, "m", "tip depth at the first puncture");
   folder.result("steps", static_cast<double>(log.size()), "1", "physics steps recorded");
+  const auto resets = std::count_if(log.rows().begin(), log.rows().end(), [](const StepRecord& r) { return r.reset; });
+  folder.result("resets", static_cast<double>(resets), "1", "resets of the session between recorded steps");
 }
 
 }  // namespace
@@ -95,6 +100,49 @@ void writeRecording(const api::Scenario& scenario, const StepLog& log, const fs:
   folder.commit(replace, wallSeconds);
 }
 
+namespace {
+
+// commands.csv's reset column (recordings without one have no resets): 0 or 1 per row.
+std::vector<bool> resetColumn(const io::CsvData& commands) {
+  std::vector<bool> resets(commands.rows(), false);
+  const int c = commands.find({"reset"});
+  if (c < 0) return resets;
+  commands.checkDim(c, units::dim::None, "reset");
+  for (std::size_t r = 0; r < commands.rows(); ++r) {
+    const double v = commands.col(c)[r];
+    if (v != 0.0 && v != 1.0)
+      throw InputError(SourceLocation{commands.file, commands.lines[r], 0}, "reset", fmt::format("{}", v),
+                       "is not a reset flag", "0, or 1 on the first step after a reset");
+    resets[r] = v == 1.0;
+  }
+  return resets;
+}
+
+// A recorded row as a step: InputError naming commands.csv's line for a value that no live
+// session steps (dt outside (0, 0.1] s, a value that is not finite).
+void checkRow(const io::CsvData& commands, std::size_t r, double dt, const Pose& pose) {
+  const SourceLocation where{commands.file, commands.lines[r], 0};
+  if (!(dt > 0.0 && dt <= 0.1))
+    throw InputError(where, "dt", fmt::format("{}", dt), "is not a physics step of a live session", "0 < dt <= 0.1 s");
+  const std::pair<const char*, double> values[] = {
+      {"depth", pose.depth}, {"lateral", pose.lateral}, {"rotation", pose.rotation}, {"tilt", pose.tilt}, {"roll", pose.roll}};
+  for (const auto& [name, value] : values)
+    if (!std::isfinite(value)) throw InputError(where, name, fmt::format("{}", value), "is not a finite number", "a finite number");
+}
+
+// One replayed step; the session's refusal of a command names the recording's line.
+const api::State& stepRow(api::Session& session, const io::CsvData& commands, std::size_t r, double dt, const Pose& pose) {
+  checkRow(commands, r, dt, pose);
+  try {
+    return session.step(commandFor(pose), dt);
+  } catch (const api::InputError& e) {
+    throw InputError(SourceLocation{commands.file, commands.lines[r], 0}, "command", "", e.what(),
+                     "the commands a live session of this scenario steps");
+  }
+}
+
+}  // namespace
+
 StepLog replay(const fs::path& recording, api::Scenario& scenarioOut) {
   scenarioOut = api::Scenario::fromFile(recording / "summary.json");
   const io::CsvData commands = io::readCsv(recording / "commands.csv");
@@ -105,12 +153,17 @@ StepLog replay(const fs::path& recording, api::Scenario& scenarioOut) {
   const auto& rotation = col("rotation", units::dim::Angle);
   const auto& tilt = col("tilt", units::dim::Angle);
   const auto& roll = col("roll", units::dim::Angle);
+  const std::vector<bool> resets = resetColumn(commands);
   api::Session session(scenarioOut);
   StepLog log;
   log.reserve(commands.rows());
   for (std::size_t r = 0; r < commands.rows(); ++r) {
+    if (resets[r]) {
+      session.reset();
+      log.markReset();
+    }
     const Pose pose{depth[r], lateral[r], rotation[r], tilt[r], roll[r]};
-    log.add(dt[r], pose, session.step(commandFor(pose), dt[r]));
+    log.add(dt[r], pose, stepRow(session, commands, r, dt[r], pose));
   }
   return log;
 }

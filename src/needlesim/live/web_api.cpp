@@ -1,5 +1,8 @@
 // The JSON documents of the trainer's API (web_server.hpp).
+#include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <utility>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/live/web_server.hpp"
@@ -19,7 +22,7 @@ nlohmann::json stateJson(const api::State& s) {
           {"axial", s.axial_force},   {"lateral", s.lateral_force},
           {"stiffness", s.stiffness_force}, {"cutting", s.cutting_force},
           {"friction", s.friction_force},   {"deflection", s.tip_deflection},
-          {"tip", {s.tip_x, s.tip_y, 0.0}}, {"phase", s.phase}};
+          {"tip", {s.tip_x, s.tip_y, s.tip_z}}, {"phase", s.phase}};
 }
 
 }  // namespace
@@ -62,13 +65,62 @@ nlohmann::json frameJson(const LiveSession& live, std::size_t since) {
           {"next", total}};
 }
 
+namespace {
+
+constexpr const char* kDriveAllowed = "{\"insert\": -1..1, \"lateral\": ..., \"rotate\": ..., \"tilt\": ..., \"roll\": ...}";
+
+const std::pair<const char*, double Drive::*> kDriveAxes[] = {
+    {"insert", &Drive::insert}, {"lateral", &Drive::lateral}, {"rotate", &Drive::rotate},
+    {"tilt", &Drive::tilt},     {"roll", &Drive::roll}};
+
+// A JSON value as echoed in a message: scalars as written, arrays and objects by their kind
+// (never dumped: a deeply nested value would take a deep recursion).
+std::string describe(const nlohmann::json& value) {
+  return value.is_structured() ? std::string("an ") + value.type_name() : value.dump();
+}
+
+InputError requestError(const std::string& request, const std::string& field, const std::string& value,
+                        const std::string& problem, const std::string& allowed) {
+  return InputError(SourceLocation{request, 0, 0}, field, printable(value), problem, allowed);
+}
+
+}  // namespace
+
+// Every key must be an axis and every value a number in [-1, 1]; an axis left out is 0.
 Drive driveFromJson(const std::string& body) {
   const nlohmann::json j = nlohmann::json::parse(body, nullptr, false);
-  if (!j.is_object())
-    throw InputError(SourceLocation{"POST /api/drive", 0, 0}, "body", printable(body), "is not a JSON object",
-                     "{\"insert\": -1..1, \"lateral\": ..., \"rotate\": ..., \"tilt\": ..., \"roll\": ...}");
-  const auto get = [&](const char* key) { return j.contains(key) && j[key].is_number() ? j[key].get<double>() : 0.0; };
-  return Drive{get("insert"), get("lateral"), get("rotate"), get("tilt"), get("roll")};
+  if (!j.is_object()) throw requestError("POST /api/drive", "body", body, "is not a JSON object", kDriveAllowed);
+  Drive drive;
+  for (const auto& [key, value] : j.items()) {
+    const auto axis = std::find_if(std::begin(kDriveAxes), std::end(kDriveAxes),
+                                   [&key](const auto& a) { return key == a.first; });
+    if (axis == std::end(kDriveAxes))
+      throw requestError("POST /api/drive", printable(key), describe(value), "is not a motion of the trainer",
+                         "the keys insert, lateral, rotate, tilt and roll");
+    if (!value.is_number() || !(value.get<double>() >= -1.0 && value.get<double>() <= 1.0))
+      throw requestError("POST /api/drive", key, describe(value), "is not a number from -1 to 1",
+                         "a number from -1 (full speed back) to 1 (full speed on), 0 to stop");
+    drive.*(axis->second) = value.get<double>();
+  }
+  return drive;
+}
+
+void requireNoArguments(const std::string& request, const std::string& body) {
+  if (body.empty()) return;
+  const nlohmann::json j = nlohmann::json::parse(body, nullptr, false);
+  if (!j.is_object()) throw requestError(request, "body", body, "is not a JSON object", "an empty body or {}");
+  if (!j.empty())
+    throw requestError(request, printable(j.items().begin().key()), describe(*j.begin()), "is not an argument of " + request,
+                       "an empty body or {}: the request takes no arguments");
+}
+
+std::size_t sinceFromQuery(const std::string& text) {
+  const bool digits = !text.empty() && text.size() <= 18 &&
+                      std::all_of(text.begin(), text.end(), [](char c) { return c >= '0' && c <= '9'; });
+  if (!digits)
+    throw requestError("GET /api/frame", "since", text, "is not a sample index",
+                       "a whole number from 0 (the \"next\" of the previous frame)");
+  return static_cast<std::size_t>(std::stoull(text));
 }
 
 }  // namespace needlesim::live

@@ -2,6 +2,8 @@
 
 #include <httplib.h>
 
+#include <algorithm>
+#include <initializer_list>
 #include <string_view>
 
 #include "needlesim/core/error.hpp"
@@ -50,39 +52,86 @@ void routePage(httplib::Server& s) {
   serveText(s, "/chart.min.js", embedded::kChartJs, "text/javascript");
 }
 
+// Runs a handler; a request it refuses (InputError) is answered 400 with the message and field.
+template <class Handler>
+void answer(httplib::Response& res, Handler handler) {
+  try {
+    handler();
+  } catch (const InputError& e) {
+    res.status = 400;
+    sendJson(res, {{"error", e.what()}, {"field", e.field()}});
+  }
+}
+
+// The query parameters a GET takes; InputError naming the first other one.
+void requireParams(const httplib::Request& req, std::initializer_list<std::string_view> known, const char* allowed) {
+  for (const auto& [key, value] : req.params)
+    if (std::find(known.begin(), known.end(), key) == known.end())
+      throw InputError(SourceLocation{"GET " + req.path, 0, 0}, printable(key), printable(value),
+                       "is not a parameter of this request", allowed);
+}
+
+void routeCommands(httplib::Server& s, LiveSession& live, const std::function<void()>& stopRequest) {
+  s.Post("/api/drive", [&live](const httplib::Request& req, httplib::Response& res) {
+    answer(res, [&] {
+      live.setDrive(driveFromJson(req.body));
+      sendJson(res, {{"ok", true}});
+    });
+  });
+  s.Post("/api/flip", [&live](const httplib::Request& req, httplib::Response& res) {
+    answer(res, [&] {
+      requireNoArguments("POST /api/flip", req.body);
+      live.flipBevel();
+      sendJson(res, {{"ok", true}});
+    });
+  });
+  s.Post("/api/reset", [&live](const httplib::Request& req, httplib::Response& res) {
+    answer(res, [&] {
+      requireNoArguments("POST /api/reset", req.body);
+      live.reset();
+      sendJson(res, {{"ok", true}});
+    });
+  });
+  s.Post("/api/stop", [&stopRequest](const httplib::Request& req, httplib::Response& res) {
+    answer(res, [&] {
+      requireNoArguments("POST /api/stop", req.body);
+      sendJson(res, {{"ok", true}});
+      if (stopRequest) stopRequest();
+    });
+  });
+}
+
+// Enough workers that idle or half-open connections (a browser keeps up to 6 per site) leave
+// some free, and timeouts that close a connection which sends nothing.
+void limitConnections(httplib::Server& s) {
+  s.new_task_queue = [] { return new httplib::ThreadPool(kHttpWorkers); };
+  s.set_read_timeout(kHttpIdleSeconds, 0);
+  s.set_write_timeout(kHttpIdleSeconds, 0);
+  s.set_keep_alive_timeout(kHttpIdleSeconds);
+  s.set_payload_max_length(kHttpMaxBody);  // larger bodies: 413, never read into memory
+}
+
 }  // namespace
 
 WebServer::WebServer(LiveSession& live, WebInfo info) : impl_(new Impl{live, std::move(info), {}}) {
   httplib::Server& s = impl_->server;
+  limitConnections(s);
   routePage(s);
   requireJsonPosts(s);
-  s.Get("/api/info", [this](const httplib::Request&, httplib::Response& res) { sendJson(res, infoJson(impl_->live, impl_->info)); });
+  s.Get("/api/info", [this](const httplib::Request& req, httplib::Response& res) {
+    answer(res, [&] {
+      requireParams(req, {}, "none: GET /api/info takes no parameters");
+      sendJson(res, infoJson(impl_->live, impl_->info));
+    });
+  });
   s.Get("/api/frame", [this](const httplib::Request& req, httplib::Response& res) {
-    std::size_t since = 0;
-    if (req.has_param("since")) since = std::strtoull(req.get_param_value("since").c_str(), nullptr, 10);
-    sendJson(res, frameJson(impl_->live, since));
+    answer(res, [&] {
+      requireParams(req, {"since"}, "since (a sample index)");
+      const std::size_t since = req.has_param("since") ? sinceFromQuery(req.get_param_value("since")) : 0;
+      sendJson(res, frameJson(impl_->live, since));
+    });
   });
-  s.Post("/api/drive", [this](const httplib::Request& req, httplib::Response& res) {
-    try {
-      impl_->live.setDrive(driveFromJson(req.body));
-      sendJson(res, {{"ok", true}});
-    } catch (const InputError& e) {
-      res.status = 400;
-      sendJson(res, {{"error", e.what()}});
-    }
-  });
-  s.Post("/api/flip", [this](const httplib::Request&, httplib::Response& res) {
-    impl_->live.flipBevel();
-    sendJson(res, {{"ok", true}});
-  });
-  s.Post("/api/reset", [this](const httplib::Request&, httplib::Response& res) {
-    impl_->live.reset();
-    sendJson(res, {{"ok", true}});
-  });
-  s.Post("/api/stop", [this](const httplib::Request&, httplib::Response& res) {
-    sendJson(res, {{"ok", true}});
-    if (stopRequest_) stopRequest_();
-  });
+  routeCommands(s, impl_->live, stopRequest_);
 }
 
 WebServer::~WebServer() = default;
@@ -97,7 +146,13 @@ int WebServer::bind(const std::string& host, int port) {
   return bound;
 }
 
-void WebServer::serve() { impl_->server.listen_after_bind(); }
+void WebServer::serve() {
+  struct Served {
+    std::atomic<bool>& flag;
+    ~Served() { flag = true; }
+  } served{served_};
+  impl_->server.listen_after_bind();
+}
 void WebServer::stop() { impl_->server.stop(); }
 
 }  // namespace needlesim::live

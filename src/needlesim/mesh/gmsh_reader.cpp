@@ -7,12 +7,13 @@
 #include <filesystem>
 #include <fmt/format.h>
 #include <map>
-#include <mutex>
 #include <set>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/closed_surface.hpp"
+#include "needlesim/mesh/geo_script_check.hpp"
+#include "needlesim/mesh/isolated_reader.hpp"
 #include "needlesim/mesh/msh_check.hpp"
 #include "needlesim/mesh/surface_formats.hpp"
 #include "needlesim/mesh/vtp_reader.hpp"
@@ -21,47 +22,25 @@ namespace needlesim::mesh {
 
 namespace {
 
-// Gmsh keeps one global model: one import at a time (sweeps read scenarios on several threads).
-std::mutex& gmshMutex() {
-  static std::mutex m;
-  return m;
-}
-
-bool& gmshStarted() {
-  static bool started = false;
-  return started;
-}
-
-// After an error Gmsh's model is left unusable (the next file reads as empty): start afresh.
-void restartGmsh() {
-  gmsh::finalize();
-  gmshStarted() = false;
-}
-
+// Gmsh in the sandboxed child (isolated_reader): one model per process, one thread, quiet.
 class GmshSession {
  public:
-  GmshSession() : lock_(gmshMutex()) {
-    if (!gmshStarted()) {
-      gmsh::initialize(0, nullptr, false);
-      gmshStarted() = true;
-    }
+  GmshSession() {
+    gmsh::initialize(0, nullptr, false);
     gmsh::option::setNumber("General.Terminal", 0);
     gmsh::option::setNumber("General.Verbosity", 1);
+    gmsh::option::setNumber("General.NumThreads", 1);
     gmsh::option::setNumber("Mesh.MeshSizeMax", 1e22);
-    gmsh::clear();
   }
-  ~GmshSession() {
-    if (gmshStarted()) gmsh::clear();
-  }
-
- private:
-  std::lock_guard<std::mutex> lock_;
 };
 
 InputError geometryError(const std::string& path, const std::string& problem, const std::string& allowed) {
   return InputError(SourceLocation{path, 0, 0}, "tissue.geometry", std::filesystem::path(path).filename().string(),
                     problem, allowed);
 }
+
+// The file's absolute path (taken in the parent: the child works in its own empty folder).
+std::string absolute(const std::string& path) { return std::filesystem::absolute(path).string(); }
 
 // Runs a Gmsh call, turning Gmsh's own errors into an InputError naming the file.
 template <class F>
@@ -77,7 +56,6 @@ void gmshCall(const std::string& path, const std::string& doing, const std::stri
   } catch (...) {
     gmsh::logger::getLastError(message);
   }
-  restartGmsh();
   throw geometryError(path, fmt::format("Gmsh could not {}: {}", doing, message.empty() ? "no reason given" : message),
                       allowed);
 }
@@ -230,23 +208,88 @@ bool isScript(const std::string& path) {
   return ext == ".geo";
 }
 
-}  // namespace
 
-VolumeMesh readGmsh(const std::string& path, double maxElementSize) {
-  requireFile(path);
-  if (isMsh(path)) checkMshFile(path);
+// Elements of about size h filling `measure` (a volume in 3D, an area in 2D): regular
+// tetrahedra or triangles of edge h.
+double elementsAtSize(double measure, int dim, double h) {
+  return dim == 3 ? measure / (h * h * h / (6.0 * std::sqrt(2.0))) : measure / (std::sqrt(3.0) / 4.0 * h * h);
+}
+
+// The model's volume (3D) or area (2D): OpenCASCADE's masses where the script used that
+// kernel, else its bounding box.
+double modelMeasure(int dim) {
+  double measure = 0.0;
+  try {
+    gmsh::vectorpair entities;
+    gmsh::model::occ::getEntities(entities, dim);
+    for (const auto& [d, tag] : entities) {
+      double mass = 0.0;
+      gmsh::model::occ::getMass(d, tag, mass);
+      measure += std::abs(mass);
+    }
+  } catch (...) {
+    measure = 0.0;
+  }
+  if (measure > 0.0) return measure;
+  double x0, y0, z0, x1, y1, z1;
+  gmsh::model::getBoundingBox(-1, -1, x0, y0, z0, x1, y1, z1);
+  return dim == 3 ? (x1 - x0) * (y1 - y0) * (z1 - z0) : (x1 - x0) * (y1 - y0);
+}
+
+// `verb` "holds", "made" or "would make about"; h the element size asked (0: none).
+[[noreturn]] void refuseElementCount(const std::string& path, const std::string& verb, double n, int dim, double h,
+                                     const MeshBudget& budget) {
+  const double larger = h > 0 ? h * std::pow(n / budget.maxElements, 1.0 / dim) : 0.0;
+  throw geometryError(path, fmt::format("{} {:.3g} elements{}, more than tissue.geometry.max_elements ({:g})", verb, n,
+                                        h > 0 ? fmt::format(" at an element size of {:g} (file units)", h) : "",
+                                        budget.maxElements),
+                      larger > 0 ? fmt::format("a larger tissue.geometry.element_size (or Mesh.MeshSizeMax): about {:.3g} "
+                                               "(file units) or more for this budget; or a larger max_elements", larger)
+                                 : "a coarser mesh, or a larger tissue.geometry.max_elements");
+}
+
+// Before meshing a script: the elements its largest element size (Mesh.MeshSizeMax, set by the
+// script or tissue.geometry.element_size) makes at least, against the budget.
+void checkEstimate(const std::string& path, const MeshBudget& budget) {
+  double largest = 0.0, factor = 1.0;
+  gmsh::option::getNumber("Mesh.MeshSizeMax", largest);
+  gmsh::option::getNumber("Mesh.MeshSizeFactor", factor);
+  const int dim = gmsh::model::getDimension();
+  if (largest >= 1e21 || dim < 2) return;  // the script's own sizes: counted after meshing
+  const double h = largest * factor;
+  const double n = elementsAtSize(modelMeasure(dim), dim, h);
+  if (n > budget.maxElements)
+    refuseElementCount(path, "would make about", n, dim, h, budget);
+}
+
+// Runs in the sandboxed child: the file opened, a script meshed, the mesh checked.
+VolumeMesh openAndMesh(const std::string& path, const std::string& file, double maxElementSize, const MeshBudget& budget) {
   GmshSession session;
-  gmshCall(path, "read it", "a Gmsh .msh (format 2 or 4, ASCII or binary) or .geo script", [&] { gmsh::open(path); });
+  gmshCall(path, "read it", "a Gmsh .msh (format 2 or 4, ASCII or binary) or .geo script", [&] { gmsh::open(file); });
   if (isScript(path)) {
     if (maxElementSize > 0) gmsh::option::setNumber("Mesh.MeshSizeMax", maxElementSize);
+    gmsh::option::setNumber("General.NumThreads", 1);
+    checkEstimate(path, budget);
     gmshCall(path, "mesh the script", "a script whose geometry Gmsh can mesh", [&] {
       gmsh::model::mesh::generate(gmsh::model::getDimension());
     });
   }
   VolumeMesh m = extractMesh(path);
   checkMeshCoordinates(path, m);
+  if (m.elements() > budget.maxElements)
+    refuseElementCount(path, isScript(path) ? "made" : "holds", m.elements(), m.dim, 0.0, budget);
   checkOrientation(path, m);
   return m;
+}
+
+}  // namespace
+
+VolumeMesh readGmsh(const std::string& path, double maxElementSize, const MeshBudget& budget) {
+  requireFile(path);
+  if (gmshReadsAsScript(path)) checkGeoScript(path);
+  if (isMsh(path)) checkMshFile(path);
+  const std::string file = absolute(path);
+  return decodeMesh(runIsolated(path, budget, [&] { return encodeMesh(openAndMesh(path, file, maxElementSize, budget)); }));
 }
 
 namespace {
@@ -262,21 +305,52 @@ TriangleSurface closedOrRefused(const std::string& path, TriangleSurface s) {
 
 // A surface file's triangles (needlesim's own readers; Gmsh's for legacy VTK), refused when open
 // or in a format Gmsh's library would misread.
-TriangleSurface readSurface(const std::string& path) {
+TriangleSurface readSurface(const std::string& path, const MeshBudget& budget) {
   requireFile(path);
   if (const auto bad = surfaceFormatProblem(path)) throw geometryError(path, bad->problem, bad->allowed);
   if (auto own = readOwnSurfaceFormat(path)) return closedOrRefused(path, std::move(*own));
-  GmshSession session;
-  gmshCall(path, "read it", "a closed surface in legacy VTK 4.2 or older (or .stl, .ply, .off, .obj, .vtp)", [&] { gmsh::merge(path); });
-  TriangleSurface s;
-  std::vector<std::size_t> tags, triangleTags, triangleNodes;
-  std::vector<double> parametric;
-  gmsh::model::mesh::getNodes(tags, s.xyz, parametric, -1, -1, true, false);
-  std::map<std::size_t, int> index;
-  for (std::size_t i = 0; i < tags.size(); ++i) index[tags[i]] = static_cast<int>(i);
-  gmsh::model::mesh::getElementsByType(2, triangleTags, triangleNodes);
-  for (std::size_t t : triangleNodes) s.tri.push_back(index.at(t));
-  return closedOrRefused(path, std::move(s));
+  if (gmshReadsAsScript(path)) checkGeoScript(path);  // Gmsh would read it as a script
+  const std::string file = absolute(path);
+  return closedOrRefused(path, decodeSurface(runIsolated(path, budget, [&] {
+                           GmshSession session;
+                           gmshCall(path, "read it", "a closed surface in legacy VTK 4.2 or older (or .stl, .ply, .off, .obj, .vtp)",
+                                    [&] { gmsh::merge(file); });
+                           TriangleSurface s;
+                           std::vector<std::size_t> tags, triangleTags, triangleNodes;
+                           std::vector<double> parametric;
+                           gmsh::model::mesh::getNodes(tags, s.xyz, parametric, -1, -1, true, false);
+                           std::map<std::size_t, int> index;
+                           for (std::size_t i = 0; i < tags.size(); ++i) index[tags[i]] = static_cast<int>(i);
+                           gmsh::model::mesh::getElementsByType(2, triangleTags, triangleNodes);
+                           for (std::size_t t : triangleNodes) s.tri.push_back(index.at(t));
+                           return encodeSurface(s);
+                         })));
+}
+
+// The volume a closed surface encloses (divergence theorem over its triangles).
+double enclosedVolume(const TriangleSurface& s) {
+  double v = 0.0;
+  for (int t = 0; t < s.triangles(); ++t) {
+    const double* a = &s.xyz[3 * static_cast<std::size_t>(s.tri[3 * t])];
+    const double* b = &s.xyz[3 * static_cast<std::size_t>(s.tri[3 * t + 1])];
+    const double* c = &s.xyz[3 * static_cast<std::size_t>(s.tri[3 * t + 2])];
+    v += a[0] * (b[1] * c[2] - b[2] * c[1]) - a[1] * (b[0] * c[2] - b[2] * c[0]) + a[2] * (b[0] * c[1] - b[1] * c[0]);
+  }
+  return std::abs(v) / 6.0;
+}
+
+// The tetrahedra of about maxElementSize filling the outermost bodies, against the budget.
+void checkSurfaceEstimate(const std::vector<SurfaceBody>& bodies, const std::vector<TriangleSurface>& surfaces,
+                          const std::vector<std::vector<int>>& holes, double maxElementSize, const MeshBudget& budget) {
+  std::vector<char> inner(surfaces.size(), 0);
+  for (const auto& inside : holes)
+    for (int h : inside) inner[h] = 1;
+  double volume = 0.0;
+  for (std::size_t b = 0; b < surfaces.size(); ++b)
+    if (!inner[b]) volume += enclosedVolume(surfaces[b]);
+  const double n = elementsAtSize(volume, 3, maxElementSize);
+  if (n > budget.maxElements)
+    refuseElementCount(bodies[0].path, "would make about", n, 3, maxElementSize, budget);
 }
 
 // The surfaces as discrete Gmsh surfaces whose triangles bound the tetrahedra; one surface loop
@@ -299,9 +373,9 @@ std::vector<int> addSurfaceLoops(const std::vector<TriangleSurface>& surfaces) {
 
 }  // namespace
 
-VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize) {
+VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize, const MeshBudget& budget) {
   std::vector<TriangleSurface> surfaces;
-  for (const auto& b : bodies) surfaces.push_back(readSurface(b.path));
+  for (const auto& b : bodies) surfaces.push_back(readSurface(b.path, budget));
   for (std::size_t a = 0; a < surfaces.size(); ++a)
     for (std::size_t b = 0; b < surfaces.size(); ++b)
       if (a != b && placement(surfaces[a], surfaces[b]) == Placement::Crossing)
@@ -311,6 +385,7 @@ VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElemen
   const auto holes = directlyInside(surfaces);
   // Gmsh keeps a discrete surface's triangles: split them down to the element size first
   if (maxElementSize <= 0) maxElementSize = boxDiagonal(surfaces[0]) / 20;
+  checkSurfaceEstimate(bodies, surfaces, holes, maxElementSize, budget);
   constexpr std::size_t kMostTriangles = 2'000'000;
   for (std::size_t b = 0; b < surfaces.size(); ++b) {
     const double splits = std::ceil(std::log2(std::max(1.0, longestEdge(surfaces[b]) / maxElementSize)));
@@ -322,23 +397,26 @@ VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElemen
   }
   std::string all = bodies[0].path;
   for (std::size_t b = 1; b < bodies.size(); ++b) all += ", " + bodies[b].path;
-  GmshSession session;
-  gmshCall(all, "mesh the surfaces into tetrahedra", "closed surfaces that cross neither themselves nor each other", [&] {
-    const auto loops = addSurfaceLoops(surfaces);
-    for (std::size_t b = 0; b < bodies.size(); ++b) {
-      std::vector<int> boundary{loops[b]};
-      for (int h : holes[b]) boundary.push_back(loops[h]);
-      const int volume = gmsh::model::geo::addVolume(boundary);
-      gmsh::model::geo::synchronize();
-      const int group = gmsh::model::addPhysicalGroup(3, {volume}, static_cast<int>(b) + 1);
-      gmsh::model::setPhysicalName(3, group, bodies[b].name);
-    }
-    gmsh::option::setNumber("Mesh.MeshSizeMax", maxElementSize);
-    gmsh::model::mesh::generate(3);
-  });
-  VolumeMesh m = extractMesh(all);
-  checkOrientation(all, m);
-  return m;
+  return decodeMesh(runIsolated(all, budget, [&] {
+    GmshSession session;
+    gmshCall(all, "mesh the surfaces into tetrahedra", "closed surfaces that cross neither themselves nor each other", [&] {
+      const auto loops = addSurfaceLoops(surfaces);
+      for (std::size_t b = 0; b < bodies.size(); ++b) {
+        std::vector<int> boundary{loops[b]};
+        for (int h : holes[b]) boundary.push_back(loops[h]);
+        const int volume = gmsh::model::geo::addVolume(boundary);
+        gmsh::model::geo::synchronize();
+        const int group = gmsh::model::addPhysicalGroup(3, {volume}, static_cast<int>(b) + 1);
+        gmsh::model::setPhysicalName(3, group, bodies[b].name);
+      }
+      gmsh::option::setNumber("Mesh.MeshSizeMax", maxElementSize);
+      gmsh::model::mesh::generate(3);
+    });
+    VolumeMesh m = extractMesh(all);
+    if (m.elements() > budget.maxElements) refuseElementCount(all, "made", m.elements(), 3, 0.0, budget);
+    checkOrientation(all, m);
+    return encodeMesh(m);
+  }));
 }
 
 }  // namespace needlesim::mesh

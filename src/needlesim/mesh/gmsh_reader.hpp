@@ -11,13 +11,19 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/mesh/isolated_reader.hpp"
 #include "needlesim/mesh/volume_mesh.hpp"
 
 namespace needlesim::mesh {
 
+// Gmsh runs in a sandboxed child process (isolated_reader: it cannot run programs, write or
+// delete files or end this process) within `budget`; a script is first checked line by line
+// (geo_script_check). A script whose largest element size makes more than budget.maxElements
+// is refused before meshing, with the estimate.
+
 // A .msh file as it is, or a .geo script meshed with Mesh.MeshSizeMax = maxElementSize (file
 // units; 0 = the script's own sizes).
-VolumeMesh readGmsh(const std::string& path, double maxElementSize = 0.0);
+VolumeMesh readGmsh(const std::string& path, double maxElementSize = 0.0, const MeshBudget& budget = {});
 
 // A closed surface bounding one body (an organ, a tumour, a vessel).
 struct SurfaceBody {
@@ -28,6 +34,6 @@ struct SurfaceBody {
 // Meshes the bodies into one conforming tetrahedral mesh with Gmsh (elements of about
 // maxElementSize, file units): a body inside another is a hole of the outer one and a body of
 // its own. Group tags are 1, 2, ... in the order given.
-VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize);
+VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize, const MeshBudget& budget = {});
 
 }  // namespace needlesim::mesh

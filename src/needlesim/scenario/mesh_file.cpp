@@ -23,15 +23,15 @@ bool isGmshMeshOrScript(const std::string& path) {
 }
 
 mesh::VolumeMesh readGeometryFiles(const std::vector<GeometryFile>& files, double elementSize,
-                                   const std::string& scenarioSource) {
+                                   const std::string& scenarioSource, const mesh::MeshBudget& budget) {
   if (files.size() == 1 && files[0].body.empty() && isGmshMeshOrScript(files[0].path))
-    return mesh::readGmsh(besideScenario(files[0].path, scenarioSource).string(), elementSize);
+    return mesh::readGmsh(besideScenario(files[0].path, scenarioSource).string(), elementSize, budget);
   std::vector<mesh::SurfaceBody> bodies;
   for (const auto& f : files) {
     const auto p = besideScenario(f.path, scenarioSource);
     bodies.push_back({p.string(), f.body.empty() ? p.stem().string() : f.body});
   }
-  return mesh::meshSurfaces(bodies, elementSize);
+  return mesh::meshSurfaces(bodies, elementSize, budget);
 }
 
 }  // namespace needlesim::scenario

@@ -5,6 +5,7 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/mesh/isolated_reader.hpp"
 #include "needlesim/mesh/volume_mesh.hpp"
 
 namespace needlesim::scenario {
@@ -22,6 +23,6 @@ bool isGmshMeshOrScript(const std::string& path);
 // The mesh of `files` in the files' own length unit; elementSize in that unit (0 = Gmsh's or the
 // script's own sizes). Throws InputError naming the file for a bad one.
 mesh::VolumeMesh readGeometryFiles(const std::vector<GeometryFile>& files, double elementSize,
-                                   const std::string& scenarioSource);
+                                   const std::string& scenarioSource, const mesh::MeshBudget& budget = {});
 
 }  // namespace needlesim::scenario

@@ -119,6 +119,13 @@ std::vector<FieldDoc> build() {
                "size of the elements Gmsh makes from surfaces or a .geo script"));
   add(positive("geometry", "support_depth", D::Length, "20 % of the body's depth",
                "the boundary facing away from the needle within this depth of the deepest point is held fixed"));
+  add(count("geometry", "max_elements", "2e6", 1.0, 1e9,
+             "refuse a geometry that holds or would make more elements (estimated before meshing from the volume "
+             "and the largest element size); raise it to allow a finer mesh"));
+  add(positive("geometry", "max_mesh_time", D::Time, "120 s",
+               "reading and meshing the geometry is stopped and refused after this long (wall clock and CPU time)"));
+  add(q("geometry", "max_mesh_memory_mib", D::None, "4096", 64.0, 1e7, false, false,
+        "memory (MiB) reading and meshing the geometry may take; more is refused"));
   add(other("surface", "file", Kind::String, "", "a closed surface (.stl, .ply, .vtk, .off, .obj); relative to the scenario file", true));
   add(other("surface", "body", Kind::String, "the file's stem", "name of the body it bounds: a layer or inclusion name"));
   for (const char* axis : {"x", "y", "z"}) {
@@ -360,7 +367,7 @@ std::vector<FieldDoc> build() {
   add(q("mpm", "mass_scaling", D::None, "1", 1.0, 1e12, false, false,
         "factor on every particle mass (seed 000 eq 28 discussion: 1e4); the time step grows with its square root"));
   add(count("mpm", "margin", "3", 2.0, 100.0, "grid cells beyond the tissue block on each side"));
-  add(count("mpm", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores)"));
+  add(count("mpm", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)"));
   add(other("mpm", "faces", Kind::Section, "exit fixed, others free", "boundary condition of each face of the block", false, "mpm_faces"));
   for (const char* f : {"entry", "exit", "y_min", "y_max", "z_min", "z_max"}) {
     const std::string k = f;
@@ -448,7 +455,7 @@ std::vector<FieldDoc> build() {
   add(nonneg("explicit_cohesive", "sleeve_radius", D::Length, "0 mm",
              "radius of the sleeve seam, between the needle's inner and outer radius; 0 = the wall's mid radius"));
   add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
-  add(count("explicit", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores)"));
+  add(count("explicit", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)"));
 
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));

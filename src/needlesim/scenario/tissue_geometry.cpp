@@ -47,7 +47,9 @@ mesh::VolumeMesh importFiles(Section& g, const std::string& source, double eleme
     throw g.error("element_size", g.raw("element_size").Scalar(), "has no meaning for a .msh file: its elements are given",
                   "no element_size; or a .geo script or surfaces, which Gmsh meshes");
   for (const auto& s : sources) named += (named.empty() ? "" : ", ") + s.path;
-  return readGeometryFiles(sources, elementSizeInFileUnits, source);
+  const mesh::MeshBudget budget{g.number("max_elements"), g.number("max_mesh_time"),
+                                g.number("max_mesh_memory_mib") * 1024.0 * 1024.0};
+  return readGeometryFiles(sources, elementSizeInFileUnits, source, budget);
 }
 
 // Rotation about x, then y, then z of the tissue frame (right hand).

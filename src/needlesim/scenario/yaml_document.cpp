@@ -253,9 +253,15 @@ std::string readYamlFile(const std::filesystem::path& path, const std::string& w
   if (!std::filesystem::exists(path, ec)) throw cannot("does not exist");
   std::ifstream in(path, std::ios::binary);
   if (!in) throw cannot("cannot be opened for reading (permissions?)");
-  std::stringstream ss;
-  ss << in.rdbuf();
-  return ss.str();
+  // read at most one byte past the limit: a device or a pipe that never ends is refused by size
+  std::string text;
+  char chunk[1 << 16];
+  while (in && text.size() <= kMaxYamlBytes) {
+    in.read(chunk, sizeof chunk);
+    text.append(chunk, static_cast<std::size_t>(in.gcount()));
+  }
+  checkSize(text.size(), path.string(), what);
+  return text;
 }
 
 YAML::Node loadYamlDocument(std::string_view text, const std::string& source, const std::string& what,

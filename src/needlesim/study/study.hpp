@@ -79,19 +79,28 @@ struct SweepReport {
   int cases = 0, ran = 0, reused = 0;
   std::vector<int> failed;  // case indices that failed (rerun with --resume)
   std::string overview;     // the inputs, outputs and constants for the terminal (studyOverview)
+  std::vector<std::string> notes;  // folders left or set aside (also printed on stderr as they happen)
 };
 
-// Whether `dir` holds nothing but what a sweep writes (cases/ with case
-// folders, their error files and staging folders; study.csv, study.json,
-// report.html): a folder a sweep may resume in or replace. An empty folder is one.
+// Whether `dir` holds nothing but the names a sweep writes (cases/ with case
+// folders, their error files, staging folders and kept folders case_NNNN.kept-K;
+// study.csv, study.json, report.html): a folder a sweep may resume in or
+// clear. An empty folder is one.
 bool isStudyFolder(const std::filesystem::path& dir);
 
 // Runs the cases of this rank, then (rank 0) gathers every case's summary
 // into study.csv, study.json and report.html in the study folder. The study
 // folder is options.out (--out), else the study file's `directory`, else
-// results/<name>, checked like a run's results folder (checkOutputTarget);
-// one that exists is used with options.resume, replaced with
-// options.overwrite (both only if isStudyFolder) and refused otherwise.
+// results/<name>, checked like a run's results folder (checkOutputTarget) and
+// locked (io::FolderLock, shared by the ranks of an MPI study) until the
+// study is gathered: a folder another needlesim writes is refused. One that
+// exists is used with options.resume or cleared with options.overwrite (both
+// only if isStudyFolder) and refused otherwise. --overwrite deletes only
+// study.csv, study.json, report.html, error files, dead processes' staging
+// folders and the files each case's summary.json lists; a case folder left
+// holding anything else is renamed case_NNNN.kept-K and named (a note). A case
+// folder without a readable summary.json is set aside the same way and its
+// case runs again. Filesystem and JSON failures are Error naming the folder.
 SweepReport runSweep(const StudySpec& spec, const SweepOptions& options);
 void gatherSweep(const StudySpec& spec, const std::vector<Case>& cases, SweepReport& report);
 

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <fstream>
 #include <map>
+#include <memory>
 #include <mutex>
 #include <regex>
 #include <sstream>
@@ -15,6 +16,7 @@
 #include "needlesim/core/version.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/io/atomic_file.hpp"
+#include "needlesim/io/folder_lock.hpp"
 #include "needlesim/io/results_folder.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/results/display_units.hpp"
@@ -48,14 +50,17 @@ StudyTarget chooseStudyFolder(const StudySpec& spec, const SweepOptions& opt) {
   return {fs::path("results") / spec.name, "name", inFile};
 }
 
-// The checked study folder: free, or an earlier study's folder to resume in
-// or (with --overwrite) to remove; anything else there is refused.
-fs::path prepareStudyFolder(const StudySpec& spec, const SweepOptions& opt) {
+// The checked study folder, locked for this process (FolderLock): free, or an
+// earlier study's folder to resume in or (with --overwrite) to clear; anything
+// else there is refused.
+fs::path prepareStudyFolder(const StudySpec& spec, const SweepOptions& opt, std::unique_ptr<io::FolderLock>& lock) {
   const StudyTarget t = chooseStudyFolder(spec, opt);
   if (opt.resume && opt.overwrite)
     throw InputError(commandLine(), "--overwrite", "", "cannot go with --resume",
                      "--resume to reuse the completed cases, or --overwrite to replace the study");
   io::checkOutputTarget(t.path, t.field, t.where.file, false);
+  lock = std::make_unique<io::FolderLock>(t.path, t.field, t.where,
+                                          opt.ranks > 1 ? io::FolderLock::Mode::Shared : io::FolderLock::Mode::Exclusive);
   if (!fs::exists(t.path)) return t.path;
   if (!isStudyFolder(t.path))
     throw InputError(t.where, t.field, t.path.string(),
@@ -65,14 +70,13 @@ fs::path prepareStudyFolder(const StudySpec& spec, const SweepOptions& opt) {
   if (!opt.overwrite)
     throw InputError(t.where, t.field, t.path.string(), "the study folder already exists",
                      "--resume to reuse its completed cases, --overwrite to replace it, or another folder (--out)");
-  fs::remove_all(t.path);
   return t.path;
 }
 
 // Names in cases/: case_NNNN, case_NNNN.error.txt and the staging, replaced and temporary names made from them.
 bool isCaseEntry(const std::string& name) {
   static const std::regex pattern(
-      R"(\.?case_[0-9]+(\.error\.txt(\.tmp\.[0-9]+)?|\.partial-[0-9]+|\.old-[0-9]+)?)");
+      R"(\.?case_[0-9]+(\.error\.txt(\.tmp\.[0-9]+)?|\.partial-[0-9]+|\.old-[0-9]+|\.kept-[0-9]+)?)");
   return std::regex_match(name, pattern);
 }
 
@@ -84,7 +88,110 @@ bool isStudyEntry(const std::string& name) {
 
 fs::path caseFolder(const fs::path& study, int index) { return study / "cases" / fmt::format("case_{:04d}", index); }
 
-bool caseComplete(const fs::path& folder) { return fs::exists(folder / "summary.json"); }
+// A case folder a run committed: its summary.json is a complete needlesim record.
+bool caseComplete(const fs::path& folder) { return io::isResultsFolder(folder); }
+
+fs::path errorFileOf(const fs::path& study, int index) {
+  return study / "cases" / fmt::format("case_{:04d}.error.txt", index);
+}
+
+// A path for messages, relative to the study folder ("cases/case_0001").
+std::string shown(const fs::path& p, const fs::path& study) { return p.lexically_relative(study).string(); }
+
+// What a sweep says about folders it leaves or sets aside: on the terminal at once, and in the report.
+void say(SweepReport& rep, const std::string& text) {
+  fmt::print(stderr, "note: {}\n", text);
+  rep.notes.push_back(text);
+}
+
+// Moves a case folder whose contents needlesim cannot vouch for out of the case's way,
+// to the first free case_NNNN.kept-K beside it: nothing in it is deleted.
+fs::path setAside(const fs::path& folder) {
+  for (int k = 1; k < 100000; ++k) {
+    fs::path kept = folder;
+    kept += fmt::format(".kept-{}", k);
+    if (!fs::exists(kept) && !fs::is_symlink(kept)) {
+      fs::rename(folder, kept);
+      return kept;
+    }
+  }
+  throw Error("no free name to keep " + folder.string() + " under");
+}
+
+// The files a committed case folder's summary.json lists as written (plain names in the
+// folder, summary.json last): what --overwrite may delete.
+std::vector<fs::path> filesWritten(const fs::path& folder) {
+  std::vector<fs::path> files;
+  try {
+    const auto summary = nlohmann::json::parse(std::ifstream(folder / "summary.json"));
+    if (summary.contains("files") && summary["files"].is_array())
+      for (const auto& f : summary["files"]) {
+        if (!f.is_string()) continue;
+        const fs::path name = f.get<std::string>();
+        if (name.has_filename() && name == name.filename() && name != "." && name != ".." && name != "summary.json")
+          files.push_back(folder / name);
+      }
+  } catch (const nlohmann::json::exception&) {
+    return {};  // checked by caseComplete before; changed since: nothing is known to be ours
+  }
+  files.push_back(folder / "summary.json");
+  return files;
+}
+
+// --overwrite on one case folder: deletes the files its run wrote; a folder left holding
+// anything else is set aside (case_NNNN.kept-K) and named.
+void clearCase(const fs::path& folder, const fs::path& study, SweepReport& rep) {
+  if (caseComplete(folder))
+    for (const auto& f : filesWritten(folder))
+      if (fs::is_regular_file(fs::symlink_status(f))) fs::remove(f);
+  if (fs::is_empty(folder)) {
+    fs::remove(folder);
+    return;
+  }
+  const std::string left = io::describeContents(folder);
+  const fs::path kept = setAside(folder);
+  say(rep, fmt::format("{} held what needlesim did not write ({}); it is kept, unchanged, as {}", shown(folder, study),
+                       left.substr(left.find("holding") == std::string::npos ? 0 : left.find("holding") + 8),
+                       shown(kept, study)));
+}
+
+// --overwrite: removes what an earlier run of the study wrote (study.csv, study.json,
+// report.html, the case folders' own files, error files, staging folders of dead
+// processes) and nothing else; what is left is named.
+void clearStudyFolder(const fs::path& study, SweepReport& rep) {
+  static const std::regex ownFile(R"((study\.csv|study\.json|report\.html)(\.tmp\.[0-9]+)?)");
+  static const std::regex ownCaseFile(R"(case_[0-9]+\.error\.txt(\.tmp\.[0-9]+)?)");
+  static const std::regex caseDir(R"(case_[0-9]+)");
+  for (const auto& e : fs::directory_iterator(study))
+    if (std::regex_match(e.path().filename().string(), ownFile) && e.is_regular_file() && !e.is_symlink())
+      fs::remove(e.path());
+  const fs::path cases = study / "cases";
+  if (!fs::exists(cases)) return;
+  io::removeStaleStages(cases);
+  std::vector<fs::path> entries;
+  for (const auto& e : fs::directory_iterator(cases)) entries.push_back(e.path());
+  std::sort(entries.begin(), entries.end());
+  for (const auto& p : entries) {
+    const std::string name = p.filename().string();
+    const auto status = fs::symlink_status(p);
+    if (std::regex_match(name, ownCaseFile) && fs::is_regular_file(status))
+      fs::remove(p);
+    else if (std::regex_match(name, caseDir) && fs::is_directory(status))
+      clearCase(p, study, rep);
+    else if (fs::exists(status))
+      say(rep, fmt::format("{} is left as it is (--overwrite deletes only what needlesim wrote)", shown(p, study)));
+  }
+}
+
+// A case to run whose folder exists but holds no complete run (a damaged or truncated
+// summary.json, a folder someone made): set aside, nothing deleted, and said.
+void setAsideIncompleteCase(const fs::path& folder, const fs::path& study, SweepReport& rep) {
+  const bool hasSummary = fs::exists(fs::symlink_status(folder / "summary.json"));
+  const fs::path kept = setAside(folder);
+  say(rep, fmt::format("{}: {}; the case runs again and the folder is kept, unchanged, as {}", shown(folder, study),
+                       hasSummary ? "its summary.json cannot be read (damaged or cut short)" : "it holds no summary.json",
+                       shown(kept, study)));
+}
 
 // A failed case's message in cases/case_NNNN.error.txt; a write that fails (a full disk) is kept in
 // `unrecorded` for the sweep to report once its workers have stopped.
@@ -112,26 +219,58 @@ bool isStudyFolder(const fs::path& dir) {
   return !ec;
 }
 
-SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
-  std::string baseYaml = readText(spec.scenario_file);
-  std::vector<Case> cases = expandCases(spec, baseYaml);
-  SweepReport rep;
-  rep.folder = prepareStudyFolder(spec, opt);
-  rep.cases = static_cast<int>(cases.size());
-  fs::create_directories(rep.folder / "cases");
+namespace {
 
-  // This rank's cases; completed ones are reused on --resume.
+// This rank's cases to run; completed ones are reused on --resume, an incomplete folder is set aside.
+std::vector<const Case*> casesToRun(const std::vector<Case>& cases, const SweepOptions& opt, SweepReport& rep) {
   std::vector<const Case*> todo;
   for (const auto& c : cases) {
     if ((c.index - 1) % opt.ranks != opt.rank) continue;
-    fs::path f = caseFolder(rep.folder, c.index);
+    const fs::path f = caseFolder(rep.folder, c.index);
+    const fs::path err = errorFileOf(rep.folder, c.index);
+    if (fs::is_regular_file(fs::symlink_status(err))) fs::remove(err);  // the case is complete or runs again
     if (caseComplete(f)) {  // only in a study folder that --resume reuses (prepareStudyFolder)
       ++rep.reused;
       continue;
     }
-    fs::remove_all(f);  // an incomplete folder from an interrupted run
+    if (fs::exists(fs::symlink_status(f))) setAsideIncompleteCase(f, rep.folder, rep);
     todo.push_back(&c);
   }
+  return todo;
+}
+
+SweepReport runSweepLocked(const StudySpec& spec, const SweepOptions& opt, const std::vector<Case>& cases,
+                           const std::string& baseYaml, SweepReport rep);
+
+}  // namespace
+
+SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
+  std::string baseYaml = readText(spec.scenario_file);
+  std::vector<Case> cases = expandCases(spec, baseYaml);
+  SweepReport rep;
+  std::unique_ptr<io::FolderLock> lock;  // held until the study is gathered
+  rep.folder = prepareStudyFolder(spec, opt, lock);
+  rep.cases = static_cast<int>(cases.size());
+  const fs::path folder = rep.folder;
+  try {
+    if (opt.overwrite && fs::exists(rep.folder)) clearStudyFolder(rep.folder, rep);
+    fs::create_directories(rep.folder / "cases");
+    if (opt.ranks == 1) io::removeStaleStages(rep.folder / "cases");
+    return runSweepLocked(spec, opt, cases, baseYaml, std::move(rep));
+  } catch (const fs::filesystem_error& e) {
+    throw Error(fmt::format("study folder {}: {} ({}); the cases completed so far are kept", folder.string(),
+                            e.code().message(), e.path1().string()));
+  } catch (const nlohmann::json::exception& e) {
+    throw Error(fmt::format("study folder {}: a case's summary.json cannot be read ({})", folder.string(),
+                            e.what()));
+  }
+}
+
+namespace {
+
+SweepReport runSweepLocked(const StudySpec& spec, const SweepOptions& opt, const std::vector<Case>& cases,
+                           const std::string& baseYaml, SweepReport rep) {
+  const std::vector<const Case*> todo = casesToRun(cases, opt, rep);
 
   int workers = spec.parallel > 0 ? spec.parallel : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
   workers = std::max(1, std::min<int>(workers, static_cast<int>(todo.size())));
@@ -146,6 +285,7 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
       if (i >= todo.size()) return;
       const Case& c = *todo[i];
       try {
+        throwIfStopRequested("case " + std::to_string(c.index));
         Scenario sc = scenario::readText(caseYaml(baseYaml, c), fmt::format("{} case {}", spec.file.string(), c.index));
         sc.name = fmt::format("{}_case_{:04d}", spec.name, c.index);
         RunOptions ro;
@@ -184,8 +324,6 @@ SweepReport runSweep(const StudySpec& spec, const SweepOptions& opt) {
   return rep;
 }
 
-namespace {
-
 // Result keys and units of the completed cases, in first-seen order, each case's results
 // and the units the cases show values in.
 struct CaseResults {
@@ -209,16 +347,18 @@ units::DisplayUnits caseDisplayUnits(const nlohmann::json& summary) {
 CaseResults readCaseResults(const std::vector<Case>& cases, const fs::path& folder) {
   CaseResults r;
   for (const auto& c : cases) {
-    fs::path f = caseFolder(folder, c.index) / "summary.json";
-    if (!fs::exists(f)) {
-      r.missing.push_back(c.index);
+    const fs::path folder_c = caseFolder(folder, c.index);
+    nlohmann::json s;
+    if (caseComplete(folder_c)) s = nlohmann::json::parse(std::ifstream(folder_c / "summary.json"), nullptr, false);
+    if (!s.is_object() || !s.contains("results") || !s["results"].is_object()) {
+      r.missing.push_back(c.index);  // not run, failed, or changed since it was checked
       continue;
     }
-    nlohmann::json s = nlohmann::json::parse(std::ifstream(f));
     for (auto& [k, v] : s["results"].items()) {
       bool seen = false;
       for (const auto& kk : r.keys) seen = seen || kk.first == k;
-      if (!seen) r.keys.emplace_back(k, v.value("unit", "1"));
+      if (!seen) r.keys.emplace_back(k, v.is_object() && v.contains("unit") && v["unit"].is_string()
+                                            ? v["unit"].get<std::string>() : "1");
     }
     r.results[c.index] = s["results"];
     if (r.display.empty()) r.display = caseDisplayUnits(s);
@@ -246,6 +386,7 @@ io::Table studyTable(const StudySpec& spec, const std::vector<Case>& cases, Case
     for (const auto& [k, u] : found.keys) {
       double v = NAN;
       if (found.results.count(c.index) && found.results[c.index].contains(k) &&
+          found.results[c.index][k].is_object() && found.results[c.index][k].contains("value") &&
           found.results[c.index][k]["value"].is_number())
         v = found.results[c.index][k]["value"].get<double>();
       row.push_back(v);

@@ -1,5 +1,7 @@
 #include "needlesim/engines/realtime/dof_map.hpp"
 
+#include "needlesim/core/progress.hpp"
+
 namespace needlesim::realtime {
 
 DofMap makeDofMap(int total_dofs, const std::vector<bool>& held) {
@@ -15,6 +17,7 @@ DofMap makeDofMap(int total_dofs, const std::vector<bool>& held) {
 
 Eigen::SparseMatrix<double> sparseFrom(int n, const std::vector<Eigen::Triplet<double>>& t) {
   Eigen::SparseMatrix<double> A(n, n);
+  const BlockingCall call("realtime tissue: sparse matrix of the mesh");
   A.setFromTriplets(t.begin(), t.end());
   return A;
 }
@@ -29,6 +32,7 @@ Eigen::SparseMatrix<double> restrictToFree(const Eigen::SparseMatrix<double>& A,
       if (r >= 0 && cc >= 0) t.emplace_back(r, cc, it.value());
     }
   Eigen::SparseMatrix<double> R(map.freeCount(), map.freeCount());
+  const BlockingCall call("realtime tissue: the free degrees of freedom");
   R.setFromTriplets(t.begin(), t.end());
   return R;
 }

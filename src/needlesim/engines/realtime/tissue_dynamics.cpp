@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
 #include "needlesim/engines/realtime/tissue_integrators.hpp"
 
 namespace needlesim::realtime {
@@ -144,7 +145,11 @@ void TissueDynamics::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v
     vf[k] = v[map_.dof_of_free[static_cast<std::size_t>(k)]];
   }
   const Eigen::SparseMatrix<double> C = cfg_.rayleigh_alpha * M_ + cfg_.rayleigh_beta * K_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf(M_);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf;
+  {
+    const BlockingCall call(engine_ + ": factorising the mass matrix");
+    mf.compute(M_);
+  }
   const Eigen::VectorXd rhs = -(C * vf + K_ * uf);
   const Eigen::VectorXd af = mf.solve(rhs);
   impl_->setState(uf, vf, af);
@@ -157,11 +162,16 @@ void TissueDynamics::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v
 
 double TissueDynamics::highestFrequency() const {
   // Power iteration on M^-1 K (Rayleigh quotient), deterministic start vector.
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf(M_);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf;
+  {
+    const BlockingCall call(engine_ + ": factorising the mass matrix");
+    mf.compute(M_);
+  }
   Eigen::VectorXd x = Eigen::VectorXd::LinSpaced(M_.rows(), 1.0, 2.0);
   for (Eigen::Index i = 0; i < x.size(); i += 2) x[i] = -x[i];
   double lam = 0.0;
   for (int it = 0; it < 300; ++it) {
+    throwIfStopRequested(engine_ + ": the highest frequency of the tissue");
     Eigen::VectorXd y = mf.solve(K_ * x);
     const double nl = x.dot(K_ * x) / x.dot(M_ * x);
     x = y / y.norm();
@@ -175,7 +185,11 @@ Eigen::VectorXd TissueDynamics::staticSolve(const Eigen::VectorXd& f) const {
   const int n = map_.freeCount();
   Eigen::VectorXd ff(n);
   for (int k = 0; k < n; ++k) ff[k] = f[map_.dof_of_free[static_cast<std::size_t>(k)]];
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kf(K_);
+  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kf;
+  {
+    const BlockingCall call(engine_ + ": factorising the stiffness");
+    kf.compute(K_);
+  }
   if (kf.info() != Eigen::Success) throw SolverError(engine_ + ": the tissue stiffness is singular (no supports?)");
   const Eigen::VectorXd uf = kf.solve(ff);
   Eigen::VectorXd u = Eigen::VectorXd::Zero(f.size());

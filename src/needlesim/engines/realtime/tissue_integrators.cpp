@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
 
 namespace needlesim::realtime {
 
@@ -46,13 +47,17 @@ class DirectIntegrator final : public TissueIntegrator {
     c_ = c;
     ps_.set(prony_, c.dt);
     Eigen::SparseMatrix<double> A = K_ * (ps_.F + c.a1 * beta_) + M_ * (c.a0 + c.a1 * alpha_);
-    ldlt_.compute(A);
+    {
+      const BlockingCall call("realtime tissue: factorising the effective matrix");
+      ldlt_.compute(A);
+    }
     if (ldlt_.info() != Eigen::Success) throw SolverError("realtime tissue: the effective tissue matrix is not positive definite");
     invD_ = ldlt_.vectorD().cwiseInverse();  // vectorD() returns a copy: keep it out of step()
     const int P = map_.size();
     Z_.resize(K_.rows(), P);
     Eigen::VectorXd g(K_.rows());
     for (int k = 0; k < P; ++k) {
+      throwIfStopRequested("realtime tissue: path flexibility");
       g.setZero();
       map_.scatterAdd(g, k, 1.0);
       Z_.col(k) = ldlt_.solve(g);
@@ -122,7 +127,11 @@ class ModalIntegrator final : public TissueIntegrator {
                   double beta, PathMap map, materials::Prony prony = {})
       : alpha_(alpha), beta_(beta), map_(std::move(map)), prony_(std::move(prony)) {
     const Eigen::MatrixXd Kd(K), Md(M);
-    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es(Kd, Md);
+    Eigen::GeneralizedSelfAdjointEigenSolver<Eigen::MatrixXd> es;
+    {
+      const BlockingCall call("realtime tissue: modes of the tissue");
+      es.compute(Kd, Md);
+    }
     if (es.info() != Eigen::Success) throw SolverError("realtime tissue: modal decomposition of the tissue failed");
     Phi_ = es.eigenvectors();  // M-orthonormal
     w2_ = es.eigenvalues().cwiseMax(0.0);
@@ -174,6 +183,7 @@ class ModalIntegrator final : public TissueIntegrator {
   double freeDisplacement(int k) const override { return Phi_.row(k).dot(q_); }
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) override {
     // Phi^T M Phi = I, so q = Phi^-1 u; solve with the dense basis (setup only).
+    const BlockingCall call("realtime tissue: initial modal state");
     const Eigen::PartialPivLU<Eigen::MatrixXd> lu(Phi_);
     q_ = lu.solve(u); qd_ = lu.solve(v); qdd_ = lu.solve(a);
     for (auto& h : h_) h = q_;
@@ -207,7 +217,10 @@ class ReducedIntegrator final : public TissueIntegrator {
   ReducedIntegrator(const Eigen::SparseMatrix<double>& K, const Eigen::SparseMatrix<double>& M, double alpha,
                     double beta, PathMap map, double cutoff, int max_modes, materials::Prony prony = {})
       : K_(K), M_(M), alpha_(alpha), beta_(beta), map_(std::move(map)), prony_(std::move(prony)) {
-    kf_.compute(K_);
+    {
+      const BlockingCall call("realtime tissue: factorising the stiffness");
+      kf_.compute(K_);
+    }
     if (kf_.info() != Eigen::Success) throw SolverError("realtime tissue: the tissue stiffness is singular (no supports?)");
     lanczos(cutoff, max_modes);
     const auto n = K_.rows();
@@ -220,6 +233,7 @@ class ReducedIntegrator final : public TissueIntegrator {
     Zs_.resize(n, P);
     Eigen::VectorXd g(n);
     for (int k = 0; k < P; ++k) {
+      throwIfStopRequested("realtime tissue: static path flexibility");
       g.setZero();
       map_.scatterAdd(g, k, 1.0);
       Zs_.col(k) = kf_.solve(g);
@@ -344,6 +358,7 @@ class ReducedIntegrator final : public TissueIntegrator {
       return past || conv >= max_modes;
     };
     for (; k < kmax; ++k) {
+      throwIfStopRequested("realtime tissue: the lowest modes (Lanczos)");
       r = kf_.solve(M_ * Q.col(k));
       alpha[k] = Q.col(k).dot(M_ * r);
       for (int pass = 0; pass < 2; ++pass) {  // full M-reorthogonalisation

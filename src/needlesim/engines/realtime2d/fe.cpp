@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
 #include "needlesim/materials/elastic_moduli.hpp"
 
 namespace needlesim::realtime2d {
@@ -105,6 +106,7 @@ Assembled assemble(const Mesh& mesh, const std::vector<ElasticMaterial>& mats, b
   tk.reserve(static_cast<std::size_t>(mesh.elementCount()) * 64);
   tm.reserve(static_cast<std::size_t>(mesh.elementCount()) * 64);
   for (int e = 0; e < mesh.elementCount(); ++e) {
+    if ((e & 4095) == 0) throwIfStopRequested("realtime2d: assembling the tissue");
     const auto& mat = mats[static_cast<std::size_t>(e)];
     const Eigen::Matrix3d D = elasticity(mat);
     if (!(mat.thickness > 0.0) || !(mat.density > 0.0))

@@ -5,6 +5,7 @@
 #include <limits>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/progress.hpp"
 #include "needlesim/engines/realtime/dof_map.hpp"
 #include "needlesim/materials/elastic_moduli.hpp"
 
@@ -109,6 +110,7 @@ Assembled assemble(const TetMesh& mesh, const std::vector<ElasticMaterial>& mats
   tk.reserve(static_cast<std::size_t>(mesh.elements()) * 144);
   tm.reserve(static_cast<std::size_t>(mesh.elements()) * (lumped_mass ? 12 : 48));
   for (int e = 0; e < mesh.elements(); ++e) {
+    if ((e & 4095) == 0) throwIfStopRequested("realtime3d: assembling the tissue");
     const auto& mat = mats[static_cast<std::size_t>(e)];
     if (!(mat.density > 0.0)) throw SolverError("realtime3d: need density > 0");
     const auto X = tetCorners(mesh, e);

@@ -93,7 +93,7 @@ struct Extremes {
 class Realtime3dRun {
  public:
   Realtime3dRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
-      : sc_(sc), sink_(sink), options_(options), cfg_(realtime3dConfig(sc)), session_(timed(setup_s_, [this] { return Session(cfg_); })),
+      : sc_(sc), sink_(sink), options_(options), cfg_(realtime3dConfig(sc)), session_(timed(setup_s_, [this] { announceSetUp(); return Session(cfg_); })),
         motion_(sc.insertion), dt_(sc.model.time_step),
         cadence_(motion_.duration(), dt_, sc.output.interval, sc.model.realtime3d.field_interval), forces_(true, engineColumns()),
         inclusions_(sc.tissue.inclusions, cfg_.frame),
@@ -155,6 +155,14 @@ class Realtime3dRun {
       }
       markers_.add(std::move(m));
     }
+  }
+
+  // A large block sets up for minutes (factorisation, modes): say so on a terminal.
+  void announceSetUp() const {
+    const auto& b = cfg_.tissue.block;
+    if (!options_.progress || !Progress::stderrIsTerminal()) return;
+    fmt::print(stderr, "realtime3d: setting up {} x {} x {} nodes (assembly, factorisation, modes; Ctrl-C stops)\n",
+               b.nodes_depth, b.nodes_lateral, b.nodes_height);
   }
 
   void addShape(double t) {
