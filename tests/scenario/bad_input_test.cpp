@@ -281,3 +281,48 @@ TEST(ScenarioBadInput, EngineRefusalsFindTheLineOfTheField) {
   EXPECT_EQ(sc.where("tissue.friction.coefficient").line, 8);      // a default inside a given section
   EXPECT_EQ(sc.where("model.time_step").str(), "case.yaml");       // not given at all
 }
+
+TEST(ScenarioBadInput, AnInclusionNamingNoGroupOfTheGeometrySaysWhichItHas) {
+  // a 20 x 20 mm square of four triangles: groups gel (1) and tumour (2)
+  const auto mesh = tempFile("groups.msh");
+  std::ofstream(mesh) << R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+2 1 "gel"
+2 2 "tumour"
+$EndPhysicalNames
+$Nodes
+5
+1 0 -10 0
+2 20 -10 0
+3 20 10 0
+4 0 10 0
+5 10 0 0
+$EndNodes
+$Elements
+4
+1 2 2 1 1 1 2 5
+2 2 2 1 1 2 3 5
+3 2 2 1 1 3 4 5
+4 2 2 2 2 4 1 5
+$EndElements
+)";
+  const std::string yaml = R"(name: groups
+tissue:
+  geometry: {file: )" + mesh.string() + R"(, unit: mm}
+  layers: [{name: gel, material: {law: neo-hookean, C10: 3.6 kPa, nu: 0.45}}]
+  inclusions:
+    - {target: true, name: tumour, material: {law: neo-hookean, C10: 16.6 kPa, nu: 0.45}}
+needle: {outer_diameter: 2 mm, length: 40 mm}
+insertion:
+  profile:
+    - insert: {to: 5 mm, speed: 10 mm/s}
+model: {engine: explicit, explicit: {dimension: 2d}}
+)";
+  EXPECT_NO_THROW(scenario::readText(yaml, "case.yaml"));
+  expectError(replaced(yaml, "name: tumour", "name: tumor"),
+              {"case.yaml:6:", "tissue.inclusions[0].name", "tumor", "did you mean 'tumour'?", "gel, tumour"});
+  std::filesystem::remove(mesh);
+}

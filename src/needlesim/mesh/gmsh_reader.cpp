@@ -14,6 +14,7 @@
 #include "needlesim/mesh/closed_surface.hpp"
 #include "needlesim/mesh/geo_script_check.hpp"
 #include "needlesim/mesh/isolated_reader.hpp"
+#include "needlesim/mesh/msh_check.hpp"
 #include "needlesim/mesh/surface_formats.hpp"
 #include "needlesim/mesh/vtp_reader.hpp"
 
@@ -274,6 +275,7 @@ VolumeMesh openAndMesh(const std::string& path, const std::string& file, double 
     });
   }
   VolumeMesh m = extractMesh(path);
+  checkMeshCoordinates(path, m);
   if (m.elements() > budget.maxElements)
     refuseElementCount(path, isScript(path) ? "made" : "holds", m.elements(), m.dim, 0.0, budget);
   checkOrientation(path, m);
@@ -285,6 +287,7 @@ VolumeMesh openAndMesh(const std::string& path, const std::string& file, double 
 VolumeMesh readGmsh(const std::string& path, double maxElementSize, const MeshBudget& budget) {
   requireFile(path);
   if (gmshReadsAsScript(path)) checkGeoScript(path);
+  if (isMsh(path)) checkMshFile(path);
   const std::string file = absolute(path);
   return decodeMesh(runIsolated(path, budget, [&] { return encodeMesh(openAndMesh(path, file, maxElementSize, budget)); }));
 }
@@ -300,18 +303,17 @@ TriangleSurface closedOrRefused(const std::string& path, TriangleSurface s) {
   return s;
 }
 
-// A surface file's triangles (Gmsh merges the vertices an STL repeats; OBJ and VTK XML PolyData
-// are read here), refused when open or in a format Gmsh's library would misread.
+// A surface file's triangles (needlesim's own readers; Gmsh's for legacy VTK), refused when open
+// or in a format Gmsh's library would misread.
 TriangleSurface readSurface(const std::string& path, const MeshBudget& budget) {
   requireFile(path);
   if (const auto bad = surfaceFormatProblem(path)) throw geometryError(path, bad->problem, bad->allowed);
-  if (isObj(path)) return closedOrRefused(path, readObj(path));
-  if (isVtp(path)) return closedOrRefused(path, readVtp(path));
-  if (gmshReadsAsScript(path)) checkGeoScript(path);  // Gmsh would read it as a script (e.g. an .off)
+  if (auto own = readOwnSurfaceFormat(path)) return closedOrRefused(path, std::move(*own));
+  if (gmshReadsAsScript(path)) checkGeoScript(path);  // Gmsh would read it as a script
   const std::string file = absolute(path);
   return closedOrRefused(path, decodeSurface(runIsolated(path, budget, [&] {
                            GmshSession session;
-                           gmshCall(path, "read it", "a closed surface Gmsh reads (.stl, .ply, .vtk 4.2, .off; or .obj, .vtp)",
+                           gmshCall(path, "read it", "a closed surface in legacy VTK 4.2 or older (or .stl, .ply, .off, .obj, .vtp)",
                                     [&] { gmsh::merge(file); });
                            TriangleSurface s;
                            std::vector<std::size_t> tags, triangleTags, triangleNodes;

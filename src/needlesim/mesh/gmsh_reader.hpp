@@ -1,7 +1,8 @@
 #pragma once
 // Tissue geometry through Gmsh's library (Debian libgmsh-dev): a mesh file (.msh format 2 or 4,
-// ASCII or binary), a Gmsh script (.geo, meshed here), or closed surfaces (.stl, .ply, .vtk,
-// .off, .obj and whatever else Gmsh reads) meshed into tetrahedra, into a mesh::VolumeMesh:
+// ASCII or binary, checked first by mesh/msh_check), a Gmsh script (.geo, meshed here), or closed
+// surfaces (.stl, .ply, .off, .obj, .vtp read by needlesim, mesh/surface_formats; legacy .vtk by
+// Gmsh) meshed into tetrahedra, into a mesh::VolumeMesh:
 // the elements of the highest dimension (triangles, quadrilaterals, tetrahedra or hexahedra of
 // one type; second-order elements keep their corner nodes), nodes used by them, each element's
 // physical tag (else its entity tag) and the groups' names. Coordinates stay in the file's units.

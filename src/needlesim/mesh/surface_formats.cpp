@@ -9,19 +9,22 @@
 #include <sstream>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/mesh/legacy_vtk_check.hpp"
+#include "needlesim/mesh/off_reader.hpp"
+#include "needlesim/mesh/ply_reader.hpp"
+#include "needlesim/mesh/stl_reader.hpp"
+#include "needlesim/mesh/surface_checks.hpp"
+#include "needlesim/mesh/vtp_reader.hpp"
 
 namespace needlesim::mesh {
 
 namespace {
-std::string extensionOf(const std::string& path) {
-  std::string e = std::filesystem::path(path).extension().string();
-  std::transform(e.begin(), e.end(), e.begin(), [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
-  return e;
-}
+std::string extensionOf(const std::string& path) { return lowerExtension(path); }
+
+const char* kObjAllowed = "Wavefront OBJ records 'v x y z' and 'f i j k ...' (1-based or negative vertex indices)";
 
 InputError objError(const std::string& path, int line, const std::string& problem) {
-  return InputError(SourceLocation{path, line, 0}, "tissue.geometry", std::filesystem::path(path).filename().string(),
-                    problem, "Wavefront OBJ records 'v x y z' and 'f i j k ...' (1-based or negative vertex indices)");
+  return surfaceError(path, line, problem, kObjAllowed);
 }
 
 // The vertex index of one face corner ("7", "7/2", "7//3", "-1") as a 0-based index.
@@ -58,11 +61,28 @@ std::optional<SurfaceFormatProblem> surfaceFormatProblem(const std::string& path
   return std::nullopt;
 }
 
+std::optional<TriangleSurface> readOwnSurfaceFormat(const std::string& path) {
+  const std::string e = extensionOf(path);
+  if (e == ".stl") return readStl(path);
+  if (e == ".ply") return readPly(path);
+  if (e == ".off") return readOff(path);
+  if (e == ".obj") return readObj(path);
+  if (e == ".vtp") return readVtp(path);
+  if (e == ".vtk") {
+    checkLegacyVtk(path);
+    return std::nullopt;
+  }
+  throw surfaceError(path, 0, fmt::format("has the extension \"{}\", which is not a surface format needlesim reads", printable(e)),
+                     "a closed surface as .stl (ASCII or binary), .ply, .off, .obj, .vtp (VTK XML PolyData) or legacy "
+                     ".vtk (version 4.2 or older)");
+}
+
 bool isObj(const std::string& path) { return extensionOf(path) == ".obj"; }
 
 TriangleSurface readObj(const std::string& path) {
-  std::ifstream in(path);
+  std::istringstream in(readSurfaceBytes(path, kObjAllowed));
   TriangleSurface s;
+  std::vector<int> lineOf;  // of each triangle
   std::string text;
   for (int line = 1; std::getline(in, text); ++line) {
     std::istringstream record(text);
@@ -71,15 +91,22 @@ TriangleSurface readObj(const std::string& path) {
     const int vertices = static_cast<int>(s.xyz.size() / 3);
     if (kind == "v") {
       double x = 0, y = 0, z = 0;
-      if (!(record >> x >> y >> z)) throw objError(path, line, "vertex record without three coordinates");
+      if (!(record >> x >> y >> z)) throw objError(path, line, "vertex record without three coordinates (finite numbers)");
+      const double p[3] = {x, y, z};
+      checkVertex(path, line, [&] { return fmt::format("vertex {}", vertices + 1); }, p, kObjAllowed);
       s.xyz.insert(s.xyz.end(), {x, y, z});
     } else if (kind == "f") {
       std::vector<int> corners;
       for (std::string token; record >> token;) corners.push_back(cornerIndex(token, vertices, path, line));
       if (corners.size() < 3) throw objError(path, line, "face with fewer than three corners");
-      for (std::size_t k = 1; k + 1 < corners.size(); ++k) s.tri.insert(s.tri.end(), {corners[0], corners[k], corners[k + 1]});
+      for (std::size_t k = 1; k + 1 < corners.size(); ++k) {
+        s.tri.insert(s.tri.end(), {corners[0], corners[k], corners[k + 1]});
+        lineOf.push_back(line);
+      }
+      checkTriangleCount(path, line, static_cast<double>(lineOf.size()), "triangles (faces split into triangles)", kObjAllowed);
     }
   }
+  checkTriangles(path, s, [&](int t) { return TriangleOrigin{lineOf[t], "the face"}; }, kObjAllowed);
   return s;
 }
 

@@ -14,6 +14,7 @@
 #include <sstream>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/mesh/surface_checks.hpp"
 
 namespace needlesim::mesh {
 
@@ -28,11 +29,12 @@ const char* kAllowed =
 struct Context {
   std::string path;
   const std::string* text = nullptr;
+  int lineOf(std::size_t at) const {
+    if (at == std::string::npos || !text || at > text->size()) return 0;
+    return 1 + static_cast<int>(std::count(text->begin(), text->begin() + static_cast<std::ptrdiff_t>(at), '\n'));
+  }
   InputError error(std::size_t at, const std::string& problem) const {
-    int line = 0;
-    if (at != std::string::npos && text && at <= text->size())
-      line = 1 + static_cast<int>(std::count(text->begin(), text->begin() + static_cast<std::ptrdiff_t>(at), '\n'));
-    return InputError(SourceLocation{path, line, 0}, "tissue.geometry", std::filesystem::path(path).filename().string(),
+    return InputError(SourceLocation{path, lineOf(at), 0}, "tissue.geometry", std::filesystem::path(path).filename().string(),
                       problem, kAllowed);
   }
 };
@@ -196,17 +198,23 @@ class Base64Source : public BlockSource {
       const std::size_t chars = (n + 2) / 3 * 4;
       if (t_.size() - hchars < chars || !decodeBase64(t_.data() + hchars, chars, out) || out.size() < n) return false;
       out.resize(n);
+      used_ = hchars + chars;
       return true;
     }
     const std::size_t chars = (h + n + 2) / 3 * 4;
     Bytes all;
     if (chars > t_.size() || !decodeBase64(t_.data(), chars, all) || all.size() < h + n) return false;
     out = all.substr(h, n);
+    used_ = chars;
     return true;
   }
+  // Characters the last data() read, header included, and all there are.
+  std::size_t used() const { return used_; }
+  std::size_t size() const { return t_.size(); }
 
  private:
   std::string t_;
+  std::size_t used_ = 0;
 };
 
 // The uncompressed bytes of one array (expected: its size in bytes).
@@ -245,11 +253,15 @@ Bytes readBlock(const Context& c, std::size_t at, BlockSource& src, const Encodi
     const std::uint64_t size = headerWord(h, 3 + b, hb);
     uLongf made = static_cast<uLongf>(b + 1 == blocks ? lastFull : blockSize);
     const uLongf want = made;
-    const int rc = uncompress(reinterpret_cast<Bytef*>(out.data() + to), &made,
-                              reinterpret_cast<const Bytef*>(packed.data() + from), static_cast<uLong>(size));
+    uLong consumed = static_cast<uLong>(size);
+    const int rc = uncompress2(reinterpret_cast<Bytef*>(out.data() + to), &made,
+                               reinterpret_cast<const Bytef*>(packed.data() + from), &consumed);
     if (rc != Z_OK || made != want)
       throw c.error(at, fmt::format("block {} of the compressed {} array does not inflate to {} bytes (zlib: {})", b + 1,
                                     what, want, zError(rc)));
+    if (consumed != size)
+      throw c.error(at, fmt::format("block {} of the compressed {} array is {} bytes long, but its header says {}", b + 1,
+                                    what, consumed, size));
     from += size;
     to += made;
   }
@@ -318,6 +330,9 @@ std::vector<double> readArray(const File& f, const Tag& t, std::size_t count, co
     text.erase(std::remove_if(text.begin(), text.end(), [](unsigned char ch) { return std::isspace(ch); }), text.end());
     Base64Source src(std::move(text));
     b = readBlock(c, t.begin, src, f.enc, count * size, what);
+    if (src.used() != src.size())
+      throw c.error(t.begin, fmt::format("the {} array's base64 text is {} characters long, but its header gives {} bytes, "
+                                         "{} characters", what, src.size(), count * size, src.used()));
   } else if (format == "appended") {
     if (f.appended == std::string::npos) throw c.error(t.begin, fmt::format("the {} array is appended, but the file has no <AppendedData>", what));
     const long long offset = integerAttribute(c, t, "offset", "DataArray");
@@ -406,7 +421,12 @@ TriangleSurface readVtp(const std::string& path) {
   if (xyz.attr.count("NumberOfComponents") && xyz.get("NumberOfComponents") != "3")
     throw c.error(xyz.begin, "the points do not have three components");
   s.xyz = readArray(f, xyz, static_cast<std::size_t>(points) * 3, "points", {"Float32", "Float64"});
+  const int pointsLine = c.lineOf(xyz.begin);
+  for (long long p = 0; p < points; ++p)
+    checkVertex(path, pointsLine, [&] { return fmt::format("point {} (numbered from 0)", p); },
+                &s.xyz[3 * static_cast<std::size_t>(p)], kAllowed);
   if (polys == 0) return s;
+  checkTriangleCount(path, c.lineOf(piece.begin), static_cast<double>(polys), "polygons", kAllowed);
 
   const Tag polysTag = findTag(c, "Polys", piece.end, pieceEnd);
   if (polysTag.begin == std::string::npos) throw c.error(piece.begin, "has no <Polys>");
@@ -427,12 +447,19 @@ TriangleSurface readVtp(const std::string& path) {
     if (!(v >= 0 && v < static_cast<double>(points)))
       throw c.error(connTag.begin, fmt::format("the polygon connectivity names point {}, of {}", v, points));
   std::size_t begin = 0;
-  for (double o : offsets) {
-    const auto end = static_cast<std::size_t>(o);
-    for (std::size_t k = begin + 1; k + 1 < end; ++k)
+  std::vector<int> polygonOf;
+  for (std::size_t p = 0; p < offsets.size(); ++p) {
+    const auto end = static_cast<std::size_t>(offsets[p]);
+    for (std::size_t k = begin + 1; k + 1 < end; ++k) {
       s.tri.insert(s.tri.end(), {static_cast<int>(conn[begin]), static_cast<int>(conn[k]), static_cast<int>(conn[k + 1])});
+      polygonOf.push_back(static_cast<int>(p));
+    }
     begin = end;
   }
+  checkTriangleCount(path, c.lineOf(connTag.begin), static_cast<double>(polygonOf.size()), "triangles (polygons split into triangles)",
+                     kAllowed);
+  checkTriangles(path, s, [&](int t) { return TriangleOrigin{c.lineOf(connTag.begin), fmt::format("polygon {} (numbered from 0)", polygonOf[t])}; },
+                 kAllowed);
   return s;
 }
 

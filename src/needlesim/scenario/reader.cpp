@@ -11,6 +11,7 @@
 
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/nearest_name.hpp"
 #include "needlesim/scenario/cohesive_path_reader.hpp"
 #include "needlesim/scenario/measured_data.hpp"
 #include "needlesim/scenario/mesh_file.hpp"
@@ -210,6 +211,15 @@ InclusionSpec readInclusion(Section& s, std::size_t index, const TissueSpec& T) 
   if (I.name.empty()) I.name = fmt::format("inclusion{}", index + 1);
   const bool meshGroup = T.geometry && scenario::groupNames(*T.geometry).count(I.name);
   if (meshGroup) I = readMeshInclusion(s, I);
+  if (!meshGroup && T.geometry && !s.has("depth") && !s.has("radius")) {
+    const auto names = scenario::groupNames(*T.geometry);
+    const std::vector<std::string> groups(names.begin(), names.end());
+    const std::string near = nearestName(I.name, groups);
+    throw s.error("name", I.name,
+                  fmt::format("names no group of {}{}", T.geometry->file, near.empty() ? "" : " (did you mean '" + near + "'?)"),
+                  fmt::format("the name of a group of the geometry ({}); or a sphere or cylinder placed by depth and radius",
+                              groups.empty() ? "it has no named groups" : "its groups: " + fmt::format("{}", fmt::join(groups, ", "))));
+  }
   if (!meshGroup) {
     for (const char* k : {"depth", "radius"})
       if (!s.has(k))

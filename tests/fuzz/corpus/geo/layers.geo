@@ -1,0 +1,10 @@
+// two layers
+lc = 2.5;
+Point(1) = {0, -10, 0, lc}; Point(2) = {5, -10, 0, lc}; Point(3) = {20, -10, 0, lc};
+Point(4) = {20, 10, 0, lc}; Point(5) = {5, 10, 0, lc}; Point(6) = {0, 10, 0, lc};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 5}; Line(5) = {5, 6}; Line(6) = {6, 1};
+Line(7) = {2, 5};
+Curve Loop(1) = {1, 7, 5, 6}; Plane Surface(1) = {1};
+Curve Loop(2) = {2, 3, 4, -7}; Plane Surface(2) = {2};
+Physical Surface("skin") = {1};
+Physical Surface("muscle") = {2};

@@ -1,0 +1,5 @@
+// a 10 x 10 square
+Point(1) = {0, 0, 0, 2}; Point(2) = {10, 0, 0, 2}; Point(3) = {10, 10, 0, 2}; Point(4) = {0, 10, 0, 2};
+Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};
+Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
+Physical Surface("gel", 5) = {1};
