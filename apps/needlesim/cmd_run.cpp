@@ -173,6 +173,7 @@ void registerCheckCommand(CLI::App& app) {
   cmd->add_option("file", *files, "scenario or study files (a study is recognised by its 'vary' list)")->required();
   cmd->callback([files] {
     installStopHandlers();  // Ctrl-C while a geometry is read and meshed: the clean stop (exit 130)
+    exitOnStopInBlockingCalls("; the files after it were not checked");  // a stop inside an engine's set-up
     int bad = 0;
     for (const auto& f : *files) {
       try {

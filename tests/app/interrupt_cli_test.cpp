@@ -101,6 +101,26 @@ TEST(Interrupt, CtrlCDuringALongRealtime3dSetUpEndsTheRunAtOnce) {
   fs::remove_all(dir);
 }
 
+// The mpm set-up (filling 2.3 million material points, several seconds here) has no step loop:
+// a stop request during it still ends the run within the same margin, nothing written.
+TEST(Interrupt, CtrlCDuringALongMpmSetUpEndsTheRunAtOnce) {
+  const fs::path dir = scratchDir("mpm_setup");
+  edited("mpm/quick_needle_block.yaml", {{"grid_spacing: 1 mm", "grid_spacing: 0.1 mm"},
+                                          {"particle_spacing: 0.5 mm", "particle_spacing: 0.05 mm"}},
+         dir / "big.yaml");
+  const fs::path out = dir / "res", log = dir.parent_path() / "mpm_setup.log";
+  const pid_t pid = startNeedlesim("run " + (dir / "big.yaml").string() + " --out " + out.string(), log);
+  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  kill(pid, SIGINT);
+  const auto [code, seconds] = exitOf(pid, 120);
+  const std::string said = fileText(log);
+  EXPECT_EQ(code, 128 + SIGINT) << said;
+  EXPECT_LT(seconds, 3.0) << said;
+  EXPECT_NE(said.find("interrupted by SIGINT (Ctrl-C)"), std::string::npos) << said;
+  EXPECT_FALSE(fs::exists(out));
+  fs::remove_all(dir);
+}
+
 // model.mpm.threads beyond the machine's cores is capped with a warning (terminal and
 // summary.json); 1024 threads under an 8 GB address-space limit no longer end the run.
 TEST(Interrupt, ThreadsBeyondTheCoresAreCappedWithAWarning) {

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <optional>
 
 #include <fmt/format.h>
 
@@ -100,6 +101,7 @@ namespace needlesim::engines {
 
 StepPlan explicitStepPlan(const Scenario& sc) {
   MemorySink discard;
+  const BlockingCall setUp("explicit: setting up the mesh and the needle");
   return explicit_fe::ExplicitRun(sc, discard).stepPlan();
 }
 
@@ -107,9 +109,13 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
 #ifdef _OPENMP
   if (sc.model.explicit_fe.threads > 0) omp_set_num_threads(sc.model.explicit_fe.threads);
 #endif
-  explicit_fe::ExplicitRun run(sc, sink);
-  guardAndAnnounce(sc, run.stepPlan(), sink, options);
-  run.run(options);
+  std::optional<explicit_fe::ExplicitRun> run;
+  {
+    const BlockingCall setUp("explicit: setting up the mesh and the needle");
+    run.emplace(sc, sink);
+  }
+  guardAndAnnounce(sc, run->stepPlan(), sink, options);
+  run->run(options);
 }
 
 }  // namespace needlesim::engines

@@ -8,6 +8,7 @@
 #include <algorithm>
 #include <cstdint>
 #include <limits>
+#include <optional>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
@@ -320,7 +321,13 @@ void MpmRun::run() {
 
 void runMpm(const Scenario& sc, ResultSink& sink, const RunOptions& options) {
   guardAndAnnounce(sc, mpmStepPlan(sc), sink, options);
-  MpmRun(sc, sink, options).run();
+  std::optional<MpmRun> run;
+  {
+    // filling millions of points has no step loop to see a stop: a stop here ends run and sweep at once
+    const BlockingCall setUp("mpm: setting up the material points and the grid");
+    run.emplace(sc, sink, options);
+  }
+  run->run();
 }
 
 }  // namespace needlesim::engines
