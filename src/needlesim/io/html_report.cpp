@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "needlesim/core/embedded.hpp"
+#include "needlesim/core/expat_notice.hpp"
 #include "needlesim/core/version.hpp"
 #include "needlesim/io/references.hpp"
 
@@ -176,20 +177,8 @@ std::string headHtml(const std::string& title) {
           "caption{text-align:left;font-weight:bold;padding:.3em 0}\n"
           ".warnings{background:#fff3cd;border:2px solid #e0a800;border-radius:4px;padding:.5em 1em;margin:1em 0}\n"
           "</style>\n";
-  // Chart.js, MIT licence (c) Chart.js Contributors; from Debian's libjs-chart.js.
-  html += "<script>/*! Chart.js (https://www.chartjs.org), from Debian's libjs-chart.js.\n"
-          "Copyright (c) 2014-2021 Chart.js Contributors. MIT (Expat) licence:\n"
-          "Permission is hereby granted, free of charge, to any person obtaining a copy of this software and\n"
-          "associated documentation files (the \"Software\"), to deal in the Software without restriction,\n"
-          "including without limitation the rights to use, copy, modify, merge, publish, distribute, sublicense,\n"
-          "and/or sell copies of the Software, and to permit persons to whom the Software is furnished to do so,\n"
-          "subject to the following conditions: The above copyright notice and this permission notice shall be\n"
-          "included in all copies or substantial portions of the Software. THE SOFTWARE IS PROVIDED \"AS IS\",\n"
-          "WITHOUT WARRANTY OF ANY KIND, EXPRESS OR IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF\n"
-          "MERCHANTABILITY, FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE AUTHORS OR\n"
-          "COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER LIABILITY, WHETHER IN AN ACTION OF CONTRACT,\n"
-          "TORT OR OTHERWISE, ARISING FROM, OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS\n"
-          "IN THE SOFTWARE. */\n";
+  html += "<script>" + expatNotice("Chart.js (https://www.chartjs.org), from Debian's libjs-chart.js.",
+                                    "2014-2021 Chart.js Contributors");
   html += embedded::kChartJs;
   html += "\n</script>\n</head><body>\n";
   return html;

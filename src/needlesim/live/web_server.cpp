@@ -8,6 +8,7 @@
 #include <string_view>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/expat_notice.hpp"
 #include "needlesim/live/net_address.hpp"
 
 namespace needlesim::embedded {
@@ -45,25 +46,12 @@ void requireJsonPosts(httplib::Server& s) {
   });
 }
 
-// Debian's three.js files carry no licence notice; the MIT licence asks that copies do.
-constexpr std::string_view kThreeNotice =
-    "/*! three.js (https://threejs.org), from Debian's libjs-three.\n"
-    "Copyright (c) 2010-2017 three.js authors. MIT (Expat) licence:\n"
-    "Permission is hereby granted, free of charge, to any person obtaining a copy of this software and\n"
-    "associated documentation files (the \"Software\"), to deal in the Software without restriction,\n"
-    "including without limitation the rights to use, copy, modify, merge, publish, distribute, sublicense,\n"
-    "and/or sell copies of the Software, and to permit persons to whom the Software is furnished to do so,\n"
-    "subject to the following conditions: The above copyright notice and this permission notice shall be\n"
-    "included in all copies or substantial portions of the Software. THE SOFTWARE IS PROVIDED \"AS IS\",\n"
-    "WITHOUT WARRANTY OF ANY KIND, EXPRESS OR IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF\n"
-    "MERCHANTABILITY, FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE AUTHORS OR\n"
-    "COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER LIABILITY, WHETHER IN AN ACTION OF CONTRACT,\n"
-    "TORT OR OTHERWISE, ARISING FROM, OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS\n"
-    "IN THE SOFTWARE. */\n";
-
 void routePage(httplib::Server& s) {
-  static const std::string three = std::string(kThreeNotice) + std::string(embedded::kThreeJs);
-  static const std::string orbit = std::string(kThreeNotice) + std::string(embedded::kThreeOrbitControls);
+  // Debian's three.js files carry no licence notice; the MIT licence asks that copies do.
+  static const std::string notice =
+      expatNotice("three.js (https://threejs.org), from Debian's libjs-three.", "2010-2017 three.js authors");
+  static const std::string three = notice + std::string(embedded::kThreeJs);
+  static const std::string orbit = notice + std::string(embedded::kThreeOrbitControls);
   serveText(s, "/", embedded::kTrainerHtml, "text/html; charset=utf-8");
   serveText(s, "/trainer.js", embedded::kTrainerJs, "text/javascript");
   serveText(s, "/three.min.js", three, "text/javascript");
