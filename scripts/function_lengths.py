@@ -1,9 +1,13 @@
 #!/usr/bin/env python3
 """Lists C++ function bodies longer than a limit (default 100 lines).
 
-Usage: scripts/function_lengths.py [--limit N] [--top K] PATH...   (files or folders)
-Exit 1 when a function is longer than the limit, so CTest can keep engines/ to
-small steps (docs/architecture.md, "Engines as small steps").
+Usage: scripts/function_lengths.py [--limit N] [--top K] [--allow FILE] PATH...   (files or folders)
+Exit 1 when a function is longer than the limit, so CTest keeps every function
+of src/, apps/ and python/src to small steps (docs/architecture.md, "Small steps").
+
+--allow FILE names the functions that may stay longer, one "path function" a
+line (path relative to the repository root, '#' starts a comment). An entry
+that matches no long function is an error too, so the list only shrinks.
 
 A body is a top-level brace block (namespaces and class bodies are looked into)
 whose head ends in ')' plus qualifiers; lambdas count as part of their function.
@@ -87,11 +91,34 @@ def functions(path):
     return [(n, a, b - a + 1) for n, a, b in result if b is not None]
 
 
+def read_allow(path):
+    """The (path, function) pairs of an allow-list file."""
+    entries = []
+    for line in pathlib.Path(path).read_text().splitlines():
+        words = line.split('#', 1)[0].split()
+        if not words:
+            continue
+        if len(words) != 2:
+            sys.exit(f'error: {path}: "{line.strip()}": expected "path function"')
+        entries.append(tuple(words))
+    return entries
+
+
+def allowed(where, name, entries):
+    """The allow-list entry for a function at `where` (file:line), or None."""
+    file = where.rsplit(':', 1)[0]
+    for path, func in entries:
+        if name == func and (file == path or file.endswith('/' + path)):
+            return (path, func)
+    return None
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split('\n')[0])
     ap.add_argument('paths', nargs='+')
     ap.add_argument('--limit', type=int, default=100)
     ap.add_argument('--top', type=int, default=0, help='also list the K longest functions')
+    ap.add_argument('--allow', help='file naming the functions that may stay longer (see above)')
     a = ap.parse_args()
     files = []
     for p in map(pathlib.Path, a.paths):
@@ -100,10 +127,22 @@ def main():
     found.sort(reverse=True)
     for length, where, name in found[:a.top]:
         print(f'{length:5d}  {where}  {name}')
-    long = [x for x in found if x[0] > a.limit]
+    entries = read_allow(a.allow) if a.allow else []
+    used = set()
+    long = []
+    for length, where, name in (x for x in found if x[0] > a.limit):
+        entry = allowed(where, name, entries)
+        if entry:
+            used.add(entry)
+        else:
+            long.append((length, where, name))
     for length, where, name in long:
         print(f'error: {where}: {name} is {length} lines (limit {a.limit}): split it into named steps', file=sys.stderr)
-    return 1 if long else 0
+    stale = [e for e in entries if e not in used]
+    for path, func in stale:
+        print(f'error: {a.allow}: {path} {func} is no longer a function over {a.limit} lines: '
+              'remove it from the list', file=sys.stderr)
+    return 1 if long or stale else 0
 
 
 if __name__ == '__main__':

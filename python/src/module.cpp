@@ -261,11 +261,10 @@ py::dict runToFolder(const PyScenario& s, const py::object& outArg, bool overwri
 using namespace needlesim;
 using namespace needlesim::python;
 
-PYBIND11_MODULE(_core, m) {
-  m.doc() = "needlesim's compiled core; use the package needlesim (python/needlesim/__init__.py)";
-  m.attr("__version__") = kVersion;
-  m.attr("git_revision") = kGitRevision;
+namespace {
 
+// InputError and SolverError with their subclasses, and the translation of every C++ error.
+void registerErrors(py::module_& m) {
   static py::exception<InputError> inputError(m, "InputError", PyExc_ValueError);
   static py::exception<SolverError> solverError(m, "SolverError", PyExc_RuntimeError);
   // Subclasses that also derive from the builtin exception of the same meaning.
@@ -315,7 +314,9 @@ PYBIND11_MODULE(_core, m) {
       setError(solverError.ptr(), printable(e.what(), 4000));
     }
   });
+}
 
+void bindScenario(py::module_& m) {
   py::class_<PyScenario>(m, "Scenario", "A validated scenario (SI inside)")
       .def_property_readonly("name", [](const PyScenario& s) { return s.scenario.name; })
       .def_property_readonly("engine", [](const PyScenario& s) { return s.scenario.model.engine; })
@@ -334,7 +335,9 @@ PYBIND11_MODULE(_core, m) {
            "'5 mm/s', 'model.lumped.relaxation_time': '0.1 s'}; validated like a file. Keys are field paths as in a study "
            "(docs/studies.md); values are str (with units), finite numbers or bools. A bad path or "
            "value raises needlesim.InputError.");
+}
 
+void bindFunctions(py::module_& m) {
   m.def("load", &load, py::arg("path_or_yaml"), kLoadDoc);
   m.def("default_scenario", [] { return PyScenario{scenario::defaultScenario(), std::string(embedded::kDefaultScenario)}; });
   m.def("run_in_memory", &runInMemoryDict, py::arg("scenario"),
@@ -352,7 +355,9 @@ PYBIND11_MODULE(_core, m) {
         return names;
       },
       "The names of the engines in this build (model.engine).");
+}
 
+void bindLumpedForceModel(py::module_& m) {
   py::class_<forces::LumpedForceModel>(m, "LumpedForceModel",
                                        "Seed 003 lumped insertion force, stepped by the caller (haptic loops)")
       .def(py::init([](const PyScenario& s) {
@@ -372,6 +377,17 @@ PYBIND11_MODULE(_core, m) {
           py::arg("depth"), py::arg("velocity"), py::arg("dt"),
           "Advance to tip depth [m] at velocity [m/s] over dt [s]; returns (total, stiffness, cutting, friction) [N].")
       .def("reset", &forces::LumpedForceModel::reset);
+}
 
+}  // namespace
+
+PYBIND11_MODULE(_core, m) {
+  m.doc() = "needlesim's compiled core; use the package needlesim (python/needlesim/__init__.py)";
+  m.attr("__version__") = kVersion;
+  m.attr("git_revision") = kGitRevision;
+  registerErrors(m);
+  bindScenario(m);
+  bindFunctions(m);
+  bindLumpedForceModel(m);
   bindSessions(m);
 }

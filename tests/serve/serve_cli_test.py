@@ -4,7 +4,7 @@
 A recorded session driven through the page's API (POST /api/drive, /api/reset, /api/stop) is
 written as a complete results folder with its resets, `needlesim replay` reproduces its
 forces.csv; requests with unknown fields or values of the wrong type are answered 400 naming
-the field; the page answers within 100 ms while 64 idle or half-open connections are held; a
+the field; the page's scripts keep their licence notices; the page answers within 100 ms while 64 idle or half-open connections are held; a
 second SIGTERM while stopping still writes the recording; a --host beyond this machine is
 warned about; a port in use, a bad host, a scenario that cannot be stepped live, a --record
 target that is no results folder and a replay of a folder that is no recording each end with a
@@ -65,6 +65,9 @@ def record_and_replay():
     proc, url = start(scenario, '--port', '0', '--record', rec, '--speed', '10')
     info = json.load(urllib.request.urlopen(url + '/api/info', timeout=10))
     assert info['engine'] == 'realtime2d' and info['record'] == rec, info
+    for script in ('three.min.js', 'OrbitControls.js', 'chart.min.js'):  # each keeps its MIT notice
+        head = urllib.request.urlopen(url + '/' + script, timeout=10).read(2000).decode()
+        assert head.startswith('/*!') and 'MIT' in head, (script, head[:200])
     try:
         urllib.request.urlopen(urllib.request.Request(url + '/api/stop', data=b'', method='POST'), timeout=10)
         raise AssertionError('a POST that is not JSON was taken')

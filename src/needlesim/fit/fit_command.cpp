@@ -193,6 +193,251 @@ io::CsvData readOne(const FitRequest& rq) {
   return io::readCsv(rq.data.front());
 }
 
+
+// What a fit writes: fit.json, the report, the terminal table and the scenario block.
+struct FitParts {
+  json j;
+  io::HtmlReport rep;
+  std::string table;
+  std::string materialYaml;
+};
+
+void checkFitRequest(const FitRequest& rq) {
+  const auto& all = fitAnalyses();
+  if (rq.law.empty())
+    throw InputError({"command line", 0, 0}, "--law", "", "is missing: say which law to fit or analysis to run",
+                     "--law with one of " + fitAnalysesList());
+  if (std::find(all.begin(), all.end(), rq.law) == all.end())
+    throw InputError({"command line", 0, 0}, "--law", rq.law, "unknown law or analysis", fitAnalysesList());
+  if (rq.data.empty()) throw InputError({"command line", 0, 0}, "DATA", "", "no data file given", "one or more CSV files");
+}
+
+void startParts(const FitRequest& rq, FitParts& f) {
+  f.j["tool"] = "needlesim fit";
+  f.j["needlesim"] = {{"version", kVersion}, {"git_revision", kGitRevision}};
+  f.j["status"] = "complete";
+  f.j["analysis"] = rq.law;
+  f.j["data"] = json::array();
+  for (const auto& d : rq.data) f.j["data"].push_back(d.string());
+  f.rep.title = "needlesim fit: " + rq.law;
+  for (const auto& d : rq.data) f.rep.subtitle += (f.rep.subtitle.empty() ? "" : ", ") + d.filename().string();
+}
+
+// --law auto: every law ranked by AICc.
+void addRanking(const std::vector<FitResult>& fits, FitParts& f) {
+  json rk = json::array();
+  f.table += fmt::format("  {:<4} {:<18} {:>12} {:>12} {:>12}\n", "rank", "law", "AICc", "RMSE [Pa]", "max|res| [Pa]");
+  for (std::size_t k = 0; k < fits.size(); ++k) {
+    rk.push_back(fitJson(fits[k]));
+    f.table += fmt::format("  {:<4} {:<18} {:>12.2f} {:>12} {:>12}\n", k + 1,
+                           fits[k].law + (fits[k].terms > 1 ? fmt::format(" ({})", fits[k].terms) : ""),
+                           fits[k].aicc, g6(fits[k].rmse), g6(fits[k].maxAbsResidual));
+  }
+  f.j["ranking"] = rk;
+  f.table += "best: " + fits.front().law + "\n";
+}
+
+// --law stiffness: K_T from the neo-Hookean C10 and from the linear E (seed 002 eqs 11, 13).
+void addInteractionStiffness(const FitRequest& rq, const std::vector<FitResult>& fits, FitParts& f) {
+  const auto& s = rq.uniaxial.sample;
+  if (!(s.diameter > 0) || !(s.height > 0))
+    throw InputError({"command line", 0, 0}, "--diameter/--height", "",
+                     "K_T (seed 002 eq 13) needs the sample diameter and height", "--diameter '6.34 mm' --height '7.31 mm'");
+  double C10 = fits.front().param("C10").value, ET = fits[1].param("E").value;
+  double KT = interactionStiffness(C10, s.diameter, s.height);
+  double KTE = interactionStiffnessFromModulus(ET, s.diameter, s.height);
+  f.j["interaction"] = {{"K_T", KT}, {"K_T_from_linear_E", KTE}, {"C10", C10}, {"E_T", ET}, {"unit", "N/m^2"}};
+  f.table += fmt::format("  K_T = 3/2 C10 d/h = {} N/m^2 (seed 002 eq 13); from the linear fit E_T = {} Pa: {} N/m^2 (eq 11)\n",
+                         g6(KT), g6(ET), g6(KTE));
+  f.materialYaml = fmt::format("interaction: {{K_T: {:.6g} N/m^2}}", KT);
+  f.rep.facts.push_back({"K_T (eq 13)", g6(KT) + " N/m^2"});
+}
+
+// A hyperelastic law, --law auto or --law stiffness on one stress-strain file.
+void runStressStrainFit(const FitRequest& rq, FitParts& f) {
+  io::CsvData csv = readOne(rq);
+  UniaxialData data = readUniaxial(csv, rq.uniaxial);
+  std::vector<FitResult> fits;
+  if (rq.law == "auto") {
+    fits = fitAllLaws(data);
+  } else if (rq.law == "stiffness") {
+    fits.push_back(fitHyperelastic(data, "neo-hookean"));
+    fits.push_back(fitHyperelastic(data, "linear"));
+  } else {
+    fits.push_back(fitHyperelastic(data, rq.law, rq.terms));
+  }
+  const FitResult& best = fits.front();
+  f.j["measure"] = data.measure == StressMeasure::Cauchy ? "cauchy" : "nominal";
+  f.j["result"] = fitJson(best);
+  f.materialYaml = materialYaml(best);
+  if (rq.law == "auto") addRanking(fits, f);
+  f.table += paramTable(best);
+  if (rq.law == "stiffness") addInteractionStiffness(rq, fits, f);
+  for (const auto& p : best.params) f.rep.facts.push_back({p.name, g6(p.value) + " ± " + g6(p.stdErr) + " " + p.unit});
+  f.rep.facts.push_back({"RMSE", g6(best.rmse) + " Pa"});
+  f.rep.facts.push_back({"mean / max |residual| (seed 000 eq 34)", g6(best.meanAbsResidual) + " / " + g6(best.maxAbsResidual) + " Pa"});
+  f.rep.plots.push_back(curvePlot(fits, false));
+  f.rep.plots.push_back(residualPlot(best, false));
+  const char* modeName = data.mode == TestMode::Uniaxial ? "uniaxial" : data.mode == TestMode::Equibiaxial ? "equibiaxial" : "simple shear";
+  f.j["mode"] = modeName;
+  if (data.mode == TestMode::Shear)
+    for (auto& p : f.rep.plots) p.xlabel = "1 + shear strain [1]";
+  f.rep.subtitle += std::string(" (") + modeName + ")";
+  f.rep.notes = best.notes;
+}
+
+void runPronyFit(const FitRequest& rq, FitParts& f) {
+  io::CsvData csv = readOne(rq);
+  RelaxationData data = readRelaxation(csv, rq.uniaxial.sample);
+  FitResult r = fitProny(data, rq.terms);
+  f.j["result"] = fitJson(r);
+  f.materialYaml = materialYaml(r);
+  f.table += paramTable(r);
+  for (const auto& p : r.params) f.rep.facts.push_back({p.name, g6(p.value) + " ± " + g6(p.stdErr) + " " + p.unit});
+  f.rep.plots.push_back(curvePlot({r}, true));
+  f.rep.plots.push_back(residualPlot(r, true));
+  f.rep.notes = r.notes;
+}
+
+io::Plot frictionPlot(const FrictionFit& fr, const std::vector<InsertionLog>& logs) {
+  io::Plot p;
+  p.title = "Insertion force after puncture: data and fit (seed 003 eq 5.1)";
+  p.xlabel = "depth [mm]";
+  p.ylabel = "force [N]";
+  for (std::size_t r = 0; r < fr.depth.size(); ++r) {
+    std::vector<double> zmm;
+    for (double z : fr.depth[r]) zmm.push_back(z * 1e3);
+    p.series.push_back({fmt::format("data {:.3g} mm/s", logs[r].speed * 1e3), zmm, fr.measured[r], true, false});
+    p.series.push_back({fmt::format("fit {:.3g} mm/s", logs[r].speed * 1e3), zmm, fr.fitted[r], false, false});
+  }
+  return p;
+}
+
+// --law friction: summaries (seed 003 eq 5.1 rows) or raw logs.
+void runFrictionFit(const FitRequest& rq, FitParts& f) {
+  io::CsvData first = io::readCsv(rq.data.front());
+  FrictionFit fr;
+  if (first.find({"cutting force", "cutting"}) >= 0) {
+    if (rq.data.size() != 1) throw InputError({}, "DATA", "", "a summary table is read alone", "one CSV file");
+    fr = frictionFromSummaries(readFrictionSummaries(first), first.file);
+    f.j["input"] = "summary rows (seed 003 eq 5.1)";
+  } else {
+    std::vector<InsertionLog> logs;
+    for (const auto& d : rq.data) {
+      auto l = readInsertionLogs(io::readCsv(d), rq.speed);
+      logs.insert(logs.end(), l.begin(), l.end());
+    }
+    fr = fitFrictionCutting(logs, rq.thickness, rq.cutting);
+    f.j["input"] = "insertion logs";
+    f.rep.plots.push_back(frictionPlot(fr, logs));
+  }
+  json cut = json::array();
+  for (std::size_t s = 0; s < fr.speeds.size(); ++s)
+    cut.push_back({{"speed", fr.speeds[s]}, {"cutting_force", num(fr.cutting[s])}, {"std_error", num(fr.seCutting[s])}});
+  f.j["result"] = {{"parameters",
+                    {{{"name", "C_p"}, {"value", fr.C}, {"unit", "N/m"}, {"std_error", num(fr.seC)}},
+                     {{"name", "b_p"}, {"value", fr.b}, {"unit", "N s/m^2"}, {"std_error", num(fr.seB)}}}},
+                   {"cutting", cut},
+                   {"statistics", {{"n", fr.n}, {"rmse", fr.rmse}}}};
+  f.table += fmt::format("  C_p = {} ± {} N/m, b_p = {} ± {} N s/m^2 (seed 003 eq 5.1, least squares over {} points)\n",
+                         g6(fr.C), g6(fr.seC), g6(fr.b), g6(fr.seB), fr.n);
+  for (std::size_t s = 0; s < fr.speeds.size(); ++s)
+    f.table += fmt::format("  speed {:>8} mm/s: cutting force {} ± {} N\n", g6(fr.speeds[s] * 1e3), g6(fr.cutting[s]),
+                           g6(fr.seCutting[s]));
+  double meanCut = 0;
+  for (double c : fr.cutting) meanCut += c / fr.cutting.size();
+  f.materialYaml = fmt::format("friction: {{C_p: {:.6g} N/m, b_p: {:.6g} N s/m^2}}\ncutting: {{force: {:.6g} N}}",
+                               fr.C, fr.b, meanCut);
+  f.rep.facts = {{"C_p", g6(fr.C) + " ± " + g6(fr.seC) + " N/m"}, {"b_p", g6(fr.b) + " ± " + g6(fr.seB) + " N s/m^2"}};
+}
+
+io::Plot insertionPlot(const InsertionLog& log, const Puncture& p) {
+  io::Plot pl;
+  pl.title = "Insertion force: " + fs::path(log.file).filename().string();
+  pl.xlabel = "depth [mm]";
+  pl.ylabel = "force [N]";
+  std::vector<double> zmm;
+  for (double z : log.depth) zmm.push_back(z * 1e3);
+  pl.series.push_back({"force", zmm, log.force, false, false});
+  if (p.found) pl.series.push_back({"puncture", {p.depth * 1e3}, {p.force}, true, false});
+  return pl;
+}
+
+// --law toughness on one log: G_c (seed 002 eq 12), with its window drawn on the log's plot.
+ToughnessResult addToughness(const FitRequest& rq, const InsertionLog& log, json& run, io::Plot& pl, FitParts& f) {
+  ToughnessOptions o;
+  o.diameter = rq.needleDiameter;
+  o.shaftLength = rq.thickness;
+  o.windowStart = rq.windowStart;
+  o.windowLength = rq.windowLength;
+  o.literalEq12 = rq.literalEq12;
+  ToughnessResult t = ruptureToughness(log, o);
+  run["toughness"] = {{"G_c", t.Gc}, {"G_ftc", t.Gftc}, {"G_ft", t.Gft}, {"F2", t.F2},
+                      {"L1", t.L1}, {"L2", t.L2}, {"window_start", t.windowStart}, {"area", t.area}};
+  if (rq.deltaC > 0) run["toughness"]["t_c"] = cohesiveStrength(t.Gc, rq.deltaC);
+  f.table += fmt::format("  G_c = {} J/m^2 (G_ftc {} - G_ft {}; L1 = {} mm from {} mm, L2 = {} mm, F2 = {} N){}\n",
+                         g6(t.Gc), g6(t.Gftc), g6(t.Gft), g6(t.L1 * 1e3), g6(t.windowStart * 1e3),
+                         g6(t.L2 * 1e3), g6(t.F2),
+                         rq.deltaC > 0 ? fmt::format("; t_c = 2 G_c/delta_c = {} Pa", g6(cohesiveStrength(t.Gc, rq.deltaC))) : "");
+  pl.series.push_back({"L1 window", {t.windowStart * 1e3, (t.windowStart + t.L1) * 1e3}, {0.0, 0.0}, true, false});
+  return t;
+}
+
+// --law toughness or puncture: every run of every log file.
+void runInsertionAnalyses(const FitRequest& rq, FitParts& f) {
+  json runs = json::array();
+  double sumGc = 0;
+  int nGc = 0;
+  double sumPf = 0;
+  int nP = 0;
+  for (const auto& d : rq.data) {
+    for (const auto& log : readInsertionLogs(io::readCsv(d), rq.speed)) {
+      json run{{"file", log.file}, {"speed", log.speed}};
+      Puncture p = detectPuncture(log, rq.dropFraction);
+      run["puncture"] = {{"found", p.found}, {"depth", p.depth}, {"force", p.force}, {"drop", p.drop},
+                         {"stiffness", p.stiffness}, {"line", p.line}};
+      if (p.found) {
+        sumPf += p.force;
+        ++nP;
+        f.table += fmt::format("  {}: puncture at depth {} mm, force {} N (drop {} N, line {})\n", log.file,
+                               g6(p.depth * 1e3), g6(p.force), g6(p.drop), p.line);
+      } else {
+        f.table += fmt::format("  {}: no puncture (no drop by {} % of the peak)\n", log.file, rq.dropFraction * 100);
+      }
+      io::Plot pl = insertionPlot(log, p);
+      if (rq.law == "toughness") {
+        sumGc += addToughness(rq, log, run, pl, f).Gc;
+        ++nGc;
+      }
+      f.rep.plots.push_back(pl);
+      runs.push_back(run);
+    }
+  }
+  f.j["runs"] = runs;
+  if (nGc > 0) {
+    f.j["G_c_mean"] = sumGc / nGc;
+    f.materialYaml = fmt::format("interaction: {{toughness: {:.6g} N/m}}", sumGc / nGc);
+    f.rep.facts.push_back({"G_c (mean)", g6(sumGc / nGc) + " J/m^2"});
+  } else if (nP > 0) {
+    f.j["puncture_force_mean"] = sumPf / nP;
+    f.materialYaml = fmt::format("puncture: {{force: {:.6g} N}}", sumPf / nP);
+    f.rep.facts.push_back({"puncture force (mean)", g6(sumPf / nP) + " N"});
+  }
+}
+
+// The scenario block under "scenario block:", indented, one line per line.
+void appendScenarioBlock(const std::string& yaml, std::string& table) {
+  if (yaml.empty()) return;
+  table += "scenario block:\n";
+  std::size_t start = 0;
+  while (start < yaml.size()) {
+    std::size_t end = yaml.find('\n', start);
+    if (end == std::string::npos) end = yaml.size();
+    table += "  " + yaml.substr(start, end - start) + "\n";
+    start = end + 1;
+  }
+}
+
 }  // namespace
 
 const std::vector<std::string>& fitAnalyses() {
@@ -231,214 +476,25 @@ double parseQuantityOption(const std::string& option, const std::string& text, u
 }
 
 FitOutcome runFit(const FitRequest& rq) {
-  const auto& all = fitAnalyses();
-  if (rq.law.empty())
-    throw InputError({"command line", 0, 0}, "--law", "", "is missing: say which law to fit or analysis to run",
-                     "--law with one of " + fitAnalysesList());
-  if (std::find(all.begin(), all.end(), rq.law) == all.end())
-    throw InputError({"command line", 0, 0}, "--law", rq.law, "unknown law or analysis", fitAnalysesList());
-  if (rq.data.empty()) throw InputError({"command line", 0, 0}, "DATA", "", "no data file given", "one or more CSV files");
+  checkFitRequest(rq);
   FitOutcome out;
   if (rq.write) out.outDir = fitTarget(rq);
-  json j;
-  j["tool"] = "needlesim fit";
-  j["needlesim"] = {{"version", kVersion}, {"git_revision", kGitRevision}};
-  j["status"] = "complete";
-  j["analysis"] = rq.law;
-  j["data"] = json::array();
-  for (const auto& d : rq.data) j["data"].push_back(d.string());
-  io::HtmlReport rep;
-  rep.title = "needlesim fit: " + rq.law;
-  for (const auto& d : rq.data) rep.subtitle += (rep.subtitle.empty() ? "" : ", ") + d.filename().string();
-  std::string table;
-
-  if (isHyperLaw(rq.law) || rq.law == "auto" || rq.law == "stiffness") {
-    io::CsvData csv = readOne(rq);
-    UniaxialData data = readUniaxial(csv, rq.uniaxial);
-    std::vector<FitResult> fits;
-    if (rq.law == "auto") {
-      fits = fitAllLaws(data);
-    } else if (rq.law == "stiffness") {
-      fits.push_back(fitHyperelastic(data, "neo-hookean"));
-      fits.push_back(fitHyperelastic(data, "linear"));
-    } else {
-      fits.push_back(fitHyperelastic(data, rq.law, rq.terms));
-    }
-    const FitResult& best = fits.front();
-    j["measure"] = data.measure == StressMeasure::Cauchy ? "cauchy" : "nominal";
-    j["result"] = fitJson(best);
-    out.materialYaml = materialYaml(best);
-    if (rq.law == "auto") {
-      json rk = json::array();
-      table += fmt::format("  {:<4} {:<18} {:>12} {:>12} {:>12}\n", "rank", "law", "AICc", "RMSE [Pa]", "max|res| [Pa]");
-      for (std::size_t k = 0; k < fits.size(); ++k) {
-        rk.push_back(fitJson(fits[k]));
-        table += fmt::format("  {:<4} {:<18} {:>12.2f} {:>12} {:>12}\n", k + 1,
-                             fits[k].law + (fits[k].terms > 1 ? fmt::format(" ({})", fits[k].terms) : ""),
-                             fits[k].aicc, g6(fits[k].rmse), g6(fits[k].maxAbsResidual));
-      }
-      j["ranking"] = rk;
-      table += "best: " + best.law + "\n";
-    }
-    table += paramTable(best);
-    if (rq.law == "stiffness") {
-      const auto& s = rq.uniaxial.sample;
-      if (!(s.diameter > 0) || !(s.height > 0))
-        throw InputError({"command line", 0, 0}, "--diameter/--height", "",
-                         "K_T (seed 002 eq 13) needs the sample diameter and height", "--diameter '6.34 mm' --height '7.31 mm'");
-      double C10 = best.param("C10").value, ET = fits[1].param("E").value;
-      double KT = interactionStiffness(C10, s.diameter, s.height);
-      double KTE = interactionStiffnessFromModulus(ET, s.diameter, s.height);
-      j["interaction"] = {{"K_T", KT}, {"K_T_from_linear_E", KTE}, {"C10", C10}, {"E_T", ET}, {"unit", "N/m^2"}};
-      table += fmt::format("  K_T = 3/2 C10 d/h = {} N/m^2 (seed 002 eq 13); from the linear fit E_T = {} Pa: {} N/m^2 (eq 11)\n",
-                           g6(KT), g6(ET), g6(KTE));
-      out.materialYaml = fmt::format("interaction: {{K_T: {:.6g} N/m^2}}", KT);
-      rep.facts.push_back({"K_T (eq 13)", g6(KT) + " N/m^2"});
-    }
-    for (const auto& p : best.params) rep.facts.push_back({p.name, g6(p.value) + " ± " + g6(p.stdErr) + " " + p.unit});
-    rep.facts.push_back({"RMSE", g6(best.rmse) + " Pa"});
-    rep.facts.push_back({"mean / max |residual| (seed 000 eq 34)", g6(best.meanAbsResidual) + " / " + g6(best.maxAbsResidual) + " Pa"});
-    rep.plots.push_back(curvePlot(fits, false));
-    rep.plots.push_back(residualPlot(best, false));
-    const char* modeName = data.mode == TestMode::Uniaxial ? "uniaxial" : data.mode == TestMode::Equibiaxial ? "equibiaxial" : "simple shear";
-    j["mode"] = modeName;
-    if (data.mode == TestMode::Shear)
-      for (auto& p : rep.plots) p.xlabel = "1 + shear strain [1]";
-    rep.subtitle += std::string(" (") + modeName + ")";
-    rep.notes = best.notes;
-  } else if (rq.law == "prony") {
-    io::CsvData csv = readOne(rq);
-    RelaxationData data = readRelaxation(csv, rq.uniaxial.sample);
-    FitResult r = fitProny(data, rq.terms);
-    j["result"] = fitJson(r);
-    out.materialYaml = materialYaml(r);
-    table += paramTable(r);
-    for (const auto& p : r.params) rep.facts.push_back({p.name, g6(p.value) + " ± " + g6(p.stdErr) + " " + p.unit});
-    rep.plots.push_back(curvePlot({r}, true));
-    rep.plots.push_back(residualPlot(r, true));
-    rep.notes = r.notes;
-  } else if (rq.law == "friction") {
-    // summaries (seed 003 eq 5.1 rows) or raw logs
-    io::CsvData first = io::readCsv(rq.data.front());
-    FrictionFit f;
-    if (first.find({"cutting force", "cutting"}) >= 0) {
-      if (rq.data.size() != 1) throw InputError({}, "DATA", "", "a summary table is read alone", "one CSV file");
-      f = frictionFromSummaries(readFrictionSummaries(first), first.file);
-      j["input"] = "summary rows (seed 003 eq 5.1)";
-    } else {
-      std::vector<InsertionLog> logs;
-      for (const auto& d : rq.data) {
-        auto l = readInsertionLogs(io::readCsv(d), rq.speed);
-        logs.insert(logs.end(), l.begin(), l.end());
-      }
-      f = fitFrictionCutting(logs, rq.thickness, rq.cutting);
-      j["input"] = "insertion logs";
-      io::Plot p;
-      p.title = "Insertion force after puncture: data and fit (seed 003 eq 5.1)";
-      p.xlabel = "depth [mm]";
-      p.ylabel = "force [N]";
-      for (std::size_t r = 0; r < f.depth.size(); ++r) {
-        std::vector<double> zmm;
-        for (double z : f.depth[r]) zmm.push_back(z * 1e3);
-        p.series.push_back({fmt::format("data {:.3g} mm/s", logs[r].speed * 1e3), zmm, f.measured[r], true, false});
-        p.series.push_back({fmt::format("fit {:.3g} mm/s", logs[r].speed * 1e3), zmm, f.fitted[r], false, false});
-      }
-      rep.plots.push_back(p);
-    }
-    json cut = json::array();
-    for (std::size_t s = 0; s < f.speeds.size(); ++s)
-      cut.push_back({{"speed", f.speeds[s]}, {"cutting_force", num(f.cutting[s])}, {"std_error", num(f.seCutting[s])}});
-    j["result"] = {{"parameters",
-                    {{{"name", "C_p"}, {"value", f.C}, {"unit", "N/m"}, {"std_error", num(f.seC)}},
-                     {{"name", "b_p"}, {"value", f.b}, {"unit", "N s/m^2"}, {"std_error", num(f.seB)}}}},
-                   {"cutting", cut},
-                   {"statistics", {{"n", f.n}, {"rmse", f.rmse}}}};
-    table += fmt::format("  C_p = {} ± {} N/m, b_p = {} ± {} N s/m^2 (seed 003 eq 5.1, least squares over {} points)\n",
-                         g6(f.C), g6(f.seC), g6(f.b), g6(f.seB), f.n);
-    for (std::size_t s = 0; s < f.speeds.size(); ++s)
-      table += fmt::format("  speed {:>8} mm/s: cutting force {} ± {} N\n", g6(f.speeds[s] * 1e3), g6(f.cutting[s]),
-                           g6(f.seCutting[s]));
-    double meanCut = 0;
-    for (double c : f.cutting) meanCut += c / f.cutting.size();
-    out.materialYaml = fmt::format("friction: {{C_p: {:.6g} N/m, b_p: {:.6g} N s/m^2}}\ncutting: {{force: {:.6g} N}}",
-                                   f.C, f.b, meanCut);
-    rep.facts = {{"C_p", g6(f.C) + " ± " + g6(f.seC) + " N/m"}, {"b_p", g6(f.b) + " ± " + g6(f.seB) + " N s/m^2"}};
-  } else if (rq.law == "toughness" || rq.law == "puncture") {
-    json runs = json::array();
-    double sumGc = 0;
-    int nGc = 0;
-    double sumPf = 0;
-    int nP = 0;
-    for (const auto& d : rq.data) {
-      for (const auto& log : readInsertionLogs(io::readCsv(d), rq.speed)) {
-        json run{{"file", log.file}, {"speed", log.speed}};
-        Puncture p = detectPuncture(log, rq.dropFraction);
-        run["puncture"] = {{"found", p.found}, {"depth", p.depth}, {"force", p.force}, {"drop", p.drop},
-                           {"stiffness", p.stiffness}, {"line", p.line}};
-        if (p.found) {
-          sumPf += p.force;
-          ++nP;
-          table += fmt::format("  {}: puncture at depth {} mm, force {} N (drop {} N, line {})\n", log.file,
-                               g6(p.depth * 1e3), g6(p.force), g6(p.drop), p.line);
-        } else {
-          table += fmt::format("  {}: no puncture (no drop by {} % of the peak)\n", log.file, rq.dropFraction * 100);
-        }
-        io::Plot pl;
-        pl.title = "Insertion force: " + fs::path(log.file).filename().string();
-        pl.xlabel = "depth [mm]";
-        pl.ylabel = "force [N]";
-        std::vector<double> zmm;
-        for (double z : log.depth) zmm.push_back(z * 1e3);
-        pl.series.push_back({"force", zmm, log.force, false, false});
-        if (p.found) pl.series.push_back({"puncture", {p.depth * 1e3}, {p.force}, true, false});
-        if (rq.law == "toughness") {
-          ToughnessOptions o;
-          o.diameter = rq.needleDiameter;
-          o.shaftLength = rq.thickness;
-          o.windowStart = rq.windowStart;
-          o.windowLength = rq.windowLength;
-          o.literalEq12 = rq.literalEq12;
-          ToughnessResult t = ruptureToughness(log, o);
-          run["toughness"] = {{"G_c", t.Gc}, {"G_ftc", t.Gftc}, {"G_ft", t.Gft}, {"F2", t.F2},
-                              {"L1", t.L1}, {"L2", t.L2}, {"window_start", t.windowStart}, {"area", t.area}};
-          if (rq.deltaC > 0) run["toughness"]["t_c"] = cohesiveStrength(t.Gc, rq.deltaC);
-          table += fmt::format("  G_c = {} J/m^2 (G_ftc {} - G_ft {}; L1 = {} mm from {} mm, L2 = {} mm, F2 = {} N){}\n",
-                               g6(t.Gc), g6(t.Gftc), g6(t.Gft), g6(t.L1 * 1e3), g6(t.windowStart * 1e3),
-                               g6(t.L2 * 1e3), g6(t.F2),
-                               rq.deltaC > 0 ? fmt::format("; t_c = 2 G_c/delta_c = {} Pa", g6(cohesiveStrength(t.Gc, rq.deltaC))) : "");
-          sumGc += t.Gc;
-          ++nGc;
-          pl.series.push_back({"L1 window", {t.windowStart * 1e3, (t.windowStart + t.L1) * 1e3}, {0.0, 0.0}, true, false});
-        }
-        rep.plots.push_back(pl);
-        runs.push_back(run);
-      }
-    }
-    j["runs"] = runs;
-    if (nGc > 0) {
-      j["G_c_mean"] = sumGc / nGc;
-      out.materialYaml = fmt::format("interaction: {{toughness: {:.6g} N/m}}", sumGc / nGc);
-      rep.facts.push_back({"G_c (mean)", g6(sumGc / nGc) + " J/m^2"});
-    } else if (nP > 0) {
-      j["puncture_force_mean"] = sumPf / nP;
-      out.materialYaml = fmt::format("puncture: {{force: {:.6g} N}}", sumPf / nP);
-      rep.facts.push_back({"puncture force (mean)", g6(sumPf / nP) + " N"});
-    }
-  }
-  j["material_yaml"] = out.materialYaml;
-  if (!out.materialYaml.empty()) {
-    table += "scenario block:\n";
-    std::size_t start = 0;
-    while (start < out.materialYaml.size()) {
-      std::size_t end = out.materialYaml.find('\n', start);
-      if (end == std::string::npos) end = out.materialYaml.size();
-      table += "  " + out.materialYaml.substr(start, end - start) + "\n";
-      start = end + 1;
-    }
-  }
-  out.json = j;
-  out.table = table;
-  if (rq.write) writeFitFolder(out.outDir, rq.overwrite, j, rep);
+  FitParts f;
+  startParts(rq, f);
+  if (isHyperLaw(rq.law) || rq.law == "auto" || rq.law == "stiffness")
+    runStressStrainFit(rq, f);
+  else if (rq.law == "prony")
+    runPronyFit(rq, f);
+  else if (rq.law == "friction")
+    runFrictionFit(rq, f);
+  else if (rq.law == "toughness" || rq.law == "puncture")
+    runInsertionAnalyses(rq, f);
+  out.materialYaml = f.materialYaml;
+  f.j["material_yaml"] = out.materialYaml;
+  appendScenarioBlock(out.materialYaml, f.table);
+  out.json = f.j;
+  out.table = f.table;
+  if (rq.write) writeFitFolder(out.outDir, rq.overwrite, f.j, f.rep);
   return out;
 }
 

@@ -288,7 +288,10 @@ double uniaxialModel(const materials::MaterialSpec& spec, double stretch, Stress
   return modelValue(spec.law, h, {}, stretch, measure, mode);
 }
 
-FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int terms) {
+namespace {
+
+// The number of terms a law is fitted with: `terms`, or the law's default when 0.
+int checkedTerms(const UniaxialData& data, const std::string& law, int terms) {
   const auto& laws = hyperelasticFitLaws();
   if (std::find(laws.begin(), laws.end(), law) == laws.end())
     throw InputError({data.file, 0, 0}, "--law", law, "unknown law for stress-strain data",
@@ -298,11 +301,15 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
   if (terms < 1 || terms > maxTerms)
     throw InputError({data.file, 0, 0}, "--terms", std::to_string(terms), "not allowed for law " + law,
                      maxTerms == 1 ? std::string("1 (or leave it out)") : std::string("1, 2 or 3"));
-  const int n = static_cast<int>(data.stretch.size());
+  return terms;
+}
 
-  // Robust starting values: initial slope from the first third of the points.
+// Robust starting modulus: the initial slope of the first third of the points.
+double initialSlope(const UniaxialData& data, double& ymax) {
+  const int n = static_cast<int>(data.stretch.size());
   int m = std::max(2, n / 3);
-  double num = 0, den = 0, ymax = 0;
+  double num = 0, den = 0;
+  ymax = 0;
   for (int i = 0; i < n; ++i) ymax = std::max(ymax, std::abs(data.stress[i]));
   for (int i = 0; i < std::min(m, n); ++i) {
     double e = data.stretch[i] - 1.0;
@@ -315,61 +322,82 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
     E0 = emax > 0 ? ymax / emax : 1.0;
   }
   if (!(E0 > 0)) E0 = 1e3;
-  const double mu0 = E0 / slopeOverMu0(data.mode);
-  if (law == "linear") E0 = 3.0 * mu0;  // E of the linear law
+  return E0;
+}
 
+// The parameters of a law and its starting points (physical values). Ogden's
+// parameters depend on each start's sign pattern: see ogdenParams.
+struct LawStarts {
   std::vector<PDef> defs;
-  std::vector<std::vector<double>> starts;  // physical values
+  std::vector<std::vector<double>> starts;
+};
+
+std::vector<std::vector<double>> ogdenStarts(int terms, double mu0) {
+  // sign patterns and exponents; mu_p alpha_p > 0 is kept by construction
+  std::vector<std::vector<double>> alphaSets;
+  if (terms == 1) alphaSets = {{2.0}, {5.0}, {10.0}, {-2.0}, {-6.0}};
+  if (terms == 2) alphaSets = {{2.0, -2.0}, {6.0, -2.0}, {2.0, 8.0}, {10.0, -4.0}, {1.5, 5.0}};
+  if (terms == 3) alphaSets = {{2.0, -2.0, 6.0}, {1.0, 4.0, -2.0}, {8.0, -4.0, 2.0}, {2.0, 5.0, 10.0}};
+  std::vector<std::vector<double>> starts;
+  for (std::size_t s = 0; s < alphaSets.size(); ++s) {
+    std::vector<double> st;
+    for (double a : alphaSets[s]) {
+      st.push_back(2.0 * mu0 / (a * terms));  // each term carries mu0/terms
+      st.push_back(a);
+    }
+    starts.push_back(st);
+  }
+  return starts;
+}
+
+std::vector<PDef> ogdenParams(const std::vector<double>& start, int terms, double mu0) {
+  std::vector<PDef> d;
+  for (int t = 0; t < terms; ++t) {
+    int sgn = start[2 * t + 1] > 0 ? 1 : -1;
+    d.push_back({"mu" + std::to_string(t + 1), "Pa", sgn, mu0});
+    d.push_back({"alpha" + std::to_string(t + 1), "1", sgn, 1.0});
+  }
+  return d;
+}
+
+LawStarts lawStarts(const std::string& law, int terms, double mu0, double E0) {
+  LawStarts s;
   if (law == "linear") {
-    defs = {{"E", "Pa", 1, E0}};
-    starts = {{E0}};
+    s.defs = {{"E", "Pa", 1, E0}};
+    s.starts = {{E0}};
   } else if (law == "neo-hookean") {
-    defs = {{"C10", "Pa", 1, mu0}};
-    starts = {{mu0 / 2}};
+    s.defs = {{"C10", "Pa", 1, mu0}};
+    s.starts = {{mu0 / 2}};
   } else if (law == "mooney-rivlin") {
-    defs = {{"C10", "Pa", 1, mu0}, {"C01", "Pa", 1, mu0}};
-    starts = {{mu0 / 4, mu0 / 4}, {0.45 * mu0, 0.05 * mu0}, {0.05 * mu0, 0.45 * mu0}};
+    s.defs = {{"C10", "Pa", 1, mu0}, {"C01", "Pa", 1, mu0}};
+    s.starts = {{mu0 / 4, mu0 / 4}, {0.45 * mu0, 0.05 * mu0}, {0.05 * mu0, 0.45 * mu0}};
   } else if (law == "yeoh") {
     const char* nm[3] = {"C10", "C20", "C30"};
-    for (int i = 0; i < terms; ++i) defs.push_back({nm[i], "Pa", i == 0 ? 1 : 0, mu0});
+    for (int i = 0; i < terms; ++i) s.defs.push_back({nm[i], "Pa", i == 0 ? 1 : 0, mu0});
     std::vector<double> s0(terms, 0.0), s1(terms, 0.0);
     s0[0] = s1[0] = mu0 / 2;
     if (terms > 1) s1[1] = 0.1 * mu0;
-    starts = {s0, s1};
+    s.starts = {s0, s1};
   } else if (law == "ogden") {
-    // sign patterns and exponents; mu_p alpha_p > 0 is kept by construction
-    std::vector<std::vector<double>> alphaSets;
-    if (terms == 1) alphaSets = {{2.0}, {5.0}, {10.0}, {-2.0}, {-6.0}};
-    if (terms == 2) alphaSets = {{2.0, -2.0}, {6.0, -2.0}, {2.0, 8.0}, {10.0, -4.0}, {1.5, 5.0}};
-    if (terms == 3) alphaSets = {{2.0, -2.0, 6.0}, {1.0, 4.0, -2.0}, {8.0, -4.0, 2.0}, {2.0, 5.0, 10.0}};
-    for (std::size_t s = 0; s < alphaSets.size(); ++s) {
-      std::vector<double> st;
-      for (double a : alphaSets[s]) {
-        st.push_back(2.0 * mu0 / (a * terms));  // each term carries mu0/terms
-        st.push_back(a);
-      }
-      starts.push_back(st);
-    }
-    // defs depend on the sign pattern: built per start below
+    s.starts = ogdenStarts(terms, mu0);
   } else if (law == "fung") {
-    defs = {{"mu", "Pa", 1, mu0}, {"gamma", "1", 1, 1.0}};
-    starts = {{mu0, 0.1}, {mu0, 1.0}, {mu0, 5.0}, {0.3 * mu0, 10.0}};
+    s.defs = {{"mu", "Pa", 1, mu0}, {"gamma", "1", 1, 1.0}};
+    s.starts = {{mu0, 0.1}, {mu0, 1.0}, {mu0, 5.0}, {0.3 * mu0, 10.0}};
   }
+  return s;
+}
 
+// The least-squares fit from each start; the lowest finite SSE wins (only
+// law, terms, converged, sse and params are set).
+FitResult bestOfStarts(const UniaxialData& data, const std::string& law, int terms, const LawStarts& ls, double mu0,
+                       double ymax) {
+  const int n = static_cast<int>(data.stretch.size());
   const double sc = ymax > 0 ? ymax : 1.0;
   FitResult best;
   best.sse = std::numeric_limits<double>::infinity();
   bool any = false;
-  for (const auto& start : starts) {
-    std::vector<PDef> d = defs;
-    if (law == "ogden") {
-      d.clear();
-      for (int t = 0; t < terms; ++t) {
-        int sgn = start[2 * t + 1] > 0 ? 1 : -1;
-        d.push_back({"mu" + std::to_string(t + 1), "Pa", sgn, mu0});
-        d.push_back({"alpha" + std::to_string(t + 1), "1", sgn, 1.0});
-      }
-    }
+  for (const auto& start : ls.starts) {
+    const std::vector<PDef> d = law == "ogden" ? ogdenParams(start, terms, mu0) : ls.defs;
     const int k = static_cast<int>(d.size());
     if (n < k + 1)
       throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(n) + " points",
@@ -406,7 +434,12 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
     for (int i = 0; i < k; ++i) best.params.push_back({d[i].name, d[i].unit, res.theta[i], res.stdErr[i]});
   }
   if (!any) throw SolverError("fit of law " + law + " did not produce a finite result from any starting point");
+  return best;
+}
 
+// The fitted curve, statistics, material block and notes of the winning fit.
+void completeHyperelasticFit(FitResult& best, const UniaxialData& data, const std::string& law) {
+  const int n = static_cast<int>(data.stretch.size());
   std::vector<double> tv;
   for (const auto& p : best.params) tv.push_back(p.value);
   mat::Hyperelastic h = buildLaw(law, tv);
@@ -423,6 +456,18 @@ FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int 
   if (law != "linear")
     best.notes.push_back("uniaxial data do not identify the bulk modulus; the material block uses nu = 0.49");
   if (!best.converged) best.notes.push_back("the optimiser stopped before its tolerances were met");
+}
+
+}  // namespace
+
+FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int terms) {
+  terms = checkedTerms(data, law, terms);
+  double ymax = 0;
+  double E0 = initialSlope(data, ymax);
+  const double mu0 = E0 / slopeOverMu0(data.mode);
+  if (law == "linear") E0 = 3.0 * mu0;  // E of the linear law
+  FitResult best = bestOfStarts(data, law, terms, lawStarts(law, terms, mu0, E0), mu0, ymax);
+  completeHyperelasticFit(best, data, law);
   return best;
 }
 
@@ -505,29 +550,100 @@ RelaxationData readRelaxation(const io::CsvData& csv, const SampleSize& sample) 
   return d;
 }
 
+namespace {
+
+// The Prony series with the number of terms AICc prefers: a term must earn its keep (AICc drop > 2).
+FitResult fitPronyByAicc(const RelaxationData& data, int nHold) {
+  FitResult best;
+  bool have = false;
+  for (int N = 1; N <= 5 && nHold >= 2 * N + 3; ++N) {
+    FitResult r = fitProny(data, N);
+    if (!have || r.aicc < best.aicc - 2.0) {
+      best = r;
+      have = true;
+    } else {
+      break;
+    }
+  }
+  if (!have)
+    throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(nHold) + " hold points",
+                     "too few points in the hold phase for a Prony series", "at least 5 points after the ramp");
+  best.notes.push_back("number of terms chosen by AICc: " + std::to_string(best.terms));
+  return best;
+}
+
+mat::Prony pronyOf(const Eigen::VectorXd& th, int terms) {
+  mat::Prony pr;
+  for (int i = 0; i < terms; ++i) pr.terms.push_back({th[1 + 2 * i], th[2 + 2 * i]});
+  return pr;
+}
+
+// Starts: tau spread log-uniformly over the record; total relaxation from the data.
+std::vector<Eigen::VectorXd> pronyStarts(const RelaxationData& data, int terms, double peak, double last) {
+  const int k = 2 * terms + 1;
+  const double tr = data.rampTime;
+  const double tEnd = data.time.back();
+  double tFirst = std::max(1e-3 * tEnd, data.time.size() > data.holdStart + 1
+                                            ? data.time[data.holdStart + 1] - tr
+                                            : 1e-3 * tEnd);
+  double gTot = std::clamp(1.0 - last / peak, 0.05, 0.95);
+  std::vector<Eigen::VectorXd> starts;
+  for (double shift : {1.0, 0.3, 3.0}) {
+    Eigen::VectorXd p0(k);
+    p0[0] = std::log(std::abs(peak) * 1.05 + 1e-300);
+    double gEach = gTot / terms;
+    for (int i = 0; i < terms; ++i) {
+      double g = gEach;
+      p0[1 + i] = std::log(g / (1.0 - gTot));
+      double f = terms == 1 ? 0.5 : static_cast<double>(i) / (terms - 1);
+      double tau = std::exp(std::log(tFirst) + f * (std::log(tEnd / 3) - std::log(tFirst))) * shift;
+      p0[1 + terms + i] = std::log(std::max(tau, 1e-9));
+    }
+    starts.push_back(p0);
+  }
+  return starts;
+}
+
+// The fit result of a solved Prony problem: parameters, curve over the hold, statistics, notes.
+FitResult pronyResult(const RelaxationData& data, int terms, const LsqResult& res) {
+  const int nHold = static_cast<int>(data.time.size() - data.holdStart);
+  const double tr = data.rampTime;
+  FitResult out;
+  out.law = "prony";
+  out.terms = terms;
+  out.converged = res.converged;
+  out.params.push_back({"sigma0", "Pa", res.theta[0], res.stdErr[0]});
+  for (int i = 0; i < terms; ++i) {
+    std::string s = std::to_string(i + 1);
+    out.params.push_back({"g" + s, "1", res.theta[1 + 2 * i], res.stdErr[1 + 2 * i]});
+    out.params.push_back({"tau" + s, "s", res.theta[2 + 2 * i], res.stdErr[2 + 2 * i]});
+  }
+  mat::Prony pr = pronyOf(res.theta, terms);
+  for (int i = 0; i < nHold; ++i) {
+    std::size_t j = data.holdStart + i;
+    out.x.push_back(data.time[j]);
+    out.data.push_back(data.stress[j]);
+    out.fitted.push_back(mat::rampRelaxationClosedForm(pr, res.theta[0], tr, data.time[j]));
+  }
+  finishStats(out, 2 * terms + 1);
+  out.spec.name = "fitted";
+  out.spec.law = "";
+  out.spec.prony.clear();
+  for (const auto& t : pr.terms) out.spec.prony.push_back(t);
+  out.notes = data.notes;
+  out.notes.push_back("ramp time " + fmtNum(tr) + " s; the elastic stress is taken as linear in time during the ramp");
+  if (!out.converged) out.notes.push_back("the optimiser stopped before its tolerances were met");
+  return out;
+}
+
+}  // namespace
+
 FitResult fitProny(const RelaxationData& data, int terms) {
   const int nHold = static_cast<int>(data.time.size() - data.holdStart);
   if (terms < 0 || terms > 5)
     throw InputError({data.file, 0, 0}, "--terms", std::to_string(terms), "not allowed for a Prony series",
                      "1 to 5, or leave it out to choose by AICc");
-  if (terms == 0) {
-    FitResult best;
-    bool have = false;
-    for (int N = 1; N <= 5 && nHold >= 2 * N + 3; ++N) {
-      FitResult r = fitProny(data, N);
-      if (!have || r.aicc < best.aicc - 2.0) {  // a term must earn its keep (AICc drop > 2)
-        best = r;
-        have = true;
-      } else {
-        break;
-      }
-    }
-    if (!have)
-      throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(nHold) + " hold points",
-                       "too few points in the hold phase for a Prony series", "at least 5 points after the ramp");
-    best.notes.push_back("number of terms chosen by AICc: " + std::to_string(best.terms));
-    return best;
-  }
+  if (terms == 0) return fitPronyByAicc(data, nHold);
   const int k = 2 * terms + 1;
   if (nHold < k + 1)
     throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(nHold) + " hold points",
@@ -539,10 +655,6 @@ FitResult fitProny(const RelaxationData& data, int terms) {
   double ymax = 0;
   for (std::size_t i = data.holdStart; i < data.time.size(); ++i) ymax = std::max(ymax, std::abs(data.stress[i]));
   const double sc = ymax > 0 ? ymax : 1.0;
-  const double tEnd = data.time.back();
-  double tFirst = std::max(1e-3 * tEnd, data.time.size() > data.holdStart + 1
-                                            ? data.time[data.holdStart + 1] - tr
-                                            : 1e-3 * tEnd);
   // internal p = [log|sigma0|, q_1..q_N (g_i = e^q_i / (1 + sum e^q)), log tau_1..N]
   auto physical = [terms, sgn](const Eigen::VectorXd& p) {
     Eigen::VectorXd th(2 * terms + 1);
@@ -555,65 +667,20 @@ FitResult fitProny(const RelaxationData& data, int terms) {
     }
     return th;
   };
-  auto pronyOf = [terms](const Eigen::VectorXd& th) {
-    mat::Prony pr;
-    for (int i = 0; i < terms; ++i) pr.terms.push_back({th[1 + 2 * i], th[2 + 2 * i]});
-    return pr;
-  };
   LsqProblem prob;
   prob.nParams = k;
   prob.nResiduals = nHold;
   prob.physical = physical;
   prob.residuals = [&](const Eigen::VectorXd& p, Eigen::VectorXd& r) {
     Eigen::VectorXd th = physical(p);
-    mat::Prony pr = pronyOf(th);
+    mat::Prony pr = pronyOf(th, terms);
     for (int i = 0; i < nHold; ++i) {
       std::size_t j = data.holdStart + i;
       r[i] = (mat::rampRelaxationClosedForm(pr, th[0], tr, data.time[j]) - data.stress[j]) / sc;
     }
   };
-  // Starts: tau spread log-uniformly over the record; total relaxation from the data.
-  double gTot = std::clamp(1.0 - last / peak, 0.05, 0.95);
-  for (double shift : {1.0, 0.3, 3.0}) {
-    Eigen::VectorXd p0(k);
-    p0[0] = std::log(std::abs(peak) * 1.05 + 1e-300);
-    double gEach = gTot / terms;
-    for (int i = 0; i < terms; ++i) {
-      double g = gEach;
-      p0[1 + i] = std::log(g / (1.0 - gTot));
-      double f = terms == 1 ? 0.5 : static_cast<double>(i) / (terms - 1);
-      double tau = std::exp(std::log(tFirst) + f * (std::log(tEnd / 3) - std::log(tFirst))) * shift;
-      p0[1 + terms + i] = std::log(std::max(tau, 1e-9));
-    }
-    prob.starts.push_back(p0);
-  }
-  LsqResult res = solveLeastSquares(prob);
-  FitResult out;
-  out.law = "prony";
-  out.terms = terms;
-  out.converged = res.converged;
-  out.params.push_back({"sigma0", "Pa", res.theta[0], res.stdErr[0]});
-  for (int i = 0; i < terms; ++i) {
-    std::string s = std::to_string(i + 1);
-    out.params.push_back({"g" + s, "1", res.theta[1 + 2 * i], res.stdErr[1 + 2 * i]});
-    out.params.push_back({"tau" + s, "s", res.theta[2 + 2 * i], res.stdErr[2 + 2 * i]});
-  }
-  mat::Prony pr = pronyOf(res.theta);
-  for (int i = 0; i < nHold; ++i) {
-    std::size_t j = data.holdStart + i;
-    out.x.push_back(data.time[j]);
-    out.data.push_back(data.stress[j]);
-    out.fitted.push_back(mat::rampRelaxationClosedForm(pr, res.theta[0], tr, data.time[j]));
-  }
-  finishStats(out, k);
-  out.spec.name = "fitted";
-  out.spec.law = "";
-  out.spec.prony.clear();
-  for (const auto& t : pr.terms) out.spec.prony.push_back(t);
-  out.notes = data.notes;
-  out.notes.push_back("ramp time " + fmtNum(tr) + " s; the elastic stress is taken as linear in time during the ramp");
-  if (!out.converged) out.notes.push_back("the optimiser stopped before its tolerances were met");
-  return out;
+  prob.starts = pronyStarts(data, terms, peak, last);
+  return pronyResult(data, terms, solveLeastSquares(prob));
 }
 
 }  // namespace needlesim::fit

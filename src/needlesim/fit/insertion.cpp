@@ -259,16 +259,10 @@ std::vector<FrictionRow> readFrictionSummaries(const io::CsvData& csv) {
   return rows;
 }
 
-FrictionFit fitFrictionCutting(const std::vector<InsertionLog>& logs, double thickness, CuttingModel cutting) {
-  if (logs.empty()) throw Error("friction fit: no insertion logs");
-  // Without the block thickness the contact length after the tip exits would be taken
-  // as still growing, biasing C_p and b_p without any warning: require it.
-  if (!(thickness > 0))
-    throw InputError({logs.front().file, 0, 0}, "--thickness", "",
-                     "the block thickness along the needle is needed to fit friction from insertion logs "
-                     "(the shaft length in contact stops growing once the tip exits)",
-                     "a length > 0, e.g. --thickness '55 mm'");
-  // distinct speeds
+namespace {
+
+// The distinct insertion speeds of the logs, in order of first appearance (at least two).
+std::vector<double> distinctSpeeds(const std::vector<InsertionLog>& logs) {
   std::vector<double> speeds;
   for (const auto& l : logs) {
     if (!(l.speed > 0))
@@ -282,18 +276,17 @@ FrictionFit fitFrictionCutting(const std::vector<InsertionLog>& logs, double thi
     throw InputError({logs.front().file, 0, 0}, "speed", fmtNum(speeds.front()),
                      "all logs have the same speed, so friction C and damping b cannot be separated",
                      "logs at two or more different speeds");
-  auto speedIndex = [&](double v) {
-    for (std::size_t s = 0; s < speeds.size(); ++s)
-      if (std::abs(speeds[s] - v) <= 1e-6 * v) return static_cast<int>(s);
-    return 0;
-  };
-  const int nCut = cutting == CuttingModel::PerSpeed ? static_cast<int>(speeds.size())
-                   : cutting == CuttingModel::Linear  ? 2
-                                                      : 1;
-  const int k = 2 + nCut;
-  struct Pt { double z, f, v; int run; };
-  std::vector<Pt> pts;
-  FrictionFit fit;
+  return speeds;
+}
+
+struct FrictionPoint {
+  double z, f, v;
+  int run;
+};
+
+// The points after each log's puncture, also kept per run in fit.depth and fit.measured.
+std::vector<FrictionPoint> postPuncturePoints(const std::vector<InsertionLog>& logs, FrictionFit& fit) {
+  std::vector<FrictionPoint> pts;
   fit.depth.resize(logs.size());
   fit.measured.resize(logs.size());
   for (std::size_t r = 0; r < logs.size(); ++r) {
@@ -316,13 +309,19 @@ FrictionFit fitFrictionCutting(const std::vector<InsertionLog>& logs, double thi
         fit.measured[r].push_back(l.force[i]);
       }
   }
+  return pts;
+}
+
+// Columns: contact length, length x speed, then the cutting terms of the model.
+Eigen::MatrixXd frictionDesign(const std::vector<FrictionPoint>& pts, int k, double thickness, CuttingModel cutting,
+                               const std::vector<double>& speeds) {
+  auto speedIndex = [&](double v) {
+    for (std::size_t s = 0; s < speeds.size(); ++s)
+      if (std::abs(speeds[s] - v) <= 1e-6 * v) return static_cast<int>(s);
+    return 0;
+  };
   const int n = static_cast<int>(pts.size());
-  if (n < k + 1)
-    throw InputError({logs.front().file, 0, 0}, "data", std::to_string(n) + " points",
-                     "too few points after puncture for " + std::to_string(k) + " friction/cutting parameters",
-                     "at least " + std::to_string(k + 1) + " points");
   Eigen::MatrixXd X = Eigen::MatrixXd::Zero(n, k);
-  Eigen::VectorXd y(n);
   for (int i = 0; i < n; ++i) {
     const auto& q = pts[i];
     bool inside = thickness <= 0 || q.z <= thickness;
@@ -337,8 +336,53 @@ FrictionFit fitFrictionCutting(const std::vector<InsertionLog>& logs, double thi
         X(i, 3) = q.v;
       }
     }
-    y[i] = q.f;
   }
+  return X;
+}
+
+// The cutting force at each speed and its standard error, from the fitted coefficients.
+void cuttingPerSpeed(FrictionFit& fit, const Eigen::VectorXd& beta, const Eigen::MatrixXd& cov, CuttingModel cutting) {
+  for (std::size_t s = 0; s < fit.speeds.size(); ++s) {
+    if (cutting == CuttingModel::PerSpeed) {
+      fit.cutting.push_back(beta[2 + s]);
+      fit.seCutting.push_back(std::sqrt(cov(2 + s, 2 + s)));
+    } else if (cutting == CuttingModel::Constant) {
+      fit.cutting.push_back(beta[2]);
+      fit.seCutting.push_back(std::sqrt(cov(2, 2)));
+    } else {
+      double v = fit.speeds[s];
+      fit.cutting.push_back(beta[2] + beta[3] * v);
+      fit.seCutting.push_back(std::sqrt(std::max(0.0, cov(2, 2) + 2 * v * cov(2, 3) + v * v * cov(3, 3))));
+    }
+  }
+}
+
+}  // namespace
+
+FrictionFit fitFrictionCutting(const std::vector<InsertionLog>& logs, double thickness, CuttingModel cutting) {
+  if (logs.empty()) throw Error("friction fit: no insertion logs");
+  // Without the block thickness the contact length after the tip exits would be taken
+  // as still growing, biasing C_p and b_p without any warning: require it.
+  if (!(thickness > 0))
+    throw InputError({logs.front().file, 0, 0}, "--thickness", "",
+                     "the block thickness along the needle is needed to fit friction from insertion logs "
+                     "(the shaft length in contact stops growing once the tip exits)",
+                     "a length > 0, e.g. --thickness '55 mm'");
+  const std::vector<double> speeds = distinctSpeeds(logs);
+  const int nCut = cutting == CuttingModel::PerSpeed ? static_cast<int>(speeds.size())
+                   : cutting == CuttingModel::Linear  ? 2
+                                                      : 1;
+  const int k = 2 + nCut;
+  FrictionFit fit;
+  const std::vector<FrictionPoint> pts = postPuncturePoints(logs, fit);
+  const int n = static_cast<int>(pts.size());
+  if (n < k + 1)
+    throw InputError({logs.front().file, 0, 0}, "data", std::to_string(n) + " points",
+                     "too few points after puncture for " + std::to_string(k) + " friction/cutting parameters",
+                     "at least " + std::to_string(k + 1) + " points");
+  Eigen::MatrixXd X = frictionDesign(pts, k, thickness, cutting, speeds);
+  Eigen::VectorXd y(n);
+  for (int i = 0; i < n; ++i) y[i] = pts[i].f;
   // column scaling for conditioning
   Eigen::VectorXd cs = X.colwise().norm().transpose();
   for (int j = 0; j < k; ++j) if (cs[j] == 0) cs[j] = 1;
@@ -359,19 +403,7 @@ FrictionFit fitFrictionCutting(const std::vector<InsertionLog>& logs, double thi
   fit.n = n;
   fit.rmse = std::sqrt(res.squaredNorm() / n);
   fit.speeds = speeds;
-  for (std::size_t s = 0; s < speeds.size(); ++s) {
-    if (cutting == CuttingModel::PerSpeed) {
-      fit.cutting.push_back(beta[2 + s]);
-      fit.seCutting.push_back(std::sqrt(cov(2 + s, 2 + s)));
-    } else if (cutting == CuttingModel::Constant) {
-      fit.cutting.push_back(beta[2]);
-      fit.seCutting.push_back(std::sqrt(cov(2, 2)));
-    } else {
-      double v = speeds[s];
-      fit.cutting.push_back(beta[2] + beta[3] * v);
-      fit.seCutting.push_back(std::sqrt(std::max(0.0, cov(2, 2) + 2 * v * cov(2, 3) + v * v * cov(3, 3))));
-    }
-  }
+  cuttingPerSpeed(fit, beta, cov, cutting);
   fit.fitted.resize(logs.size());
   for (int i = 0; i < n; ++i) fit.fitted[pts[i].run].push_back((X.row(i) * beta)(0));
   return fit;

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "needlesim/core/embedded.hpp"
+#include "needlesim/core/expat_notice.hpp"
 #include "needlesim/core/version.hpp"
 #include "needlesim/io/references.hpp"
 
@@ -124,48 +125,46 @@ nlohmann::json markerDataset(const PlotMarker& m, std::pair<double, double> y) {
           {"marker", true}};
 }
 
-}  // namespace
+// A series as a Chart.js dataset, coloured by its index `k` in the plot.
+nlohmann::json seriesDataset(const PlotSeries& s, std::size_t k) {
+  nlohmann::json data = nlohmann::json::array();
+  for (auto [x, y] : thin(s)) data.push_back({{"x", x}, {"y", y}});
+  const char* color = kPalette[k % 10];
+  nlohmann::json ds = {{"label", s.label},     {"data", data},          {"borderColor", color},
+                       {"backgroundColor", color}, {"showLine", !s.markers}, {"pointRadius", s.markers ? 2.5 : 0},
+                       {"borderWidth", 1.5}};
+  if (s.dashed) ds["borderDash"] = {6, 4};
+  return ds;
+}
 
-std::string HtmlReport::render() const {
-  nlohmann::json plotsJson = nlohmann::json::array();
+// The plots as the page's script reads them (`const plots`).
+nlohmann::json plotsJson(const std::vector<Plot>& plots) {
+  nlohmann::json out = nlohmann::json::array();
   for (const auto& p : plots) {
     nlohmann::json datasets = nlohmann::json::array();
     std::size_t k = 0;
-    for (const auto& s : p.series) {
-      nlohmann::json data = nlohmann::json::array();
-      for (auto [x, y] : thin(s)) data.push_back({{"x", x}, {"y", y}});
-      const char* color = kPalette[k++ % 10];
-      nlohmann::json ds = {{"label", s.label},     {"data", data},          {"borderColor", color},
-                           {"backgroundColor", color}, {"showLine", !s.markers}, {"pointRadius", s.markers ? 2.5 : 0},
-                           {"borderWidth", 1.5}};
-      if (s.dashed) ds["borderDash"] = {6, 4};
-      datasets.push_back(ds);
-    }
+    for (const auto& s : p.series) datasets.push_back(seriesDataset(s, k++));
     for (const auto& m : p.xmarkers)
       if (std::isfinite(m.x)) datasets.push_back(markerDataset(m, yRange(p)));
-    plotsJson.push_back({{"title", p.title},
-                         {"xlabel", p.xlabel},
-                         {"ylabel", p.ylabel},
-                         {"logx", p.logx},
-                         {"logy", p.logy},
-                         {"datasets", datasets}});
+    out.push_back({{"title", p.title},
+                   {"xlabel", p.xlabel},
+                   {"ylabel", p.ylabel},
+                   {"logx", p.logx},
+                   {"logy", p.logy},
+                   {"datasets", datasets}});
   }
-  std::string facts_html;
-  for (const auto& [k, v] : facts)
-    facts_html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", escape(k), escape(v));
-  std::string warnings_html;
-  if (!warnings.empty()) {
-    warnings_html = "<div class=\"warnings\" role=\"alert\"><strong>Warnings</strong><ul>\n";
-    for (const auto& w : warnings) warnings_html += "<li>" + escape(w) + "</li>\n";
-    warnings_html += "</ul></div>\n";
-  }
-  std::string notes_html;
-  for (const auto& n : notes) notes_html += "<p>" + escape(n) + "</p>\n";
-  const std::string references_html = referencesHtml(*this);
-  std::string canvases;
-  for (std::size_t i = 0; i < plots.size(); ++i)
-    canvases += fmt::format("<div class=\"plot\"><canvas id=\"plot{}\"></canvas></div>\n", i);
+  return out;
+}
 
+std::string warningsHtml(const std::vector<std::string>& warnings) {
+  if (warnings.empty()) return {};
+  std::string h = "<div class=\"warnings\" role=\"alert\"><strong>Warnings</strong><ul>\n";
+  for (const auto& w : warnings) h += "<li>" + escape(w) + "</li>\n";
+  return h + "</ul></div>\n";
+}
+
+// The page up to the opening body tag: title, style sheet and Chart.js.
+std::string headHtml(const std::string& title) {
   std::string html;
   html += "<!DOCTYPE html>\n<html lang=\"en\"><head><meta charset=\"utf-8\">\n";
   html += "<title>" + escape(title) + "</title>\n<style>\n"
@@ -178,34 +177,15 @@ std::string HtmlReport::render() const {
           "caption{text-align:left;font-weight:bold;padding:.3em 0}\n"
           ".warnings{background:#fff3cd;border:2px solid #e0a800;border-radius:4px;padding:.5em 1em;margin:1em 0}\n"
           "</style>\n";
-  // Chart.js, MIT licence (c) Chart.js Contributors; from Debian's libjs-chart.js.
-  html += "<script>/*! Chart.js (https://www.chartjs.org), from Debian's libjs-chart.js.\n"
-          "Copyright (c) 2014-2021 Chart.js Contributors. MIT (Expat) licence:\n"
-          "Permission is hereby granted, free of charge, to any person obtaining a copy of this software and\n"
-          "associated documentation files (the \"Software\"), to deal in the Software without restriction,\n"
-          "including without limitation the rights to use, copy, modify, merge, publish, distribute, sublicense,\n"
-          "and/or sell copies of the Software, and to permit persons to whom the Software is furnished to do so,\n"
-          "subject to the following conditions: The above copyright notice and this permission notice shall be\n"
-          "included in all copies or substantial portions of the Software. THE SOFTWARE IS PROVIDED \"AS IS\",\n"
-          "WITHOUT WARRANTY OF ANY KIND, EXPRESS OR IMPLIED, INCLUDING BUT NOT LIMITED TO THE WARRANTIES OF\n"
-          "MERCHANTABILITY, FITNESS FOR A PARTICULAR PURPOSE AND NONINFRINGEMENT. IN NO EVENT SHALL THE AUTHORS OR\n"
-          "COPYRIGHT HOLDERS BE LIABLE FOR ANY CLAIM, DAMAGES OR OTHER LIABILITY, WHETHER IN AN ACTION OF CONTRACT,\n"
-          "TORT OR OTHERWISE, ARISING FROM, OUT OF OR IN CONNECTION WITH THE SOFTWARE OR THE USE OR OTHER DEALINGS\n"
-          "IN THE SOFTWARE. */\n";
+  html += "<script>" + expatNotice("Chart.js (https://www.chartjs.org), from Debian's libjs-chart.js.",
+                                    "2014-2021 Chart.js Contributors");
   html += embedded::kChartJs;
   html += "\n</script>\n</head><body>\n";
-  html += "<h1>" + escape(title) + "</h1>\n";
-  if (!subtitle.empty()) html += "<p>" + escape(subtitle) + "</p>\n";
-  html += warnings_html;
-  if (!facts.empty()) html += "<table>\n" + facts_html + "</table>\n";
-  html += notes_html;
-  for (const auto& t : tables) html += tableHtml(t);
-  html += canvases;
-  html += references_html;
-  html += fmt::format("<footer>needlesim {} ({}); plots drawn with Chart.js (MIT licence).</footer>\n", kVersion,
-                      kGitRevision);
-  html += "<script>\nconst plots = " + plotsJson.dump() + ";\n";
-  html += R"JS(// A marker line's name as a point style drawn beside the line's top end.
+  return html;
+}
+
+// Draws every plot of `const plots` with Chart.js.
+const char* const kPlotScript = R"JS(// A marker line's name as a point style drawn beside the line's top end.
 function markerLabel(text) {
   const c = document.createElement('canvas'), g = c.getContext('2d');
   g.font = '12px system-ui, sans-serif';
@@ -236,6 +216,28 @@ plots.forEach((p, i) => {
 </script>
 </body></html>
 )JS";
+
+
+}  // namespace
+
+std::string HtmlReport::render() const {
+  std::string facts_html;
+  for (const auto& [k, v] : facts)
+    facts_html += fmt::format("<tr><th>{}</th><td>{}</td></tr>\n", escape(k), escape(v));
+  std::string html = headHtml(title);
+  html += "<h1>" + escape(title) + "</h1>\n";
+  if (!subtitle.empty()) html += "<p>" + escape(subtitle) + "</p>\n";
+  html += warningsHtml(warnings);
+  if (!facts.empty()) html += "<table>\n" + facts_html + "</table>\n";
+  for (const auto& n : notes) html += "<p>" + escape(n) + "</p>\n";
+  for (const auto& t : tables) html += tableHtml(t);
+  for (std::size_t i = 0; i < plots.size(); ++i)
+    html += fmt::format("<div class=\"plot\"><canvas id=\"plot{}\"></canvas></div>\n", i);
+  html += referencesHtml(*this);
+  html += fmt::format("<footer>needlesim {} ({}); plots drawn with Chart.js (MIT licence).</footer>\n", kVersion,
+                      kGitRevision);
+  html += "<script>\nconst plots = " + plotsJson(plots).dump() + ";\n";
+  html += kPlotScript;
   return html;
 }
 

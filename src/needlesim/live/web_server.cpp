@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <initializer_list>
+#include <string>
 #include <string_view>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/core/expat_notice.hpp"
 #include "needlesim/live/net_address.hpp"
 
 namespace needlesim::embedded {
@@ -45,10 +47,15 @@ void requireJsonPosts(httplib::Server& s) {
 }
 
 void routePage(httplib::Server& s) {
+  // Debian's three.js files carry no licence notice; the MIT licence asks that copies do.
+  static const std::string notice =
+      expatNotice("three.js (https://threejs.org), from Debian's libjs-three.", "2010-2017 three.js authors");
+  static const std::string three = notice + std::string(embedded::kThreeJs);
+  static const std::string orbit = notice + std::string(embedded::kThreeOrbitControls);
   serveText(s, "/", embedded::kTrainerHtml, "text/html; charset=utf-8");
   serveText(s, "/trainer.js", embedded::kTrainerJs, "text/javascript");
-  serveText(s, "/three.min.js", embedded::kThreeJs, "text/javascript");
-  serveText(s, "/OrbitControls.js", embedded::kThreeOrbitControls, "text/javascript");
+  serveText(s, "/three.min.js", three, "text/javascript");
+  serveText(s, "/OrbitControls.js", orbit, "text/javascript");
   serveText(s, "/chart.min.js", embedded::kChartJs, "text/javascript");
 }
 

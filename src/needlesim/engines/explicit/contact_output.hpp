@@ -21,7 +21,6 @@ class ContactOutput {
   void update(const ExplicitSolver& s);
 
   const std::vector<double>& pressure() const { return pressure_; }    // per node, Pa
-  const std::vector<double>& nodeArea() const { return area_; }        // per node, m^2 (2D: m^2 / m)
   double contactArea() const { return contactArea_; }                  // m^2 (2D: per metre)
   double normalForce() const { return normalForce_; }                  // N (2D: per metre)
   double meanPressure() const { return contactArea_ > 0 ? normalForce_ / contactArea_ : 0.0; }

@@ -76,7 +76,6 @@ void DeformableNeedle::update(RigidNeedle& n, const ExplicitSolver& solver, cons
   double ck = 0.0;
   for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) ck = std::max(ck, C * solver.needleLateralStiffness(e[p]) * scale);
   const double w0 = 1.0 / (dt * std::sqrt(1.0 + 2.0 * ck)), a = w0 * dt;
-  omega_ = w0;
   double wTip[2] = {0, 0}, thTip[2] = {0, 0}, residual = 0.0;
   e_[0] = e[0], e_[1] = dim_ == 3 ? e[1] : Vector3d::Zero();
   for (int p = 0; p < (dim_ == 3 ? 2 : 1); ++p) {

@@ -53,7 +53,6 @@ class DeformableNeedle {
   double tipSlopeAlong(const Eigen::Vector3d& e) const { return tipValueAlong(th_, e); }
   double targetDeflectionAlong(const Eigen::Vector3d& e) const { return target_[0] * e_[0].dot(e) + target_[1] * e_[1].dot(e); }
   double EI() const { return EI_; }
-  double followerFrequency() const { return omega_; }  // w0, 1/s
   // |beam tip deflection under the last step's loads - applied| at the tip in the last update and its
   // mean over the updates in contact.
   double residual() const { return residual_; }
@@ -74,7 +73,7 @@ class DeformableNeedle {
   }
   Eigen::Vector3d lastTip_ = Eigen::Vector3d::Zero(), lastAxis_ = Eigen::Vector3d::Zero();
   bool started_ = false;
-  double omega_ = 1.0, residual_ = 0.0, residualSum_ = 0.0, residualAvg_ = 0.0;
+  double residual_ = 0.0, residualSum_ = 0.0, residualAvg_ = 0.0;
   long residualCount_ = 0;
 };
 

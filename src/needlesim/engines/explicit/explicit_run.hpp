@@ -75,7 +75,6 @@ class ExplicitRun {
   void reportCohesive();
   void reportNotes(const std::string& status);
   double crackedLength() const;
-  double inclusionScale() const { return dim_ == 2 ? thickness_ : 1.0; }
 
   const Scenario& sc_;
   const ExplicitModelSpec& ex_;

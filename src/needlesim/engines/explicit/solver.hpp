@@ -145,7 +145,6 @@ class ExplicitSolver {
   // Which lip of a cut through the bevel's sharp point a node lies on (+1 the bevel
   // side, -1 the wall side; needle::queryNeedle's `side`): set on seam nodes.
   void setContactSide(int node, int side);
-  void setReleaseDistance(double d) { releaseDistance_ = d; }
   // Cylindrical cohesive sleeve of radius r (mesh_sleeve.hpp): the seam lips (setContactSide -1 core,
   // +1 outer) meet the annular wedge of a hollow bevel needle (cohesive_sleeve.hpp) instead of lipWedge.
   void setSleeveRadius(double r) { sleeveRadius_ = r; }
@@ -199,7 +198,6 @@ class ExplicitSolver {
   std::vector<double>& velocityMutable() { return vHalf_; }  // initial conditions
   const std::vector<double>& nodalMass() const { return mass_; }
   const std::vector<double>& internalForce() const { return fint_; }
-  const std::vector<double>& contactForce() const { return fcon_; }
   // Sets the displacement (initial conditions, patch tests) and recomputes the forces there.
   void setDisplacement(const std::vector<double>& u);
   double totalMass() const;
