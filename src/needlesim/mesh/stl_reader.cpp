@@ -9,10 +9,10 @@
 #include <cstring>
 #include <filesystem>
 #include <unordered_map>
-#include <sstream>
 #include <vector>
 
 #include "needlesim/mesh/surface_checks.hpp"
+#include "needlesim/mesh/word_lines.hpp"
 
 namespace needlesim::mesh {
 
@@ -85,76 +85,53 @@ TriangleSurface readBinary(const std::string& path, const std::string& bytes) {
 
 class AsciiStl {
  public:
-  AsciiStl(const std::string& path, const std::string& text) : path_(path), in_(text) {}
+  AsciiStl(const std::string& path, const std::string& text) : path_(path), lines_(path, text, kAllowed) {}
 
   TriangleSurface read() {
     VertexMerger merge(s_);
     std::vector<int> facetLines;
     bool inSolid = false;
-    while (next()) {
+    while (lines_.next()) {
       if (!inSolid) {
         expectKeyword("solid");
         inSolid = true;
-      } else if (words_[0] == "endsolid") {
+      } else if (lines_.words()[0] == "endsolid") {
         inSolid = false;
       } else {
-        facetLines.push_back(line_);
+        facetLines.push_back(lines_.line());
         readFacet(merge);
-        checkTriangleCount(path_, line_, static_cast<double>(facetLines.size()), "facets", kAllowed);
+        checkTriangleCount(path_, lines_.line(), static_cast<double>(facetLines.size()), "facets", kAllowed);
       }
     }
-    if (inSolid) throw surfaceError(path_, line_, "ends inside a solid: 'endsolid' is missing", kAllowed);
-    if (facetLines.empty()) throw surfaceError(path_, line_, "holds no facets", kAllowed);
+    if (inSolid) throw lines_.error("ends inside a solid: 'endsolid' is missing");
+    if (facetLines.empty()) throw lines_.error("holds no facets");
     checkTriangles(path_, s_, [&](int t) { return TriangleOrigin{facetLines[t], fmt::format("facet {}", t + 1)}; }, kAllowed);
     return std::move(s_);
   }
 
  private:
-  // The next line that is not blank, split into words; false at the end of the file.
-  bool next() {
-    std::string text;
-    while (std::getline(in_, text)) {
-      ++line_;
-      std::istringstream words(text);
-      words_.clear();
-      for (std::string w; words >> w;) words_.push_back(w);
-      if (!words_.empty()) return true;
-    }
-    return false;
-  }
   void expectKeyword(const std::string& keyword, std::size_t numbers = 0, const std::string& second = "") {
+    const auto& words = lines_.words();
     const std::size_t first = second.empty() ? 1 : 2;
-    if (words_[0] != keyword || (!second.empty() && (words_.size() < 2 || words_[1] != second)) ||
-        (keyword != "solid" && words_.size() != first + numbers))
-      throw surfaceError(path_, line_,
-                         fmt::format("has \"{}\" where '{}{}{}' is expected", printable(joined()), keyword,
-                                     second.empty() ? "" : " " + second, numbers ? fmt::format(" and {} numbers", numbers) : ""),
-                         kAllowed);
+    if (words[0] != keyword || (!second.empty() && (words.size() < 2 || words[1] != second)) ||
+        (keyword != "solid" && words.size() != first + numbers))
+      throw lines_.error(fmt::format("has \"{}\" where '{}{}{}' is expected", printable(lines_.joined()), keyword,
+                                     second.empty() ? "" : " " + second,
+                                     numbers ? fmt::format(" and {} numbers", numbers) : ""));
   }
   void expectLine(const std::string& keyword, std::size_t numbers = 0, const std::string& second = "") {
-    if (!next()) throw surfaceError(path_, line_, fmt::format("ends where '{}' is expected", keyword), kAllowed);
+    if (!lines_.next()) throw lines_.error(fmt::format("ends where '{}' is expected", keyword));
     expectKeyword(keyword, numbers, second);
-  }
-  std::string joined() const {
-    std::string s;
-    for (const auto& w : words_) s += (s.empty() ? "" : " ") + w;
-    return s;
-  }
-  double number(std::size_t i) const {
-    char* end = nullptr;
-    const double v = std::strtod(words_[i].c_str(), &end);
-    if (end == words_[i].c_str() || *end != '\0')
-      throw surfaceError(path_, line_, fmt::format("has \"{}\" where a number is expected", printable(words_[i])), kAllowed);
-    return v;
   }
   void readFacet(VertexMerger& merge) {
     expectKeyword("facet", 3, "normal");
-    for (std::size_t i = 2; i < 5; ++i) number(i);
+    for (std::size_t i = 2; i < 5; ++i) lines_.number(i);
     expectLine("outer", 0, "loop");
     for (int v = 0; v < 3; ++v) {
       expectLine("vertex", 3);
-      const double p[3] = {number(1), number(2), number(3)};
-      checkVertex(path_, line_, [&] { return fmt::format("vertex {} of facet {}", v + 1, s_.triangles() + 1); }, p, kAllowed);
+      const double p[3] = {lines_.number(1), lines_.number(2), lines_.number(3)};
+      checkVertex(path_, lines_.line(), [&] { return fmt::format("vertex {} of facet {}", v + 1, s_.triangles() + 1); }, p,
+                  kAllowed);
       s_.tri.push_back(merge.add(p));
     }
     expectLine("endloop");
@@ -162,9 +139,7 @@ class AsciiStl {
   }
 
   std::string path_;
-  std::istringstream in_;
-  std::vector<std::string> words_;
-  int line_ = 0;
+  WordLines lines_;
   TriangleSurface s_;
 };
 
