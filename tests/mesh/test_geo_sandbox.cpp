@@ -23,9 +23,12 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/mesh/gmsh_reader.hpp"
 #include "needlesim/mesh/isolated_reader.hpp"
+#include "../support/refusal.hpp"
 
 using namespace needlesim;
 namespace fs = std::filesystem;
+
+using needlesim::test::refusal;
 
 namespace {
 
@@ -53,15 +56,6 @@ std::string squareWith(const std::string& command) {
          command + "\n";
 }
 
-std::string refusal(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return "";
-}
 
 }  // namespace
 

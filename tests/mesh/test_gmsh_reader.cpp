@@ -22,8 +22,11 @@
 #include "needlesim/mesh/gmsh_reader.hpp"
 #include "needlesim/mesh/vtp_reader.hpp"
 #include "../support/gmsh_writes.hpp"
+#include "../support/refusal.hpp"
 
 using namespace needlesim;
+
+using needlesim::test::refusal;
 
 namespace {
 
@@ -46,15 +49,6 @@ double totalMeasure(const mesh::VolumeMesh& m, int tag = -1) {
   return v;
 }
 
-std::string expectRefused(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return "";
-}
 
 // A 20 x 10 block of triangles (group "gel"); Gmsh saves it in every format kSaveBlock names.
 const char* kBlockScript = R"(
@@ -111,9 +105,9 @@ Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};
 }
 
 TEST(GmshReader, BadMeshFilesAreRefusedNamingTheFile) {
-  EXPECT_NE(expectRefused([] { mesh::readGmsh("/nonexistent/needlesim.msh"); }).find("does not exist"), std::string::npos);
+  EXPECT_NE(refusal([] { mesh::readGmsh("/nonexistent/needlesim.msh"); }).find("does not exist"), std::string::npos);
   const auto garbage = writeTemp("garbage.msh", "not a mesh\n");
-  EXPECT_NE(expectRefused([&] { mesh::readGmsh(garbage.string()); }).find("garbage.msh"), std::string::npos);
+  EXPECT_NE(refusal([&] { mesh::readGmsh(garbage.string()); }).find("garbage.msh"), std::string::npos);
   // two quadrilaterals, the second turning the other way
   const auto inverted = writeTemp("inverted.msh", R"($MeshFormat
 4.1 0 8
@@ -145,7 +139,7 @@ $Elements
 2 2 5 6 3
 $EndElements
 )");
-  std::string why = expectRefused([&] { mesh::readGmsh(inverted.string()); });
+  std::string why = refusal([&] { mesh::readGmsh(inverted.string()); });
   EXPECT_NE(why.find("element 2 (quad4) is inverted"), std::string::npos) << why;
   EXPECT_NE(why.find("inverted.msh"), std::string::npos) << why;
   const auto degenerate = writeTemp("degenerate.msh", R"($MeshFormat
@@ -164,7 +158,7 @@ $Elements
 2 2 2 1 1 1 2 4
 $EndElements
 )");
-  why = expectRefused([&] { mesh::readGmsh(degenerate.string()); });
+  why = refusal([&] { mesh::readGmsh(degenerate.string()); });
   EXPECT_NE(why.find("element 2 (tri3) is degenerate"), std::string::npos) << why;
   const auto mixed = writeTemp("mixed.msh", R"($MeshFormat
 2.2 0 8
@@ -183,7 +177,7 @@ $Elements
 2 2 2 1 1 2 5 3
 $EndElements
 )");
-  why = expectRefused([&] { mesh::readGmsh(mixed.string()); });
+  why = refusal([&] { mesh::readGmsh(mixed.string()); });
   EXPECT_NE(why.find("mixes quad4 and tri3"), std::string::npos) << why;
   std::filesystem::remove_all(garbage.parent_path());
 }
@@ -256,20 +250,20 @@ TEST(GmshSurfaces, ASurfaceInsideAnotherIsAHoleOfItAndABodyOfItsOwn) {
 
 TEST(GmshSurfaces, OpenOrCrossingSurfacesAreRefused) {
   const auto open = writeTemp("open.stl", tetrahedronStl(10.0, true));
-  std::string why = expectRefused([&] { mesh::meshSurfaces({{open.string(), "gel"}}, 2.0); });
+  std::string why = refusal([&] { mesh::meshSurfaces({{open.string(), "gel"}}, 2.0); });
   EXPECT_NE(why.find("open.stl"), std::string::npos) << why;
   EXPECT_NE(why.find("is not a closed surface"), std::string::npos) << why;
   writeSphereStl("a", 5.0, 0.0);
   writeSphereStl("b", 5.0, 6.0);
   const auto dir = tempDir();
-  why = expectRefused([&] { mesh::meshSurfaces({{(dir / "a.stl").string(), "a"}, {(dir / "b.stl").string(), "b"}}, 2.0); });
+  why = refusal([&] { mesh::meshSurfaces({{(dir / "a.stl").string(), "a"}, {(dir / "b.stl").string(), "b"}}, 2.0); });
   EXPECT_NE(why.find("cross neither themselves nor each other"), std::string::npos) << why;
   std::filesystem::remove_all(dir);
 }
 
 TEST(GmshSurfaces, ASelfIntersectingSurfaceIsRefused) {
   const auto stl = writeTemp("twocubes.stl", selfCrossingStl(10.0));
-  const std::string why = expectRefused([&] { mesh::meshSurfaces({{stl.string(), "gel"}}, 2.0); });
+  const std::string why = refusal([&] { mesh::meshSurfaces({{stl.string(), "gel"}}, 2.0); });
   EXPECT_NE(why.find("twocubes.stl"), std::string::npos) << why;
   EXPECT_NE(why.find("intersect"), std::string::npos) << why;  // Gmsh's report of where
   EXPECT_NE(why.find("cross neither themselves nor each other"), std::string::npos) << why;
@@ -284,16 +278,16 @@ TEST(GmshSurfaces, AnObjSurfaceIsReadAndUnreadableFormatsAreRefused) {
   const auto m = mesh::meshSurfaces({{obj.string(), "gel"}}, 2.0);
   EXPECT_NEAR(totalMeasure(m), 1000.0 / 6.0, 1e-9);
   const auto bad = writeTemp("bad.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n");
-  std::string why = expectRefused([&] { mesh::meshSurfaces({{bad.string(), "gel"}}, 2.0); });
+  std::string why = refusal([&] { mesh::meshSurfaces({{bad.string(), "gel"}}, 2.0); });
   EXPECT_NE(why.find("bad.obj:4"), std::string::npos) << why;  // the line
   EXPECT_NE(why.find("face corner 9 names no vertex"), std::string::npos) << why;
   // legacy VTK 5.1 (meshio 5, VTK 9) aborts Gmsh 4.8's reader: refused before it sees the file
   const auto vtk5 = writeTemp("organ.vtk", "# vtk DataFile Version 5.1\nvtk output\nASCII\nDATASET POLYDATA\n");
-  why = expectRefused([&] { mesh::meshSurfaces({{vtk5.string(), "gel"}}, 2.0); });
+  why = refusal([&] { mesh::meshSurfaces({{vtk5.string(), "gel"}}, 2.0); });
   EXPECT_NE(why.find("legacy VTK version 5.1"), std::string::npos) << why;
   EXPECT_NE(why.find("vtk42"), std::string::npos) << why;
   const auto vtu = writeTemp("organ.vtu", "<VTKFile type=\"UnstructuredGrid\"></VTKFile>\n");
-  why = expectRefused([&] { mesh::meshSurfaces({{vtu.string(), "gel"}}, 2.0); });
+  why = refusal([&] { mesh::meshSurfaces({{vtu.string(), "gel"}}, 2.0); });
   EXPECT_NE(why.find("organ.vtu"), std::string::npos) << why;
   EXPECT_NE(why.find("VTK XML"), std::string::npos) << why;
   std::filesystem::remove_all(obj.parent_path());
@@ -343,23 +337,23 @@ TEST(GmshSurfaces, VtpSurfacesInEveryEncodingAreRead) {
   // malformed files: refused naming the file, never a crash
   const std::string zlib = fileText(vtpData("tet_appended_zlib.vtp"));
   const std::size_t data = zlib.find('_', zlib.find("<AppendedData")) + 1;
-  const auto refusal = [&](const std::string& name, const std::string& bytes, const std::string& expected) {
+  const auto refused = [&](const std::string& name, const std::string& bytes, const std::string& expected) {
     SCOPED_TRACE(name);
     const auto path = writeTempBinary(name, bytes);
-    const std::string why = expectRefused([&] { mesh::meshSurfaces({{path.string(), "gel"}}, 2.0); });
+    const std::string why = refusal([&] { mesh::meshSurfaces({{path.string(), "gel"}}, 2.0); });
     EXPECT_NE(why.find(name), std::string::npos) << why;
     EXPECT_NE(why.find(expected), std::string::npos) << why;
   };
-  refusal("truncated.vtp", zlib.substr(0, data + (zlib.size() - data) / 2), "truncated");
+  refused("truncated.vtp", zlib.substr(0, data + (zlib.size() - data) / 2), "truncated");
   std::string wrongSize = zlib;  // the points' compressed size (the 4th UInt32 of their header), 2 short
   wrongSize[data + 12] = static_cast<char>(wrongSize[data + 12] - 2);
-  refusal("wrongsize.vtp", wrongSize, "does not inflate");
+  refused("wrongsize.vtp", wrongSize, "does not inflate");
   const std::string text = fileText(vtpData("tet_ascii.vtp"));
   std::string grid = text;
   grid.replace(grid.find("PolyData"), 8, "UnstructuredGrid");
-  refusal("grid.vtp", grid, "not PolyData");
+  refused("grid.vtp", grid, "not PolyData");
   std::string big = text;
   big.replace(big.find("LittleEndian"), 12, "BigEndian");
-  refusal("big.vtp", big, "big-endian");
+  refused("big.vtp", big, "big-endian");
   std::filesystem::remove_all(tempDir());
 }

@@ -24,9 +24,12 @@
 #include "needlesim/mesh/boundary.hpp"
 #include "needlesim/mesh/gmsh_reader.hpp"
 #include "needlesim/mesh/surface_formats.hpp"
+#include "../support/refusal.hpp"
 
 using namespace needlesim;
 namespace fs = std::filesystem;
+
+using needlesim::test::refusal;
 
 namespace {
 
@@ -42,15 +45,6 @@ fs::path writeFile(const std::string& name, const std::string& bytes) {
   return p;
 }
 
-std::string refusal(const std::function<void()>& f) {
-  try {
-    f();
-  } catch (const InputError& e) {
-    return e.what();
-  }
-  ADD_FAILURE() << "expected an InputError";
-  return "";
-}
 
 // The surface of `bytes` as file `name`, meshed as Gmsh would be given it: refused with a message
 // holding every part.
