@@ -167,15 +167,45 @@ void registerRunCommand(CLI::App& app) {
   cmd->callback([args] { runCommand(*args); });
 }
 
+// The files `check` reads: each file as given, each folder as every *.yaml below it
+// (recursively, sorted by path).
+static std::vector<std::string> filesToCheck(const std::vector<std::string>& args) {
+  std::vector<std::string> out;
+  for (const auto& a : args) {
+    std::error_code ec;
+    if (!fs::is_directory(a, ec)) {
+      out.push_back(a);
+      continue;
+    }
+    std::vector<std::string> found;
+    for (auto it = fs::recursive_directory_iterator(a, ec); !ec && it != fs::recursive_directory_iterator();
+         it.increment(ec))
+      if (it->path().extension() == ".yaml" && it->is_regular_file()) found.push_back(it->path().string());
+    if (ec)
+      throw InputError(commandLine(), "file", a, "is a folder that cannot be read: " + ec.message(),
+                       "a readable folder, or scenario and study files");
+    if (found.empty())
+      throw InputError(commandLine(), "file", a, "is a folder with no .yaml file below it",
+                       "a folder holding scenario or study files (*.yaml), or the files themselves");
+    std::sort(found.begin(), found.end());
+    out.insert(out.end(), found.begin(), found.end());
+  }
+  return out;
+}
+
 void registerCheckCommand(CLI::App& app) {
-  auto files = std::make_shared<std::vector<std::string>>();
+  auto args = std::make_shared<std::vector<std::string>>();
   auto* cmd = app.add_subcommand("check", "Validate scenario and study files without running them");
-  cmd->add_option("file", *files, "scenario or study files (a study is recognised by its 'vary' list)")->required();
-  cmd->callback([files] {
+  cmd->add_option("file", *args,
+                  "scenario or study files (a study is recognised by its 'vary' list), or folders: every *.yaml "
+                  "below them")
+      ->required();
+  cmd->callback([args] {
     installStopHandlers();  // Ctrl-C while a geometry is read and meshed: the clean stop (exit 130)
     exitOnStopInBlockingCalls("; the files after it were not checked");  // a stop inside an engine's set-up
+    const std::vector<std::string> files = filesToCheck(*args);
     int bad = 0;
-    for (const auto& f : *files) {
+    for (const auto& f : files) {
       try {
         if (study::isStudyFile(f)) {
           study::StudySpec spec = study::readStudyFile(f);
@@ -201,7 +231,7 @@ void registerCheckCommand(CLI::App& app) {
       }
     }
     if (bad > 0)
-      throw InputError(commandLine(), "", "", fmt::format("{} of {} files have errors (listed above)", bad, files->size()),
+      throw InputError(commandLine(), "", "", fmt::format("{} of {} files have errors (listed above)", bad, files.size()),
                        "fix them and run needlesim check again");
   });
 }

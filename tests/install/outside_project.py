@@ -1,8 +1,9 @@
 #!/usr/bin/env python3
 """Install.OutsideProject: install this build into a fresh prefix, build the numbered
 examples (examples/cpp, a project of its own) against it with find_package(needlesim),
-run each one and check what it prints, check that the installed program runs, and
-remove the prefix again.
+run each one and check what it prints, check that the README's C++ program is
+examples/cpp/readme_snippet.cpp character for character and that the force it prints is seed 003's
+closed form, check that the installed program runs, and remove the prefix again.
 
 usage: outside_project.py BUILD_DIR SOURCE_DIR WORK_DIR VERSION GENERATOR BUILD_TYPE [CXX_FLAGS]
 (the examples build with the build's type and flags, e.g. its sanitizers)
@@ -75,6 +76,27 @@ try:
     force = number(r"depth\s+30\.00 mm\s+axial force\s+([-0-9.e]+) N", out)
     lumped = 0.04335 + 0.030 * (3.791 + 285.053 * 0.003)
     check(abs(force - lumped) < 0.05 * lumped, "ex1 axial force at 30 mm %.4f N near %.4f N" % (force, lumped), out)
+
+    # The README's C++ program, as printed there: the lumped model at 5 mm/s, friction
+    # (C_p + b_p v) on the shaft in the block plus the cutting force (seed 003 eq 5.1).
+    with open(os.path.join(source, "README.md")) as f:
+        readme = f.read()
+    with open(os.path.join(examples, "cpp", "readme_snippet.cpp")) as f:
+        snippet = f.read()
+    printed = re.search(r"<!-- examples/cpp/readme_snippet\.cpp[^\n]*-->\n```cpp\n(.*?)```\n", readme, re.S)
+    check(printed is not None and printed.group(1) == snippet,
+          "README.md prints examples/cpp/readme_snippet.cpp exactly", printed.group(1) if printed else "no block")
+    out = run([os.path.join(ex_build, "readme_snippet")], cwd=source)
+    print(out)
+    friction_5 = 3.791 + 285.053 * 0.005  # N/m of shaft at 5 mm/s
+    exit_force = number(r"exit force at 5 mm/s: ([-0-9.e]+) N", out)
+    expected = 0.04335 + 0.055 * friction_5  # 55 mm block
+    check(abs(exit_force - expected) < 2e-3 * expected,
+          "README program: exit force %.4f N = %.4f N (seed 003 eq 5.1, 55 mm)" % (exit_force, expected), out)
+    force = number(r"axial force at 10 mm: ([-0-9.e]+) N", out)
+    expected = 0.04335 + 0.010 * friction_5
+    check(abs(force - expected) < 2e-3 * expected,
+          "README program: axial force at 10 mm %.4f N = %.4f N (seed 003 eq 5.1)" % (force, expected), out)
 
     out = example("ex2_planner")
     print(out)

@@ -102,7 +102,7 @@ def record_and_replay():
 def refused(args, *words):
     r = subprocess.run([needlesim, *args], capture_output=True, text=True, timeout=30)
     assert r.returncode == 2 and all(w in r.stderr for w in words), (args, r.returncode, r.stdout, r.stderr)
-    print(f'refused ({" ".join(args[1:3])} ...): {r.stderr.strip()[:150]}')
+    print(f'refused ({" ".join(args[1:3])} ...): {r.stderr.strip()[:300]}')
 
 
 def errors():
@@ -117,6 +117,12 @@ def errors():
     refused(['serve', scenario, '--port', '70000'], '--port', 'not a port number')
     refused(['serve', os.path.join(work, 'missing.yaml')], 'missing.yaml')
     refused(['serve', os.path.join(source, 'examples', 'explicit', 'target_inclusion_2d.yaml')], 'cannot be stepped')
+    # The engine's own line in the scenario, the engines serve steps and the command that runs it.
+    mpm = os.path.join(source, 'examples', 'mpm', 'quick_needle_block.yaml')
+    with open(mpm) as f:
+        line = next(i for i, l in enumerate(f, 1) if l.strip() == 'engine: mpm')
+    refused(['serve', mpm], f'{mpm}:{line}:', 'model.engine', "'mpm'", 'lumped, realtime2d or realtime3d',
+            'needlesim run')
     refused(['serve', scenario, '--record', source], '--record')
     refused(['replay', os.path.join(source, 'examples')], 'not a recording')
 

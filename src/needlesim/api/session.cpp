@@ -58,8 +58,9 @@ struct Session::Impl {
     } else if (sc.model.engine == "lumped") {
       lumped.emplace(sc.tissue, sc.needle, sc.insertion.entry_angle, sc.model.lumped.relaxation_time);
     } else {
-      throw needlesim::InputError(SourceLocation{"<C++ API Session>", 0, 0}, "model.engine", sc.model.engine,
-                                  "cannot be stepped by a Session", kSteppable);
+      throw needlesim::InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
+                                  "cannot be stepped live (needlesim serve, a Session): run it with `needlesim run`",
+                                  kSteppable);
     }
     state = State{};
     state.phase = phaseName(0);

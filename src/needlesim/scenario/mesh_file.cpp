@@ -7,14 +7,12 @@
 
 namespace needlesim::scenario {
 
-namespace {
 std::filesystem::path besideScenario(const std::string& path, const std::string& scenarioSource) {
   std::filesystem::path p = path;
   if (p.is_relative() && !scenarioSource.empty() && scenarioSource[0] != '<')
     p = std::filesystem::path(scenarioSource).parent_path() / p;
   return p;
 }
-}  // namespace
 
 bool isGmshMeshOrScript(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();

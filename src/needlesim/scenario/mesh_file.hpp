@@ -2,6 +2,7 @@
 // The files of tissue.geometry (scenario/tissue_geometry.hpp): a Gmsh mesh or script, or closed
 // surfaces meshed by Gmsh, read relative to the scenario file through mesh/gmsh_reader. Engines
 // take the mesh from the scenario and read no file. Internal to the reader.
+#include <filesystem>
 #include <string>
 #include <vector>
 
@@ -16,6 +17,9 @@ struct GeometryFile {
   std::string path;
   std::string body;
 };
+
+// Where a file of tissue.geometry is read from: a relative path from the scenario file's folder.
+std::filesystem::path besideScenario(const std::string& path, const std::string& scenarioSource);
 
 // Whether a path names a Gmsh mesh or script (.msh, .geo) rather than a surface.
 bool isGmshMeshOrScript(const std::string& path);

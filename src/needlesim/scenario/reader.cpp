@@ -62,10 +62,17 @@ MaterialSpec readMaterial(Section& parent, const std::string& key) {
     for (const auto& [name, spec] : lib) s += (s.empty() ? "" : ", ") + name;
     return s;
   };
+  auto notInLibrary = [&](const std::string& name) {
+    std::vector<std::string> known;
+    for (const auto& [known_name, spec] : lib) known.push_back(known_name);
+    const std::string near = nearestName(name, known);
+    return "is not a material of the built-in library" +
+           (near.empty() ? std::string() : " (did you mean '" + near + "'?)");
+  };
   if (n && n.IsScalar()) {
     auto it = lib.find(n.Scalar());
     if (it == lib.end())
-      throw parent.error(key, n.Scalar(), "is not a material of the built-in library",
+      throw parent.error(key, n.Scalar(), notInLibrary(n.Scalar()),
                          libraryNames() + ", or a section with 'law' and its parameters");
     parent.remember(key, n.Scalar());
     return it->second;
@@ -75,7 +82,7 @@ MaterialSpec readMaterial(Section& parent, const std::string& key) {
   std::string base = m.text("base");
   if (!base.empty()) {
     auto it = lib.find(base);
-    if (it == lib.end()) throw m.error("base", base, "is not a material of the built-in library", libraryNames());
+    if (it == lib.end()) throw m.error("base", base, notInLibrary(base), libraryNames());
     spec = it->second;
   }
   std::string name = m.text("name");

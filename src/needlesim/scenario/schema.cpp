@@ -558,8 +558,17 @@ const FieldDoc* findField(const std::string& section, const std::string& key) {
   return nullptr;
 }
 
+// A study file (docs/studies.md) read as a scenario: its top-level 'scenario:' or 'vary:'.
+static bool studyKeyAtTop(const std::string& field_path, const std::string& key, const std::string& section) {
+  return section == "scenario" && field_path == key && (key == "scenario" || key == "vary");
+}
+
 InputError unknownFieldError(SourceLocation where, const std::string& field_path, const std::string& key,
                              const std::string& section) {
+  if (studyKeyAtTop(field_path, key, section))
+    return InputError(std::move(where), field_path, key,
+                      "makes this file a study (a base scenario and the fields to vary), not a scenario",
+                      "a study runs with `needlesim sweep FILE` (`needlesim check` checks either kind)");
   std::string allowed;
   std::vector<std::string> known;
   for (const auto* f : fieldsOf(section)) {

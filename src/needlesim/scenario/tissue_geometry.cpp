@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fmt/format.h>
 #include <Eigen/Geometry>
 #include <limits>
@@ -28,16 +29,32 @@ double metresPer(const std::string& unit) {
 std::string mm(double metres) { return fmt::format("{:.6g} mm", metres * 1e3); }
 std::string mmPoint(const double* p) { return fmt::format("({:.4g}, {:.4g}, {:.4g}) mm", p[0] * 1e3, p[1] * 1e3, p[2] * 1e3); }
 
+// A file of tissue.geometry that is not there: the scenario's line and the absolute path looked at.
+void requireGeometryFile(const Section& at, const std::string& path, const std::string& source) {
+  std::error_code ec;
+  const std::filesystem::path p = besideScenario(path, source);
+  if (std::filesystem::is_regular_file(p, ec)) return;
+  const std::string looked = std::filesystem::absolute(p, ec).lexically_normal().string();
+  throw at.error("file", path,
+                 fmt::format("{}: looked for {}", std::filesystem::exists(p, ec) ? "is not a file" : "does not exist",
+                             looked),
+                 "a readable mesh, script or surface file; a relative path is read from the scenario file's folder");
+}
+
 // The file or the surfaces of tissue.geometry, read in the file's units.
 mesh::VolumeMesh importFiles(Section& g, const std::string& source, double elementSizeInFileUnits, std::string& named) {
   std::vector<GeometryFile> sources;
   const auto surfaces = g.list("surfaces");
   if (g.has("file") == !surfaces.empty())
     throw g.error("file", "", "give either file or surfaces", "file: a mesh, script or surface; or surfaces: a list");
-  if (g.has("file")) sources.push_back({g.text("file"), ""});
+  if (g.has("file")) {
+    sources.push_back({g.text("file"), ""});
+    requireGeometryFile(g, sources.back().path, source);
+  }
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     Section s = g.element(surfaces[i], "surfaces", i);
     sources.push_back({s.text("file"), s.text("body")});
+    requireGeometryFile(s, sources.back().path, source);
   }
   for (std::size_t i = 0; i < surfaces.size(); ++i)
     if (isGmshMeshOrScript(sources[i].path))
