@@ -30,9 +30,10 @@ print(r.units["forces"]["force_total"], "%.4f" % r.results["exit_force"].value)
 
 
 def clean_env():
-    env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "PYTHONSTARTUP")}
+    env = {k: v for k, v in os.environ.items()
+           if k not in ("PYTHONPATH", "PYTHONHOME", "PYTHONSTARTUP") and not k.startswith("PIP_")}
     env["PIP_NO_INPUT"] = "1"
-    env["PIP_CONFIG_FILE"] = os.devnull  # no find-links or index of this machine's pip configuration
+    env["PIP_CONFIG_FILE"] = os.devnull  # no find-links or index of this machine's pip configuration or PIP_*
     return env
 
 
