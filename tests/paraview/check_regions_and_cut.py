@@ -1,6 +1,6 @@
 """Checks, in ParaView's Python, what a user needs to see the inside of the tissue:
 
-    pvpython tests/paraview/check_regions_and_cut.py MPM_INCLUSION_FOLDER CUT_PNG
+    pvpython tests/paraview/check_regions_and_cut.py MPM_INCLUSION_FOLDER CUT_PNG REGIONS_PNG
 
 - the mpm particles of MPM_INCLUSION_FOLDER (tests/paraview/scenarios/mpm_inclusion.yaml: one
   layer, region 0, and a sphere of radius 1.5 mm centred 4 mm deep on the axis, region 1) carry
@@ -11,6 +11,8 @@
   in width and height, where the tissue is framed; the colour legend lies outside it). Lines
   (the outline, the needle) add many colours of a few pixels each through antialiasing, an
   empty or uniform view fewer than 10 of 20 pixels.
+- REGIONS_PNG (scripts/paraview/show_regions.py on MPM_INCLUSION_FOLDER) shows the inclusion's
+  points in red: over 500 red pixels (the axes' red x arrow has fewer than 100).
 Exit code 1 with one line per failure.
 """
 import os
@@ -21,6 +23,7 @@ from vtkmodules.vtkIOImage import vtkPNGReader
 
 CENTRE, RADIUS, SPACING = (4e-3, 0.0, 0.0), 1.5e-3, 0.5e-3  # the scenario's inclusion and particle spacing
 MIN_COLOURS, MIN_PIXELS = 30, 20
+MIN_RED = 500
 
 
 def say(text):
@@ -55,14 +58,34 @@ def check_regions(folder, failures):
         failures.append(f"{folder}/particles.xdmf: no point in region 1 (the inclusion)")
 
 
-def check_picture(png, failures):
+def read_png(png, failures):
     if not os.path.isfile(png):
         failures.append(f"{png}: not written")
-        return
+        return None
     reader = vtkPNGReader()
     reader.SetFileName(png)
     reader.Update()
-    image = reader.GetOutput()
+    return reader.GetOutput()
+
+
+def check_red(png, failures):
+    image = read_png(png, failures)
+    if image is None:
+        return
+    pixels = image.GetPointData().GetScalars()
+    red = 0
+    for i in range(pixels.GetNumberOfTuples()):
+        r, g, b = (pixels.GetComponent(i, c) for c in range(3))
+        red += r > 150 and g < 80 and b < 80
+    say(f"{png}: {red} red pixels")
+    if red <= MIN_RED:
+        failures.append(f"{png}: {red} red pixels, at most {MIN_RED}: the inclusion is not shown")
+
+
+def check_picture(png, failures):
+    image = read_png(png, failures)
+    if image is None:
+        return
     width, height, _ = image.GetDimensions()
     pixels = image.GetPointData().GetScalars()
     comps = min(pixels.GetNumberOfComponents(), 3)
@@ -83,6 +106,7 @@ def main():
     failures = []
     check_regions(sys.argv[1], failures)
     check_picture(sys.argv[2], failures)
+    check_red(sys.argv[3], failures)
     for f in failures[:20]:
         say(f"FAIL: {f}")
     say(f"{len(failures)} failures")

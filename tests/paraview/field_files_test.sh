@@ -1,12 +1,14 @@
 #!/usr/bin/env bash
 # The field-file test (CTest label `paraview`, tests/CMakeLists.txt): every field file
 # needlesim writes opens in ParaView's default reader and in meshio; the mpm particles carry the
-# region of each point (tests/paraview/check_regions_and_cut.py) and
-# scripts/paraview/show_realtime3d.py cuts a realtime3d tissue open into a non-uniform picture.
+# region of each point (tests/paraview/check_regions_and_cut.py), scripts/paraview/show_regions.py
+# shows an inclusion's points and scripts/paraview/show_realtime3d.py cuts a realtime3d tissue open
+# into a non-uniform picture.
 #
 #   field_files_test.sh write    NEEDLESIM SOURCE_DIR WORK_DIR   runs one small scenario per engine that writes fields
 #   field_files_test.sh paraview NEEDLESIM SOURCE_DIR WORK_DIR   opens them with pvpython, one PNG per engine in WORK_DIR/png,
-#                                                                then the region and cut checks (WORK_DIR/png/realtime3d_cut.png)
+#                                                                then the region and cut checks (WORK_DIR/png/realtime3d_cut.png,
+#                                                                WORK_DIR/png/mpm_inclusion_regions.png)
 #   field_files_test.sh meshio   NEEDLESIM SOURCE_DIR WORK_DIR   reads them with meshio and h5py
 #
 # Packages (scripts/bootstrap.sh): python3-paraview (pvpython), xvfb, python3-meshio, python3-h5py.
@@ -67,8 +69,10 @@ open_once() {
   DISPLAY=$display pvpython "$here/open_in_paraview.py" --png-dir "$work/png" "${engines[@]}" || rc=$?
   [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$source_dir/scripts/paraview/show_realtime3d.py" realtime3d \
     --png "$work/png/realtime3d_cut.png" || rc=$?
+  [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$source_dir/scripts/paraview/show_regions.py" mpm_inclusion \
+    --png "$work/png/mpm_inclusion_regions.png" || rc=$?
   [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$here/check_regions_and_cut.py" mpm_inclusion \
-    "$work/png/realtime3d_cut.png" || rc=$?
+    "$work/png/realtime3d_cut.png" "$work/png/mpm_inclusion_regions.png" || rc=$?
   kill "$xvfb_pid"
   wait "$xvfb_pid" 2> /dev/null || true
   trap - EXIT
