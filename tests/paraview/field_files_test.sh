@@ -1,9 +1,14 @@
 #!/usr/bin/env bash
 # The field-file test (CTest label `paraview`, tests/CMakeLists.txt): every field file
-# needlesim writes opens in ParaView's default reader and in meshio.
+# needlesim writes opens in ParaView's default reader and in meshio; the mpm particles carry the
+# region of each point (tests/paraview/check_regions_and_cut.py), scripts/paraview/show_regions.py
+# shows an inclusion's points and scripts/paraview/show_realtime3d.py cuts a realtime3d tissue open
+# into a non-uniform picture.
 #
 #   field_files_test.sh write    NEEDLESIM SOURCE_DIR WORK_DIR   runs one small scenario per engine that writes fields
-#   field_files_test.sh paraview NEEDLESIM SOURCE_DIR WORK_DIR   opens them with pvpython, one PNG per engine in WORK_DIR/png
+#   field_files_test.sh paraview NEEDLESIM SOURCE_DIR WORK_DIR   opens them with pvpython, one PNG per engine in WORK_DIR/png,
+#                                                                then the region and cut checks (WORK_DIR/png/realtime3d_cut.png,
+#                                                                WORK_DIR/png/mpm_inclusion_regions.png)
 #   field_files_test.sh meshio   NEEDLESIM SOURCE_DIR WORK_DIR   reads them with meshio and h5py
 #
 # Packages (scripts/bootstrap.sh): python3-paraview (pvpython), xvfb, python3-meshio, python3-h5py.
@@ -14,12 +19,12 @@ set -euo pipefail
 mode=$1 needlesim=$2 source_dir=$3 work=$4
 here="$source_dir/tests/paraview"
 results="$work/results"
-engines=(explicit_2d explicit_3d realtime2d realtime2d_imported realtime3d mpm)
+engines=(explicit_2d explicit_3d realtime2d realtime2d_imported realtime3d mpm mpm_inclusion)
 
 write_fields() {
   rm -rf "$results"
   mkdir -p "$results"
-  for e in explicit_2d explicit_3d realtime2d realtime3d; do
+  for e in explicit_2d explicit_3d realtime2d realtime3d mpm_inclusion; do
     "$needlesim" run -q "$here/scenarios/$e.yaml" -o "$results/$e"
   done
   "$needlesim" run -q "$source_dir/examples/mpm/quick_needle_block.yaml" -o "$results/mpm"
@@ -60,7 +65,14 @@ open_once() {
   rm -rf "$work/png"
   cd "$results"
   local rc=0
-  DISPLAY=":$(head -n1 "$display_file")" pvpython "$here/open_in_paraview.py" --png-dir "$work/png" "${engines[@]}" || rc=$?
+  local display=":$(head -n1 "$display_file")"
+  DISPLAY=$display pvpython "$here/open_in_paraview.py" --png-dir "$work/png" "${engines[@]}" || rc=$?
+  [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$source_dir/scripts/paraview/show_realtime3d.py" realtime3d \
+    --png "$work/png/realtime3d_cut.png" || rc=$?
+  [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$source_dir/scripts/paraview/show_regions.py" mpm_inclusion \
+    --png "$work/png/mpm_inclusion_regions.png" || rc=$?
+  [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$here/check_regions_and_cut.py" mpm_inclusion \
+    "$work/png/realtime3d_cut.png" "$work/png/mpm_inclusion_regions.png" || rc=$?
   kill "$xvfb_pid"
   wait "$xvfb_pid" 2> /dev/null || true
   trap - EXIT

@@ -21,6 +21,7 @@ struct Attr {
   std::string dataset;
   std::size_t count;
   std::string unit;
+  bool integer = false;  // int32 (a label), else float64
 };
 
 struct Step {
@@ -106,30 +107,31 @@ struct FieldSeries::Impl {
   std::size_t npoints = 0, ncells = 0;
   bool meshSet = false;
   std::vector<Step> steps;
+  std::vector<Attr> meshLabels;  // constant integer point arrays, in every step
   bool open = false;
 
   // Any failed HDF5 call: an Error naming the file (errno as the failing write left it).
   void check(long long status) const {
     if (status < 0) throwWriteFailure(h5path, errno);
   }
-  // The string attribute `units` of dataset `ds` (variable-length UTF-8: h5py reads it as str).
-  void writeUnits(hid_t ds, const std::string& unit) {
+  // The string attribute `key` of dataset `ds` (variable-length UTF-8: h5py reads it as str).
+  void writeText(hid_t ds, const char* key, const std::string& value) {
     H5Handle type{H5Tcopy(H5T_C_S1), H5Tclose};
     check(type.id);
     check(H5Tset_size(type.id, H5T_VARIABLE));
     check(H5Tset_cset(type.id, H5T_CSET_UTF8));
     H5Handle space{H5Screate(H5S_SCALAR), H5Sclose};
     check(space.id);
-    H5Handle attr{H5Acreate2(ds, "units", type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
+    H5Handle attr{H5Acreate2(ds, key, type.id, space.id, H5P_DEFAULT, H5P_DEFAULT), H5Aclose};
     check(attr.id);
-    const char* text = unit.c_str();
+    const char* text = value.c_str();
     check(H5Awrite(attr.id, type.id, &text));
     check(attr.close());
   }
   // Creates dataset `path` (rows x cols) of `fileType`, writes `data` of `memType` into it and
-  // gives it the attribute units = `unit`.
+  // gives it the attribute units = `unit` (and names = `note` when not empty).
   void writeArray(const std::string& path, hid_t fileType, hid_t memType, const void* data, std::size_t rows,
-                  std::size_t cols, const std::string& unit) {
+                  std::size_t cols, const std::string& unit, const std::string& note = {}) {
     hsize_t dims[2] = {rows, cols};
     H5Handle space{H5Screate_simple(cols == 1 ? 1 : 2, dims, nullptr), H5Sclose};
     H5Handle lcpl{H5Pcreate(H5P_LINK_CREATE), H5Pclose};
@@ -139,7 +141,8 @@ struct FieldSeries::Impl {
     H5Handle ds{H5Dcreate2(file, path.c_str(), fileType, space.id, lcpl.id, H5P_DEFAULT, H5P_DEFAULT), H5Dclose};
     check(ds.id);
     check(H5Dwrite(ds.id, memType, H5S_ALL, H5S_ALL, H5P_DEFAULT, data));
-    writeUnits(ds.id, unit);
+    writeText(ds.id, "units", unit);
+    if (!note.empty()) writeText(ds.id, "names", note);
     check(ds.close());
   }
   void write(const std::string& path, const std::vector<double>& v, std::size_t rows, std::size_t cols,
@@ -153,8 +156,9 @@ struct FieldSeries::Impl {
   void writePoints(const std::string& path, const std::vector<double>& v, std::size_t count) {
     write(path, dim == 2 ? withZeroZ(v) : v, count, 3, "m");
   }
-  void writeInt(const std::string& path, const std::vector<int>& v, std::size_t rows, std::size_t cols) {
-    writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, v.data(), rows, cols, "1");
+  void writeInt(const std::string& path, const std::vector<int>& v, std::size_t rows, std::size_t cols,
+                const std::string& note = {}) {
+    writeArray(path, H5T_STD_I32LE, H5T_NATIVE_INT, v.data(), rows, cols, "1", note);
   }
   void flush() const { check(H5Fflush(file, H5F_SCOPE_GLOBAL)); }
   // Closes the file once (the handle is forgotten first, whatever H5Fclose
@@ -189,9 +193,10 @@ struct FieldSeries::Impl {
     const char* kind = a.components == 1 ? "Scalar" : a.components == 6 ? "Tensor6" : "Vector";
     return fmt::format(
         "<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n<DataItem Dimensions=\"{}{}\" "
-        "NumberType=\"Float\" Precision=\"8\" Format=\"HDF\">{}:{}</DataItem>\n</Attribute>\n",
+        "NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:{}</DataItem>\n</Attribute>\n",
         xdmfAttributeName(a.name, a.unit), kind, a.cell ? "Cell" : "Node", a.count,
-        a.components == 1 ? "" : fmt::format(" {}", a.components), h5path.filename().string(), a.dataset);
+        a.components == 1 ? "" : fmt::format(" {}", a.components), a.integer ? "Int" : "Float", a.integer ? 4 : 8,
+        h5path.filename().string(), a.dataset);
   }
   std::string xdmf() const {
     const std::string h5 = h5path.filename().string();
@@ -206,6 +211,7 @@ struct FieldSeries::Impl {
           "<Geometry GeometryType=\"XYZ\">\n<DataItem Dimensions=\"{} 3\" NumberType=\"Float\" Precision=\"8\" "
           "Format=\"HDF\">{}:{}</DataItem>\n</Geometry>\n",
           np, h5, st.points.empty() ? "/mesh/points" : st.points);
+      for (const auto& a : meshLabels) s += attributeXml(a);
       for (const auto& a : st.attrs) s += attributeXml(a);
       s += "</Grid>\n";
     }
@@ -245,6 +251,16 @@ void FieldSeries::setMesh(const std::vector<double>& points, CellType type, cons
     I.writeInt("/mesh/cells", conn, I.ncells, static_cast<std::size_t>(nodesPerCell(type)));
   }
   I.meshSet = true;
+}
+
+void FieldSeries::meshPointLabels(const std::string& name, const std::vector<int>& values, const std::string& legend) {
+  auto& I = *impl_;
+  if (!I.meshSet || values.size() != I.npoints)
+    throw Error(fmt::format("internal: FieldSeries::meshPointLabels got {} values for a mesh of {} points", values.size(),
+                            I.npoints));
+  const std::string ds = "/mesh/point/" + name;
+  I.writeInt(ds, values, values.size(), 1, legend);
+  I.meshLabels.push_back(Attr{name, false, 1, ds, values.size(), "1", true});
 }
 
 void FieldSeries::beginStep(double time) {

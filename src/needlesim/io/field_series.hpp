@@ -31,6 +31,11 @@ class FieldSeries {
   // CellType::Points the connectivity may be empty (one vertex per point).
   void setMesh(const std::vector<double>& points, CellType type, const std::vector<int>& connectivity);
 
+  // A constant integer array on the points (after setMesh; one value per point), e.g. the
+  // region each particle belongs to: dataset /mesh/point/<name> (int32, units "1", and the
+  // string attribute `names` = `legend`), shown at every step as "<name> [1]".
+  void meshPointLabels(const std::string& name, const std::vector<int>& values, const std::string& legend);
+
   void beginStep(double time);
   // Moved points for this step (particles; or the deformed mesh), as many as the mesh's. Optional.
   void stepPoints(const std::vector<double>& points);

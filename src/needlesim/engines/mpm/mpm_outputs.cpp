@@ -37,6 +37,17 @@ needle::SurfaceMesh needleSurfaceOf(const mpm::RigidBody& n) {
   return needle::needleSurface3D(shape, pose, 24, 4);
 }
 
+// The names of the regions as the `names` attribute of the region array: "0 skin, 1 fat, 2 tumour".
+std::string regionLegend(const TissueSpec& t) {
+  std::vector<std::string> names;
+  for (const auto& L : t.layers) names.push_back(L.name);
+  for (const auto& I : t.inclusions) names.push_back(I.name);
+  std::string legend;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    legend += fmt::format("{}{} {}", i ? ", " : "", i, names[i].empty() ? fmt::format("region{}", i) : names[i]);
+  return legend;
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------- markers
@@ -180,7 +191,8 @@ void FractureTracker::results(ResultSink& sink) const {
 
 // ---------------------------------------------------------------- particle fields
 
-ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver, const Vec3& shift)
+ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver, const Vec3& shift,
+                               const TissueSpec& tissue)
     : fs_(series), shift_(shift) {
   if (!fs_) return;
   const std::size_t np = solver.size();
@@ -191,6 +203,9 @@ ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver,
   disp_.resize(3 * np);
   vm_.resize(np);
   fs_->setMesh(x0_, io::CellType::Points, {});
+  std::vector<int> region(np);
+  for (std::size_t p = 0; p < np; ++p) region[p] = solver.material(p);
+  fs_->meshPointLabels("region", region, regionLegend(tissue));
 }
 
 void ParticleFields::write(const MpmSolver& solver, double t) {

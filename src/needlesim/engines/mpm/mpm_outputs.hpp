@@ -66,10 +66,12 @@ struct FractureTracker {
 };
 
 // The particle series for ParaView: displacement and von Mises stress, the points in the
-// tissue frame (the solver's minus `shift`, MpmSetup::shift), as forces.csv and the other engines.
+// tissue frame (the solver's minus `shift`, MpmSetup::shift), as forces.csv and the other engines,
+// and the constant `region` of each point: the index of its layer in tissue.layers, or the number
+// of layers plus the index of its inclusion in tissue.inclusions (its solver material).
 class ParticleFields {
  public:
-  ParticleFields(io::FieldSeries* series, const MpmSolver& solver, const Vec3& shift);
+  ParticleFields(io::FieldSeries* series, const MpmSolver& solver, const Vec3& shift, const TissueSpec& tissue);
   io::FieldSeries* series() const { return fs_; }
   void write(const MpmSolver& solver, double t);
 

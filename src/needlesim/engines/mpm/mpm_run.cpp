@@ -93,7 +93,8 @@ MpmRun::MpmRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
       forces_(false, engineForceColumns()),
       energy_(energyColumns(setup_.config.bodies)),
       markers_(spec_.markers, solver_, setup_.entry),
-      fields_(spec_.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr, solver_, setup_.shift),
+      fields_(spec_.field_interval > 0.0 ? sink.fields("particles", 3) : nullptr, solver_, setup_.shift,
+              sc.tissue),
       needleFields_(spec_.field_interval > 0.0 ? sink.fields("needle", 3) : nullptr, solver_.rigid(kNeedle),
                     setup_.shift),
       inclusions_(sc.tissue.inclusions, setup_.frame) {
