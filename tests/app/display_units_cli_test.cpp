@@ -122,6 +122,23 @@ TEST(DisplayUnitsCli, OutputUnitsOverrideTheWrittenUnits) {
   EXPECT_NE(html.find("\"ylabel\":\"force on the needle base [mN]\""), std::string::npos);
 }
 
+// A preferred unit (here ms, from the time step) gives way to the unit that reads the value:
+// 6 s of motion, not 6e+03 ms, in `check` and on the report's time axes; output.units keeps ms.
+TEST(DisplayUnitsCli, DurationsAndTimeAxesInTheUnitThatReadsThem) {
+  const fs::path d = scratch("seconds");
+  const auto c = runCli("check " + write(d, mmNkPa()).string());
+  ASSERT_EQ(c.code, 0) << c.out;
+  EXPECT_NE(c.out.find(", 6 s of motion, max depth 30 mm"), std::string::npos) << c.out;
+  const auto r = runCli("run " + write(d, mmNkPa()).string() + " --out " + (d / "res").string());
+  ASSERT_EQ(r.code, 0) << r.out;
+  const std::string html = text(d / "res" / "report.html");
+  EXPECT_NE(html.find("\"xlabel\":\"time [s]\""), std::string::npos);
+  EXPECT_EQ(html.find("\"xlabel\":\"time [ms]\""), std::string::npos);
+  const auto fixed = runCli("check " + write(d, mmNkPa("  units: {time: ms}\n")).string());
+  ASSERT_EQ(fixed.code, 0) << fixed.out;
+  EXPECT_NE(fixed.out.find(", 6e+03 ms of motion"), std::string::npos) << fixed.out;
+}
+
 TEST(DisplayUnitsCli, BadOutputUnitsAreRefusedAtTheirLine) {
   const fs::path d = scratch("bad");
   const int line = 20;  // the line of "  units:" after mmNkPa's 19 lines

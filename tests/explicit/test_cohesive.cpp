@@ -386,6 +386,16 @@ TEST(CohesiveInsertion, ForceAboveNodeReleaseAndDissipationBoundedByGc) {
   EXPECT_LT(coh.results.at("energy_balance_error").value, 0.02);
 }
 
+// Before any pair is fully damaged there is no crack tip: the result is left out (not -inf).
+TEST(CohesiveInsertion, NoCrackTipBeforeAnyPairIsFullyDamaged) {
+  std::string yaml = insertionYaml(true);
+  const std::string deep = "to: 4 mm";
+  yaml.replace(yaml.find(deep), deep.size(), "to: 0.2 mm");
+  const MemorySink coh = runInMemory(scenario::readText(yaml, "<shallow>"));
+  ASSERT_EQ(coh.results.at("cracked_length").value, 0.0);
+  EXPECT_EQ(coh.results.count("crack_tip"), 0u);
+}
+
 // The sharp point wedges the closed seam apart: with the cohesive law on, the pairs the
 // point has passed become fully damaged (open), the cracked length grows with the depth and
 // follows the tip (about three elements behind: the pair opens once the bevel has lifted its

@@ -1,6 +1,8 @@
 // The worked examples of docs/fitting.md run through the same path as the CLI.
 #include <gtest/gtest.h>
 
+#include <regex>
+
 #include "needlesim/fit/fit_command.hpp"
 
 using namespace needlesim::fit;
@@ -26,6 +28,18 @@ TEST(Examples, PvaFungFromForceDisplacement) {
   EXPECT_NEAR(param(o.json, "mu"), 2.3e3, 0.03 * 2.3e3);
   EXPECT_NEAR(param(o.json, "gamma"), 3.1, 0.05 * 3.1);
   EXPECT_NE(o.materialYaml.find("law: fung"), std::string::npos);
+}
+
+TEST(Examples, ResidualStatisticsNameTheirStressUnit) {
+  FitRequest rq;
+  rq.data = {ex("pva_compression.csv")};
+  rq.law = "fung";
+  rq.write = false;
+  rq.uniaxial.sample.height = 18e-3;
+  rq.uniaxial.sample.area = 900e-6;
+  const auto o = runFit(rq);
+  const std::regex line(R"(RMSE = [0-9.]+ k?Pa, mean \|res\| = [0-9.]+ k?Pa, max \|res\| = [0-9.]+ k?Pa \(seed)");
+  EXPECT_TRUE(std::regex_search(o.table, line)) << o.table;
 }
 
 TEST(Examples, FrictionFromFourSpeeds) {

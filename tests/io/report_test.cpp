@@ -56,6 +56,31 @@ TEST(HtmlReport, ThinsLongSeriesButKeepsThePeakAndDropsNaN) {
   EXPECT_LT(html.size(), 600000u);
 }
 
+// A wide, long table (a study's cases) scrolls inside a box at most 80 % of the window high,
+// so that its sideways scroll bar is on screen, keeps its header rows in view, and says above
+// it when its right part is out of view.
+TEST(HtmlReport, AWideTableScrollsInABoxWithItsScrollBarOnScreen) {
+  HtmlReport r;
+  HtmlTable t;
+  t.caption = "Cases";
+  t.groups = {{"", 1}, {"inputs (varied)", 20}};
+  t.header.push_back("case");
+  for (int c = 0; c < 20; ++c) t.header.push_back("tissue.friction.field_" + std::to_string(c) + " [N/m]");
+  for (int row = 0; row < 60; ++row) t.rows.push_back(std::vector<std::string>(21, "0.123456"));
+  r.tables.push_back(t);
+  const std::string html = r.render();
+  const auto style = html.substr(html.find(".tablewrap{"), 200);
+  EXPECT_NE(style.find("overflow:auto"), std::string::npos) << style;
+  EXPECT_NE(style.find("max-height:80vh"), std::string::npos) << style;
+  EXPECT_NE(html.find(".tablewrap thead{position:sticky;top:0"), std::string::npos);
+  const auto head = html.find("<thead><tr class=\"groups\">"), body = html.find("</tr></thead>\n<tbody>");
+  ASSERT_NE(head, std::string::npos);
+  ASSERT_NE(body, std::string::npos);
+  EXPECT_LT(head, body);
+  EXPECT_LT(body, html.find("<td>0.123456</td>"));
+  EXPECT_NE(html.find("class=\"scrollhint\""), std::string::npos);  // written by the page's script
+}
+
 // Every publication of docs/references.md is read, and a report lists the full citation of
 // each seed it names (and only those).
 TEST(HtmlReport, ListsTheCitationOfEverySeedItNames) {

@@ -252,3 +252,31 @@ TEST(StudyReport, InputLinesListFewValuesAndTheRangeOfMany) {
   const StudyResults g{grid, gridCases, io::Table({{"case", "1"}, {"complete", "1"}, {inputColumnName("tissue.friction.C_p"), "N/m"}})};
   EXPECT_EQ(inputLines(g), std::vector<std::string>{"3 values: 3 N/m, 3000 mN/m, 2 N/m"});
 }
+
+// Each column of the case table has one unit, chosen for its largest value where the scenario
+// does not fix it (a wait of 2.5 s and 12 s in s, not ms); the header names it, round-off in
+// a column is 0 and the terminal's ranges share the unit of their larger end.
+TEST(StudyReport, AColumnIsShownInTheUnitThatReadsItsLargestValue) {
+  StudySpec spec;
+  spec.parameters.push_back(Parameter{"insertion.profile[1].wait"});
+  const std::vector<Case> cases{{1, {{"insertion.profile[1].wait", "2500 ms"}}, {2.5}},
+                                {2, {{"insertion.profile[1].wait", "12000 ms"}}, {12.0}}};
+  io::Table table({{"case", "1"}, {"complete", "1"}, {inputColumnName("insertion.profile[1].wait"), "s"},
+                   {"final_tip_deflection", "m"}});
+  table.addRow({1.0, 1.0, 2.5, -3e-15});
+  table.addRow({2.0, 1.0, 12.0, 2e-3});
+  StudyResults r{spec, cases, table};
+  r.display.prefer("time", "ms");
+  r.display.prefer("length", "mm");
+  const io::HtmlReport rep = studyReport(r, {});
+  ASSERT_EQ(rep.tables.size(), 1u);
+  const io::HtmlTable& t = rep.tables[0];
+  EXPECT_EQ(t.header.at(1), "insertion.profile[1].wait [s]");
+  EXPECT_EQ(t.header.at(2), "final_tip_deflection [mm]");
+  EXPECT_EQ(t.rows.at(0).at(1), "2.5");
+  EXPECT_EQ(t.rows.at(1).at(1), "12");
+  EXPECT_EQ(t.rows.at(0).at(2), "0");  // round-off, not -3e-12
+  EXPECT_EQ(t.rows.at(1).at(2), "2");
+  const std::string overview = studyOverview(r);
+  EXPECT_NE(overview.find("0 mm to 2 mm"), std::string::npos) << overview;
+}

@@ -3,6 +3,7 @@
 #include <array>
 #include <cctype>
 #include <charconv>
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 #include <stdexcept>
@@ -230,15 +231,15 @@ std::string inUnitOf(double si, const Dim& d, std::string_view written) {
 
 const std::vector<DisplayDimension>& displayDimensions() {
   static const std::vector<DisplayDimension> table = {
-      {"length", dim::Length, "m", {"m", "cm", "mm", "um", "nm"}},
-      {"force", dim::Force, "N", {"N", "kN", "mN", "uN"}},
-      {"stress", dim::Pressure, "Pa", {"Pa", "kPa", "MPa", "GPa"}},
-      {"velocity", dim::Velocity, "m/s", {"m/s", "cm/s", "mm/s", "um/s"}},
+      {"length", dim::Length, "m", {"m", "cm", "mm", "um", "nm"}, {"m", "mm", "um", "nm"}},
+      {"force", dim::Force, "N", {"N", "kN", "mN", "uN"}, {"kN", "N", "mN", "uN"}},
+      {"stress", dim::Pressure, "Pa", {"Pa", "kPa", "MPa", "GPa"}, {"GPa", "MPa", "kPa", "Pa"}},
+      {"velocity", dim::Velocity, "m/s", {"m/s", "cm/s", "mm/s", "um/s"}, {"m/s", "mm/s", "um/s"}},
       {"angle", dim::Angle, "rad", {"rad", "deg", "mrad"}},
-      {"time", dim::Time, "s", {"s", "ms", "us", "min", "h"}},
-      {"mass", dim::Mass, "kg", {"kg", "g", "mg"}},
-      {"energy", dim::Energy, "J", {"J", "kJ", "mJ", "uJ"}},
-      {"moment", dim::Moment, "N m", {"N m", "N mm", "mN m"}},
+      {"time", dim::Time, "s", {"s", "ms", "us", "min", "h"}, {"s", "min", "h", "ms", "us"}},
+      {"mass", dim::Mass, "kg", {"kg", "g", "mg"}, {"kg", "g", "mg"}},
+      {"energy", dim::Energy, "J", {"J", "kJ", "mJ", "uJ"}, {"kJ", "J", "mJ", "uJ"}},
+      {"moment", dim::Moment, "N m", {"N m", "N mm", "mN m"}, {"N m", "N mm"}},
       {"angular_velocity", dim::AngularVelocity, "rad/s", {"rad/s", "deg/s", "rpm"}},
   };
   return table;
@@ -258,6 +259,15 @@ const DisplayDimension* displayDimensionOfUnit(std::string_view unit) {
 }
 
 void DisplayUnits::set(std::string_view dimension, std::string unit) {
+  if (!fixed(dimension)) fixed_.emplace_back(dimension);
+  prefer(dimension, std::move(unit));
+}
+
+bool DisplayUnits::fixed(std::string_view dimension) const {
+  return std::find(fixed_.begin(), fixed_.end(), dimension) != fixed_.end();
+}
+
+void DisplayUnits::prefer(std::string_view dimension, std::string unit) {
   for (auto& [d, u] : units_)
     if (d == dimension) {
       u = std::move(unit);
@@ -288,10 +298,33 @@ double conversionFactor(std::string_view from, std::string_view to) {
   return a.value / b.value;
 }
 
-Shown shown(double value, std::string_view unit, const DisplayUnits& display) {
-  const std::string target = display.unitFor(unit);
-  if (target == unit) return {value, target};
-  return {value * conversionFactor(unit, target), target};
+namespace {
+// Whether a magnitude reads well: in [lo, 1000).
+bool readable(double shown, double lo) { return shown >= lo && shown < 1000.0; }
+// Below this fraction of its scale a value is round-off and shown as 0.
+constexpr double kRoundOff = 1e-9;
+}  // namespace
+
+std::string DisplayUnits::unitFor(std::string_view unit, double largest) const {
+  const std::string preferred = unitFor(unit);
+  const DisplayDimension* d = displayDimensionOfUnit(unit);
+  if (!d || fixed(d->name) || d->rescaled.empty() || !std::isfinite(largest) || largest == 0.0) return preferred;
+  const double inPreferred = std::abs(largest) * conversionFactor(unit, preferred);
+  if (inPreferred < kRoundOff || readable(inPreferred, 0.1)) return preferred;
+  for (const double lo : {1.0, 0.1})
+    for (const auto candidate : d->rescaled)
+      if (readable(std::abs(largest) * conversionFactor(unit, candidate), lo)) return std::string(candidate);
+  return preferred;
+}
+
+Shown shown(double value, std::string_view unit, const DisplayUnits& display, double largest) {
+  const bool single = !(largest > 0.0) || !std::isfinite(largest);
+  const std::string target = display.unitFor(unit, single ? std::abs(value) : largest);
+  const double factor = target == unit ? 1.0 : conversionFactor(unit, target);
+  double v = value * factor;
+  const double scale = single ? 1.0 : largest * factor;  // a single value: one unit it is shown in
+  if (std::isfinite(v) && std::abs(v) < kRoundOff * scale) v = 0.0;
+  return {v == 0.0 ? 0.0 : v, target};
 }
 
 std::optional<GaugeSize> gaugeSize(int gauge) {

@@ -64,6 +64,9 @@ struct DisplayDimension {
   Dim dim;
   std::string_view si;                 // SI name, e.g. "Pa"
   std::vector<std::string_view> units; // units allowed for display, SI first
+  // The units a value may be rescaled to when the scenario does not fix the dimension's
+  // unit (output.units), in the order tried; empty: never rescaled (angles).
+  std::vector<std::string_view> rescaled = {};
 };
 const std::vector<DisplayDimension>& displayDimensions();
 // The display dimension `name` ("length"), or nullptr.
@@ -71,20 +74,31 @@ const DisplayDimension* findDisplayDimension(std::string_view name);
 // The display dimension whose display units include `unit` ("mm" -> length), or nullptr.
 const DisplayDimension* displayDimensionOfUnit(std::string_view unit);
 
-// The unit chosen per display dimension; a dimension without one is shown in SI.
+// The unit chosen per display dimension: fixed (output.units) or preferred (the unit the
+// scenario writes most often, SI where none). A preferred unit is kept while the largest value
+// shown in it lies in [0.1, 1000); otherwise the first of the dimension's `rescaled` units that
+// shows it in [1, 1000) (else in [0.1, 1)) is used: 20 s, not 20000 ms.
 class DisplayUnits {
  public:
-  // Sets the unit of `dimension` (a name of displayDimensions()); `unit` must be one of its units.
+  // Fixes the unit of `dimension` (a name of displayDimensions()); `unit` must be one of its units.
   void set(std::string_view dimension, std::string unit);
+  // Prefers `unit` for `dimension`: used unless the values shown are out of [0.1, 1000).
+  void prefer(std::string_view dimension, std::string unit);
   // The unit results of this SI unit are shown in: the chosen unit when `si_unit` is the SI
   // name of a display dimension with a chosen unit, else `si_unit` itself.
   std::string unitFor(std::string_view si_unit) const;
+  // The unit values of `unit` whose largest magnitude is `largest` are shown in (rescaled
+  // from the preferred unit as the class comment says; `largest` not finite or 0: unitFor).
+  std::string unitFor(std::string_view unit, double largest) const;
+  // Whether output.units fixed the unit of this display dimension.
+  bool fixed(std::string_view dimension) const;
   // (dimension name, unit) pairs in the order of displayDimensions().
   std::vector<std::pair<std::string, std::string>> chosen() const;
   bool empty() const { return units_.empty(); }
 
  private:
   std::vector<std::pair<std::string, std::string>> units_;
+  std::vector<std::string> fixed_;  // dimensions set() by output.units
 };
 
 // A value in a unit the display may show.
@@ -95,7 +109,11 @@ struct Shown {
 // `value` given in `unit` (SI for results and columns, or any unit of a display dimension,
 // e.g. a plot axis in mm) in the display unit of its dimension: (0.0025, "m") with length
 // in mm -> (2.5, "mm"). Unchanged when the unit is not one of a display dimension.
-Shown shown(double value, std::string_view unit, const DisplayUnits& display);
+// The unit is DisplayUnits::unitFor(unit, largest), `largest` being |value| unless given
+// (the largest magnitude of an axis or column the value is shown with). Round-off is shown
+// as 0: a value below 1e-9 of `largest`, or a single value below 1e-9 of its preferred unit;
+// never -0.
+Shown shown(double value, std::string_view unit, const DisplayUnits& display, double largest = -1.0);
 // The factor converting a value in `from` to `to`, both units of the same dimension.
 double conversionFactor(std::string_view from, std::string_view to);
 

@@ -14,6 +14,7 @@
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/io/html_report.hpp"
 #include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/display_units.hpp"
 
 namespace needlesim::fit {
 
@@ -79,8 +80,12 @@ std::string paramTable(const FitResult& r) {
   std::string t = fmt::format("  {:<10} {:>14} {:>14}  {}\n", "parameter", "value", "std. error", "unit");
   for (const auto& p : r.params)
     t += fmt::format("  {:<10} {:>14} {:>14}  {}\n", p.name, g6(p.value), g6(p.stdErr), p.unit);
-  t += fmt::format("  n = {}, RMSE = {} , mean |res| = {}, max |res| = {} (seed 000 eq 34), R^2 = {:.5f}, AICc = {:.2f}\n",
-                   r.n, g6(r.rmse), g6(r.meanAbsResidual), g6(r.maxAbsResidual), r.rSquared, r.aicc);
+  // residuals of stress, all three in the unit that reads the largest
+  const auto stress = [&](double v) {
+    return results::shownText(v, "Pa", units::DisplayUnits{}, "{:.6g}", std::abs(r.maxAbsResidual));
+  };
+  t += fmt::format("  n = {}, RMSE = {}, mean |res| = {}, max |res| = {} (seed 000 eq 34), R^2 = {:.5f}, AICc = {:.2f}\n",
+                   r.n, stress(r.rmse), stress(r.meanAbsResidual), stress(r.maxAbsResidual), r.rSquared, r.aicc);
   return t;
 }
 

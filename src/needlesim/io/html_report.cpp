@@ -79,6 +79,7 @@ std::string referencesHtml(const HtmlReport& r) {
 std::string tableHtml(const HtmlTable& t) {
   std::string h = "<div class=\"tablewrap\"><table class=\"cases\">\n";
   if (!t.caption.empty()) h += "<caption>" + escape(t.caption) + "</caption>\n";
+  h += "<thead>";
   if (!t.groups.empty()) {
     h += "<tr class=\"groups\">";
     for (std::size_t g = 0; g < t.groups.size(); ++g)
@@ -89,13 +90,13 @@ std::string tableHtml(const HtmlTable& t) {
   }
   h += "<tr>";
   for (const auto& c : t.header) h += "<th>" + escape(c) + "</th>";
-  h += "</tr>\n";
+  h += "</tr></thead>\n<tbody>\n";
   for (const auto& row : t.rows) {
     h += "<tr>";
     for (const auto& c : row) h += "<td>" + escape(c) + "</td>";
     h += "</tr>\n";
   }
-  return h + "</table></div>\n";
+  return h + "</tbody></table></div>\n";
 }
 
 // The y range the plot's series span, for vertical marker lines: (0, 1) without data.
@@ -172,7 +173,13 @@ std::string headHtml(const std::string& title) {
           "h1{font-size:1.5em}table{border-collapse:collapse;margin:1em 0}\n"
           "th,td{border:1px solid #ccc;padding:4px 10px;text-align:left}th{background:#f4f4f4}\n"
           ".plot{position:relative;height:420px;margin:1.5em 0}footer{color:#777;font-size:.8em;margin-top:3em}\n"
-          ".tablewrap{overflow-x:auto}table.cases td{text-align:right}tr.groups th{text-align:center}"
+          // A wide table scrolls inside its box, which may use the page's right margin and is at
+          // most 80 % of the window high, so that its scroll bar is on screen; the header stays.
+          ".tablewrap{overflow:auto;width:fit-content;max-height:80vh;"
+          "max-width:min(calc(50vw + 550px - 2em),calc(100vw - 2em))}\n"
+          ".tablewrap table{margin:0}.tablewrap thead{position:sticky;top:0;z-index:1}"
+          ".scrollhint{color:#555;font-size:.9em;margin:.2em 0}\n"
+          "table.cases td{text-align:right}tr.groups th{text-align:center}"
           "tr.groups th.g1{background:#dde8f5}tr.groups th.g0{background:#e6f2dc}"
           "caption{text-align:left;font-weight:bold;padding:.3em 0}\n"
           ".warnings{background:#fff3cd;border:2px solid #e0a800;border-radius:4px;padding:.5em 1em;margin:1em 0}\n"
@@ -199,6 +206,13 @@ plots.forEach(p => p.datasets.filter(d => d.marker).forEach(d => {
   d.pointStyle = ['line', markerLabel(d.label)];
   d.pointRadius = [0, 8];
 }));
+// A table wider than its box says so above it: its right part is reached by scrolling.
+document.querySelectorAll('.tablewrap').forEach(w => {
+  if (w.scrollWidth <= w.clientWidth + 1) return;
+  const columns = w.querySelectorAll('thead tr:last-child th').length;
+  w.insertAdjacentHTML('beforebegin', '<p class="scrollhint">The table is wider than the window: scroll it ' +
+    'sideways (scroll bar below it, or shift + mouse wheel) to see all ' + columns + ' columns.</p>');
+});
 plots.forEach((p, i) => {
   new Chart(document.getElementById('plot' + i), {
     type: 'scatter',

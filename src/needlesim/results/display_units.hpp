@@ -11,16 +11,18 @@
 
 namespace needlesim::results {
 
-// "2.5 mm" for (0.0025, "m") with lengths in mm; "n/a" for a value that is not finite;
-// a dimensionless result ("1") has no unit. `format` is the number's fmt format.
+// "2.5 mm" for (0.0025, "m") with lengths in mm; "n/a" for NaN, "none" for an infinite value
+// (a crack tip before any crack); a dimensionless result ("1") has no unit. `format` is the
+// number's fmt format; `largest` as for units::shown (the unit and round-off of a column).
 std::string shownText(double value, std::string_view si_unit, const units::DisplayUnits& display,
-                      std::string_view format = "{:.6g}");
+                      std::string_view format = "{:.6g}", double largest = -1.0);
 
 // The unit in brackets at the end of an axis label ("tip depth [mm]" -> "mm"); empty if none.
 std::string axisUnit(const std::string& label);
 
 // The plot with each axis whose label names a unit of a display dimension ("depth [mm]",
-// "force [N]") converted to the display unit: values, markers and label.
+// "force [N]") converted to the display unit for the axis' largest value (units::shown):
+// values, markers and label; round-off below 1e-9 of the axis' largest value is 0.
 io::Plot inDisplayUnits(io::Plot plot, const units::DisplayUnits& display);
 
 }  // namespace needlesim::results

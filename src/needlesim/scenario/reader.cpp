@@ -441,7 +441,7 @@ units::DisplayUnits mostWrittenUnits(const std::vector<UnitWritten>& written) {
     const auto votes = [](const UnitWritten& w) { return std::pair{w.problem, w.settings}; };
     for (const auto& w : written)
       if (units::displayDimensionOfUnit(w.unit) == &d && (!best || votes(w) > votes(*best))) best = &w;
-    if (best) display.set(d.name, best->unit);
+    if (best) display.prefer(d.name, best->unit);
   }
   return display;
 }
@@ -475,7 +475,10 @@ units::DisplayUnits readDisplayUnits(Section& out) {
   units::DisplayUnits display;
   for (const auto& d : units::displayDimensions()) {
     const std::string key(d.name);
-    display.set(d.name, us.has(key) ? displayUnitGiven(us, d) : written.unitFor(d.si));
+    if (us.has(key))
+      display.set(d.name, displayUnitGiven(us, d));
+    else
+      display.prefer(d.name, written.unitFor(d.si));
     us.remember(key, display.unitFor(d.si));
   }
   return display;

@@ -469,7 +469,8 @@ std::vector<FieldDoc> build() {
   add(other("output", "units", Kind::Section, "",
             "units the terminal and report.html show results in, per dimension (files keep SI); a dimension not "
             "given here is shown in the unit the file writes most often for it (tissue, needle and insertion "
-            "first, then model and output), else in SI",
+            "first, then model and output), else in SI, or in the unit that shows the value (an axis or column: "
+            "its largest) between 0.1 and 1000 when that one does not (20 s, not 20000 ms)",
             false, "units"));
   for (const auto& d : units::displayDimensions()) {
     std::vector<std::string> allowed(d.units.begin(), d.units.end());

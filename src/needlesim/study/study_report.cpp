@@ -16,15 +16,26 @@ constexpr std::size_t kCaseColumn = 0, kCompleteColumn = 1, kFirstInputColumn = 
 // An input with at most this many distinct values has them all listed.
 constexpr std::size_t kListedValues = 8;
 
-// A value given in SI with its unit as the study shows it ("0.2399 N", "2.5 mm", "1", "n/a").
-std::string valueText(const StudyResults& r, double v, const std::string& unit) {
-  return results::shownText(v, unit, r.display);
+// A value given in SI with its unit as the study shows it ("0.2399 N", "2.5 mm", "1", "n/a"),
+// in the unit of values up to `largest` (a range's ends share one unit).
+std::string valueText(const StudyResults& r, double v, const std::string& unit, double largest) {
+  return results::shownText(v, unit, r.display, "{:.6g}", largest);
 }
 
-// A column's value as the report's table shows it, without the unit (in its header).
-std::string cellText(const StudyResults& r, double v, const std::string& unit) {
-  if (!std::isfinite(v)) return "n/a";
-  return fmt::format("{:.6g}", units::shown(v, unit, r.display).value);
+// A column's value as the report's table shows it, without the unit (in its header, chosen
+// for the column's largest value).
+std::string cellText(const StudyResults& r, double v, const std::string& unit, double largest) {
+  if (std::isnan(v)) return "n/a";
+  if (std::isinf(v)) return "none";
+  return fmt::format("{:.6g}", units::shown(v, unit, r.display, largest).value);
+}
+
+// The largest finite magnitude in column `col` (0 if none).
+double columnLargest(const StudyResults& r, std::size_t col) {
+  double m = 0.0;
+  for (std::size_t row = 0; row < r.table.rows(); ++row)
+    if (const double v = r.table.at(row, col); std::isfinite(v)) m = std::max(m, std::abs(v));
+  return m;
 }
 
 // A column's header as the report and plots name it: "exit_force [N]".
@@ -51,9 +62,9 @@ const std::string& inputField(const StudyResults& r, std::size_t k) { return r.s
 const std::string& inputUnit(const StudyResults& r, std::size_t k) {
   return r.table.columns()[kFirstInputColumn + k].unit;
 }
-// A column's header as the report names it, in the unit its values are shown in.
-std::string shownLabel(const StudyResults& r, const std::string& name, const std::string& si_unit) {
-  return labelWithUnit(name, r.display.unitFor(si_unit));
+// A column's header as the report names it, in the unit its values (up to `largest`) are shown in.
+std::string shownLabel(const StudyResults& r, const std::string& name, const std::string& si_unit, double largest) {
+  return labelWithUnit(name, r.display.unitFor(si_unit, largest));
 }
 
 // The case table of the report: case, the inputs, the varying outputs.
@@ -65,16 +76,18 @@ io::HtmlTable caseTable(const StudyResults& r, const OutputColumns& outputs) {
   t.groups = {{"", 1}, {"inputs (varied)", inputs}};
   if (!outputs.varying.empty()) t.groups.emplace_back("outputs", outputs.varying.size());
   t.header.push_back("case");
-  for (std::size_t k = 0; k < inputs; ++k) t.header.push_back(shownLabel(r, inputField(r, k), inputUnit(r, k)));
-  for (std::size_t c : outputs.varying) t.header.push_back(shownLabel(r, cols[c].name, cols[c].unit));
+  for (std::size_t k = 0; k < inputs; ++k)
+    t.header.push_back(shownLabel(r, inputField(r, k), inputUnit(r, k), columnLargest(r, kFirstInputColumn + k)));
+  for (std::size_t c : outputs.varying) t.header.push_back(shownLabel(r, cols[c].name, cols[c].unit, columnLargest(r, c)));
   for (std::size_t row = 0; row < std::min(r.table.rows(), kMaxReportRows); ++row) {
     std::vector<std::string> cells{fmt::format("{}", r.table.at(row, kCaseColumn))};
     for (std::size_t k = 0; k < inputs; ++k) {
-      const double v = r.table.at(row, kFirstInputColumn + k);
-      cells.push_back(std::isfinite(v) ? cellText(r, v, inputUnit(r, k)) : r.cases[row].assignments[k].second);
+      const double v = r.table.at(row, kFirstInputColumn + k), largest = columnLargest(r, kFirstInputColumn + k);
+      cells.push_back(std::isfinite(v) ? cellText(r, v, inputUnit(r, k), largest) : r.cases[row].assignments[k].second);
     }
     for (std::size_t c : outputs.varying)
-      cells.push_back(isComplete(r, row) ? cellText(r, r.table.at(row, c), cols[c].unit) : "not complete");
+      cells.push_back(isComplete(r, row) ? cellText(r, r.table.at(row, c), cols[c].unit, columnLargest(r, c))
+                                         : "not complete");
     t.rows.push_back(std::move(cells));
   }
   return t;
@@ -123,7 +136,8 @@ std::string constantLine(const StudyResults& r, const OutputColumns& outputs) {
   std::string line = "constant over all cases: ";
   for (std::size_t i = 0; i < outputs.constant.size(); ++i) {
     const io::Column& col = r.table.columns()[outputs.constant[i]];
-    line += (i ? ", " : "") + col.name + " = " + valueText(r, completeValues(r, outputs.constant[i]).front(), col.unit);
+    const double v = completeValues(r, outputs.constant[i]).front();
+    line += (i ? ", " : "") + col.name + " = " + valueText(r, v, col.unit, -1.0);
   }
   return line;
 }
@@ -141,7 +155,8 @@ std::vector<std::string> inputLines(const StudyResults& r) {
     std::string values;
     if (distinct.size() > kListedValues && numbers.size() == r.cases.size()) {
       const auto [lo, hi] = std::minmax_element(numbers.begin(), numbers.end());
-      values = "from " + valueText(r, *lo, inputUnit(r, k)) + " to " + valueText(r, *hi, inputUnit(r, k));
+      const double largest = std::max(std::abs(*lo), std::abs(*hi));
+      values = "from " + valueText(r, *lo, inputUnit(r, k), largest) + " to " + valueText(r, *hi, inputUnit(r, k), largest);
     } else {
       for (std::size_t i = 0; i < std::min(distinct.size(), kListedValues); ++i)
         values += (i ? ", " : "") + distinct[i];
@@ -198,8 +213,9 @@ std::string studyOverview(const StudyResults& r) {
       v.erase(std::remove_if(v.begin(), v.end(), [](double x) { return !std::isfinite(x); }), v.end());
       const auto [lo, hi] = std::minmax_element(v.begin(), v.end());
       text += v.empty() ? fmt::format("    {:<{}}  n/a\n", cols[c].name, width)
-                        : fmt::format("    {:<{}}  {} to {}\n", cols[c].name, width, valueText(r, *lo, cols[c].unit),
-                                      valueText(r, *hi, cols[c].unit));
+                        : fmt::format("    {:<{}}  {} to {}\n", cols[c].name, width,
+                                      valueText(r, *lo, cols[c].unit, std::max(std::abs(*lo), std::abs(*hi))),
+                                      valueText(r, *hi, cols[c].unit, std::max(std::abs(*lo), std::abs(*hi))));
     }
   }
   const std::string constant = constantLine(r, outputs);

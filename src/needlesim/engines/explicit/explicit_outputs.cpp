@@ -345,7 +345,9 @@ void ExplicitRun::reportCohesive() {
   sink_.result("cracked_length", crackedLength(), "m",
                dim_ == 2 ? "seam length with damage 1" : "extent along the path of the seam with damage 1");
   sink_.result("cracked_area", c->crackedLength() * areaScale, "m^2", "seam area with damage 1 (2D: length x slab thickness)");
-  sink_.result("crack_tip", c->crackTip(), "m", "farthest fully damaged position along the seam");
+  // no fully damaged pair: no crack tip to report (crackTip() is -inf)
+  if (const double tip = c->crackTip(); std::isfinite(tip))
+    sink_.result("crack_tip", tip, "m", "farthest fully damaged position along the seam");
   double dmax = 0, snMax = 0, process = 0, pairMax = 0;
   for (int p = 0; p < c->pairs(); ++p) {
     dmax = std::max(dmax, c->state(p).damage);

@@ -2,6 +2,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <limits>
 
 #include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/engines/mpm/mpm_run.hpp"
@@ -69,19 +70,30 @@ void MpmRun::emit(bool stopped) {
   inclusions_.report(sink_);
 }
 
-// KE/IE while the internal energy is at least 1 % of its largest value
-// (before that both are round-off and their ratio says nothing).
+// Both energies, and KE/IE while the internal energy is at least 1 % of its largest value
+// (before that the ratio of a tiny internal energy is a spike that says nothing; the energies
+// plot shows that stretch).
 void MpmRun::emitEnergy() {
   const auto ke = energy_.column("kinetic"), ie = energy_.column("internal");
   const double ieMax = ie.empty() ? 0.0 : *std::max_element(ie.begin(), ie.end());
   double maxRatio = 0.0;
+  std::vector<double> ratio(ke.size(), std::numeric_limits<double>::quiet_NaN());  // NaN: not drawn
   for (std::size_t i = 0; i < ke.size(); ++i)
-    if (ieMax > 0 && ie[i] >= 0.01 * ieMax) maxRatio = std::max(maxRatio, ke[i] / ie[i]);
+    if (ieMax > 0 && ie[i] >= 0.01 * ieMax) {
+      ratio[i] = ke[i] / ie[i];
+      maxRatio = std::max(maxRatio, ratio[i]);
+    }
   sink_.result("max_ke_ie", maxRatio, "1",
                "largest kinetic / internal energy while the internal energy is >= 1 % of its maximum (mass "
                "scaling check, eq 28)");
-  io::Plot en{"Kinetic / internal energy", "time [s]", "KE / IE [-]", {}};
-  en.series.push_back({"KE / IE", energy_.column("time"), energy_.column("ke_ie_ratio"), false, false});
+  const auto time = energy_.column("time");
+  io::Plot both{"Kinetic and internal energy", "time [s]", "energy [J]", {}};
+  both.series.push_back({"kinetic", time, ke, false, false});
+  both.series.push_back({"internal", time, ie, false, false});
+  sink_.plot(std::move(both));
+  io::Plot en{"Kinetic / internal energy, drawn where the internal energy is at least 1 % of its largest value",
+              "time [s]", "KE / IE [-]", {}};
+  en.series.push_back({"KE / IE", time, std::move(ratio), false, false});
   sink_.plot(std::move(en));
   sink_.table("energy", std::move(energy_));
 }

@@ -86,7 +86,8 @@ std::string lengthText(const SteeringInputs& in, double metres) {
 
 // A stretch of the path for a note, in the display unit of lengths: "0-75 mm".
 std::string spanText(const SteeringInputs& in, double s0, double s1) {
-  const units::Shown a = units::shown(s0, "m", in.display), b = units::shown(s1, "m", in.display);
+  const double largest = std::max(std::abs(s0), std::abs(s1));  // both ends in one unit
+  const units::Shown a = units::shown(s0, "m", in.display, largest), b = units::shown(s1, "m", in.display, largest);
   return fmt::format("{:.4g}-{:.4g} {}", a.value, b.value, b.unit);
 }
 
