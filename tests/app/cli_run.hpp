@@ -4,6 +4,9 @@
 #include <cstdio>
 #include <string>
 #include <sys/wait.h>
+#include <unistd.h>
+
+#include <filesystem>
 
 namespace needlesim::test {
 
@@ -26,5 +29,16 @@ inline CliResult runShell(const std::string& command) {
 }
 
 inline CliResult runCli(const std::string& args) { return runShell(std::string(NEEDLESIM_BINARY) + " " + args); }
+
+// Starts the CLI with `args` in a child process (stdout and stderr to `log`); its pid (to signal and wait for).
+inline pid_t startCli(const std::string& args, const std::filesystem::path& log) {
+  const pid_t pid = fork();
+  if (pid == 0) {
+    const std::string cmd = "exec " + std::string(NEEDLESIM_BINARY) + " " + args + " > '" + log.string() + "' 2>&1";
+    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
+    _exit(127);
+  }
+  return pid;
+}
 
 }  // namespace needlesim::test

@@ -26,17 +26,7 @@ namespace {
 
 using needlesim::test::runCli;
 using needlesim::test::runShell;
-
-// Starts the CLI with `args` in a child process (stdout and stderr to `log`); its pid.
-pid_t startCli(const std::string& args, const fs::path& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string cmd = "exec " + std::string(NEEDLESIM_BINARY) + " " + args + " > '" + log.string() + "' 2>&1";
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
+using needlesim::test::startCli;
 
 // Waits for `pid` (at most `seconds`, then kills it): its exit code, or -signal.
 int waitFor(pid_t pid, double seconds) {

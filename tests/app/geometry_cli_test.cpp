@@ -89,13 +89,8 @@ TEST(GeometryCli, MeshingBudgetsAreScenarioFields) {
 TEST(GeometryCli, CtrlCWhileAScriptIsMeshedStopsTheRunWithinASecond) {
   const auto loops = blockScenario("stops", "For i In {1:2000000000}\n  x = i;\nEndFor\n");
   const auto log = loops.parent_path() / "stops.log";
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    const std::string cmd = "exec " + std::string(NEEDLESIM_BINARY) + " run " + loops.string() + " --out " +
-                            (loops.parent_path() / "stops_out").string() + " > '" + log.string() + "' 2>&1";
-    ::execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    ::_exit(127);
-  }
+  const pid_t pid =
+      needlesim::test::startCli("run " + loops.string() + " --out " + (loops.parent_path() / "stops_out").string(), log);
   ::sleep(2);  // reading the scenario, the script looping in the reader
   const auto asked = std::chrono::steady_clock::now();
   ::kill(pid, SIGINT);

@@ -42,16 +42,6 @@ void edited(const std::string& example, const std::vector<std::pair<std::string,
   std::ofstream(file) << yaml;
 }
 
-pid_t startNeedlesim(const std::string& args, const fs::path& log) {
-  const pid_t pid = fork();
-  if (pid == 0) {
-    const std::string cmd = "exec " + std::string(NEEDLESIM_BINARY) + " " + args + " > '" + log.string() + "' 2>&1";
-    execl("/bin/sh", "sh", "-c", cmd.c_str(), static_cast<char*>(nullptr));
-    _exit(127);
-  }
-  return pid;
-}
-
 // Exit code of `pid` and the seconds it took to end (killed after `limit` s: -1000).
 std::pair<int, double> exitOf(pid_t pid, double limit) {
   const auto t0 = std::chrono::steady_clock::now();
@@ -83,7 +73,7 @@ TEST(Interrupt, CtrlCDuringALongRealtime3dSetUpEndsTheRunAtOnce) {
          {{"nodes_lateral: 29", "nodes_lateral: 35"}, {"nodes_height: 21", "nodes_height: 35"}}, dir / "big.yaml");
   const fs::path out = dir / "res", log = dir.parent_path() / "realtime3d_setup.log";
   for (const auto& [signal, after] : {std::pair{SIGINT, 2}, std::pair{SIGTERM, 5}}) {
-    const pid_t pid = startNeedlesim("run " + (dir / "big.yaml").string() + " --out " + out.string(), log);
+    const pid_t pid = needlesim::test::startCli("run " + (dir / "big.yaml").string() + " --out " + out.string(), log);
     std::this_thread::sleep_for(std::chrono::seconds(after));
     kill(pid, signal);
     const auto [code, seconds] = exitOf(pid, 60);
@@ -109,7 +99,7 @@ TEST(Interrupt, CtrlCDuringALongMpmSetUpEndsTheRunAtOnce) {
                                           {"particle_spacing: 0.5 mm", "particle_spacing: 0.05 mm"}},
          dir / "big.yaml");
   const fs::path out = dir / "res", log = dir.parent_path() / "mpm_setup.log";
-  const pid_t pid = startNeedlesim("run " + (dir / "big.yaml").string() + " --out " + out.string(), log);
+  const pid_t pid = needlesim::test::startCli("run " + (dir / "big.yaml").string() + " --out " + out.string(), log);
   std::this_thread::sleep_for(std::chrono::milliseconds(1500));
   kill(pid, SIGINT);
   const auto [code, seconds] = exitOf(pid, 120);
