@@ -16,14 +16,19 @@ double param(const nlohmann::json& j, const std::string& name) {
 }
 }  // namespace
 
-TEST(Examples, PvaFungFromForceDisplacement) {
+// The PVA compression example fitted with the Fung law (18 mm high, 900 mm^2 sample).
+static FitRequest pvaFungRequest() {
   FitRequest rq;
   rq.data = {ex("pva_compression.csv")};
   rq.law = "fung";
   rq.write = false;
   rq.uniaxial.sample.height = 18e-3;
   rq.uniaxial.sample.area = 900e-6;
-  auto o = runFit(rq);
+  return rq;
+}
+
+TEST(Examples, PvaFungFromForceDisplacement) {
+  auto o = runFit(pvaFungRequest());
   // generated with mu = 2.3 kPa, gamma = 3.1 and 1 % noise (make_examples.py)
   EXPECT_NEAR(param(o.json, "mu"), 2.3e3, 0.03 * 2.3e3);
   EXPECT_NEAR(param(o.json, "gamma"), 3.1, 0.05 * 3.1);
@@ -31,13 +36,7 @@ TEST(Examples, PvaFungFromForceDisplacement) {
 }
 
 TEST(Examples, ResidualStatisticsNameTheirStressUnit) {
-  FitRequest rq;
-  rq.data = {ex("pva_compression.csv")};
-  rq.law = "fung";
-  rq.write = false;
-  rq.uniaxial.sample.height = 18e-3;
-  rq.uniaxial.sample.area = 900e-6;
-  const auto o = runFit(rq);
+  const auto o = runFit(pvaFungRequest());
   const std::regex line(R"(RMSE = [0-9.]+ k?Pa, mean \|res\| = [0-9.]+ k?Pa, max \|res\| = [0-9.]+ k?Pa \(seed)");
   EXPECT_TRUE(std::regex_search(o.table, line)) << o.table;
 }
