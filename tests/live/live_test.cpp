@@ -313,6 +313,39 @@ TEST(LiveRecording, ReplayRefusesABadResetFlagWithItsLine) {
   fs::remove_all(dir);
 }
 
+// A command the session refuses (its step guard: here a drive that jumps the tip 20 mm in one
+// step) is refused with the message the C++ API and Python give for it; the pose holds where
+// the session last took it, the physics thread goes on and the frame reports the refusal.
+TEST(LiveSession, ARefusedCommandHoldsThePoseAndIsReported) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 20.0;  // 20 mm in one 1 ms step
+  live::LiveSession session(realtime2d(), settings);
+  session.advance(1);  // takes the pose at depth 0
+  session.setDrive({1.0});
+  session.advance(3);
+  session.setDrive({});
+  session.advance(2);
+  live::Frame frame;
+  session.frame(frame);
+  EXPECT_EQ(frame.refusals, 3u);
+  EXPECT_EQ(frame.latest.step, 6u);  // held steps go on
+  EXPECT_EQ(frame.latest.pose.depth, 0.0);
+  EXPECT_EQ(frame.latest.state.depth, session.latest().state.depth);
+  EXPECT_EQ(session.log().size(), 6u);  // a replay steps what was taken
+
+  api::Session direct(realtime2d());
+  direct.step(api::Command{}, 1e-3);
+  try {
+    direct.step(api::Command{0.020}, 1e-3);
+    ADD_FAILURE() << "a 20 mm step was taken";
+  } catch (const api::InputError& e) {
+    EXPECT_EQ(frame.refusal, e.what());
+  }
+  EXPECT_NE(frame.refusal.find("Session.step(depth): moves the tip 20 mm in one step (from 0 mm)"), std::string::npos)
+      << frame.refusal;
+}
+
 // A session held for minutes between insertion and retraction replays exactly, stepped at the
 // physics rate without the clock (advance): 43.6 mm in at 5 mm/s, 145 s still, 10 mm out. The
 // recording keeps the commands as the doubles that were stepped. The shaft friction of a held

@@ -11,6 +11,8 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -58,6 +60,11 @@ struct Frame {
   // snapshot), wall time over the last second:
   double stepCost = 0.0;       // s, mean
   double stepMaxCost = 0.0;    // s, the longest
+  // Commands the session refused (its step guard: a jump longer than one step may take, a pose
+  // out of the tissue's reach): how many, and the last one's message. The pose holds where the
+  // session last took it.
+  std::uint64_t refusals = 0;
+  std::string refusal;
 };
 
 class LiveSession {
@@ -102,6 +109,8 @@ class LiveSession {
   void run();
   void stepOnce();
   void resetIfAsked();
+  const api::State* stepSession();
+  void noteRefusal(const std::string& message);
   void publish(const api::State& state);
   void snapshotField();
   void measureRate(std::chrono::steady_clock::time_point now);
@@ -125,6 +134,7 @@ class LiveSession {
   bool resetRequested_ = false;
 
   Pose pose_;  // physics thread only
+  std::optional<Pose> taken_;  // the last pose the session took since the start or reset (physics thread)
   StepLog log_;
   std::uint64_t step_ = 0;
 
