@@ -149,6 +149,12 @@ struct Command {
   double tilt = 0.0;      // rad, out of the insertion plane (realtime3d; 0 for the 2D engines)
 };
 
+// The parts of a Command an engine takes besides the depth (the others must be 0): realtime2d
+// lateral, rotation and roll; realtime3d those and tilt; lumped none.
+struct Axes {
+  bool lateral = false, rotation = false, roll = false, tilt = false;
+};
+
 struct State {
   double time = 0.0;             // s, sum of the steps' dt
   double depth = 0.0;            // m, tip along the insertion axis from the entry point
@@ -216,6 +222,7 @@ class NEEDLESIM_API Session {
   // Back to the state before the first step.
   void reset();
   std::string engine() const;
+  Axes axes() const;
 
   // realtime2d and realtime3d only (InputError for lumped), centred tissue frame, dimension()
   // coordinates (x, y[, z]) per point:

@@ -416,6 +416,10 @@ TEST(ApiSession, TheStepGuardRefusesLongStepsAndNonFiniteCommands) {
   EXPECT_NE(later.find("in one step (from 1 mm)"), std::string::npos) << later;
   EXPECT_NEAR(fe.state().depth, 1e-3, 1e-4);
   EXPECT_NEAR(fe.state().time, 10e-3, 1e-12);
+  // the axes each engine takes besides depth (the others are refused)
+  EXPECT_TRUE(fe.axes().lateral && fe.axes().rotation && fe.axes().roll);
+  EXPECT_FALSE(fe.axes().tilt);
+  EXPECT_FALSE(lumped.axes().lateral || lumped.axes().rotation || lumped.axes().roll || lumped.axes().tilt);
 }
 
 TEST(ApiFit, PlastisolCompression) {

@@ -73,6 +73,11 @@ const State& Session::state() const { return impl_->state; }
 void Session::reset() { detail::translated([&] { impl_->reset(); }); }
 std::string Session::engine() const { return impl_->scenario.engine(); }
 
+Axes Session::axes() const {
+  const engines::SessionAxes& a = impl_->session->guard().axes();
+  return Axes{a.lateral, a.rotation, a.roll, a.tilt};
+}
+
 std::vector<double> Session::nodePositions() const {
   return detail::translated([&] { return impl_->meshed("Session::nodePositions").nodePositions(); });
 }

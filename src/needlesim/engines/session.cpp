@@ -202,8 +202,9 @@ std::unique_ptr<SteppableSession> openSession(const Scenario& sc) {
   for (const SteppableEngine& e : kSteppable)
     if (sc.model.engine == e.name) return e.open(sc);
   throw InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
-                   "cannot be stepped by the caller (a Session, needlesim serve): run it with `needlesim run`",
-                   steppableEngines() + "; other engines run with `needlesim run`");
+                   "cannot be stepped by its caller (a Session, needlesim serve): run it with `needlesim run` "
+                   "(Python: needlesim.run)",
+                   steppableEngines());
 }
 
 std::string steppableEngines() {

@@ -45,7 +45,7 @@ void depthRange(MotionLimits& limits, const api::Surface& surface, const std::ve
 
 LiveSession::LiveSession(const api::Scenario& scenario, const LiveSettings& settings)
     : scenario_(scenario), settings_(settings), session_(scenario), surface_(session_.surface()),
-      engine_(session_.engine()), controls_(controlsFor(engine_)) {
+      engine_(session_.engine()), controls_(controlsFor(session_.axes())) {
   if (!(settings_.dt > 0.0) || !std::isfinite(settings_.dt))
     throw api::InputError("the physics step must be a finite time > 0 s", "<live session>", 0, "dt");
   depthRange(settings_.limits, surface_, session_.needleCentreLine(2));
@@ -105,6 +105,14 @@ void LiveSession::reset() {
 LatestState LiveSession::latest() const {
   std::lock_guard lock(stateMutex_);
   return latest_;
+}
+
+bool LiveSession::refusedSince(std::uint64_t& seen, std::string& message) const {
+  std::lock_guard lock(stateMutex_);
+  if (frame_.refusals == seen) return false;
+  seen = frame_.refusals;
+  message = frame_.refusal;
+  return true;
 }
 
 void LiveSession::frame(Frame& out) const {

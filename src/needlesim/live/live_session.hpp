@@ -91,6 +91,9 @@ class LiveSession {
   void reset();
 
   LatestState latest() const;
+  // Whether the session refused a command since `seen` refusals (then `seen` is brought up to
+  // date and `message` is the last one's).
+  bool refusedSince(std::uint64_t& seen, std::string& message) const;
   void frame(Frame& out) const;
   // Force-plot samples from index `from` on; `total` is the count there is.
   std::vector<Sample> samples(std::size_t from, std::size_t& total) const;
