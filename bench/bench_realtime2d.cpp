@@ -78,7 +78,22 @@ static void BM_ThesisScenario_SteppableSession(benchmark::State& state) {
   for (int n = 0; n < 10000; ++n) s->step({stroke.next()}, 1e-3);
   for (auto _ : state) benchmark::DoNotOptimize(s->step({stroke.next()}, 1e-3).axial_force);
 }
-BENCHMARK(BM_ThesisScenario_EngineSession)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
-BENCHMARK(BM_ThesisScenario_SteppableSession)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+// The step guard alone (finite arguments, axes, reach, travel), a step inside the tissue.
+static void BM_SessionGuard(benchmark::State& state) {
+  const needlesim::Scenario& sc = thesisScenario();
+  const needlesim::engines::SessionGuard guard(sc, needlesim::engines::realtime2dStepPlan(sc),
+                                               {.lateral = true, .rotation = true, .roll = true});
+  needlesim::engines::SessionCommand c{0.03};
+  unsigned k = 0;
+  for (auto _ : state) {
+    c.depth = 0.03 + 1e-9 * (++k & 1023u);
+    benchmark::DoNotOptimize(c);
+    guard.check(c, 1e-3, 0.03);
+  }
+}
+// The same 20,000 steps (in 30 -> 60 mm, out to 30 mm, in again) for both.
+BENCHMARK(BM_ThesisScenario_EngineSession)->Unit(benchmark::kMicrosecond)->Iterations(20000);
+BENCHMARK(BM_ThesisScenario_SteppableSession)->Unit(benchmark::kMicrosecond)->Iterations(20000);
+BENCHMARK(BM_SessionGuard);
 
 BENCHMARK_MAIN();

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <string_view>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/lumped/lumped_session.hpp"
@@ -39,12 +40,19 @@ constexpr double kQuarter = 0.5 * std::numbers::pi;
   throw InputError(kSession, "Session.step(" + argument + ")", value, problem, allowed);
 }
 
-void requireFinite(const std::string& argument, double v, const std::string& allowed) {
+// The texts are literals: nothing is composed unless the value is refused.
+void requireFinite(const char* argument, double v, const char* allowed) {
   if (!std::isfinite(v)) refuse(argument, fmt::format("{}", v), "must be a finite number", allowed);
 }
 
-void requireZero(const std::string& argument, double v, bool taken, const std::string& problem, const std::string& allowed) {
-  if (!taken && v != 0.0) refuse(argument, fmt::format("{:g}", v), problem, allowed);
+// An axis the engine does not take must be 0 (the message is composed only for a refusal).
+void requireUntaken(const char* argument, double v, bool taken, const std::string& engine) {
+  if (taken || v == 0.0) return;
+  if (std::string_view(argument) == "tilt")
+    refuse(argument, fmt::format("{:g}", v), "tilts the needle out of the insertion plane, which engine " + engine + " cannot",
+           "0 (or a realtime3d scenario)");
+  refuse(argument, fmt::format("{:g}", v), "the " + engine + " engine moves the needle along its axis only",
+         "0 (or a realtime2d scenario)");
 }
 
 }  // namespace
@@ -101,13 +109,10 @@ void SessionGuard::checkFinite(const SessionCommand& c, double dt) const {
 // The lumped model is axial (seed 003 section 3.2): its needle only moves along its axis; the
 // 2D engine has no out-of-plane direction; the FE engines take the velocity from the depth change.
 void SessionGuard::checkAxes(const SessionCommand& c) const {
-  const std::string axial = "the " + engine_ + " engine moves the needle along its axis only";
-  const std::string steer = "0 (or a realtime2d scenario)";
-  requireZero("lateral", c.lateral, axes_.lateral, axial, steer);
-  requireZero("rotation", c.rotation, axes_.rotation, axial, steer);
-  requireZero("roll", c.roll, axes_.roll, axial, steer);
-  requireZero("tilt", c.tilt, axes_.tilt, "tilts the needle out of the insertion plane, which engine " + engine_ + " cannot",
-              "0 (or a realtime3d scenario)");
+  requireUntaken("lateral", c.lateral, axes_.lateral, engine_);
+  requireUntaken("rotation", c.rotation, axes_.rotation, engine_);
+  requireUntaken("roll", c.roll, axes_.roll, engine_);
+  requireUntaken("tilt", c.tilt, axes_.tilt, engine_);
   if (c.velocity && !axes_.velocity)
     refuse("velocity", fmt::format("{:g}", *c.velocity), engine_ + " takes the velocity from the depth change over dt",
            "no velocity argument");
