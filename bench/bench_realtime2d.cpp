@@ -54,7 +54,7 @@ const needlesim::Scenario& thesisScenario() {
   return sc;
 }
 
-// The depth of 1 ms steps at 3 mm/s, in to 60 mm and out to 30 mm and in again (a jump back
+// The depth of 1 ms steps at 3 mm/s, in to 60 mm, out to 30 mm and in again (a jump back
 // would be refused by the step guard), after 30 mm of warm-up.
 struct Stroke {
   double depth = 0.0, velocity = 3e-3;
@@ -91,7 +91,7 @@ static void BM_SessionGuard(benchmark::State& state) {
     guard.check(c, 1e-3, 0.03);
   }
 }
-// The same 20,000 steps (in 30 -> 60 mm, out to 30 mm, in again) for both.
+// The same 20,000 steps (in 30 -> 60 mm, out to 30 mm) for both.
 BENCHMARK(BM_ThesisScenario_EngineSession)->Unit(benchmark::kMicrosecond)->Iterations(20000);
 BENCHMARK(BM_ThesisScenario_SteppableSession)->Unit(benchmark::kMicrosecond)->Iterations(20000);
 BENCHMARK(BM_SessionGuard);
