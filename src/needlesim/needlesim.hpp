@@ -214,8 +214,10 @@ class NEEDLESIM_API Session {
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
 
-  // Advances by dt [s] > 0 to the commanded base motion; arguments must be finite
-  // (InputError otherwise; lateral, rotation and roll must be 0 for lumped).
+  // Advances by dt [s] > 0 to the commanded base motion. The step guard every caller shares
+  // (C++ API, needlesim serve, Python; docs/api.md) refuses with an InputError, stepping
+  // nothing: a non-finite argument, an axis the engine does not take (axes()), a pose off the
+  // tissue, a tip moving further than half the engine's spacing in one step.
   const State& step(const Command& command, double dt);
   const State& step(double depth, double dt) { return step(Command{depth, 0.0, 0.0, 0.0}, dt); }
   const State& state() const;

@@ -349,6 +349,9 @@ TEST(LiveSession, ARefusedCommandHoldsThePoseAndIsReported) {
   }
   EXPECT_NE(frame.refusal.find("Session.step(depth): moves the tip 20 mm in one step (from 0 mm)"), std::string::npos)
       << frame.refusal;
+  const nlohmann::json json = live::frameJson(session, 0);  // GET /api/frame
+  EXPECT_EQ(json["refusals"], 3);
+  EXPECT_EQ(json["refusal"], frame.refusal);
 }
 
 namespace {
