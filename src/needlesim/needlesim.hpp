@@ -149,6 +149,12 @@ struct Command {
   double tilt = 0.0;      // rad, out of the insertion plane (realtime3d; 0 for the 2D engines)
 };
 
+// The parts of a Command an engine takes besides the depth (the others must be 0): realtime2d
+// lateral, rotation and roll; realtime3d those and tilt; lumped none.
+struct Axes {
+  bool lateral = false, rotation = false, roll = false, tilt = false;
+};
+
 struct State {
   double time = 0.0;             // s, sum of the steps' dt
   double depth = 0.0;            // m, tip along the insertion axis from the entry point
@@ -208,14 +214,17 @@ class NEEDLESIM_API Session {
   Session(Session&&) noexcept;
   Session& operator=(Session&&) noexcept;
 
-  // Advances by dt [s] > 0 to the commanded base motion; arguments must be finite
-  // (InputError otherwise; lateral, rotation and roll must be 0 for lumped).
+  // Advances by dt [s] > 0 to the commanded base motion. The step guard every caller shares
+  // (C++ API, needlesim serve, Python; docs/api.md) refuses with an InputError, stepping
+  // nothing: a non-finite argument, an axis the engine does not take (axes()), a pose off the
+  // tissue, a tip moving further than half the engine's spacing in one step.
   const State& step(const Command& command, double dt);
   const State& step(double depth, double dt) { return step(Command{depth, 0.0, 0.0, 0.0}, dt); }
   const State& state() const;
   // Back to the state before the first step.
   void reset();
   std::string engine() const;
+  Axes axes() const;
 
   // realtime2d and realtime3d only (InputError for lumped), centred tissue frame, dimension()
   // coordinates (x, y[, z]) per point:

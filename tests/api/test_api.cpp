@@ -348,10 +348,10 @@ TEST(ApiErrors, SessionArguments) {
   const auto lumped = api::Scenario::builtIn();
   api::Session s(lumped);
   auto dt0 = messageOf<api::InputError>([&] { s.step(0.0, 0.0); });
-  EXPECT_NE(dt0.find("Session::step(dt)"), std::string::npos) << dt0;
+  EXPECT_NE(dt0.find("Session.step(dt)"), std::string::npos) << dt0;
   EXPECT_NE(dt0.find("must be > 0"), std::string::npos) << dt0;
   auto nan = messageOf<api::InputError>([&] { s.step(std::numeric_limits<double>::quiet_NaN(), 1e-3); });
-  EXPECT_NE(nan.find("command.depth"), std::string::npos) << nan;
+  EXPECT_NE(nan.find("Session.step(depth)"), std::string::npos) << nan;
   EXPECT_NE(nan.find("finite"), std::string::npos) << nan;
   auto steer = messageOf<api::InputError>([&] { s.step(api::Command{0.01, 1e-3, 0.0, 0.0}, 1e-3); });
   EXPECT_NE(steer.find("realtime2d"), std::string::npos) << steer;
@@ -368,6 +368,58 @@ TEST(ApiErrors, SessionArguments) {
   EXPECT_NE(column.find("force_total"), std::string::npos) << column;
   auto table = messageOf<api::InputError>([&] { r.table("force"); });
   EXPECT_NE(table.find("forces"), std::string::npos) << table;
+}
+
+// The step guard of every steppable session (engines/session.hpp), here through the C++ API
+// (needlesim serve and its haptic bridge step through it): a tip that moves further than half
+// the engine's spacing in one step (from insertion.start_depth on the first), a non-finite
+// command and a pose off the tissue are refused with the same text as in Python
+// (tests/python/test_errors.py), and the session is left as it was.
+TEST(ApiSession, TheStepGuardRefusesLongStepsAndNonFiniteCommands) {
+  // lumped: the thinnest layer is the 55 mm block, so at most 27.5 mm per step
+  api::Session lumped(api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml"));
+  EXPECT_EQ(messageOf<api::InputError>([&] { lumped.step(0.100, 1e-3); }),
+            "<session>: Session.step(depth): moves the tip 100 mm in its first step (a Session starts at "
+            "insertion.start_depth, 0 mm; only before the tissue (depth <= 0 mm) may it be placed anywhere) (got '0.1'); "
+            "allowed: at most 27.5 mm per step (0.5 x the thinnest layer); take smaller steps");
+  EXPECT_EQ(messageOf<api::InputError>([&] { lumped.step(std::numeric_limits<double>::quiet_NaN(), 1e-3); }),
+            "<session>: Session.step(depth): must be a finite number (got 'nan'); allowed: a tip depth in m");
+  EXPECT_EQ(lumped.state().time, 0.0);  // nothing was stepped
+  lumped.step(0.020, 1e-3);             // within the guard
+  EXPECT_NE(messageOf<api::InputError>([&] { lumped.step(0.050, 1e-3); }).find("moves the tip 30 mm in one step (from 20 mm)"),
+            std::string::npos);
+  EXPECT_DOUBLE_EQ(lumped.state().depth, 0.020);
+
+  // realtime2d: every argument of the command must be finite, and the tip may not jump
+  api::Session fe(shortRealtime2d("8 mm"));
+  const double nan = std::numeric_limits<double>::quiet_NaN(), inf = std::numeric_limits<double>::infinity();
+  const std::pair<api::Command, const char*> bad[] = {{{nan, 0, 0, 0, 0}, "Session.step(depth)"},
+                                                      {{0, inf, 0, 0, 0}, "Session.step(lateral)"},
+                                                      {{0, 0, nan, 0, 0}, "Session.step(rotation)"},
+                                                      {{0, 0, 0, -inf, 0}, "Session.step(roll)"},
+                                                      {{0, 0, 0, 0, nan}, "Session.step(tilt)"}};
+  for (const auto& [command, field] : bad) {
+    const std::string text = messageOf<api::InputError>([&] { fe.step(command, 1e-3); });
+    EXPECT_NE(text.find(field), std::string::npos) << text;
+    EXPECT_NE(text.find("must be a finite number"), std::string::npos) << text;
+  }
+  EXPECT_THROW(fe.step(0.0, inf), api::InputError);
+  const std::string jump = messageOf<api::InputError>([&] { fe.step(0.030, 1e-3); });
+  EXPECT_NE(jump.find("moves the tip 30 mm in its first step"), std::string::npos) << jump;
+  EXPECT_NE(jump.find("0.5 x the node spacing"), std::string::npos) << jump;
+  const std::string off = messageOf<api::InputError>([&] { fe.step(api::Command{0.0, 1.0, 0.0, 0.0}, 1e-3); });
+  EXPECT_NE(off.find("Session.step(lateral)"), std::string::npos) << off;
+  EXPECT_NE(off.find("entry face"), std::string::npos) << off;
+  EXPECT_EQ(fe.state().time, 0.0);
+  for (int k = 1; k <= 10; ++k) fe.step(1e-4 * k, 1e-3);  // the session goes on
+  const std::string later = messageOf<api::InputError>([&] { fe.step(0.030, 1e-3); });
+  EXPECT_NE(later.find("in one step (from 1 mm)"), std::string::npos) << later;
+  EXPECT_NEAR(fe.state().depth, 1e-3, 1e-4);
+  EXPECT_NEAR(fe.state().time, 10e-3, 1e-12);
+  // the axes each engine takes besides depth (the others are refused)
+  EXPECT_TRUE(fe.axes().lateral && fe.axes().rotation && fe.axes().roll);
+  EXPECT_FALSE(fe.axes().tilt);
+  EXPECT_FALSE(lumped.axes().lateral || lumped.axes().rotation || lumped.axes().roll || lumped.axes().tilt);
 }
 
 TEST(ApiFit, PlastisolCompression) {

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <filesystem>
@@ -10,9 +11,13 @@
 #include <iterator>
 #include <thread>
 
+#include <arpa/inet.h>
+#include <netinet/in.h>
+#include <sys/socket.h>
 #include <unistd.h>
 
 #include "needlesim/live/haptic_protocol.hpp"
+#include "needlesim/live/haptic_server.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/live/live_session.hpp"
 #include "needlesim/live/net_address.hpp"
@@ -33,7 +38,7 @@ api::Scenario realtime2d() {
 
 TEST(LivePose, DriveMovesTheTargetWithinLimitsAndPoseFollowsAtTopSpeed) {
   live::MotionLimits limits;
-  const live::Controls controls = live::controlsFor("realtime2d");
+  const live::Controls controls{true, true, false, true};  // realtime2d: lateral, rotation, roll
   live::Pose target;
   for (int i = 0; i < 1000; ++i) live::driveTarget(target, {1.0, 0, 0.5, 1.0, 0}, limits, controls, 1e-3);
   EXPECT_NEAR(target.depth, 5e-3, 1e-12);                 // 1 s at 5 mm/s
@@ -42,7 +47,7 @@ TEST(LivePose, DriveMovesTheTargetWithinLimitsAndPoseFollowsAtTopSpeed) {
   live::Pose pose;
   live::approach(pose, {0.01, 0, 0, 0, 0}, limits, 1e-3);
   EXPECT_NEAR(pose.depth, 5e-6, 1e-15);                   // one step at the top speed
-  const live::Pose clamped = live::clampTarget({1.0, 1.0, 1.0, 1.0, 1.0}, limits, live::controlsFor("lumped"));
+  const live::Pose clamped = live::clampTarget({1.0, 1.0, 1.0, 1.0, 1.0}, limits, live::Controls{});
   EXPECT_EQ(clamped.depth, limits.maxDepth);
   EXPECT_EQ(clamped.lateral + clamped.rotation + clamped.tilt + clamped.roll, 0.0);  // lumped: depth only
 }
@@ -149,7 +154,7 @@ TEST(LiveSession, Realtime3dTakesTheTiltAndReplays) {
   settings.limits.maxDepth = 0.0;
   const api::Scenario scenario = api::Scenario::fromFile(fs::path(NEEDLESIM_SOURCE_DIR) / "examples/realtime3d/quick_block.yaml");
   live::LiveSession session(scenario, settings);
-  EXPECT_TRUE(live::controlsFor("realtime3d").tilt);
+  EXPECT_TRUE(session.controls().tilt);
   const api::Surface surface = session.surface();
   ASSERT_GT(surface.triangles.size(), 0u);
   for (std::size_t k = 0; k < surface.vertices.size(); k += 3)
@@ -311,6 +316,89 @@ TEST(LiveRecording, ReplayRefusesABadResetFlagWithItsLine) {
     EXPECT_EQ(e.field(), "reset");
   }
   fs::remove_all(dir);
+}
+
+// A command the session refuses (its step guard: here a drive that jumps the tip 20 mm in one
+// step) is refused with the message the C++ API and Python give for it; the pose holds where
+// the session last took it, the physics thread goes on and the frame reports the refusal.
+TEST(LiveSession, ARefusedCommandHoldsThePoseAndIsReported) {
+  live::LiveSettings settings;
+  settings.record = true;
+  settings.limits.insertSpeed = 20.0;  // 20 mm in one 1 ms step
+  live::LiveSession session(realtime2d(), settings);
+  session.advance(1);  // takes the pose at depth 0
+  session.setDrive({1.0});
+  session.advance(3);
+  session.setDrive({});
+  session.advance(2);
+  live::Frame frame;
+  session.frame(frame);
+  EXPECT_EQ(frame.refusals, 3u);
+  EXPECT_EQ(frame.latest.step, 6u);  // held steps go on
+  EXPECT_EQ(frame.latest.pose.depth, 0.0);
+  EXPECT_EQ(frame.latest.state.depth, session.latest().state.depth);
+  EXPECT_EQ(session.log().size(), 6u);  // a replay steps what was taken
+
+  api::Session direct(realtime2d());
+  direct.step(api::Command{}, 1e-3);
+  try {
+    direct.step(api::Command{0.020}, 1e-3);
+    ADD_FAILURE() << "a 20 mm step was taken";
+  } catch (const api::InputError& e) {
+    EXPECT_EQ(frame.refusal, e.what());
+  }
+  EXPECT_NE(frame.refusal.find("Session.step(depth): moves the tip 20 mm in one step (from 0 mm)"), std::string::npos)
+      << frame.refusal;
+  const nlohmann::json json = live::frameJson(session, 0);  // GET /api/frame
+  EXPECT_EQ(json["refusals"], 3);
+  EXPECT_EQ(json["refusal"], frame.refusal);
+}
+
+namespace {
+// One pose packet to the haptic server on this machine and its answer.
+haptic::Decoded exchange(int port, const haptic::PosePacket& pose) {
+  const int fd = socket(AF_INET, SOCK_DGRAM, 0);
+  sockaddr_in to{};
+  to.sin_family = AF_INET;
+  to.sin_port = htons(static_cast<std::uint16_t>(port));
+  to.sin_addr.s_addr = htonl(INADDR_LOOPBACK);
+  timeval timeout{5, 0};
+  setsockopt(fd, SOL_SOCKET, SO_RCVTIMEO, &timeout, sizeof timeout);
+  const haptic::Bytes out = haptic::encode(pose);
+  sendto(fd, out.data(), out.size(), 0, reinterpret_cast<const sockaddr*>(&to), sizeof to);
+  std::array<std::uint8_t, 512> in{};
+  const ssize_t n = recv(fd, in.data(), in.size(), 0);
+  close(fd);
+  return haptic::decode({in.data(), static_cast<std::size_t>(std::max<ssize_t>(n, 0))});
+}
+}  // namespace
+
+// The haptic bridge answers the pose after one the session refused with error code 5 and the
+// session's message; the needle holds, and the next answers are states again.
+TEST(HapticServer, APoseTheSessionRefusedIsAnsweredWithItsMessage) {
+  live::LiveSettings settings;
+  settings.limits.insertSpeed = 1.0;  // a device's pose is followed at 20 m/s: 20 mm in one 1 ms step
+  live::LiveSession session(realtime2d(), settings);
+  live::HapticServer server(session, "127.0.0.1", 0);
+  server.start();
+  session.advance(1);
+  const haptic::Decoded first = exchange(server.port(), haptic::PosePacket{1, 0, 0, {0.020}});
+  ASSERT_TRUE(first.packet);
+  EXPECT_TRUE(std::holds_alternative<haptic::StatePacket>(*first.packet));
+  session.advance(1);  // refused: the tip would move 20 mm in one step
+  const haptic::Decoded refused = exchange(server.port(), haptic::PosePacket{2, 0, 0, {0.0}});
+  ASSERT_TRUE(refused.packet);
+  ASSERT_TRUE(std::holds_alternative<haptic::ErrorPacket>(*refused.packet));
+  const auto& error = std::get<haptic::ErrorPacket>(*refused.packet);
+  EXPECT_EQ(error.code, haptic::ErrorCode::Refused);
+  EXPECT_EQ(error.sequence, 2u);
+  EXPECT_EQ(error.message, std::string("Session.step(depth): moves the tip 20 mm in one step (from 0 mm)").substr(0, 55));
+  session.advance(1);
+  const haptic::Decoded after = exchange(server.port(), haptic::PosePacket{3, 0, 0, {0.0}});
+  ASSERT_TRUE(after.packet);
+  ASSERT_TRUE(std::holds_alternative<haptic::StatePacket>(*after.packet));
+  EXPECT_NEAR(std::get<haptic::StatePacket>(*after.packet).depth, 0.0, 1e-12);  // held where the session last took it
+  server.stop();
 }
 
 // A session held for minutes between insertion and retraction replays exactly, stepped at the

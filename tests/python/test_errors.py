@@ -230,6 +230,19 @@ def test_the_first_step_keeps_the_step_guard(gelatin, coarse):
     assert needlesim.Session(gelatin).step(0.020).depth == 0.020  # within the guard
 
 
+def test_the_step_guard_gives_the_message_of_every_session(gelatin):
+    # One guard for every caller (engines/session.hpp): the C++ API's Session, needlesim serve
+    # and its haptic bridge give these texts too (tests/api/test_api.cpp, TheStepGuardRefuses...)
+    session = needlesim.Session(gelatin)
+    assert message(needlesim.InputError, session.step, 0.100) == (
+        "<session>: Session.step(depth): moves the tip 100 mm in its first step (a Session starts at "
+        "insertion.start_depth, 0 mm; only before the tissue (depth <= 0 mm) may it be placed anywhere) (got '0.1'); "
+        "allowed: at most 27.5 mm per step (0.5 x the thinnest layer); take smaller steps")
+    assert message(needlesim.InputError, session.step, float("nan")) == (
+        "<session>: Session.step(depth): must be a finite number (got 'nan'); allowed: a tip depth in m")
+    assert session.time == 0.0 and session.depth is None  # nothing was stepped
+
+
 def test_a_session_refuses_a_tip_deeper_than_the_needle(gelatin):
     text = message(needlesim.InputError, needlesim.Session(gelatin).step, 1.0)
     assert "Session.step(depth)" in text and "deeper than the needle is long" in text and "0.15 m" in text

@@ -1,136 +1,59 @@
-// api::Session: the realtime2d engine's Session or the lumped force model, stepped by the caller.
+// api::Session: the steppable session of the scenario's engine (engines/session.hpp: one
+// guard and one adapter per engine for every caller), stepped by the caller.
 #include <cmath>
-#include <optional>
 
 #include <fmt/format.h>
 
 #include "needlesim/api/scenario_impl.hpp"
 #include "needlesim/api/translate.hpp"
-#include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
-#include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
-#include "needlesim/forces/lumped_model.hpp"
+#include "needlesim/engines/session.hpp"
 
 namespace needlesim::api {
 
-namespace {
-
-constexpr const char* kSteppable = "lumped, realtime2d or realtime3d (model.engine)";
-
-// The phases of both models share their numbering (forces::Phase, realtime2d::Phase).
-std::string phaseName(int phase) {
-  static const char* names[] = {"outside", "pressing", "cutting", "inside", "through"};
-  return phase >= 0 && phase < 5 ? names[phase] : "unknown";
-}
-
-void requireFinite(const std::string& argument, double v, const std::string& allowed) {
-  if (!std::isfinite(v)) detail::argumentError("Session::step", argument, fmt::format("{}", v), "must be a finite number", allowed);
-}
-
-void checkCommand(const Command& c, double dt) {
-  requireFinite("command.depth", c.depth, "a tip depth in m");
-  requireFinite("command.lateral", c.lateral, "a lateral base offset in m");
-  requireFinite("command.rotation", c.rotation, "a rotation of the insertion plane in rad");
-  requireFinite("command.roll", c.roll, "a roll of the bevel in rad");
-  requireFinite("command.tilt", c.tilt, "a tilt out of the insertion plane in rad");
-  requireFinite("dt", dt, "a time step > 0 s");
-  if (!(dt > 0.0)) detail::argumentError("Session::step", "dt", fmt::format("{}", dt), "must be > 0", "a time step > 0 s");
-}
-
-}  // namespace
-
 struct Session::Impl {
   Scenario scenario;
-  std::optional<realtime2d::Session> fe;            // engine realtime2d
-  std::optional<forces::LumpedForceModel> lumped;  // engine lumped
-  std::optional<realtime3d::Session> fe3;           // engine realtime3d
-  double previousDepth = 0.0;
-  bool stepped = false;
+  std::unique_ptr<engines::SteppableSession> session;
   State state;
 
-  explicit Impl(const Scenario& s) : scenario(s) { build(); }
-
-  void build() {
-    const needlesim::Scenario& sc = detail::ScenarioAccess::typed(scenario);
-    if (sc.model.engine == "realtime2d") {
-      fe.emplace(engines::realtime2dConfig(sc));
-    } else if (sc.model.engine == "realtime3d") {
-      fe3.emplace(engines::realtime3dConfig(sc));
-    } else if (sc.model.engine == "lumped") {
-      lumped.emplace(sc.tissue, sc.needle, sc.insertion.entry_angle, sc.model.lumped.relaxation_time);
-    } else {
-      throw needlesim::InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
-                                  "cannot be stepped live (needlesim serve, a Session): run it with `needlesim run`",
-                                  kSteppable);
-    }
-    state = State{};
-    state.phase = phaseName(0);
-    stepped = false;
+  explicit Impl(const Scenario& s)
+      : scenario(s), session(engines::openSession(detail::ScenarioAccess::typed(scenario))) {
+    state.phase = engines::phaseName(0);
   }
 
-  // The state both FE sessions' step results give alike.
-  template <class StepResult>
-  void feState(const StepResult& o) {
+  void reset() {
+    session->reset();
+    state = State{};
+    state.phase = engines::phaseName(0);
+  }
+
+  void step(const Command& c, double dt) {
+    const engines::SessionOutput& o = session->step({c.depth, c.lateral, c.rotation, c.roll, c.tilt, std::nullopt}, dt);
+    state.time = session->time();
     state.depth = o.depth;
     state.axial_force = o.axial_force;
     state.lateral_force = o.lateral_force;
     state.stiffness_force = o.stiffness_force;
     state.cutting_force = o.cutting_force;
     state.friction_force = o.friction_force;
-    state.tip_x = o.tip_position.x();
-    state.tip_y = o.tip_position.y();
-    state.phase = phaseName(static_cast<int>(o.phase));
-  }
-
-  void stepFe3(const Command& c, double dt) {
-    const realtime3d::StepResult& o = fe3->step(fe3->poseAtDepth(c.depth, c.lateral, 0.0, c.rotation, c.tilt, c.roll), dt);
-    feState(o);
-    state.out_of_plane_force = o.out_of_plane_force;
-    state.tip_z = o.tip_position.z();
-    state.tip_deflection = o.tip_deflection[0];
-    state.tip_deflection_z = o.tip_deflection[1];
-  }
-
-  void stepFe(const Command& c, double dt) {
-    if (c.tilt != 0.0)
-      detail::argumentError("Session::step", "command.tilt", fmt::format("{}", c.tilt),
-                            "tilts the needle out of the insertion plane, which the 2D engine cannot",
-                            "0 for realtime2d; a scenario with model.engine: realtime3d");
-    const realtime2d::StepResult& o = fe->step(fe->poseAtDepth(c.depth, c.lateral, c.rotation, c.roll), dt);
-    feState(o);
+    state.tip_x = o.tip.x();
+    state.tip_y = o.tip.y();
+    state.tip_z = o.tip.z();
     state.tip_deflection = o.tip_deflection;
+    state.tip_deflection_z = o.tip_deflection_z;
+    state.out_of_plane_force = o.out_of_plane_force;
+    state.phase = engines::phaseName(o.phase);
   }
 
-  void stepLumped(const Command& c, double dt) {
-    if (c.lateral != 0.0 || c.rotation != 0.0 || c.roll != 0.0 || c.tilt != 0.0)
-      detail::argumentError("Session::step", "command", fmt::format("lateral {}, rotation {}, roll {}", c.lateral, c.rotation, c.roll),
-                            "steers the needle, which the lumped model (a straight rigid needle) cannot",
-                            "0 for lumped; a scenario with model.engine: realtime2d for lateral, rotation and roll");
-    const double velocity = stepped ? (c.depth - previousDepth) / dt : 0.0;
-    const forces::ForceBreakdown f = lumped->step(c.depth, velocity, dt);
-    state.depth = c.depth;
-    state.axial_force = f.total();
-    state.lateral_force = 0.0;
-    state.stiffness_force = f.stiffness;
-    state.cutting_force = f.cutting;
-    state.friction_force = f.friction;
-    state.tip_x = c.depth;
-    state.tip_y = 0.0;
-    state.tip_deflection = 0.0;
-    state.phase = phaseName(static_cast<int>(f.phase));
-  }
-
-  const realtime2d::Session& feOnly(const std::string& call) const {
-    if (!fe)
+  const engines::SteppableSession& meshed(const std::string& call) const {
+    if (!session->hasMesh())
       detail::argumentError(call, "", "engine " + scenario.engine(), "has no tissue mesh or needle shape",
                             "a Session of a scenario with model.engine: realtime2d or realtime3d");
-    return *fe;
+    return *session;
   }
-  bool threeD() const { return fe3.has_value(); }
+  bool threeD() const { return session->dimension() == 3; }
   // Values of the full displacement: dimension x nodes of the FE mesh, 0 for lumped.
   std::size_t displacementValues() const {
-    if (fe3) return fe3->mesh().X.size();
-    if (fe) return 2 * static_cast<std::size_t>(fe->mesh().nodeCount());
-    return 0;
+    return session->hasMesh() ? static_cast<std::size_t>(session->dimension()) * session->nodeCount() : 0;
   }
 };
 
@@ -141,73 +64,50 @@ Session& Session::operator=(Session&&) noexcept = default;
 
 const State& Session::step(const Command& command, double dt) {
   return detail::translated([&]() -> const State& {
-    checkCommand(command, dt);
-    if (impl_->fe3)
-      impl_->stepFe3(command, dt);
-    else if (impl_->fe)
-      impl_->stepFe(command, dt);
-    else
-      impl_->stepLumped(command, dt);
-    impl_->state.time += dt;
-    impl_->previousDepth = command.depth;
-    impl_->stepped = true;
+    impl_->step(command, dt);
     return impl_->state;
   });
 }
 
 const State& Session::state() const { return impl_->state; }
-void Session::reset() { detail::translated([&] { impl_->build(); }); }
+void Session::reset() { detail::translated([&] { impl_->reset(); }); }
 std::string Session::engine() const { return impl_->scenario.engine(); }
 
+Axes Session::axes() const {
+  const engines::SessionAxes& a = impl_->session->guard().axes();
+  return Axes{a.lateral, a.rotation, a.roll, a.tilt};
+}
+
 std::vector<double> Session::nodePositions() const {
-  if (impl_->threeD()) {
-    std::vector<double> x = impl_->fe3->mesh().X;
-    for (std::size_t i = 0; i < x.size(); ++i) x[i] -= impl_->fe3->cornerShift()[static_cast<Eigen::Index>(i % 3)];
-    return x;
-  }
-  const realtime2d::Session& fe = impl_->feOnly("Session::nodePositions");
-  const Eigen::Matrix2Xd centred = fe.mesh().nodes.colwise() - fe.cornerShift();
-  return std::vector<double>(centred.data(), centred.data() + centred.size());
+  return detail::translated([&] { return impl_->meshed("Session::nodePositions").nodePositions(); });
 }
 
 std::vector<double> Session::nodeDisplacements() const {
-  const Eigen::VectorXd& u = impl_->threeD() ? impl_->fe3->displacement() : impl_->feOnly("Session::nodeDisplacements").displacement();
-  return std::vector<double>(u.data(), u.data() + u.size());
+  return detail::translated([&] {
+    const Eigen::VectorXd& u = impl_->meshed("Session::nodeDisplacements").displacement();
+    return std::vector<double>(u.data(), u.data() + u.size());
+  });
 }
 
 std::vector<double> Session::needleShape(int points) const {
   if (points < 2) detail::argumentError("Session::needleShape", "points", std::to_string(points), "is too few", "2 or more points");
-  if (impl_->threeD()) {
-    Eigen::Matrix3Xd shape(3, points);
-    impl_->fe3->needleShape(points, shape);
-    return std::vector<double>(shape.data(), shape.data() + shape.size());
-  }
-  const realtime2d::Session& fe = impl_->feOnly("Session::needleShape");
-  Eigen::Matrix2Xd shape(2, points);
-  fe.needleShape(points, shape);
+  Eigen::MatrixXd shape;
+  impl_->meshed("Session::needleShape").needleShape(points, shape);
   return std::vector<double>(shape.data(), shape.data() + shape.size());
 }
 
 Surface Session::surface() const {
   return detail::translated([&] {
     Surface out;
-    if (impl_->threeD()) {  // the tetrahedral block's boundary triangles (outward) over all its nodes
-      out.vertices = nodePositions();
-      const Eigen::Matrix3Xi& T = impl_->fe3->tissue().surfaceTriangles();
-      out.triangles.assign(T.data(), T.data() + T.size());
-      return out;
-    }
-    if (impl_->fe) {
-      const realtime2d::Mesh& mesh = impl_->fe->mesh();
-      const Eigen::Matrix2Xd centred = mesh.nodes.colwise() - impl_->fe->cornerShift();
-      out.vertices.reserve(3 * centred.cols());
-      for (Eigen::Index i = 0; i < centred.cols(); ++i) out.vertices.insert(out.vertices.end(), {centred(0, i), centred(1, i), 0.0});
-      out.triangles.reserve(6 * mesh.quads.cols());
-      for (Eigen::Index e = 0; e < mesh.quads.cols(); ++e) {
-        const auto q = mesh.quads.col(e);
-        out.triangles.insert(out.triangles.end(), {q(0), q(1), q(2)});
-        if (q(3) != q(2)) out.triangles.insert(out.triangles.end(), {q(0), q(2), q(3)});  // not a collapsed triangle
+    if (impl_->session->hasMesh()) {  // 3D: the block's boundary triangles (outward); 2D: the mesh in z = 0
+      const std::vector<double> nodes = impl_->session->nodePositions();
+      if (impl_->threeD()) {
+        out.vertices = nodes;
+      } else {
+        out.vertices.reserve(3 * nodes.size() / 2);
+        for (std::size_t i = 0; i + 1 < nodes.size(); i += 2) out.vertices.insert(out.vertices.end(), {nodes[i], nodes[i + 1], 0.0});
       }
+      out.triangles = impl_->session->surfaceTriangles();
       return out;
     }
     // lumped: the block's mid-plane from the entry face (x = 0) to the exit face
@@ -264,12 +164,20 @@ FieldSnapshot::~FieldSnapshot() = default;
 FieldSnapshot::FieldSnapshot(FieldSnapshot&&) noexcept = default;
 FieldSnapshot& FieldSnapshot::operator=(FieldSnapshot&&) noexcept = default;
 
+namespace {
+// The viewer's field of a displacement with `dimension` values per node.
+void fieldOf(const Eigen::VectorXd& u, int dimension, SurfaceField& field) {
+  if (dimension == 3)
+    fieldOf3d(u, field);
+  else
+    fieldOf2d(u, field);
+}
+}  // namespace
+
 void Session::surfaceField(SurfaceField& field) const {
   nameField(field);
-  if (impl_->fe3)
-    fieldOf3d(impl_->fe3->displacement(), field);
-  else if (impl_->fe)
-    fieldOf2d(impl_->fe->displacement(), field);
+  if (impl_->session->hasMesh())
+    fieldOf(impl_->session->displacement(), impl_->session->dimension(), field);
   else
     stillField(field);
 }
@@ -278,10 +186,7 @@ void Session::snapshotField(FieldSnapshot& snapshot) const {
   if (!snapshot.impl_) snapshot.impl_ = std::make_unique<FieldSnapshot::Impl>();
   FieldSnapshot::Impl& taken = *snapshot.impl_;
   taken.values = impl_->displacementValues();
-  if (impl_->fe3)
-    impl_->fe3->saveDisplacement(taken.displacement);
-  else if (impl_->fe)
-    impl_->fe->saveDisplacement(taken.displacement);
+  impl_->session->saveDisplacement(taken.displacement);
 }
 
 void Session::surfaceField(const FieldSnapshot& snapshot, SurfaceField& field) const {
@@ -293,16 +198,10 @@ void Session::surfaceField(const FieldSnapshot& snapshot, SurfaceField& field) c
                             fmt::format("was filled on another mesh than the simulated one ({} values)", impl_->displacementValues()),
                             "a snapshot filled by snapshotField on a Session of the same scenario");
     nameField(field);
+    if (!impl_->session->hasMesh()) return stillField(field);
     Eigen::VectorXd u;
-    if (impl_->fe3) {
-      impl_->fe3->displacementFrom(snapshot.impl_->displacement, u);
-      fieldOf3d(u, field);
-    } else if (impl_->fe) {
-      impl_->fe->displacementFrom(snapshot.impl_->displacement, u);
-      fieldOf2d(u, field);
-    } else {
-      stillField(field);
-    }
+    impl_->session->displacementFrom(snapshot.impl_->displacement, u);
+    fieldOf(u, impl_->session->dimension(), field);
   });
 }
 
@@ -310,13 +209,12 @@ std::vector<double> Session::needleCentreLine(int points) const {
   return detail::translated([&] {
     if (points < 2)
       detail::argumentError("Session::needleCentreLine", "points", std::to_string(points), "is too few", "2 or more points");
-    if (impl_->threeD()) return needleShape(points);  // already x y z per point
     std::vector<double> out;
     out.reserve(3 * points);
-    if (impl_->fe) {
-      Eigen::Matrix2Xd shape(2, points);
-      impl_->fe->needleShape(points, shape);
-      for (int c = 0; c < points; ++c) out.insert(out.end(), {shape(0, c), shape(1, c), 0.0});
+    if (impl_->session->hasMesh()) {
+      Eigen::MatrixXd shape;
+      impl_->session->needleShape(points, shape);
+      for (int c = 0; c < points; ++c) out.insert(out.end(), {shape(0, c), shape(1, c), shape.rows() == 3 ? shape(2, c) : 0.0});
       return out;
     }
     // lumped: a straight rigid needle along the insertion axis, its tip at the depth
@@ -327,6 +225,6 @@ std::vector<double> Session::needleCentreLine(int points) const {
   });
 }
 
-int Session::dimension() const { return impl_->threeD() ? 3 : 2; }
+int Session::dimension() const { return impl_->session->dimension(); }
 
 }  // namespace needlesim::api

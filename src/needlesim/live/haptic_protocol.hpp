@@ -18,7 +18,9 @@ inline constexpr std::size_t kPoseSize = 64, kStateSize = 128, kErrorSize = 80;
 
 enum class Type : std::uint16_t { Pose = 1, State = 2, Error = 3 };
 // Value: a pose value that is not finite, or a flag bit that is not defined (kPoseFlags).
-enum class ErrorCode : std::uint32_t { Version = 1, Size = 2, Type = 3, Value = 4 };
+// Refused: the session's step guard refused a pose the needle was moved to since the last
+// answer (the needle holds at the last pose the session took).
+enum class ErrorCode : std::uint32_t { Version = 1, Size = 2, Type = 3, Value = 4, Refused = 5 };
 inline constexpr std::uint32_t kPoseReset = 1u;          // pose flag bit 0
 inline constexpr std::uint32_t kPoseFlags = kPoseReset;  // the defined flag bits
 

@@ -67,6 +67,16 @@ void HapticServer::stop() {
   if (thread_.joinable()) thread_.join();
 }
 
+// The latest state, or the session's refusal of a pose since the last answer (the message
+// without its "<session>: " location, cut to the packet's 55 bytes).
+haptic::Bytes HapticServer::answerTo(const haptic::PosePacket& pose) {
+  std::string message;
+  if (!live_.refusedSince(sessionRefusals_, message)) return haptic::encode(stateFor(live_.latest(), pose));
+  const std::string location = "<session>: ";
+  if (message.starts_with(location)) message.erase(0, location.size());
+  return haptic::encode(haptic::ErrorPacket{pose.sequence, haptic::ErrorCode::Refused, 0, message});
+}
+
 void HapticServer::run() {
   std::array<std::uint8_t, 512> buffer{};
   while (running_) {
@@ -83,7 +93,7 @@ void HapticServer::run() {
       const auto& pose = std::get<haptic::PosePacket>(*d.packet);
       if (pose.flags & haptic::kPoseReset) live_.reset();
       live_.setTarget(pose.pose);
-      reply = haptic::encode(stateFor(live_.latest(), pose));
+      reply = answerTo(pose);
       ++answered_;
     } else if (d.packet) {
       reply = haptic::encode(haptic::ErrorPacket{0, haptic::ErrorCode::Type, 0, "a server takes pose packets (type 1)"});

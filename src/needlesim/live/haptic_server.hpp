@@ -1,12 +1,14 @@
 #pragma once
 // The haptic bridge: a UDP server (docs/haptic-protocol.md) that takes a device's
 // pose packets, sets them as the live session's target, and answers each with the
-// latest state (forces on the hand). Its own thread; a device sends at 1 kHz.
+// latest state (forces on the hand), or with the session's refusal of a pose it was moved to
+// since the last answer (error code 5). Its own thread; a device sends at 1 kHz.
 #include <atomic>
 #include <cstdint>
 #include <string>
 #include <thread>
 
+#include "needlesim/live/haptic_protocol.hpp"
 #include "needlesim/live/live_session.hpp"
 
 namespace needlesim::live {
@@ -27,11 +29,13 @@ class HapticServer {
 
  private:
   void run();
+  haptic::Bytes answerTo(const haptic::PosePacket& pose);
   LiveSession& live_;
   int fd_ = -1;
   int port_ = 0;
   std::atomic<bool> running_{false};
   std::atomic<std::uint64_t> answered_{0}, refused_{0};
+  std::uint64_t sessionRefusals_ = 0;  // the live session's refusals answered so far (its thread)
   std::thread thread_;
 };
 

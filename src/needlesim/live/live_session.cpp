@@ -45,7 +45,7 @@ void depthRange(MotionLimits& limits, const api::Surface& surface, const std::ve
 
 LiveSession::LiveSession(const api::Scenario& scenario, const LiveSettings& settings)
     : scenario_(scenario), settings_(settings), session_(scenario), surface_(session_.surface()),
-      engine_(session_.engine()), controls_(controlsFor(engine_)) {
+      engine_(session_.engine()), controls_(controlsFor(session_.axes())) {
   if (!(settings_.dt > 0.0) || !std::isfinite(settings_.dt))
     throw api::InputError("the physics step must be a finite time > 0 s", "<live session>", 0, "dt");
   depthRange(settings_.limits, surface_, session_.needleCentreLine(2));
@@ -107,6 +107,14 @@ LatestState LiveSession::latest() const {
   return latest_;
 }
 
+bool LiveSession::refusedSince(std::uint64_t& seen, std::string& message) const {
+  std::lock_guard lock(stateMutex_);
+  if (frame_.refusals == seen) return false;
+  seen = frame_.refusals;
+  message = frame_.refusal;
+  return true;
+}
+
 void LiveSession::frame(Frame& out) const {
   {
     std::lock_guard lock(fieldMutex_);
@@ -123,6 +131,8 @@ void LiveSession::frame(Frame& out) const {
   out.overruns = frame_.overruns;
   out.stepCost = frame_.stepCost;
   out.stepMaxCost = frame_.stepMaxCost;
+  out.refusals = frame_.refusals;
+  out.refusal = frame_.refusal;
 }
 
 std::vector<Sample> LiveSession::samples(std::size_t from, std::size_t& total) const {
@@ -163,6 +173,7 @@ void LiveSession::resetIfAsked() {
     session_.reset();  // rebuilds the engine's session (for realtime2d: its mesh and factorisation)
   }
   pose_ = Pose{};
+  taken_.reset();
   if (settings_.record) log_.markReset();  // the recording goes on: its replay resets here too
   std::lock_guard stateLock(stateMutex_);
   samples_.clear();
@@ -184,14 +195,41 @@ void LiveSession::stepOnce() {
     approach(pose_, target_, limits, settings_.dt);
   }
   const Clock::time_point before = Clock::now();
-  const api::State& state = session_.step(commandFor(pose_), settings_.dt);
+  const api::State* state = stepSession();
+  if (!state) return;
   ++step_;
-  if (settings_.record) log_.add(settings_.dt, pose_, state);
-  publish(state);
+  if (settings_.record) log_.add(settings_.dt, pose_, *state);
+  publish(*state);
   const double cost = secondsSince(before);
   windowCost_ += cost;
   windowMaxCost_ = std::max(windowMaxCost_, cost);
   totalCost_ += cost;
+}
+
+// The session's step to the pose; a pose it refuses is reported, and the session steps at the
+// last pose it took (nothing, where it took none yet since the start or reset).
+const api::State* LiveSession::stepSession() {
+  try {
+    const api::State& state = session_.step(commandFor(pose_), settings_.dt);
+    taken_ = pose_;
+    return &state;
+  } catch (const api::InputError& e) {
+    noteRefusal(e.what());
+    pose_ = taken_.value_or(Pose{});
+    if (!taken_) return nullptr;
+    return &session_.step(commandFor(pose_), settings_.dt);
+  }
+}
+
+// The target comes back to the held pose, so that the motion starts again from there.
+void LiveSession::noteRefusal(const std::string& message) {
+  {
+    std::lock_guard lock(controlMutex_);
+    target_ = taken_.value_or(Pose{});
+  }
+  std::lock_guard lock(stateMutex_);
+  ++frame_.refusals;
+  frame_.refusal = message;
 }
 
 void LiveSession::publish(const api::State& state) {

@@ -11,6 +11,8 @@
 #include <condition_variable>
 #include <cstdint>
 #include <mutex>
+#include <optional>
+#include <string>
 #include <thread>
 #include <vector>
 
@@ -58,6 +60,11 @@ struct Frame {
   // snapshot), wall time over the last second:
   double stepCost = 0.0;       // s, mean
   double stepMaxCost = 0.0;    // s, the longest
+  // Commands the session refused (its step guard: a jump longer than one step may take, a pose
+  // out of the tissue's reach): how many, and the last one's message. The pose holds where the
+  // session last took it.
+  std::uint64_t refusals = 0;
+  std::string refusal;
 };
 
 class LiveSession {
@@ -84,6 +91,9 @@ class LiveSession {
   void reset();
 
   LatestState latest() const;
+  // Whether the session refused a command since `seen` refusals (then `seen` is brought up to
+  // date and `message` is the last one's).
+  bool refusedSince(std::uint64_t& seen, std::string& message) const;
   void frame(Frame& out) const;
   // Force-plot samples from index `from` on; `total` is the count there is.
   std::vector<Sample> samples(std::size_t from, std::size_t& total) const;
@@ -102,6 +112,8 @@ class LiveSession {
   void run();
   void stepOnce();
   void resetIfAsked();
+  const api::State* stepSession();
+  void noteRefusal(const std::string& message);
   void publish(const api::State& state);
   void snapshotField();
   void measureRate(std::chrono::steady_clock::time_point now);
@@ -125,6 +137,7 @@ class LiveSession {
   bool resetRequested_ = false;
 
   Pose pose_;  // physics thread only
+  std::optional<Pose> taken_;  // the last pose the session took since the start or reset (physics thread)
   StepLog log_;
   std::uint64_t step_ = 0;
 

@@ -10,11 +10,7 @@ double towards(double from, double to, double maxStep) { return from + std::clam
 double unit(double v) { return std::isfinite(v) ? std::clamp(v, -1.0, 1.0) : 0.0; }
 }  // namespace
 
-Controls controlsFor(const std::string& engine) {
-  if (engine == "realtime2d") return {true, true, false, true};
-  if (engine == "realtime3d") return {true, true, true, true};
-  return {};  // lumped: a straight rigid needle, depth only
-}
+Controls controlsFor(const api::Axes& axes) { return {axes.lateral, axes.rotation, axes.tilt, axes.roll}; }
 
 Pose clampTarget(Pose t, const MotionLimits& l, const Controls& c) {
   t.depth = std::clamp(t.depth, l.minDepth, l.maxDepth);
@@ -42,7 +38,7 @@ void approach(Pose& p, const Pose& t, const MotionLimits& l, double dt) {
   p.roll = towards(p.roll, t.roll, l.rollRate * dt);
 }
 
-// The tilt goes to the engines that take it (realtime3d); controlsFor holds it at 0 for the planar ones.
+// The tilt goes to the engines that take it (realtime3d); controlsFor holds it at 0 for the others.
 api::Command commandFor(const Pose& p) { return api::Command{p.depth, p.lateral, p.rotation, p.roll, p.tilt}; }
 
 }  // namespace needlesim::live

@@ -1,8 +1,6 @@
 #pragma once
 // The commanded needle pose of a live session and how key/mouse holds or a haptic
 // device move it: every axis approaches its target at a bounded rate.
-#include <string>
-
 #include "needlesim/needlesim.hpp"
 
 namespace needlesim::live {
@@ -37,7 +35,7 @@ struct MotionLimits {
 struct Controls {
   bool lateral = false, rotation = false, tilt = false, roll = false;
 };
-Controls controlsFor(const std::string& engine);
+Controls controlsFor(const api::Axes& axes);
 
 // Moves the target by the drive over dt (clamped to the limits and the controls).
 void driveTarget(Pose& target, const Drive& drive, const MotionLimits& limits, const Controls& controls, double dt);

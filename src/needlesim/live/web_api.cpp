@@ -56,6 +56,8 @@ nlohmann::json frameJson(const LiveSession& live, std::size_t since) {
           {"stepMaxCost", f.stepMaxCost},
           {"pose", poseJson(f.latest.pose)},
           {"state", stateJson(f.latest.state)},
+          {"refusals", f.refusals},
+          {"refusal", f.refusal.empty() ? nlohmann::json(nullptr) : nlohmann::json(f.refusal)},
           {"puncture", f.punctureDepth < 0.0 ? nlohmann::json(nullptr) : nlohmann::json(f.punctureDepth)},
           {"field", {{"displacement", floats(f.field.displacement)}, {"scalar", floats(f.field.scalar)},
                      {"name", f.field.scalarName}, {"unit", f.field.scalarUnit},
