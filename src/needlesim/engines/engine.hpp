@@ -13,6 +13,9 @@
 #include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim {
+namespace scenario {
+struct ModelSection;
+}
 namespace io {
 class FieldSeries;
 class Checkpoint;
@@ -66,7 +69,21 @@ struct EngineInfo {
   bool inclusions = false;   // models tissue.inclusions (else a scenario with them is refused)
   PreflightFn preflight;
   std::vector<int> geometry = {};  // dimensions of an imported tissue.geometry it takes (else refused)
+  // Its settings model.<key>, declared beside it (engines/<engine>/<engine>_section.cpp);
+  // engines that share settings name the same section.
+  const scenario::ModelSection& (*section)() = nullptr;
+  // The fields of the needle-tissue interaction it uses (engineDependentFields()) and any other
+  // engine's section it reads ("model.steering"); each other one the scenario gives gets a note.
+  std::vector<std::string> uses = {};
 };
+
+// The scenario fields whose use depends on the engine (puncture, cutting, friction,
+// interaction, Prony terms, inclusion contact), as "<section>.<key>" (e.g. friction.C_p).
+const std::vector<std::string>& engineDependentFields();
+// One note per field the scenario gives that `engine` does not use (a field of
+// engineDependentFields() outside engine.uses, or another engine's model section), naming where
+// it is given.
+std::vector<std::string> unusedFieldNotes(const EngineInfo& engine, const Scenario& scenario);
 
 // All engines built into this binary (engines/registry.cpp).
 const std::vector<EngineInfo>& engineRegistry();

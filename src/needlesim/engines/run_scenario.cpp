@@ -44,6 +44,7 @@ double runAndCommit(const EngineInfo& engine, const Scenario& sc, io::ResultsFol
   auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count(); };
   try {
     const std::optional<Scenario> capped = withThreadsCapped(sc, folder);
+    for (const auto& note : unusedFieldNotes(engine, sc)) folder.note(note);
     engine.run(capped ? *capped : sc, folder, options);
   } catch (const SolverError& e) {
     // Keep what was computed up to the failure, marked as stopped, then report.
@@ -87,6 +88,7 @@ MemorySink runInMemory(const Scenario& sc, const RunOptions& options) {
   const EngineInfo* engine = &engineFor(sc);
   MemorySink sink;
   const std::optional<Scenario> capped = withThreadsCapped(sc, sink);
+  for (const auto& note : unusedFieldNotes(*engine, sc)) sink.note(note);
   engine->run(capped ? *capped : sc, sink, options);
   return sink;
 }

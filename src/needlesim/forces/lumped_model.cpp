@@ -22,8 +22,8 @@ LumpedForceModel::LumpedForceModel(const TissueSpec& tissue, const NeedleSpec& n
     s = l.end;
     auto mod = materials::smallStrainModuli(L.material);
     l.stiffness = StiffnessLaw{mod.youngs(), mod.poisson(), needle.bevel_angle, entry_angle};
-    // A negative puncture_force carries a puncture depth (see scenario reader).
-    l.puncture_force = L.puncture_force >= 0.0 ? L.puncture_force : l.stiffness.force(-L.puncture_force);
+    // A puncture given as a depth: the stiffness force at that depth.
+    l.puncture_force = L.puncture_depth > 0.0 ? l.stiffness.force(L.puncture_depth) : L.puncture_force;
     l.cutting_force = L.cutting_force;
     l.friction = L.friction;
     layers_.push_back(l);

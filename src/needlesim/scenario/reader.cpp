@@ -12,9 +12,8 @@
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/nearest_name.hpp"
-#include "needlesim/scenario/cohesive_path_reader.hpp"
-#include "needlesim/scenario/measured_data.hpp"
 #include "needlesim/scenario/mesh_file.hpp"
+#include "needlesim/scenario/model_section.hpp"
 #include "needlesim/scenario/tissue_geometry.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/scenario/yaml_document.hpp"
@@ -26,33 +25,6 @@ namespace {
 const std::string kScenarioFile = "a scenario file (see docs/scenario-format.md)";
 
 using materials::MaterialSpec;
-
-// The markers of a real-time engine's section: inside the block (with z across the height
-// when the engine is 3D), each name once.
-std::vector<MarkerSpec> readMarkers(Section& engine, const Scenario& sc, bool with_z) {
-  std::vector<MarkerSpec> out;
-  auto list = engine.list("markers");
-  const double ylo = -0.5 * sc.tissue.width - sc.insertion.entry_offset, yhi = ylo + sc.tissue.width;
-  const double zmax = 0.5 * sc.tissue.height;
-  for (std::size_t i = 0; i < list.size(); ++i) {
-    Section m = engine.element(list[i], "markers", i);
-    MarkerSpec mk{m.text("name"), m.number("x"), m.number("y"), with_z ? m.number("z") : 0.0};
-    const bool inside = mk.x <= sc.tissue.length && mk.y >= ylo && mk.y <= yhi && std::abs(mk.z) <= zmax;
-    if (!inside && !with_z)
-      throw m.error("x", fmt::format("({:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3), "lies outside the tissue block",
-                    fmt::format("0 <= x <= {:g} mm and {:g} mm <= y <= {:g} mm", sc.tissue.length * 1e3,
-                                ylo * 1e3, yhi * 1e3));
-    if (!inside)
-      throw m.error(!(mk.x <= sc.tissue.length) ? "x" : !(mk.y >= ylo && mk.y <= yhi) ? "y" : "z", fmt::format("({:g}, {:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3, mk.z * 1e3),
-                    "lies outside the tissue block",
-                    fmt::format("0 <= x <= {:g} mm, {:g} mm <= y <= {:g} mm, |z| <= {:g} mm", sc.tissue.length * 1e3,
-                                ylo * 1e3, yhi * 1e3, zmax * 1e3));
-    for (const auto& o : out)
-      if (o.name == mk.name) throw m.error("name", mk.name, "is used by two markers", "unique names");
-    out.push_back(mk);
-  }
-  return out;
-}
 
 MaterialSpec readMaterial(Section& parent, const std::string& key) {
   YAML::Node n = parent.raw(key);
@@ -87,6 +59,7 @@ MaterialSpec readMaterial(Section& parent, const std::string& key) {
   }
   std::string name = m.text("name");
   if (!name.empty()) spec.name = name;
+  else m.remember("name", spec.name);
   if (m.has("law")) {
     std::string law = m.choice("law");
     if (law != spec.law) spec.params.clear();
@@ -155,7 +128,7 @@ LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockL
                     "a library name or a material section");
   } else {
     L.name = s.text("name");
-    if (L.name.empty()) L.name = fmt::format("layer{}", index + 1);
+    if (L.name.empty()) s.remember("name", L.name = fmt::format("layer{}", index + 1));
     if (blockLength > 0.0) {
       L.thickness = s.number("thickness");
     } else if (s.has("thickness")) {
@@ -171,22 +144,27 @@ LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockL
   auto pd = p.optNumber("depth");
   if (pf && pd) throw p.error("depth", "", "give the puncture force or depth, not both", "force or depth");
   if (pf) L.puncture_force = *pf;
-  // A depth is converted to a force by the stiffness law at run time; keep it negative to mark it.
-  if (pd) L.puncture_force = -*pd;
+  if (pd) L.puncture_depth = *pd;  // the engine's stiffness law gives the force at this depth
 
   Section c = s.sub("cutting");
   L.cutting_force = c.number("force");
 
   Section f = s.sub("friction");
   FrictionSpec& fr = L.friction;
+  // A default that is another field or a formula is recorded as the value it gives.
+  const auto orDerived = [&f](const char* key, double value) {
+    if (auto given = f.optNumber(key)) return *given;
+    f.rememberNumber(key, value);
+    return value;
+  };
   fr.C_p = f.number("C_p");
   fr.b_p = f.number("b_p");
-  fr.C_n = f.optNumber("C_n").value_or(fr.C_p);
-  fr.b_n = f.optNumber("b_n").value_or(fr.b_p);
+  fr.C_n = orDerived("C_n", fr.C_p);
+  fr.b_n = orDerived("b_n", fr.b_p);
   fr.static_band = f.number("static_band");
   // seed 003 eq 3.23: continuity of the Karnopp law at |v| = Delta v / 2 by default.
-  fr.D_p = f.optNumber("D_p").value_or(fr.C_p + fr.b_p * fr.static_band / 2.0);
-  fr.D_n = f.optNumber("D_n").value_or(fr.C_n + fr.b_n * fr.static_band / 2.0);
+  fr.D_p = orDerived("D_p", fr.C_p + fr.b_p * fr.static_band / 2.0);
+  fr.D_n = orDerived("D_n", fr.C_n + fr.b_n * fr.static_band / 2.0);
   fr.coefficient = f.number("coefficient");
 
   Section in = s.sub("interaction");
@@ -215,7 +193,7 @@ InclusionSpec readMeshInclusion(Section& s, InclusionSpec I) {
 InclusionSpec readInclusion(Section& s, std::size_t index, const TissueSpec& T) {
   InclusionSpec I;
   I.name = s.text("name");
-  if (I.name.empty()) I.name = fmt::format("inclusion{}", index + 1);
+  if (I.name.empty()) s.remember("name", I.name = fmt::format("inclusion{}", index + 1));
   const bool meshGroup = T.geometry && scenario::groupNames(*T.geometry).count(I.name);
   if (meshGroup) I = readMeshInclusion(s, I);
   if (!meshGroup && T.geometry && !s.has("depth") && !s.has("radius")) {
@@ -262,9 +240,11 @@ void readPlacedInclusion(Section& s, InclusionSpec& I, const TissueSpec& T) {
                               I.x * 1e3, I.y * 1e3, I.z * 1e3, T.length * 1e3, T.width * 1e3, T.height * 1e3),
                   "an inclusion inside the block");
   I.material = readMaterial(s, "material");
-  const auto& around = T.layers[T.geometry ? 0 : T.layerAt(I.x)];
-  I.friction_coefficient = s.optNumber("friction").value_or(around.friction.coefficient);
-  I.toughness = s.optNumber("toughness").value_or(around.toughness);
+  // Not given: the layer around it (in an imported geometry known once its regions are, mapRegions).
+  const double nan = std::nan("");
+  const LayerSpec* around = T.geometry ? nullptr : &T.layers[T.layerAt(I.x)];
+  I.friction_coefficient = s.optNumber("friction").value_or(around ? around->friction.coefficient : nan);
+  I.toughness = s.optNumber("toughness").value_or(around ? around->toughness : nan);
 }
 
 // tissue.block, or tissue.geometry (scenario/tissue_geometry.hpp) whose bounding box is the block.
@@ -325,6 +305,12 @@ TissueSpec readTissue(Section& t, const std::string& source) {
     T.inclusions.push_back(readInclusion(l, i, T));
   }
   finishGeometry(t, T);
+  // The friction and toughness an inclusion takes from the layer around it, recorded as values.
+  for (std::size_t i = 0; i < inclusions.size(); ++i) {
+    Section l = t.element(inclusions[i], "inclusions", i);
+    if (!l.has("friction")) l.rememberNumber("friction", T.inclusions[i].friction_coefficient);
+    if (!l.has("toughness")) l.rememberNumber("toughness", T.inclusions[i].toughness);
+  }
   return T;
 }
 
@@ -340,6 +326,7 @@ NeedleSpec readNeedle(Section& s) {
     N.outer_diameter = od.value;
   }
   N.inner_diameter = s.optNumber("inner_diameter").value_or(defaultInner);
+  if (!s.has("inner_diameter")) s.rememberNumber("inner_diameter", N.inner_diameter);
   if (N.inner_diameter >= N.outer_diameter)
     throw s.error("inner_diameter", fmt::format("{:g} mm", N.inner_diameter * 1e3),
                   "must be smaller than the outer diameter",
@@ -429,7 +416,7 @@ void checkEntryPoint(Section& ins, const InsertionSpec& I, TissueSpec& T, double
                   fmt::format("{} < entry_offset < {}", inUserUnit(-half), inUserUnit(half)));
 }
 
-Scenario readSections(Section top, const std::string& source);
+Scenario readSections(Section top, const std::string& source, const Section::Record& record);
 
 // Per display dimension, the unit the problem (tissue, needle, insertion) writes most often,
 // the first written on a tie; the solver's settings (model, output) decide only a dimension
@@ -505,14 +492,14 @@ void absoluteDataPaths(nlohmann::json& record, const std::string& source) {
 
 Scenario readRoot(const YAML::Node& root, const std::string& source, std::shared_ptr<const std::string> file) {
   auto record = std::make_shared<Section::Understood>();
-  Scenario sc = readSections(Section(root, "scenario", "", file, record), source);
+  Scenario sc = readSections(Section(root, "scenario", "", file, record), source, record);
   absoluteDataPaths(record->doc, source);
   sc.understood = record->doc.dump();
   sc.given_at = std::move(record->given_at);
   return sc;
 }
 
-Scenario readSections(Section top, const std::string& source) {
+Scenario readSections(Section top, const std::string& source, const Section::Record& record) {
   Scenario sc;
   sc.source = source;
   sc.name = top.text("name");
@@ -536,232 +523,12 @@ Scenario readSections(Section top, const std::string& source) {
   Section model = top.sub("model");
   sc.model.engine = model.choice("engine");
   sc.model.time_step = model.number("time_step");
-  Section lumped = model.sub("lumped");
-  sc.model.lumped.relaxation_time = lumped.number("relaxation_time");
-  Section steer = model.sub("steering");
-  {
-    SteeringModelSpec& st = sc.model.steering;
-    st.curvature = steer.optNumber("curvature").value_or(-1.0);  // < 0: from the tip loads
-    st.beta_over_alpha = steer.number("beta_over_alpha");
-    st.input_force = steer.number("input_force");
-    st.tip_load = steer.choice("tip_load");
-    st.energy_frame = steer.choice("energy_frame");
-    st.increment = steer.number("increment");
-    st.friction_dissipation = steer.number("friction_dissipation");
-    st.tear_length = steer.optNumber("tear_length").value_or(0.0);  // 0: the needle radius
-    st.fracture_energy = steer.number("fracture_energy");
-    st.max_step = steer.number("max_step");
-    st.snapshots = static_cast<int>(steer.number("snapshots"));  // a whole number (schema)
-  }
-  Section rt = model.sub("realtime2d");
-  {
-    Realtime2dModelSpec& r = sc.model.realtime2d;
-    // The real-time engines' path-node coupling needs the needle within 45 deg of the entry-face normal.
-    const std::string& eng = sc.model.engine;
-    if ((eng == "realtime2d" || eng == "realtime3d") && sc.insertion.entry_angle < 0.25 * std::numbers::pi - 1e-12)
-      throw ins.error("entry_angle", fmt::format("{:g} deg", sc.insertion.entry_angle * 180.0 / std::numbers::pi),
-                      "is below the 45 deg that engine " + eng + " supports (its path-node coupling needs the needle "
-                      "within 45 deg of the entry-face normal)",
-                      "45 deg to 90 deg for engine " + eng);
-    if (auto h = rt.optNumber("element_size")) {
-      if (rt.has("nodes_depth") || rt.has("nodes_lateral"))
-        throw rt.error("element_size", "", "give element_size or the node counts, not both",
-                       "element_size, or nodes_depth and nodes_lateral");
-      r.element_size = *h;
-      r.nodes_depth = static_cast<int>(std::lround(sc.tissue.length / *h)) + 1;
-      r.nodes_lateral = static_cast<int>(std::lround(sc.tissue.width / *h)) + 1;
-      if (r.nodes_depth < 2 || r.nodes_lateral < 3 || r.nodes_depth * r.nodes_lateral > 4000000)
-        throw rt.error("element_size", fmt::format("{:g} mm", *h * 1e3),
-                       fmt::format("gives {} x {} nodes for the {:g} x {:g} mm block", r.nodes_depth,
-                                   r.nodes_lateral, sc.tissue.length * 1e3, sc.tissue.width * 1e3),
-                       "at least 2 x 3 and at most 4 million nodes");
-    } else {
-      r.nodes_depth = static_cast<int>(rt.number("nodes_depth"));  // whole numbers (schema)
-      r.nodes_lateral = static_cast<int>(rt.number("nodes_lateral"));
-    }
-    r.refinement = rt.number("refinement");
-    r.plane_strain = rt.choice("plane") == "strain";
-    r.thickness = rt.number("thickness");
-    r.lumped_mass = rt.choice("mass") == "lumped";
-    r.rayleigh_alpha = rt.number("rayleigh_alpha");
-    r.rayleigh_beta = rt.number("rayleigh_beta");
-    r.newmark_gamma = rt.number("newmark_gamma");
-    r.newmark_beta = rt.number("newmark_beta");
-    r.spring_boundary = rt.choice("boundary") == "springs";
-    if (r.spring_boundary) {
-      auto k = rt.optNumber("spring_stiffness");
-      if (!k) throw rt.error("spring_stiffness", "", "is required for boundary: springs", "> 0 N/m^3");
-      r.spring_stiffness = *k;
-    } else if (rt.has("spring_stiffness")) {
-      throw rt.error("spring_stiffness", "", "only applies to boundary: springs", "boundary: springs");
-    }
-    r.solver = rt.choice("solver");
-    r.tip_load_ratio = rt.optNumber("tip_load_ratio").value_or(-1.0);
-    r.field_interval = rt.number("field_interval");
-    r.relaxation = rt.choice("relaxation") == "prony";
-    r.stiffening_factor = rt.number("stiffening_factor");
-    r.stiffening_radius = rt.number("stiffening_radius");
-    r.markers = readMarkers(rt, sc, false);
-  }
-  Section rt3 = model.sub("realtime3d");
-  {
-    Realtime3dModelSpec& r = sc.model.realtime3d;
-    r.nodes_depth = static_cast<int>(rt3.number("nodes_depth"));  // whole numbers (schema)
-    r.nodes_lateral = static_cast<int>(rt3.number("nodes_lateral"));
-    r.nodes_height = static_cast<int>(rt3.number("nodes_height"));
-    r.refinement = rt3.number("refinement");
-    r.lumped_mass = rt3.choice("mass") == "lumped";
-    r.rayleigh_alpha = rt3.number("rayleigh_alpha");
-    r.rayleigh_beta = rt3.number("rayleigh_beta");
-    r.newmark_gamma = rt3.number("newmark_gamma");
-    r.newmark_beta = rt3.number("newmark_beta");
-    r.hold_sides = rt3.choice("boundary") == "held";
-    r.solver = rt3.choice("solver");
-    r.modes = static_cast<int>(rt3.number("modes"));
-    r.tip_load_ratio = rt3.optNumber("tip_load_ratio").value_or(-1.0);
-    r.field_interval = rt3.number("field_interval");
-    r.relaxation = rt3.choice("relaxation") == "prony";
-    r.markers = readMarkers(rt3, sc, true);
-  }
-  Section mpmSec = model.sub("mpm");
-  {
-    MpmModelSpec& m = sc.model.mpm;
-    m.grid_spacing = mpmSec.number("grid_spacing");
-    m.particle_spacing = mpmSec.optNumber("particle_spacing").value_or(0.5 * m.grid_spacing);
-    if (m.particle_spacing > m.grid_spacing)
-      throw mpmSec.error("particle_spacing", fmt::format("{:g} mm", m.particle_spacing * 1e3),
-                         "is larger than the grid spacing (cells without material points)",
-                         fmt::format("<= grid_spacing = {:g} mm", m.grid_spacing * 1e3));
-    // Checks against the block size apply only when the MPM engine will build it.
-    const bool mpmRuns = sc.model.engine == "mpm";
-    const double minSide = std::min({sc.tissue.length, sc.tissue.width, sc.tissue.height});
-    if (mpmRuns && m.particle_spacing > 0.5 * minSide)
-      throw mpmSec.error("particle_spacing", fmt::format("{:g} mm", m.particle_spacing * 1e3),
-                         "leaves fewer than 2 material points across the block",
-                         fmt::format("<= {:g} mm", 0.5 * minSide * 1e3));
-    const double cells = (sc.tissue.length / m.grid_spacing + 7) * (sc.tissue.width / m.grid_spacing + 7) *
-                         (sc.tissue.height / m.grid_spacing + 7);
-    const double points = sc.tissue.length * sc.tissue.width * sc.tissue.height / std::pow(m.particle_spacing, 3);
-    if (mpmRuns && (cells > 5e7 || points > 2e7))
-      throw mpmSec.error("grid_spacing", fmt::format("{:g} mm", m.grid_spacing * 1e3),
-                         fmt::format("gives {:.3g} grid nodes and {:.3g} material points for the block", cells, points),
-                         "at most 5e7 nodes and 2e7 points (coarser spacings)");
-    m.bspline = mpmSec.choice("shape") == "bspline";
-    m.musl = mpmSec.choice("update") == "musl";
-    m.fbar = mpmSec.choice("anti_locking") == "fbar";
-    m.cfemp = mpmSec.choice("contact") == "cfemp";
-    m.cfemp_element_size = mpmSec.number("cfemp_element_size");
-    m.flip = mpmSec.number("flip");
-    m.time_step_factor = mpmSec.number("time_step_factor");
-    m.mass_scaling = mpmSec.number("mass_scaling");
-    m.margin = static_cast<int>(mpmSec.number("margin"));  // whole numbers (schema)
-    m.threads = static_cast<int>(mpmSec.number("threads"));
-    Section faces = mpmSec.sub("faces");
-    const char* names[6] = {"entry", "exit", "y_min", "y_max", "z_min", "z_max"};
-    for (int f = 0; f < 6; ++f) m.faces[static_cast<std::size_t>(f)] = faces.choice(names[f]);
-    m.field_interval = mpmSec.number("field_interval");
-    m.marker_depth_step = mpmSec.number("marker_depth_step");
-    auto markers = mpmSec.list("markers");
-    for (std::size_t i = 0; i < markers.size(); ++i) {
-      Section e = mpmSec.element(markers[i], "markers", i);
-      MpmMarkerSpec mk{e.text("name"), e.number("x"), e.number("y"), e.number("z")};
-      const double ylo = -0.5 * sc.tissue.width - sc.insertion.entry_offset, yhi = ylo + sc.tissue.width;
-      if (mk.x > sc.tissue.length || !(mk.y >= ylo && mk.y <= yhi) || std::abs(mk.z) > 0.5 * sc.tissue.height)
-        throw e.error("x", fmt::format("({:g}, {:g}, {:g}) mm", mk.x * 1e3, mk.y * 1e3, mk.z * 1e3),
-                      "lies outside the tissue block",
-                      fmt::format("0 <= x <= {:g} mm, {:g} mm <= y <= {:g} mm, |z| <= {:g} mm",
-                                  sc.tissue.length * 1e3, ylo * 1e3, yhi * 1e3, 0.5 * sc.tissue.height * 1e3));
-      for (const auto& o : m.markers)
-        if (o.name == mk.name) throw e.error("name", mk.name, "is used by two markers", "unique names");
-      m.markers.push_back(mk);
-    }
-    // Measured data files, resolved against the scenario file.
-    auto measuredFile = [&](const char* field, const char* allowed) {
-      std::string f = mpmSec.text(field);
-      if (f.empty()) return f;
-      std::filesystem::path p(f);
-      if (p.is_relative()) {
-        std::filesystem::path base = std::filesystem::path(source).parent_path();
-        if (!base.empty()) p = base / p;
-      }
-      if (!std::filesystem::exists(p))
-        throw mpmSec.error(field, f, "does not exist (paths are relative to the scenario file)", allowed);
-      return p.string();
-    };
-    m.measured_force.path = measuredFile("measured_force", "a CSV file with columns 'depth [mm]' and 'force [N]'");
-    m.measured_markers.path = measuredFile(
-        "measured_markers", "a CSV file with 'depth [mm]' and per marker '<name>_ux [mm]', '<name>_uy [mm]'");
-    if (!m.measured_markers.path.empty() && m.markers.empty())
-      throw mpmSec.error("measured_markers", m.measured_markers.path, "has nothing to compare with",
-                         "model.mpm.markers naming the measured markers");
-    loadMeasuredData(m);  // InputError naming the file, line or column
-  }
-
-  Section exs = model.sub("explicit");
-  {
-    ExplicitModelSpec& x = sc.model.explicit_fe;
-    x.dimension = exs.choice("dimension") == "3d" ? 3 : 2;
-    if (exs.has("element")) x.element = exs.choice("element");
-    x.element_size = exs.number("element_size");
-    x.max_element_size = exs.number("max_element_size");
-    x.core_width = exs.number("core_width");
-    x.grading = exs.number("grading");
-    x.mass_scaling = exs.number("mass_scaling");
-    x.target_time_step = exs.number("target_time_step");
-    x.cfl = exs.number("cfl");
-    x.bulk_viscosity_linear = exs.number("bulk_viscosity_linear");
-    x.bulk_viscosity_quadratic = exs.number("bulk_viscosity_quadratic");
-    x.hourglass = exs.number("hourglass");
-    x.damping = exs.number("damping");
-    x.contact_penalty = exs.number("contact_penalty");
-    x.tip_friction = exs.number("tip_friction");
-    x.fixed_contact_stiffness = exs.boolean("fixed_contact_stiffness");
-    x.pre_cut = exs.boolean("pre_cut");
-    x.needle_model = exs.choice("needle_model");
-    if (x.needle_model == "beam" && !(sc.needle.youngs_modulus > 0))
-      throw exs.error("needle_model", "beam", "needs the needle's Young's modulus", "needle.youngs_modulus > 0");
-    {
-      Section cs = exs.sub("cohesive");
-      auto& c = x.cohesive;
-      c.enable = cs.boolean("enable");
-      c.stiffness = cs.number("stiffness");
-      c.constitutive_thickness = cs.number("constitutive_thickness");
-      c.strength = cs.number("strength");
-      c.critical_separation = cs.number("critical_separation");
-      c.fracture_energy = cs.optNumber("fracture_energy").value_or(0.0);
-      c.mode_ii_ratio = cs.number("mode_ii_ratio");
-      readCohesivePath(cs, sc, source);  // crack path (cohesive_path_reader.cpp)
-      c.seam = cs.choice("seam");
-      c.sleeve_radius = cs.number("sleeve_radius");
-      if (c.enable && c.seam == "sleeve") {
-        const double ro = 0.5 * sc.needle.outer_diameter, ri = 0.5 * sc.needle.inner_diameter;
-        if (x.dimension != 3 || !(ri > 0) || sc.needle.tip != TipType::Bevel)
-          throw cs.error("seam", "sleeve", "needs a 3d model and a hollow bevel needle",
-                         "plane, or dimension: 3d with needle.inner_diameter > 0 and tip: bevel");
-        if (c.sleeve_radius != 0 && !(c.sleeve_radius > ri && c.sleeve_radius < ro))
-          throw cs.error("sleeve_radius", fmt::format("{:g} mm", c.sleeve_radius * 1e3),
-                         "is not between the needle's inner and outer radius",
-                         fmt::format("{:g} mm < sleeve_radius < {:g} mm, or 0", ri * 1e3, ro * 1e3));
-      }
-      if (c.enable) {
-        if (c.strength <= 0 && c.critical_separation <= 0)
-          throw cs.error("strength", "0", "is not given and neither is critical_separation",
-                         "strength (t_c) or critical_separation (delta_c, t_c = 2 G_c / delta_c)");
-        if (c.fracture_energy <= 0)
-          for (const auto& l : sc.tissue.layers)
-            if (l.toughness <= 0)
-              throw cs.error("fracture_energy", "0", "is not given and a layer has no interaction.toughness",
-                             "fracture_energy, or interaction.toughness in every layer");
-      }
-    }
-    x.field_interval = exs.optNumber("field_interval").value_or(0.0);
-    x.threads = static_cast<int>(exs.number("threads"));
-    const bool is2d = x.dimension == 2;
-    if (!x.element.empty() && ((x.element == "quad4" || x.element == "tri3") != is2d))
-      throw exs.error("element", x.element, "does not match the dimension", is2d ? "quad4 or tri3 for 2d" : "hex8 or tet4 for 3d");
-    if (x.max_element_size < x.element_size)
-      throw exs.error("max_element_size", fmt::format("{:g} mm", x.max_element_size * 1e3), "is smaller than element_size",
-                      fmt::format(">= {:g} mm", x.element_size * 1e3));
+  // Every engine's section (scenario/model_section.hpp), given or not: the record holds them all.
+  // Their refusals name fields read before (Scenario::where).
+  sc.given_at = record->given_at;
+  for (const ModelSection* m : modelSections()) {
+    Section sec = model.sub(m->key);
+    m->read(sec, sc);
   }
 
   Section out = top.sub("output");
@@ -795,9 +562,12 @@ Scenario readText(std::string_view yaml, const std::string& source_name) {
     throw InputError(SourceLocation{source_name, 0, 0}, "", "", "is empty",
                      "a scenario with tissue, needle and insertion sections");
   // A results folder's summary.json: its "scenario" is the scenario as understood (docs/results.md).
-  if (root.IsMap() && root["scenario"] && root["scenario"].IsMap() && root["results"]) root = root["scenario"];
+  const bool record = root.IsMap() && root["scenario"] && root["scenario"].IsMap() && root["results"];
+  if (record) root = root["scenario"];
   try {
-    return readRoot(root, source_name, file);
+    Scenario sc = readRoot(root, source_name, file);
+    sc.from_record = record;
+    return sc;
   } catch (const YAML::Exception& e) {
     SourceLocation loc{source_name, e.mark.is_null() ? 0 : e.mark.line + 1,
                        e.mark.is_null() ? 0 : e.mark.column + 1};

@@ -8,6 +8,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/nearest_name.hpp"
 #include "needlesim/materials/material_spec.hpp"
+#include "needlesim/scenario/model_section.hpp"
 
 namespace needlesim::scenario {
 namespace {
@@ -72,11 +73,20 @@ FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::s
   return f;
 }
 
-std::vector<FieldDoc> build() {
-  std::vector<FieldDoc> s;
-  auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
-  const double deg = M_PI / 180.0;
+// model.engine: one of the registered engines (engines/registry.cpp).
+FieldDoc engineChoice() {
+  std::string help = "engine:";
+  std::vector<std::string> names;
+  for (const auto& [name, summary] : engineNames()) {
+    help += fmt::format("{} {}: {}", names.empty() ? "" : ";", name, summary);
+    names.push_back(name);
+  }
+  return other("model", "engine", Kind::Choice, "lumped", help, false, {}, names);
+}
 
+// The rows of the top level, the tissue, its geometry and layers.
+void scenarioAndTissue(std::vector<FieldDoc>& s) {
+  auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
   // --- top level
   add(other("scenario", "name", Kind::String, "file name", "name of the scenario, used for the results folder"));
   add(other("scenario", "description", Kind::String, "", "free text"));
@@ -144,7 +154,11 @@ std::vector<FieldDoc> build() {
   add(other("layer", "cutting", Kind::Section, "force: 0 N", "cutting at the tip", false, "cutting"));
   add(other("layer", "friction", Kind::Section, "all zero", "friction along the shaft", false, "friction"));
   add(other("layer", "interaction", Kind::Section, "", "needle-tissue interaction parameters", false, "interaction"));
+}
 
+// The rows of inclusions, materials and a layer's force parameters.
+void inclusionsAndMaterials(std::vector<FieldDoc>& s) {
+  auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
   // --- inclusion (tissue frame, docs/models/frame.md)
   add(other("inclusion", "name", Kind::String, "inclusion<i>", "label in results"));
   add(other("inclusion", "shape", Kind::Choice, "sphere",
@@ -158,8 +172,11 @@ std::vector<FieldDoc> build() {
         "centre: z across the height from the block's mid-plane (sphere only)"));
   add(positive("inclusion", "radius", D::Length, "", "radius (required unless the inclusion is a group of tissue.geometry)"));
   add(other("inclusion", "material", Kind::MaterialRef, "", "a library name or a material section", true, "material"));
-  add(nonneg("inclusion", "friction", D::None, "the surrounding layer's", "Coulomb coefficient of needle contact inside it"));
-  add(nonneg("inclusion", "toughness", D::ForcePerLength, "", "rupture toughness G_c inside it"));
+  add(nonneg("inclusion", "friction", D::None, "the surrounding layer's",
+             "Coulomb coefficient of needle contact inside it; not given: friction.coefficient of the layer around it "
+             "(the layer at its centre; a group of tissue.geometry: the layer its elements touch most)"));
+  add(nonneg("inclusion", "toughness", D::ForcePerLength, "the surrounding layer's",
+             "rupture toughness G_c inside it; not given: interaction.toughness of the layer around it (as friction)"));
   add(other("inclusion", "interface", Kind::Choice, "bonded",
             "bonded (shares the tissue's material points or nodes) or sliding (a separate body in frictional "
             "contact with the tissue: mpm only)", false, {}, {"bonded", "sliding"}));
@@ -203,7 +220,12 @@ std::vector<FieldDoc> build() {
   add(nonneg("friction", "coefficient", D::None, "0", "Coulomb coefficient for the contact engines (seed 001: 0.3)"));
   add(positive("interaction", "K_T", D::Pressure, "", "needle-tissue interaction stiffness per unit length (seed 002 eq 13)"));
   add(positive("interaction", "toughness", D::ForcePerLength, "", "rupture toughness G_c (seed 002 eq 19, seed 004 Table I)"));
+}
 
+// The rows of the needle, the insertion, the model and the engines' sections.
+void needleInsertionModel(std::vector<FieldDoc>& s) {
+  auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
+  const double deg = M_PI / 180.0;
   // --- needle
   add(extent("needle", "outer_diameter", kMaxNeedleDiameter, "outer diameter, or a gauge such as 18 G"));
   add(nonneg("needle", "inner_diameter", D::Length, "from the gauge, else 0 mm", "bore diameter (0 = solid)"));
@@ -238,225 +260,18 @@ std::vector<FieldDoc> build() {
             false, {}, {"axial", "in-plane"}));
 
   // --- model
-  add(other("model", "engine", Kind::Choice, "lumped",
-            "engine: lumped (seed 003 lumped force model), realtime2d (seed 003 2D FE tissue with a needle "
-            "beam), realtime3d (its 3D form on a tetrahedral block, kHz steps), kinematic, energy, beam-foundation "
-            "(bevel-tip steering, seed 002), mpm (seed 000 3D material point method), explicit (large-deformation "
-            "explicit FE with needle contact, seeds 001/004)",
-            false, {}, {"lumped", "kinematic", "energy", "beam-foundation", "realtime2d", "realtime3d", "explicit", "mpm"}));
+  add(engineChoice());
   add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
-  add(other("model", "lumped", Kind::Section, "", "parameters of the lumped force model", false, "lumped"));
-  add(nonneg("lumped", "relaxation_time", D::Time, "0 s", "decay time of the friction held during a pause (0 = held)"));
-  add(other("model", "steering", Kind::Section, "",
-            "parameters of the steering engines kinematic, energy and beam-foundation", false, "steering"));
-  add(nonneg("steering", "curvature", units::Dim{-1, 0, 0, 0}, "from the tip loads",
-             "kinematic: curvature with the bevel fixed (e.g. 3.3 1/m); omitted = the beam-on-foundation "
-             "steady curvature (M + Q/lambda)/EI of the tip loads"));
-  add(q("steering", "beta_over_alpha", D::None, "0.5", 0.0, 1.0, true, false,
-        "cut angle / bevel angle (seed 002 sections 3.1, 5.2)"));
-  add(positive("steering", "input_force", D::Force, "5 mN", "insertion force P_input (seed 002 section 5.2)"));
-  add(other("steering", "tip_load", Kind::Choice, "roller",
-            "transverse tip load of beam-foundation (and of kinematic without curvature): roller = the "
-            "sub-step-1 roller reaction P_input/tan(beta) that drives seed 002's section 5 model; "
-            "bevel-edges = eqs 24-26 from K_T and the bevel geometry",
-            false, {}, {"roller", "bevel-edges"}));
-  add(other("steering", "energy_frame", Kind::Choice, "path-window",
-            "energy model trial functions: entry = clamped at the entry and spanning the inserted length "
-            "(the paper's eq 45 reading); path-window = Hermite pieces over 4 (4EI/K_T)^(1/4) behind the tip "
-            "in a frame attached to the cut path (circular paths; docs/models/bevel-tip-energy.md choice 9)",
-            false, {}, {"entry", "path-window"}));
-  add(positive("steering", "increment", D::Length, "1 mm",
-               "insertion increment (beam-foundation element length; path sampling)"));
-  add(q("steering", "friction_dissipation", D::None, "0", 0.0, 1.0, false, true,
-        "energy: share of the input work dissipated by friction (seed 002 Fig 23)"));
-  add(nonneg("steering", "tear_length", D::Length, "needle radius", "energy: tear length a of seed 002 eq 44"));
-  add(nonneg("steering", "fracture_energy", D::ForcePerLength, "0.44 N/m",
-             "energy: fracture energy G_f per torn area in W_R = a G_f l (eq 44); with the tear length it sets the "
-             "share 1 - a G_f / P_input of the push that cuts sideways (docs/models/bevel-tip-energy.md choice 10)"));
-  add(positive("steering", "max_step", D::Length, "1 mm", "energy: largest advance of one increment"));
-  add(count("steering", "snapshots", "5", 1.0, 100.0, "needle shapes recorded along the insertion"));
-  add(other("model", "realtime2d", Kind::Section, "", "parameters of the real-time 2D FE engine", false, "realtime2d"));
-  add(positive("realtime2d", "element_size", D::Length, "", "element size of a uniform mesh (instead of the node counts)"));
-  add(count("realtime2d", "nodes_depth", "21", 2.0, 2000.0, "nodes along the insertion axis (block.length)"));
-  add(count("realtime2d", "nodes_lateral", "31", 3.0, 2000.0, "nodes across it (block.width); a node row lies on the path"));
-  add(q("realtime2d", "refinement", D::None, "1", 1.0, 100.0, false, false,
-        "coarsest / finest lateral element size; the finest elements lie on the needle path"));
-  add(other("realtime2d", "plane", Kind::Choice, "strain", "plane strain or plane stress", false, {}, {"strain", "stress"}));
-  add(positive("realtime2d", "thickness", D::Length, "1 mm", "out-of-plane extent of the 2D slab"));
-  add(other("realtime2d", "mass", Kind::Choice, "consistent", "mass matrix (seed 003 eq 3.7)", false, {}, {"consistent", "lumped"}));
-  add(nonneg("realtime2d", "rayleigh_alpha", D::Frequency, "0.01 1/s", "mass-proportional Rayleigh damping (seed 003 eq 3.8)"));
-  add(nonneg("realtime2d", "rayleigh_beta", D::Time, "0.1 s", "stiffness-proportional Rayleigh damping (seed 003 eq 3.8)"));
-  add(q("realtime2d", "newmark_gamma", D::None, "0.5", 0.5, 1.0, false, false,
-        "Newmark gamma (delta of seed 003 eq 3.2); below 1/2 the scheme amplifies every mode"));
-  add(q("realtime2d", "newmark_beta", D::None, "0.25", 0.0, 1.0, true, false, "Newmark beta (seed 003 eq 3.3)"));
-  add(other("realtime2d", "boundary", Kind::Choice, "held",
-            "held: all sides but the entry face fixed (seed 003 section 3.5); springs: spring supports there", false, {},
-            {"held", "springs"}));
-  add(positive("realtime2d", "spring_stiffness", units::Dim{-2, 1, -2, 0}, "",
-                "support stiffness per boundary area (N/m^3), for boundary: springs"));
-  add(other("realtime2d", "solver", Kind::Choice, "auto",
-            "direct: sparse LDLT; modal: all modes (exact); reduced: truncated modes plus residual flexibility "
-            "(10k-node meshes); auto: modal up to 2600 free DOFs, else reduced",
-            false, {}, {"auto", "direct", "modal", "reduced"}));
-  add(nonneg("realtime2d", "tip_load_ratio", D::None, "cot(bevel_angle)",
-             "transverse bevel load per unit cutting force"));
-  add(nonneg("realtime2d", "field_interval", D::Time, "0.5 s", "interval of the tissue field output for ParaView (0 = none)"));
-  add(other("realtime2d", "markers", Kind::List, "", "tissue points whose displacement is reported", false, "marker"));
-  add(other("realtime2d", "relaxation", Kind::Choice, "prony",
-            "prony: the material's Prony terms relax the whole tissue stiffness (QLV); off: elastic", false, {},
-            {"prony", "off"}));
-  add(q("realtime2d", "stiffening_factor", D::None, "1", 1.0, 1000.0, false, false,
-        "Young's modulus factor of the tissue around the needle path (seed 003 section 3.5 item 4)"));
-  add(nonneg("realtime2d", "stiffening_radius", D::Length, "0 mm", "half-width of the stiffened zone around the path line"));
-  add(other("model", "realtime3d", Kind::Section, "", "parameters of the real-time 3D FE engine (tetrahedral block)",
-            false, "realtime3d"));
-  add(count("realtime3d", "nodes_depth", "41", 3.0, 2000.0, "nodes along the insertion axis (block.length)"));
-  add(count("realtime3d", "nodes_lateral", "16", 3.0, 400.0, "nodes across block.width; a grid line lies on the path"));
-  add(count("realtime3d", "nodes_height", "16", 3.0, 400.0, "nodes across block.height"));
-  add(q("realtime3d", "refinement", D::None, "8", 1.0, 100.0, false, false,
-        "coarsest / finest lateral element size; the finest elements lie on the needle path"));
-  add(other("realtime3d", "mass", Kind::Choice, "consistent", "mass matrix (seed 003 eq 3.7)", false, {}, {"consistent", "lumped"}));
-  add(nonneg("realtime3d", "rayleigh_alpha", D::Frequency, "0.01 1/s", "mass-proportional Rayleigh damping (seed 003 eq 3.8)"));
-  add(nonneg("realtime3d", "rayleigh_beta", D::Time, "0.1 s", "stiffness-proportional Rayleigh damping (seed 003 eq 3.8)"));
-  add(q("realtime3d", "newmark_gamma", D::None, "0.5", 0.5, 1.0, false, false,
-        "Newmark gamma (delta of seed 003 eq 3.2); below 1/2 the scheme amplifies every mode"));
-  add(q("realtime3d", "newmark_beta", D::None, "0.25", 0.0, 1.0, true, false, "Newmark beta (seed 003 eq 3.3)"));
-  add(other("realtime3d", "boundary", Kind::Choice, "held",
-            "held: all faces but the entry face fixed (seed 003 section 3.5); far-face: only the face opposite the entry",
-            false, {}, {"held", "far-face"}));
-  add(other("realtime3d", "solver", Kind::Choice, "auto",
-            "direct: sparse LDLT; modal: all modes (exact); reduced: lowest modes plus residual flexibility "
-            "(10k-node blocks at kHz rates); auto: modal up to 1500 free DOFs, else reduced",
-            false, {}, {"auto", "direct", "modal", "reduced"}));
-  add(count("realtime3d", "modes", "60", 1.0, 2000.0, "reduced: most kept modes (the rest: residual flexibility)"));
-  add(nonneg("realtime3d", "tip_load_ratio", D::None, "cot(bevel_angle)",
-             "transverse bevel load per unit cutting force"));
-  add(nonneg("realtime3d", "field_interval", D::Time, "0.5 s", "interval of the tissue field output for ParaView (0 = none)"));
-  add(other("realtime3d", "relaxation", Kind::Choice, "prony",
-            "prony: the material's Prony terms relax the whole tissue stiffness (QLV); off: elastic", false, {},
-            {"prony", "off"}));
-  add(other("realtime3d", "markers", Kind::List, "", "tissue points whose displacement is reported", false, "marker3d"));
-  add(other("marker", "name", Kind::String, "", "label in results", true));
-  add(q("marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
-  add(q("marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point)", true));
-  add(other("marker3d", "name", Kind::String, "", "label in results", true));
-  add(q("marker3d", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
-  add(q("marker3d", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line (through the entry point), in the insertion plane", true));
-  add(q("marker3d", "z", D::Length, "0 mm", -kInf, kInf, false, false, "distance from the insertion plane (mid-height of the block)"));
-  add(other("model", "mpm", Kind::Section, "", "parameters of the 3D material point method engine (seed 000)", false, "mpm"));
-  add(positive("mpm", "grid_spacing", D::Length, "0.8 mm", "background grid spacing h (seed 000 section 4.3: 0.8 mm)"));
-  add(positive("mpm", "particle_spacing", D::Length, "grid_spacing / 2", "material point spacing (seed 000 section 4.3: 0.4 mm)"));
-  add(other("mpm", "shape", Kind::Choice, "bspline",
-            "shape functions: linear (the paper's) or quadratic B-spline (removes the cross-cell noise of seed 000 section 5.2)",
-            false, {}, {"linear", "bspline"}));
-  add(other("mpm", "anti_locking", Kind::Choice, "none",
-            "volumetric anti-locking for nearly incompressible tissue: none, or fbar (stress at F-bar with the "
-            "cell-averaged det F; docs/models/mpm.md)",
-            false, {}, {"none", "fbar"}));
-  add(other("mpm", "update", Kind::Choice, "musl", "update-stress-last or modified USL (momentum remap)", false, {},
-            {"usl", "musl"}));
-  add(other("mpm", "contact", Kind::Choice, "grid",
-            "needle-tissue contact: grid (multi-field grid contact, seed 000 eqs 14-21) or cfemp (particle-to-surface "
-            "contact with the triangulated needle surface, eqs 22-24)",
-            false, {}, {"grid", "cfemp"}));
-  add(nonneg("mpm", "cfemp_element_size", D::Length, "0 mm",
-             "d_e of the CFEMP gap rule g < (d_e + d_p)/2 (seed 000 eq 22); 0 = contact when the particle's own half "
-             "spacing reaches the exact needle surface"));
-  add(q("mpm", "flip", D::None, "1", 0.0, 1.0, false, false, "FLIP fraction of the particle velocity update (1 = seed 000 eq 4, 0 = PIC)"));
-  add(q("mpm", "time_step_factor", D::None, "0.4", 0.0, 1.0, true, false, "k_t of seed 000 eq 26 (time step = k_t times the eq 25 limit)"));
-  add(q("mpm", "mass_scaling", D::None, "1", 1.0, 1e12, false, false,
-        "factor on every particle mass (seed 000 eq 28 discussion: 1e4); the time step grows with its square root"));
-  add(count("mpm", "margin", "3", 2.0, 100.0, "grid cells beyond the tissue block on each side"));
-  add(count("mpm", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)"));
-  add(other("mpm", "faces", Kind::Section, "exit fixed, others free", "boundary condition of each face of the block", false, "mpm_faces"));
-  for (const char* f : {"entry", "exit", "y_min", "y_max", "z_min", "z_max"}) {
-    const std::string k = f;
-    const std::string where = k == "entry" ? "the entry face (depth 0)"
-                              : k == "exit" ? "the face opposite the entry (depth = block.length)"
-                              : k[0] == 'y' ? "a side face across the width (normal in the insertion plane)"
-                                            : "a face across the height (normal out of the insertion plane)";
-    add(other("mpm_faces", k, Kind::Choice, k == "exit" ? "fixed" : "free",
-              where + ": free, fixed (all velocity components zero), roller (normal component zero) or "
-                      "non-reflecting (Lysmer dashpots)",
-              false, {}, {"free", "fixed", "roller", "non-reflecting"}));
+  // Each engine's section model.<key>, declared beside the engine (scenario/model_section.hpp).
+  for (const ModelSection* m : modelSections()) {
+    add(other("model", m->key, Kind::Section, "", m->help, false, m->key));
+    for (auto& f : m->docs()) add(std::move(f));
   }
-  add(nonneg("mpm", "field_interval", D::Time, "0.5 s", "interval of the particle fields (displacement, von Mises) for ParaView (0 = none)"));
-  add(nonneg("mpm", "marker_depth_step", D::Length, "0 mm", "record the markers each time the tip advances this far (seed 000: 3 mm); 0 = at the output interval"));
-  add(other("mpm", "markers", Kind::List, "", "tissue points whose displacement is reported (seed 000 Fig 11)", false, "mpm_marker"));
-  add(other("mpm_marker", "name", Kind::String, "", "label in results", true));
-  add(q("mpm_marker", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
-  add(q("mpm_marker", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the needle path line, in the insertion plane", true));
-  add(q("mpm_marker", "z", D::Length, "0 mm", -kInf, kInf, false, false, "distance from the insertion plane (mid-height of the block)"));
-  add(other("mpm", "measured_force", Kind::String, "",
-            "CSV of a measured force curve (columns 'depth [mm]' and 'force [N]', any units); RMSE and MAE of seed 000 eq 35 "
-            "are reported. Relative to the scenario file"));
-  add(other("mpm", "measured_markers", Kind::String, "",
-            "CSV of measured marker displacements (column 'depth [mm]' and per marker '<name>_ux [mm]', "
-            "'<name>_uy [mm]'); the errors r_max and r_mean of seed 000 eq 37 are reported per depth. Relative to "
-            "the scenario file"));
+}
 
-  add(other("model", "explicit", Kind::Section, "", "parameters of the explicit large-deformation FE engine (docs/models/explicit.md)", false, "explicit"));
-  add(other("explicit", "dimension", Kind::Choice, "2d", "2d (plane strain) or 3d", false, {}, {"2d", "3d"}));
-  add(other("explicit", "element", Kind::Choice, "quad4 (2d), hex8 (3d)",
-            "quad4 / hex8: one-point integration with hourglass control (CPE4R / C3D8R); tri3 / tet4: constant strain",
-            false, {}, {"quad4", "tri3", "hex8", "tet4"}));
-  add(positive("explicit", "element_size", D::Length, "0.5 mm", "element size in the core around the needle path (seed 001: 0.25 mm)"));
-  add(positive("explicit", "max_element_size", D::Length, "3 mm", "element size at the block boundary (seed 001: 3 mm)"));
-  add(positive("explicit", "core_width", D::Length, "6 mm", "width of the refined core around the path (seed 001: 6 mm)"));
-  add(q("explicit", "grading", D::None, "1.25", 1.0, 3.0, false, false, "size ratio of neighbouring elements outside the core"));
-  add(q("explicit", "mass_scaling", D::None, "1", 1.0, 1e12, false, false, "factor on the density (the stable step grows with its square root)"));
-  add(nonneg("explicit", "target_time_step", D::Time, "0 s", "mass-scale the elements whose stable step is below this (0 = off)"));
-  add(q("explicit", "cfl", D::None, "0.9", 0.0, 1.0, true, false, "fraction of the stable time step used"));
-  add(nonneg("explicit", "bulk_viscosity_linear", D::None, "0.06", "linear bulk viscosity b1 (ABAQUS default)"));
-  add(nonneg("explicit", "bulk_viscosity_quadratic", D::None, "1.2", "quadratic bulk viscosity b2 (ABAQUS default)"));
-  add(nonneg("explicit", "hourglass", D::None, "1", "hourglass stiffness (1 = exact pure bending of a rectangular element)"));
-  add(nonneg("explicit", "damping", D::Frequency, "0 1/s", "mass-proportional damping (dynamic relaxation)"));
-  add(q("explicit", "contact_penalty", D::None, "10", 0.0, 1e4, true, false, "normal contact stiffness k = penalty m/dt^2, force at the end of the step (stable for any value); a value <= 1 also applies to cohesive seam lips, which otherwise use 0.3"));
-  add(other("explicit", "fixed_contact_stiffness", Kind::Bool, "false",
-            "one needle contact stiffness for the whole run, from the first contact step (default: each node keeps the stiffness of the step its contact began); needs contact_penalty 0.3-0.4 on cohesive cuts"));
-  add(nonneg("explicit", "tip_friction", D::None, "0", "Coulomb coefficient on the tip surface (seed 001: frictionless); the wall uses the layer's friction.coefficient"));
-  add(other("explicit", "needle_model", Kind::Choice, "rigid",
-            "rigid: the needle moves as a rigid body; beam: an Euler-Bernoulli cantilever clamped at the base, bent by the "
-            "tissue's contact resultant each step (needle.youngs_modulus; docs/models/explicit.md, \"Deformable needle\")",
-            false, {}, {"rigid", "beam"}));
-  add(other("explicit", "pre_cut", Kind::Bool, "true", "pre-cut (node-release) seam along the needle path through the tip's leading point"));
-  add(other("explicit", "cohesive", Kind::Section, "enable: false",
-            "bilinear cohesive zone on the pre-cut seam instead of node release (2d quad4 lines, 3d hex8 quadrilaterals; docs/models/cohesive.md)", false,
-            "explicit_cohesive"));
-  add(other("explicit_cohesive", "enable", Kind::Bool, "false", "put the cohesive law on the seam pairs (needs pre_cut; quad4 or hex8)"));
-  add(nonneg("explicit_cohesive", "stiffness", units::Dim{-2, 1, -2, 0}, "0 N/m^3",
-             "initial stiffness K = K_n = K_s (traction per separation); 0 = E / constitutive_thickness, or 10 E'/element_size without it"));
-  add(nonneg("explicit_cohesive", "constitutive_thickness", D::Length, "0 mm",
-             "seed 004's T0: K = E / T0 (E of the layer) when stiffness is 0"));
-  add(nonneg("explicit_cohesive", "strength", D::Pressure, "0 Pa", "normal (and shear) strength t_c; 0 = from critical_separation"));
-  add(nonneg("explicit_cohesive", "critical_separation", D::Length, "0 mm",
-             "seed 004's delta_c: t_c = 2 G_c / delta_c when strength is 0"));
-  add(nonneg("explicit_cohesive", "fracture_energy", D::ForcePerLength, "",
-             "mode-I fracture energy G_Ic; absent = each layer's toughness"));
-  add(positive("explicit_cohesive", "mode_ii_ratio", D::None, "1", "G_IIc / G_Ic (mixed mode: linear energy criterion)"));
-  add(other("explicit_cohesive", "path", Kind::Choice, "straight",
-            "crack path = needle axis path (2d): straight; points (path_points); arc (path_radius); steering (the tip path the "
-            "kinematic bevel-tip model predicts before the run); the rigid needle follows it (docs/models/cohesive.md, \"Crack path\")",
-            false, {}, {"straight", "points", "arc", "steering"}));
-  add(other("explicit_cohesive", "path_points", Kind::List, "",
-            "path: points: the needle axis path from the entry point (x 0, y 0), x increasing, inside the block, each segment within 45 deg of the axis",
-            false, "path_point"));
-  add(other("explicit_cohesive", "path_file", Kind::String, "",
-            "path: points from a CSV file instead of path_points: columns 'x [mm]' and 'y [mm]' (any length unit), "
-            "relative to the scenario file"));
-  add(q("path_point", "x", D::Length, "", 0.0, kInf, false, false, "depth from the entry face", true));
-  add(q("path_point", "y", D::Length, "", -kInf, kInf, false, false, "lateral distance from the straight needle line through the entry point", true));
-  add(q("explicit_cohesive", "path_radius", D::Length, "0 mm", -kInf, kInf, false, false,
-        "path: arc: radius of curvature, + curving towards +y (the bevel side at bevel_orientation 0), - towards -y"));
-  add(other("explicit_cohesive", "seam", Kind::Choice, "plane",
-            "plane: the seam plane along the path (3D: through the needle axis); sleeve (3d hex8, hollow bevel needle): a "
-            "cylinder around the axis that the needle wall cuts, the core entering the bore (seed 001 3.2; docs/models/cohesive.md \"Sleeve seam\")",
-            false, {}, {"plane", "sleeve"}));
-  add(nonneg("explicit_cohesive", "sleeve_radius", D::Length, "0 mm",
-             "radius of the sleeve seam, between the needle's inner and outer radius; 0 = the wall's mid radius"));
-  add(nonneg("explicit", "field_interval", D::Time, "run / 20", "interval of the ParaView fields"));
-  add(count("explicit", "threads", "0", 0.0, 1024.0, "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)"));
-
+// The rows of the output and parameter studies.
+void outputAndStudy(std::vector<FieldDoc>& s) {
+  auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
   // --- output
   add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));
   add(nonneg("output", "interval", D::Time, "0 s", "sampling interval of the time series (0 = every step)"));
@@ -499,7 +314,14 @@ std::vector<FieldDoc> build() {
   add(other("parameter", "percent", Kind::List, "", "one-at-a-time: changes of the base value in percent (e.g. [-10, 10])"));
   add(other("parameter", "min", Kind::String, "", "latin-hypercube: lower bound, with unit"));
   add(other("parameter", "max", Kind::String, "", "latin-hypercube: upper bound, with unit"));
+}
 
+std::vector<FieldDoc> build() {
+  std::vector<FieldDoc> s;
+  scenarioAndTissue(s);
+  inclusionsAndMaterials(s);
+  needleInsertionModel(s);
+  outputAndStudy(s);
   // A one-layer tissue may carry the layer's fields directly.
   for (const char* k : {"material", "puncture", "cutting", "friction", "interaction"}) {
     for (const auto& f : std::vector<FieldDoc>(s)) {

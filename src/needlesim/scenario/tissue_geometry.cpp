@@ -224,6 +224,21 @@ void describeInclusion(const ImportedGeometry& g, InclusionSpec& I, int r, const
   if (std::isnan(I.toughness)) I.toughness = T.layers[layer].toughness;
 }
 
+// The layer of the element whose centroid lies nearest to a placed inclusion's centre: the
+// layer around it.
+int layerAround(const ImportedGeometry& g, const InclusionSpec& I, int layers) {
+  const auto& m = *g.mesh;
+  int best = 0;
+  double bestDistance = std::numeric_limits<double>::infinity();
+  for (int e = 0; e < m.elements(); ++e) {
+    if (g.region[e] >= layers) continue;
+    const Point p = mesh::elementCentroid(m, e);
+    const double d = std::hypot(p[0] - I.x, p[1] - I.y, p[2] - I.z);
+    if (d < bestDistance) bestDistance = d, best = g.region[e];
+  }
+  return best;
+}
+
 }  // namespace
 
 void mapRegions(ImportedGeometry& geometry, TissueSpec& T, Section& t) {
@@ -243,6 +258,13 @@ void mapRegions(ImportedGeometry& geometry, TissueSpec& T, Section& t) {
   for (std::size_t i = 0; i < T.inclusions.size(); ++i)
     if (T.inclusions[i].shape == InclusionSpec::Shape::Mesh)
       describeInclusion(geometry, T.inclusions[i], layers + static_cast<int>(i), T);
+  for (auto& I : T.inclusions) {  // placed ones: the layer around the centre gives what they do not
+    if (I.shape == InclusionSpec::Shape::Mesh || !(std::isnan(I.friction_coefficient) || std::isnan(I.toughness)))
+      continue;
+    const LayerSpec& around = T.layers[static_cast<std::size_t>(layerAround(geometry, I, layers))];
+    if (std::isnan(I.friction_coefficient)) I.friction_coefficient = around.friction.coefficient;
+    if (std::isnan(I.toughness)) I.toughness = around.toughness;
+  }
 }
 
 void markSupport(ImportedGeometry& geometry, Section& g) {

@@ -66,6 +66,10 @@ void Section::rememberNumber(const std::string& key, const FieldDoc& f, double v
     remember(key, value);
 }
 
+void Section::rememberNumber(const std::string& key, double value) const {
+  rememberNumber(key, field(type_, key), value);
+}
+
 std::vector<UnitWritten> Section::unitsWritten() const {
   return record_ ? record_->units_written : std::vector<UnitWritten>{};
 }

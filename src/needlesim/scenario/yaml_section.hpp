@@ -74,6 +74,8 @@ class Section {
   // and where the file gives it.
   void remember(const std::string& key, nlohmann::json value) const;
   std::string fieldPath(const std::string& key) const;
+  // Records a number read or derived for `key` (a quantity with its SI unit).
+  void rememberNumber(const std::string& key, double value) const;
   // The units of display dimensions written so far in the whole file, with their counts.
   std::vector<UnitWritten> unitsWritten() const;
 

@@ -124,7 +124,7 @@ void configureGeometry(const Scenario& sc, MpmSetup& s) {
     throw refusal(sc, "tissue.geometry", g->file,
                   fmt::format("fills tetrahedral meshes with material points, not {} elements", g->mesh->element),
                   "a tetrahedral mesh (Gmsh: Mesh 3 of a script, or surfaces, which are meshed into tetrahedra)");
-  if (sc.model.mpm.faces != MpmModelSpec{}.faces)
+  if (sc.model.mpm.faces != MpmModelSpec{}.faces)  // the defaults (mpm_section.cpp) are the only ones
     throw refusal(sc, "model.mpm.faces", "given",
                   "with tissue.geometry the geometry's supported side (tissue.geometry.support_depth) is held, "
                   "not the faces of its bounding box",

@@ -17,33 +17,6 @@ std::vector<double> millimetres(std::vector<double> v) {
   return v;
 }
 
-// The layer and inclusion fields mpm does not use, when a scenario sets them.
-std::vector<std::string> ignoredFieldNotes(const TissueSpec& t) {
-  std::vector<std::string> out;
-  bool lumped = false, prony = false, toughness = false;
-  for (const auto& L : t.layers) {
-    const FrictionSpec& f = L.friction;
-    lumped = lumped || L.puncture_force > 0 || L.cutting_force > 0 || L.interaction_stiffness > 0 || f.C_p > 0 ||
-             f.b_p > 0 || f.C_n > 0 || f.b_n > 0;
-    toughness = toughness || L.toughness > 0;
-    prony = prony || !L.material.prony.empty();
-  }
-  for (const auto& I : t.inclusions) {
-    toughness = toughness || I.toughness > 0;
-    prony = prony || !I.material.prony.empty();
-  }
-  if (lumped)
-    out.push_back(
-        "mpm does not use the layers' puncture, cutting, Karnopp friction (C_p, b_p, C_n, b_n) or interaction K_T: "
-        "the material points' continuum gives the puncture and cutting forces (numerical fracture, seed 000 "
-        "section 3.4) and the needle's friction is the Coulomb coefficient friction.coefficient.");
-  if (toughness)
-    out.push_back("mpm does not use the toughness of layers or inclusions: material points separate without a "
-                  "fracture energy (numerical fracture, seed 000 section 3.4).");
-  if (prony) out.push_back("Prony terms of the material are not used by mpm (hyperelastic tissue).");
-  return out;
-}
-
 }  // namespace
 
 void MpmRun::emit(bool stopped) {
@@ -177,7 +150,6 @@ void MpmRun::runNotes(double seconds) {
     sink_.note(fmt::format("Sliding inclusions are a second body in penalty contact with the tissue (Coulomb {:g}, "
                            "penalty_contact.hpp).",
                            c.friction));
-  for (const auto& n : ignoredFieldNotes(sc_.tissue)) sink_.note(n);
   for (const auto& seg : sc_.insertion.segments)
     if (seg.kind == MotionSegment::Kind::Rotate && !seg.axial) {
       sink_.warning("In-plane base rotations are not modelled by mpm: the needle only translates along its axis.");

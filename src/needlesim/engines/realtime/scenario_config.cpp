@@ -91,9 +91,9 @@ realtime::NeedleConfig realtimeNeedle(const Scenario& sc, double tip_load_ratio)
 }
 
 double realtimePunctureForce(const LayerSpec& L, double E, double nu, const Scenario& sc) {
-  if (L.puncture_force >= 0.0) return L.puncture_force;
+  if (!(L.puncture_depth > 0.0)) return L.puncture_force;
   const forces::StiffnessLaw law{E, nu, sc.needle.bevel_angle, sc.insertion.entry_angle};
-  return law.force(-L.puncture_force);
+  return law.force(L.puncture_depth);
 }
 
 realtime::Backend realtimeBackend(const std::string& solver) {

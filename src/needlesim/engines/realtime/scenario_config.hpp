@@ -20,7 +20,7 @@ void checkRealtimeLayers(const Scenario& sc, const std::string& engine, bool rel
 void checkRealtimeInclusions(const Scenario& sc, const std::string& engine);
 // The needle as a clamped Euler-Bernoulli beam; a symmetric tip carries no transverse load.
 realtime::NeedleConfig realtimeNeedle(const Scenario& sc, double tip_load_ratio);
-// The reader marks a puncture depth with a negative value: converted by eq 3.16 with (E, nu).
+// A puncture given as a depth (LayerSpec::puncture_depth): the force of eq 3.16 with (E, nu) there.
 double realtimePunctureForce(const LayerSpec& L, double E, double nu, const Scenario& sc);
 realtime::Backend realtimeBackend(const std::string& solver);
 // The path-node coupling needs the needle within 45 deg of the entry-face normal (SolverError).

@@ -3,8 +3,8 @@
 // path = the needle's axis path, docs/models/cohesive.md "Crack path"): points start at the entry
 // point, increase in depth (monotone along the insertion direction), stay inside the block and turn
 // at most 45 deg from the insertion axis; a path other than straight needs a 2d cohesive run with a
-// rigid needle and a fixed bevel. Errors name file, line, field, value and what is allowed. Internal
-// to the reader; needs sc.tissue, sc.needle, sc.insertion and sc.model.explicit_fe read before.
+// rigid needle and a fixed bevel. Errors name file, line, field, value and what is allowed. Part
+// of model.explicit (explicit_section.cpp); needs sc.tissue, sc.needle and sc.insertion read before.
 #include <string>
 
 #include "needlesim/scenario/scenario.hpp"
@@ -12,6 +12,7 @@
 
 namespace needlesim::scenario {
 
-void readCohesivePath(Section& cohesive, Scenario& sc, const std::string& source);
+// `x`: model.explicit as read so far; `c`: its cohesive section, being read.
+void readCohesivePath(Section& cohesive, const ExplicitModelSpec& x, ExplicitCohesiveSpec& c, const Scenario& sc);
 
 }  // namespace needlesim::scenario

@@ -1,4 +1,5 @@
-#include "needlesim/scenario/cohesive_path_reader.hpp"
+// The crack path of model.explicit.cohesive, read and checked (cohesive_path_section.hpp).
+#include "needlesim/engines/explicit/cohesive_path_section.hpp"
 
 #include <fmt/format.h>
 
@@ -37,9 +38,8 @@ void checkPoint(const Scenario& sc, const std::vector<Point>& prev, const Point&
 }
 }  // namespace
 
-void readCohesivePath(Section& cs, Scenario& sc, const std::string& source) {
-  auto& c = sc.model.explicit_fe.cohesive;
-  const auto& x = sc.model.explicit_fe;
+void readCohesivePath(Section& cs, const ExplicitModelSpec& x, ExplicitCohesiveSpec& c, const Scenario& sc) {
+  const std::string& source = sc.source;
   c.path = cs.choice("path");
   c.path_radius = cs.number("path_radius");
   auto pts = cs.list("path_points");

@@ -1,0 +1,45 @@
+// Default texts and schema rows of the parameter tables (parameter_table.hpp).
+#include "needlesim/scenario/parameter_table.hpp"
+
+#include <fmt/format.h>
+
+#include <stdexcept>
+
+namespace needlesim::scenario {
+
+std::string defaultText(double si, const units::Dim& dim, const std::string& unit) {
+  const auto readsBack = [&](const std::string& text) {
+    try {
+      return units::parse(text).value == si;
+    } catch (const std::invalid_argument&) {
+      return false;
+    }
+  };
+  if (unit.empty()) {
+    const std::string t = fmt::format("{:g}", si);
+    return readsBack(t) ? t : fmt::format("{}", si);
+  }
+  const double scale = units::parse("1 " + unit).value;
+  const std::string t = fmt::format("{:g} {}", si / scale, unit);
+  if (readsBack(t)) return t;
+  const std::string exact = fmt::format("{} {}", si / scale, unit);
+  return readsBack(exact) ? exact : fmt::format("{} {}", si, units::siName(dim));
+}
+
+FieldDoc numberDoc(const std::string& type, const std::string& key, const units::Dim& dim, Range r,
+                   std::string default_text, std::string help) {
+  FieldDoc f;
+  f.section = type;
+  f.key = key;
+  f.kind = dim == units::dim::None ? Kind::Number : Kind::Quantity;
+  f.dim = dim;
+  f.default_text = std::move(default_text);
+  f.lo = r.lo;
+  f.hi = r.hi;
+  f.lo_open = r.lo_open;
+  f.hi_open = r.hi_open;
+  f.help = std::move(help);
+  return f;
+}
+
+}  // namespace needlesim::scenario

@@ -1,0 +1,221 @@
+// Each scenario field declared once: the schema (and docs/scenario-format.md, generated from it),
+// the scenario as understood (summary.json's "scenario") and the structs agree on the fields and
+// their defaults; every default is recorded as a value; a field an engine does not use gets a note.
+#include <fmt/format.h>
+#include <gtest/gtest.h>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <string>
+
+#include "needlesim/engines/engine.hpp"
+#include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/engines/run_scenario.hpp"
+#include "needlesim/scenario/model_section.hpp"
+#include "needlesim/scenario/reader.hpp"
+#include "needlesim/scenario/schema.hpp"
+
+using namespace needlesim;
+using scenario::FieldDoc;
+using scenario::Kind;
+
+namespace {
+
+std::string exampleText(const std::string& rel) {
+  std::ifstream in(std::string(NEEDLESIM_SOURCE_DIR) + "/" + rel);
+  return std::string(std::istreambuf_iterator<char>(in), {});
+}
+
+// Defaults that depend on data the reader does not have a single value for, each for a reason
+// written in the schema: the engine computes them (curvature from the beam-on-foundation tip
+// loads), or they differ per layer (the cohesive fracture energy: each layer's toughness), or
+// they are alternatives rather than defaults (an element size instead of node counts), or the
+// run decides them (the scenario's name and results folder: the file's name, --out).
+const std::set<std::string> kNoSingleValue{"scenario.name", "output.directory", "steering.curvature",
+                                           "explicit_cohesive.fracture_energy", "realtime2d.element_size"};
+
+double siOf(const nlohmann::json& v) {
+  return v.is_number() ? v.get<double>() : units::parse(v.get<std::string>()).value;
+}
+
+// Walks the record of section type `type` against the schema: every key recorded is a field,
+// every field with a default is recorded, with the schema's default when that is a value.
+void compare(const nlohmann::json& record, const std::string& type, const std::string& path, const Scenario& sc,
+             std::set<std::string>& seen) {
+  for (const auto& [key, value] : record.items()) {
+    const FieldDoc* f = scenario::findField(type, key);
+    ASSERT_NE(f, nullptr) << path << key << " is recorded but section '" << type << "' has no such field";
+    seen.insert(type + "." + key);
+    if (f->kind == Kind::Section && value.is_object()) compare(value, f->child, path + key + ".", sc, seen);
+    if (f->kind == Kind::MaterialRef && value.is_object()) compare(value, "material", path + key + ".", sc, seen);
+    if (f->kind == Kind::List)
+      for (std::size_t i = 0; i < value.size(); ++i)
+        if (value[i].is_object()) compare(value[i], f->child, fmt::format("{}{}[{}].", path, key, i), sc, seen);
+  }
+  for (const FieldDoc* f : scenario::fieldsOf(type)) {
+    if (f->default_text.empty() || f->kind == Kind::Section || f->kind == Kind::List) continue;
+    if (kNoSingleValue.count(type + "." + f->key)) continue;
+    ASSERT_TRUE(record.contains(f->key)) << path << f->key << " has the default '" << f->default_text
+                                         << "' in the schema but is not recorded";
+    if ((f->kind != Kind::Quantity && f->kind != Kind::Number) || sc.given_at.count(path + f->key)) continue;
+    double schemaDefault = 0.0;
+    try {
+      schemaDefault = units::parse(f->default_text).value;
+    } catch (const std::invalid_argument&) {
+      continue;  // a formula: recorded as the value it gives (checked above)
+    }
+    if (record[f->key].is_string() || record[f->key].is_number())
+      EXPECT_EQ(siOf(record[f->key]), schemaDefault) << path << f->key << " (schema default " << f->default_text << ")";
+  }
+}
+
+}  // namespace
+
+TEST(DeclaredOnce, SchemaAndUnderstoodListTheSameFieldsWithTheSameDefaults) {
+  // Scenarios that give nothing of the model sections: every field there is a default.
+  std::set<std::string> seen;
+  for (const char* file : {"examples/gelatin_18G_3mms.yaml", "examples/realtime2d/layered_target.yaml"}) {
+    const Scenario sc = scenario::readText(exampleText(file), file);
+    const auto record = nlohmann::json::parse(sc.understood);
+    SCOPED_TRACE(file);
+    compare(record, "scenario", "", sc, seen);
+  }
+  // Every field of every engine's section is recorded (none is left to the engine).
+  for (const scenario::ModelSection* m : scenario::modelSections())
+    for (const auto& f : m->docs())
+      if (f.section == m->key && !f.default_text.empty() && f.kind != Kind::List &&
+          !kNoSingleValue.count(f.section + "." + f.key))
+        EXPECT_TRUE(seen.count(f.section + "." + f.key)) << "model." << m->key << "." << f.key << " is not recorded";
+}
+
+TEST(DeclaredOnce, TheDocsListEveryFieldOfTheSchemaWithItsDefault) {
+  std::ifstream in(std::string(NEEDLESIM_SOURCE_DIR) + "/docs/scenario-format.md");
+  const std::string doc((std::istreambuf_iterator<char>(in)), {});
+  for (const auto& f : scenario::schema())
+    EXPECT_NE(doc.find("| `" + f.key + "` | "), std::string::npos) << f.section << "." << f.key;
+  EXPECT_NE(doc.find(scenario::schemaMarkdown()), std::string::npos)
+      << "docs/scenario-format.md is out of date: regenerate its Reference part with `needlesim schema --markdown`";
+}
+
+TEST(DeclaredOnce, FormulaDefaultsAreRecordedAsValues) {
+  const Scenario sc = scenario::defaultScenario();
+  const auto r = nlohmann::json::parse(sc.understood);
+  const auto& fr = r["tissue"]["friction"];
+  const auto& f = sc.tissue.layers[0].friction;
+  EXPECT_EQ(siOf(fr["C_n"]), f.C_p);
+  EXPECT_EQ(siOf(fr["b_n"]), f.b_p);
+  EXPECT_EQ(siOf(fr["D_p"]), f.C_p + f.b_p * f.static_band / 2);
+  EXPECT_EQ(siOf(fr["D_n"]), f.C_n + f.b_n * f.static_band / 2);
+  EXPECT_EQ(siOf(r["needle"]["inner_diameter"]), sc.needle.inner_diameter);
+  EXPECT_GT(sc.needle.inner_diameter, 0.0);  // 18 G: from the gauge table
+  EXPECT_EQ(siOf(r["model"]["mpm"]["particle_spacing"]), 0.5 * sc.model.mpm.grid_spacing);
+  EXPECT_EQ(siOf(r["model"]["realtime2d"]["tip_load_ratio"]), 1.0 / std::tan(sc.needle.bevel_angle));
+  EXPECT_EQ(siOf(r["model"]["steering"]["tear_length"]), sc.needle.outer_diameter / 2);
+  EXPECT_EQ(r["model"]["explicit"]["element"], "quad4");
+  EXPECT_GT(siOf(r["model"]["explicit"]["field_interval"]), 0.0);
+}
+
+TEST(DeclaredOnce, StructDefaultsAreTheSchemaDefaults) {
+  const NeedleSpec n;
+  EXPECT_EQ(n.bevel_angle, units::parse(scenario::field("needle", "bevel_angle").default_text).value);
+  EXPECT_EQ(n.youngs_modulus, units::parse(scenario::field("needle", "youngs_modulus").default_text).value);
+  EXPECT_EQ(n.density, units::parse(scenario::field("needle", "density").default_text).value);
+  EXPECT_EQ(n.poisson, units::parse(scenario::field("needle", "poisson").default_text).value);
+  EXPECT_EQ(ExplicitModelSpec{}.cfl, units::parse(scenario::field("explicit", "cfl").default_text).value);
+  EXPECT_EQ(MpmModelSpec{}.grid_spacing, units::parse(scenario::field("mpm", "grid_spacing").default_text).value);
+}
+
+TEST(DeclaredOnce, APunctureDepthIsItsOwnField) {
+  std::string yaml = exampleText("examples/gelatin_18G_3mms.yaml");
+  const auto at = yaml.find("puncture:");
+  ASSERT_NE(at, std::string::npos);
+  const auto end = yaml.find('\n', at);
+  yaml.replace(at, end - at, "puncture: {depth: 4 mm}");
+  const Scenario sc = scenario::readText(yaml, "depth.yaml");
+  EXPECT_EQ(sc.tissue.layers[0].puncture_depth, 4e-3);
+  EXPECT_EQ(sc.tissue.layers[0].puncture_force, 0.0);
+  // The lumped engine turns it into a force; mpm says once that it does not use it.
+  const MemorySink lumped = runInMemory(sc, RunOptions{false});
+  EXPECT_GT(lumped.results.at("peak_force").value, 0.0);
+  Scenario mpm = sc;
+  mpm.model.engine = "mpm";
+  const auto notes = unusedFieldNotes(*findEngine("mpm"), mpm);
+  bool named = false;
+  for (const auto& n : notes) named = named || n.find("tissue.puncture.depth") != std::string::npos;
+  EXPECT_TRUE(named) << notes.size() << " notes";
+}
+
+TEST(DeclaredOnce, EveryEngineNotesEachGivenFieldItDoesNotUseOnce) {
+  const Scenario sc = scenario::defaultScenario();  // gives puncture, cutting, C_p, b_p, static_band
+  ASSERT_GT(sc.given_at.count("tissue.friction.C_p"), 0u);
+  for (const auto& e : engineRegistry()) {
+    const auto notes = unusedFieldNotes(e, sc);
+    const bool karnopp = std::find(e.uses.begin(), e.uses.end(), "friction.C_p") != e.uses.end();
+    int cp = 0;
+    for (const auto& n : notes) cp += n.find("tissue.friction.C_p given but not used by engine " + e.name) == 0;
+    EXPECT_EQ(cp, karnopp ? 0 : 1) << e.name;
+  }
+  // friction.coefficient given: the lumped and real-time engines do not use it.
+  std::string yaml = exampleText("examples/gelatin_18G_3mms.yaml");
+  const auto at = yaml.find("friction:");
+  ASSERT_NE(at, std::string::npos);
+  yaml.insert(yaml.find('\n', at), "\n    coefficient: 0.3");
+  const Scenario coulomb = scenario::readText(yaml, "coulomb.yaml");
+  const MemorySink sink = runInMemory(coulomb, RunOptions{false});
+  int noted = 0;
+  for (const auto& n : sink.notes) noted += n.find("tissue.friction.coefficient given but not used by engine lumped") == 0;
+  EXPECT_EQ(noted, 1);
+}
+
+TEST(DeclaredOnce, AnInclusionTakesTheFrictionOfTheLayerAroundIt) {
+  // a 20 x 20 mm square: skin (depth 0-10 mm) and gel (10-20 mm); a sphere placed in the gel
+  const auto dir = std::filesystem::temp_directory_path() / "needlesim_declared_once";
+  std::filesystem::create_directories(dir);
+  const auto mesh = dir / "two_layers.msh";
+  std::ofstream(mesh) << R"($MeshFormat
+2.2 0 8
+$EndMeshFormat
+$PhysicalNames
+2
+2 1 "skin"
+2 2 "gel"
+$EndPhysicalNames
+$Nodes
+6
+1 0 -10 0
+2 10 -10 0
+3 20 -10 0
+4 20 10 0
+5 10 10 0
+6 0 10 0
+$EndNodes
+$Elements
+4
+1 2 2 1 1 1 2 5
+2 2 2 1 1 1 5 6
+3 2 2 2 2 2 3 4
+4 2 2 2 2 2 4 5
+$EndElements
+)";
+  const std::string yaml = R"(name: around
+tissue:
+  geometry: {file: )" + mesh.string() + R"(, unit: mm}
+  layers:
+    - {name: skin, material: {law: neo-hookean, C10: 3.6 kPa, nu: 0.45}, friction: {coefficient: 0.1}}
+    - {name: gel, material: {law: neo-hookean, C10: 3.6 kPa, nu: 0.45}, friction: {coefficient: 0.4}}
+  inclusions:
+    - {name: lump, shape: cylinder, depth: 15 mm, radius: 2 mm, material: {law: neo-hookean, C10: 16.6 kPa, nu: 0.45}}
+needle: {outer_diameter: 2 mm, length: 40 mm}
+insertion:
+  profile:
+    - insert: {to: 5 mm, speed: 10 mm/s}
+model: {engine: explicit, explicit: {dimension: 2d}}
+)";
+  const Scenario sc = scenario::readText(yaml, "around.yaml");
+  EXPECT_EQ(sc.tissue.inclusions[0].friction_coefficient, 0.4);  // the gel's, not layer 0's
+  EXPECT_EQ(nlohmann::json::parse(sc.understood)["tissue"]["inclusions"][0]["friction"], 0.4);
+}
