@@ -446,9 +446,11 @@ void appendScenarioBlock(const std::string& yaml, std::string& table) {
 }  // namespace
 
 const std::vector<std::string>& fitAnalyses() {
-  static const std::vector<std::string> v{"linear", "neo-hookean", "mooney-rivlin", "yeoh",    "ogden",
-                                          "fung",   "auto",        "prony",         "toughness", "friction",
-                                          "puncture", "stiffness"};
+  static const std::vector<std::string> v = [] {
+    std::vector<std::string> a = hyperelasticFitLaws();
+    for (const char* other : {"auto", "prony", "toughness", "friction", "puncture", "stiffness"}) a.push_back(other);
+    return a;
+  }();
   return v;
 }
 

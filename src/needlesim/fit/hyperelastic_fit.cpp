@@ -10,6 +10,7 @@
 #include "needlesim/fit/least_squares.hpp"
 #include "needlesim/materials/homogeneous.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
+#include "needlesim/materials/laws/law_unit.hpp"
 
 namespace needlesim::fit {
 
@@ -49,12 +50,7 @@ void finishStats(FitResult& r, int k) {
   r.aicc = aicc(sse, r.n, k);
 }
 
-// A parameter of a law fit: sign +1 (positive, theta = exp p), -1 (negative), 0 (free, theta = p * scale).
-struct PDef {
-  std::string name, unit;
-  int sign;
-  double scale;  // typical magnitude, for conditioning of free parameters
-};
+using PDef = mat::FitParamDef;
 
 double toInternal(const PDef& d, double theta) {
   if (d.sign == 0) return theta / d.scale;
@@ -65,36 +61,23 @@ double toPhysical(const PDef& d, double p) {
   return d.sign * std::exp(std::clamp(p, -700.0, 700.0));
 }
 
-mat::Hyperelastic buildLaw(const std::string& law, const std::vector<double>& th) {
+// Small-strain slope of the test in units of the initial shear modulus mu0.
+double slopeOverMu0(TestMode mode) {
+  return mode == TestMode::Uniaxial ? 3.0 : mode == TestMode::Equibiaxial ? 6.0 : 1.0;
+}
+
+mat::Hyperelastic buildLaw(const mat::LawUnit& law, const std::vector<double>& th) {
   mat::Hyperelastic h;
-  h.kind = mat::lawKind(law == "linear" ? "neo-hookean" : law);
+  h.kind = law.kind;
   h.bulk = 1.0;  // not used by incompressible responses
-  switch (h.kind) {
-    case mat::LawKind::NeoHookean: h.C10 = th[0]; break;
-    case mat::LawKind::MooneyRivlin: h.C10 = th[0]; h.C01 = th[1]; break;
-    case mat::LawKind::Yeoh:
-      h.C10 = th[0];
-      h.C20 = th.size() > 1 ? th[1] : 0.0;
-      h.C30 = th.size() > 2 ? th[2] : 0.0;
-      break;
-    case mat::LawKind::Ogden:
-      for (std::size_t i = 0; i + 1 < th.size(); i += 2) {
-        h.ogdenMu.push_back(th[i]);
-        h.ogdenAlpha.push_back(th[i + 1]);
-      }
-      break;
-    case mat::LawKind::Fung: h.mu = th[0]; h.gamma = th[1]; break;
-    default: break;
-  }
+  law.fit.fromFit(th, h);
   return h;
 }
 
-double modelValue(const std::string& law, const mat::Hyperelastic& h, const std::vector<double>& th,
-                  double x, StressMeasure m, TestMode mode) {
-  if (law == "linear") {  // small strain, incompressible: E eps, 2 E eps, E/3 gamma
-    double f = mode == TestMode::Uniaxial ? 1.0 : mode == TestMode::Equibiaxial ? 2.0 : 1.0 / 3.0;
-    return f * th[0] * (x - 1.0);
-  }
+double modelValue(const mat::LawUnit& law, const mat::Hyperelastic& h, const std::vector<double>& th, double x,
+                  StressMeasure m, TestMode mode) {
+  if (law.fit.smallStrain)  // small strain, incompressible (E = 3 mu0): E eps, 2 E eps, E/3 gamma
+    return slopeOverMu0(mode) / 3.0 * th[0] * (x - 1.0);
   switch (mode) {
     case TestMode::Uniaxial:
       return m == StressMeasure::Cauchy ? mat::uniaxialCauchyIncompressible(h, x)
@@ -143,11 +126,6 @@ double compressionSign(const std::vector<double>& v, bool magnitudes) {
   return it != v.end() && *it < 0.0 ? 1.0 : -1.0;
 }
 
-// Small-strain slope of the test in units of the initial shear modulus mu0.
-double slopeOverMu0(TestMode mode) {
-  return mode == TestMode::Uniaxial ? 3.0 : mode == TestMode::Equibiaxial ? 6.0 : 1.0;
-}
-
 // Compression (a column named for it, or --loading compression): strain and stress are
 // made negative in compression. Columns named for compression hold magnitudes, so a
 // negative value there is a tensile point; other columns take the sign of their loaded end.
@@ -180,10 +158,7 @@ const FitParam& FitResult::param(const std::string& name) const {
   throw Error("fit result for '" + law + "' has no parameter " + name);
 }
 
-const std::vector<std::string>& hyperelasticFitLaws() {
-  static const std::vector<std::string> v{"linear", "neo-hookean", "mooney-rivlin", "yeoh", "ogden", "fung"};
-  return v;
-}
+const std::vector<std::string>& hyperelasticFitLaws() { return mat::lawNames(); }
 
 UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt) {
   UniaxialData d;
@@ -283,25 +258,35 @@ UniaxialData readUniaxial(const io::CsvData& csv, const UniaxialReadOptions& opt
 }
 
 double uniaxialModel(const materials::MaterialSpec& spec, double stretch, StressMeasure measure, TestMode mode) {
-  if (spec.law == "linear") return modelValue("linear", {}, {spec.param("E")}, stretch, measure, mode);
-  auto h = mat::Hyperelastic::fromSpec(spec);
-  return modelValue(spec.law, h, {}, stretch, measure, mode);
+  const mat::LawUnit& law = mat::lawUnit(spec.law);
+  if (law.fit.smallStrain) return modelValue(law, {}, {spec.param(law.params.front().key)}, stretch, measure, mode);
+  return modelValue(law, mat::Hyperelastic::fromSpec(spec), {}, stretch, measure, mode);
 }
 
 namespace {
 
 // The number of terms a law is fitted with: `terms`, or the law's default when 0.
-int checkedTerms(const UniaxialData& data, const std::string& law, int terms) {
-  const auto& laws = hyperelasticFitLaws();
-  if (std::find(laws.begin(), laws.end(), law) == laws.end())
-    throw InputError({data.file, 0, 0}, "--law", law, "unknown law for stress-strain data",
-                     "linear, neo-hookean, mooney-rivlin, yeoh, ogden, fung, prony, auto");
-  int maxTerms = (law == "yeoh" || law == "ogden") ? 3 : 1;
-  if (terms == 0) terms = law == "yeoh" ? 3 : 1;
-  if (terms < 1 || terms > maxTerms)
-    throw InputError({data.file, 0, 0}, "--terms", std::to_string(terms), "not allowed for law " + law,
-                     maxTerms == 1 ? std::string("1 (or leave it out)") : std::string("1, 2 or 3"));
+int checkedTerms(const UniaxialData& data, const mat::LawUnit& law, int terms) {
+  const int maxTerms = law.fit.maxTerms;
+  if (terms == 0) terms = law.fit.defaultTerms;
+  if (terms < 1 || terms > maxTerms) {
+    std::string allowed = "1 (or leave it out)";
+    if (maxTerms > 1) {
+      allowed = "1";
+      for (int t = 2; t < maxTerms; ++t) allowed += ", " + std::to_string(t);
+      allowed += " or " + std::to_string(maxTerms);
+    }
+    throw InputError({data.file, 0, 0}, "--terms", std::to_string(terms), "not allowed for law " + law.name, allowed);
+  }
   return terms;
+}
+
+// The law a fit names; InputError for a name that is no law.
+const mat::LawUnit& fittedLaw(const UniaxialData& data, const std::string& law) {
+  if (const mat::LawUnit* u = mat::findLawUnit(law)) return *u;
+  std::string allowed;
+  for (const auto& n : hyperelasticFitLaws()) allowed += n + ", ";
+  throw InputError({data.file, 0, 0}, "--law", law, "unknown law for stress-strain data", allowed + "prony, auto");
 }
 
 // Robust starting modulus: the initial slope of the first third of the points.
@@ -325,83 +310,20 @@ double initialSlope(const UniaxialData& data, double& ymax) {
   return E0;
 }
 
-// The parameters of a law and its starting points (physical values). Ogden's
-// parameters depend on each start's sign pattern: see ogdenParams.
-struct LawStarts {
-  std::vector<PDef> defs;
-  std::vector<std::vector<double>> starts;
-};
-
-std::vector<std::vector<double>> ogdenStarts(int terms, double mu0) {
-  // sign patterns and exponents; mu_p alpha_p > 0 is kept by construction
-  std::vector<std::vector<double>> alphaSets;
-  if (terms == 1) alphaSets = {{2.0}, {5.0}, {10.0}, {-2.0}, {-6.0}};
-  if (terms == 2) alphaSets = {{2.0, -2.0}, {6.0, -2.0}, {2.0, 8.0}, {10.0, -4.0}, {1.5, 5.0}};
-  if (terms == 3) alphaSets = {{2.0, -2.0, 6.0}, {1.0, 4.0, -2.0}, {8.0, -4.0, 2.0}, {2.0, 5.0, 10.0}};
-  std::vector<std::vector<double>> starts;
-  for (std::size_t s = 0; s < alphaSets.size(); ++s) {
-    std::vector<double> st;
-    for (double a : alphaSets[s]) {
-      st.push_back(2.0 * mu0 / (a * terms));  // each term carries mu0/terms
-      st.push_back(a);
-    }
-    starts.push_back(st);
-  }
-  return starts;
-}
-
-std::vector<PDef> ogdenParams(const std::vector<double>& start, int terms, double mu0) {
-  std::vector<PDef> d;
-  for (int t = 0; t < terms; ++t) {
-    int sgn = start[2 * t + 1] > 0 ? 1 : -1;
-    d.push_back({"mu" + std::to_string(t + 1), "Pa", sgn, mu0});
-    d.push_back({"alpha" + std::to_string(t + 1), "1", sgn, 1.0});
-  }
-  return d;
-}
-
-LawStarts lawStarts(const std::string& law, int terms, double mu0, double E0) {
-  LawStarts s;
-  if (law == "linear") {
-    s.defs = {{"E", "Pa", 1, E0}};
-    s.starts = {{E0}};
-  } else if (law == "neo-hookean") {
-    s.defs = {{"C10", "Pa", 1, mu0}};
-    s.starts = {{mu0 / 2}};
-  } else if (law == "mooney-rivlin") {
-    s.defs = {{"C10", "Pa", 1, mu0}, {"C01", "Pa", 1, mu0}};
-    s.starts = {{mu0 / 4, mu0 / 4}, {0.45 * mu0, 0.05 * mu0}, {0.05 * mu0, 0.45 * mu0}};
-  } else if (law == "yeoh") {
-    const char* nm[3] = {"C10", "C20", "C30"};
-    for (int i = 0; i < terms; ++i) s.defs.push_back({nm[i], "Pa", i == 0 ? 1 : 0, mu0});
-    std::vector<double> s0(terms, 0.0), s1(terms, 0.0);
-    s0[0] = s1[0] = mu0 / 2;
-    if (terms > 1) s1[1] = 0.1 * mu0;
-    s.starts = {s0, s1};
-  } else if (law == "ogden") {
-    s.starts = ogdenStarts(terms, mu0);
-  } else if (law == "fung") {
-    s.defs = {{"mu", "Pa", 1, mu0}, {"gamma", "1", 1, 1.0}};
-    s.starts = {{mu0, 0.1}, {mu0, 1.0}, {mu0, 5.0}, {0.3 * mu0, 10.0}};
-  }
-  return s;
-}
-
-// The least-squares fit from each start; the lowest finite SSE wins (only
-// law, terms, converged, sse and params are set).
-FitResult bestOfStarts(const UniaxialData& data, const std::string& law, int terms, const LawStarts& ls, double mu0,
-                       double ymax) {
+// The least-squares fit from each of the law's starting points; the lowest
+// finite SSE wins (only law, terms, converged, sse and params are set).
+FitResult bestOfStarts(const UniaxialData& data, const mat::LawUnit& law, int terms, double mu0, double ymax) {
   const int n = static_cast<int>(data.stretch.size());
   const double sc = ymax > 0 ? ymax : 1.0;
   FitResult best;
   best.sse = std::numeric_limits<double>::infinity();
   bool any = false;
-  for (const auto& start : ls.starts) {
-    const std::vector<PDef> d = law == "ogden" ? ogdenParams(start, terms, mu0) : ls.defs;
+  for (const auto& start : law.fit.starts(terms, mu0)) {
+    const std::vector<PDef>& d = start.params;
     const int k = static_cast<int>(d.size());
     if (n < k + 1)
       throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(n) + " points",
-                       "too few points to fit " + std::to_string(k) + " parameter(s) of law " + law,
+                       "too few points to fit " + std::to_string(k) + " parameter(s) of law " + law.name,
                        "at least " + std::to_string(k + 1) + " points");
     LsqProblem prob;
     prob.nParams = k;
@@ -420,7 +342,7 @@ FitResult bestOfStarts(const UniaxialData& data, const std::string& law, int ter
         r[i] = (modelValue(law, h, tv, data.stretch[i], data.measure, data.mode) - data.stress[i]) / sc;
     };
     Eigen::VectorXd p0(k);
-    for (int i = 0; i < k; ++i) p0[i] = toInternal(d[i], start[i]);
+    for (int i = 0; i < k; ++i) p0[i] = toInternal(d[i], start.values[i]);
     prob.starts = {p0};
     LsqResult res = solveLeastSquares(prob);
     double sse = res.cost * sc * sc;
@@ -428,17 +350,17 @@ FitResult bestOfStarts(const UniaxialData& data, const std::string& law, int ter
     any = true;
     best = FitResult{};
     best.sse = sse;
-    best.law = law;
+    best.law = law.name;
     best.terms = terms;
     best.converged = res.converged;
     for (int i = 0; i < k; ++i) best.params.push_back({d[i].name, d[i].unit, res.theta[i], res.stdErr[i]});
   }
-  if (!any) throw SolverError("fit of law " + law + " did not produce a finite result from any starting point");
+  if (!any) throw SolverError("fit of law " + law.name + " did not produce a finite result from any starting point");
   return best;
 }
 
 // The fitted curve, statistics, material block and notes of the winning fit.
-void completeHyperelasticFit(FitResult& best, const UniaxialData& data, const std::string& law) {
+void completeHyperelasticFit(FitResult& best, const UniaxialData& data, const mat::LawUnit& law) {
   const int n = static_cast<int>(data.stretch.size());
   std::vector<double> tv;
   for (const auto& p : best.params) tv.push_back(p.value);
@@ -448,43 +370,40 @@ void completeHyperelasticFit(FitResult& best, const UniaxialData& data, const st
   for (int i = 0; i < n; ++i) best.fitted.push_back(modelValue(law, h, tv, data.stretch[i], data.measure, data.mode));
   finishStats(best, static_cast<int>(best.params.size()));
   best.spec.name = "fitted";
-  best.spec.law = law;
+  best.spec.law = law.name;
   for (const auto& p : best.params) best.spec.params[p.name] = p.value;
-  if (law == "linear")
+  if (!law.volumetric)
     best.spec.params["nu"] = 0.49;
   best.notes = data.notes;
-  if (law != "linear")
+  if (law.volumetric)
     best.notes.push_back("uniaxial data do not identify the bulk modulus; the material block uses nu = 0.49");
   if (!best.converged) best.notes.push_back("the optimiser stopped before its tolerances were met");
 }
 
 }  // namespace
 
-FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int terms) {
+FitResult fitHyperelastic(const UniaxialData& data, const std::string& lawName, int terms) {
+  const mat::LawUnit& law = fittedLaw(data, lawName);
   terms = checkedTerms(data, law, terms);
   double ymax = 0;
-  double E0 = initialSlope(data, ymax);
+  const double E0 = initialSlope(data, ymax);
   const double mu0 = E0 / slopeOverMu0(data.mode);
-  if (law == "linear") E0 = 3.0 * mu0;  // E of the linear law
-  FitResult best = bestOfStarts(data, law, terms, lawStarts(law, terms, mu0, E0), mu0, ymax);
+  FitResult best = bestOfStarts(data, law, terms, mu0, ymax);
   completeHyperelasticFit(best, data, law);
   return best;
 }
 
 std::vector<FitResult> fitAllLaws(const UniaxialData& data) {
   std::vector<FitResult> out;
-  struct L { const char* law; int terms; };
-  for (L l : {L{"linear", 1}, L{"neo-hookean", 1}, L{"mooney-rivlin", 1}, L{"yeoh", 2}, L{"yeoh", 3},
-              L{"ogden", 1}, L{"ogden", 2}, L{"fung", 1}}) {
-    int k = (std::string(l.law) == "mooney-rivlin" || std::string(l.law) == "fung") ? 2
-            : std::string(l.law) == "ogden" ? 2 * l.terms
-            : std::string(l.law) == "yeoh" ? l.terms : 1;
-    if (static_cast<int>(data.stretch.size()) < k + 2) continue;
-    try {
-      out.push_back(fitHyperelastic(data, l.law, l.terms));
-    } catch (const SolverError&) {
+  for (const mat::LawUnit* law : mat::lawUnits())
+    for (int terms : law->fit.rankedTerms) {
+      const int k = static_cast<int>(law->fit.starts(terms, 1.0).front().params.size());
+      if (static_cast<int>(data.stretch.size()) < k + 2) continue;
+      try {
+        out.push_back(fitHyperelastic(data, law->name, terms));
+      } catch (const SolverError&) {
+      }
     }
-  }
   if (out.empty())
     throw InputError({data.file, lastLine(data.lines), 0}, "data", std::to_string(data.stretch.size()) + " points",
                      "too few points to compare laws", "at least 3 points");

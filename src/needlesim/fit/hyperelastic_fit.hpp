@@ -72,12 +72,13 @@ struct FitResult {
   const FitParam& param(const std::string& name) const;  // throws if absent
 };
 
-// The laws `needlesim fit --law` accepts for stress-strain data.
+// The laws `needlesim fit --law` accepts for stress-strain data: every law of
+// the registry (materials/laws/), each with its parameters and starting points.
 const std::vector<std::string>& hyperelasticFitLaws();
 
-// Fits one law ("linear", "neo-hookean", "mooney-rivlin", "yeoh", "ogden",
-// "fung"); terms: Yeoh 1-3 (default 3), Ogden 1-3 (default 1); 0 = default.
-// Throws InputError for an unknown law or too few points.
+// Fits one law; terms: 1 to the law's maximum (Yeoh and Ogden 3), 0 = the
+// law's default (Yeoh 3, others 1). Throws InputError for an unknown law or
+// too few points.
 FitResult fitHyperelastic(const UniaxialData& data, const std::string& law, int terms = 0);
 
 // Fits every law and ranks them by AICc (best first).

@@ -6,164 +6,55 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/materials/law_energy.hpp"
+#include "needlesim/materials/laws/law_unit.hpp"
 
 namespace needlesim::materials {
 
 namespace {
 
-std::string num(double v) {
-  std::ostringstream s;
-  s.precision(6);
-  s << v;
-  return s.str();
-}
-
-[[noreturn]] void bad(const std::string& law, const std::string& key, double v,
-                      const std::string& allowed) {
-  throw Error("material law '" + law + "': parameter " + key + " = " + num(v) +
-              " is not allowed; " + allowed);
-}
+std::string num(double v) { return laws::numberText(v); }
 
 }  // namespace
 
-LawKind lawKind(const std::string& name) {
-  if (name == "linear") return LawKind::Linear;
-  if (name == "neo-hookean") return LawKind::NeoHookean;
-  if (name == "mooney-rivlin") return LawKind::MooneyRivlin;
-  if (name == "yeoh") return LawKind::Yeoh;
-  if (name == "ogden") return LawKind::Ogden;
-  if (name == "fung") return LawKind::Fung;
-  throw Error("unknown constitutive law '" + name +
-              "'; allowed: linear, neo-hookean, mooney-rivlin, yeoh, ogden, fung");
-}
+LawKind lawKind(const std::string& name) { return lawUnit(name).kind; }
 
-std::string lawName(LawKind kind) {
-  switch (kind) {
-    case LawKind::Linear: return "linear";
-    case LawKind::NeoHookean: return "neo-hookean";
-    case LawKind::MooneyRivlin: return "mooney-rivlin";
-    case LawKind::Yeoh: return "yeoh";
-    case LawKind::Ogden: return "ogden";
-    case LawKind::Fung: return "fung";
-  }
-  return "?";
-}
+std::string lawName(LawKind kind) { return lawUnit(kind).name; }
 
-double Hyperelastic::initialShear() const {
-  switch (kind) {
-    case LawKind::Linear: return lame(E, nu).mu;
-    case LawKind::NeoHookean:
-    case LawKind::Yeoh: return 2.0 * C10;
-    case LawKind::MooneyRivlin: return 2.0 * (C10 + C01);
-    case LawKind::Ogden: {
-      double s = 0.0;
-      for (std::size_t p = 0; p < ogdenMu.size(); ++p) s += 0.5 * ogdenMu[p] * ogdenAlpha[p];
-      return s;
-    }
-    case LawKind::Fung: return mu;
-  }
-  return 0.0;
-}
+double Hyperelastic::initialShear() const { return lawUnit(kind).shear(*this); }
 
-double Hyperelastic::initialBulk() const { return kind == LawKind::Linear ? bulkModulus(E, nu) : bulk; }
+double Hyperelastic::initialBulk() const {
+  const LawUnit& u = lawUnit(kind);
+  return u.volumetric ? bulk : u.bulk(*this);
+}
 
 Lame Hyperelastic::initialLame() const {
-  if (kind == LawKind::Linear) return lame(E, nu);
+  const LawUnit& u = lawUnit(kind);
+  if (!u.volumetric) return u.lame(*this);
   const double mu0 = initialShear();
   return {bulk - 2.0 / 3.0 * mu0, mu0};
 }
 
 void Hyperelastic::validate() const {
-  const std::string n = lawName(kind);
-  auto finite = [&](const char* key, double v) {
-    if (!std::isfinite(v)) bad(n, key, v, "it must be a finite number");
-  };
-  switch (kind) {
-    case LawKind::Linear:
-      finite("E", E);
-      finite("nu", nu);
-      if (!(E > 0)) bad(n, "E", E, "E must be > 0 Pa");
-      if (!(nu > -1.0 && nu < 0.5)) bad(n, "nu", nu, "-1 < nu < 0.5");
-      return;
-    case LawKind::NeoHookean:
-      finite("C10", C10);
-      if (!(C10 > 0)) bad(n, "C10", C10, "C10 must be > 0 Pa");
-      break;
-    case LawKind::MooneyRivlin:
-      finite("C10", C10);
-      finite("C01", C01);
-      if (!(C10 + C01 > 0)) bad(n, "C10 + C01", C10 + C01, "the initial shear modulus 2 (C10 + C01) must be > 0");
-      break;
-    case LawKind::Yeoh:
-      finite("C10", C10);
-      finite("C20", C20);
-      finite("C30", C30);
-      if (!(C10 > 0)) bad(n, "C10", C10, "C10 must be > 0 Pa");
-      break;
-    case LawKind::Ogden:
-      if (ogdenMu.empty() || ogdenMu.size() != ogdenAlpha.size() || ogdenMu.size() > 3)
-        throw Error("material law 'ogden' needs 1 to 3 pairs (mu_p, alpha_p); got " +
-                    std::to_string(ogdenMu.size()) + " mu and " + std::to_string(ogdenAlpha.size()) +
-                    " alpha");
-      for (std::size_t p = 0; p < ogdenMu.size(); ++p) {
-        std::string k = std::to_string(p + 1);
-        finite(("mu" + k).c_str(), ogdenMu[p]);
-        finite(("alpha" + k).c_str(), ogdenAlpha[p]);
-        if (ogdenAlpha[p] == 0.0) bad(n, "alpha" + k, 0.0, "alpha_p must be non-zero");
-        if (!(ogdenMu[p] * ogdenAlpha[p] > 0))
-          bad(n, "mu" + k, ogdenMu[p], "mu_p alpha_p must be > 0 (stability); alpha" + k + " = " + num(ogdenAlpha[p]));
-      }
-      break;
-    case LawKind::Fung:
-      finite("mu", mu);
-      finite("gamma", gamma);
-      if (!(mu > 0)) bad(n, "mu", mu, "mu must be > 0 Pa");
-      if (!(gamma > 0)) bad(n, "gamma", gamma, "gamma must be > 0 (use neo-hookean for gamma = 0)");
-      break;
-  }
-  finite("K", bulk);
-  if (!(bulk > 0)) bad(n, "K", bulk, "the bulk modulus K must be > 0 Pa (or give nu < 0.5)");
+  const LawUnit& u = lawUnit(kind);
+  u.validate(*this);
+  if (!u.volumetric) return;
+  laws::requireFinite(u.name, "K", bulk);
+  if (!(bulk > 0)) laws::badParam(u.name, "K", bulk, "the bulk modulus K must be > 0 Pa (or give nu < 0.5)");
 }
 
 Hyperelastic Hyperelastic::fromSpec(const MaterialSpec& spec) {
+  const LawUnit& u = lawUnit(spec.law);
   Hyperelastic h;
-  h.kind = lawKind(spec.law);
-  switch (h.kind) {
-    case LawKind::Linear:
-      h.E = spec.param("E");
-      h.nu = spec.param("nu");
-      break;
-    case LawKind::NeoHookean: h.C10 = spec.param("C10"); break;
-    case LawKind::MooneyRivlin:
-      h.C10 = spec.param("C10");
-      h.C01 = spec.param("C01");
-      break;
-    case LawKind::Yeoh:
-      h.C10 = spec.param("C10");
-      h.C20 = spec.paramOr("C20", 0.0);
-      h.C30 = spec.paramOr("C30", 0.0);
-      break;
-    case LawKind::Ogden:
-      for (int p = 1; p <= 3; ++p) {
-        std::string k = std::to_string(p);
-        if (!spec.has("mu" + k) && !spec.has("alpha" + k)) continue;
-        h.ogdenMu.push_back(spec.param("mu" + k));
-        h.ogdenAlpha.push_back(spec.param("alpha" + k));
-      }
-      break;
-    case LawKind::Fung:
-      h.mu = spec.param("mu");
-      h.gamma = spec.param("gamma");
-      break;
-  }
-  if (h.kind != LawKind::Linear) {
+  h.kind = u.kind;
+  u.read(spec, h);
+  if (u.volumetric) {
     if (spec.has("K")) {
       h.bulk = spec.param("K");
     } else {
       double nu = spec.paramOr("nu", 0.49);
-      if (!(nu > -1.0 && nu < 0.5)) bad(spec.law, "nu", nu, "-1 < nu < 0.5 (up to 0.499 for near-incompressible tissue)");
-      double mu0 = h.initialShear();
-      h.bulk = bulkFromShear(mu0, nu);
+      if (!(nu > -1.0 && nu < 0.5))
+        laws::badParam(spec.law, "nu", nu, "-1 < nu < 0.5 (up to 0.499 for near-incompressible tissue)");
+      h.bulk = bulkFromShear(h.initialShear(), nu);
     }
   }
   h.validate();
@@ -206,7 +97,7 @@ Stress3 evaluateImpl(const Hyperelastic& m, const Mat3& F, bool withTangent) {
   const Mat3 C = F.transpose() * F;
   const double I1v = C.trace();
   const double I2v = 0.5 * (I1v * I1v - (C * C).trace());
-  const int nOgden = m.kind == LawKind::Ogden ? std::min(static_cast<int>(m.ogdenAlpha.size()), NV - 3) : 0;
+  const int nOgden = lawUnit(m.kind).stretches ? std::min(static_cast<int>(m.ogdenAlpha.size()), NV - 3) : 0;
 
   // Spectral data for the Ogden invariants h_p = tr C^(alpha_p/2).
   Eigen::SelfAdjointEigenSolver<Mat3> eig;
@@ -302,7 +193,7 @@ Stress3 evaluateImpl(const Hyperelastic& m, const Mat3& F, bool withTangent) {
 }  // namespace
 
 Stress3 evaluate(const Hyperelastic& m, const Mat3& F, bool withTangent) {
-  return m.kind == LawKind::Ogden ? evaluateImpl<6>(m, F, withTangent) : evaluateImpl<3>(m, F, withTangent);
+  return lawUnit(m.kind).stretches ? evaluateImpl<6>(m, F, withTangent) : evaluateImpl<3>(m, F, withTangent);
 }
 
 Stress2 evaluatePlaneStrain(const Hyperelastic& m, const Mat2& F, bool withTangent) {

@@ -8,20 +8,26 @@
 // order 11, 22, 33, 12, 23, 13 (2D: 11, 22, 12): dS_I = sum_J CC_IJ gamma_J,
 // gamma the engineering strain increment (gamma_12 = 2 dE_12).
 #include <Eigen/Core>
+#include <array>
 #include <string>
 #include <vector>
 
 #include "needlesim/materials/elastic_moduli.hpp"
+#include "needlesim/materials/laws/law_list.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::materials {
 
-enum class LawKind { Linear, NeoHookean, MooneyRivlin, Yeoh, Ogden, Fung };
+// One enumerator per law of the registry (laws/law_list.hpp), in its order.
+#define NEEDLESIM_LAW_KIND(kind, fn) kind,
+enum class LawKind { NEEDLESIM_LAWS(NEEDLESIM_LAW_KIND) };
+#undef NEEDLESIM_LAW_KIND
 
 LawKind lawKind(const std::string& name);  // throws Error for an unknown name
 std::string lawName(LawKind kind);
 
 // One law with its parameters in SI. Build with fromSpec (validated) or fill directly.
+// What each law is (parameters, energy, moduli) is its unit in laws/.
 struct Hyperelastic {
   LawKind kind = LawKind::NeoHookean;
   // linear (St Venant-Kirchhoff at finite strain): E, nu
@@ -34,6 +40,8 @@ struct Hyperelastic {
   double mu = 0.0, gamma = 0.0;
   // Volumetric part (not used by linear): bulk modulus K, Pa
   double bulk = 0.0;
+  // Parameters of a law that no field above holds, in the order its unit (laws/) reads them.
+  std::array<double, 4> own{};
 
   static Hyperelastic fromSpec(const MaterialSpec& spec);  // validates; throws Error
   double initialShear() const;                             // mu0, Pa

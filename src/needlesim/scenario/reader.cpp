@@ -85,16 +85,7 @@ MaterialSpec readMaterial(Section& parent, const std::string& key) {
       throw m.error(p.key, "", "is required for law '" + spec.law + "' but missing", allowedText);
   if (spec.has("K") && spec.has("nu") && spec.law != "linear")
     throw m.error("K", "", "give either K or nu for the volumetric part, not both", "K or nu");
-  if (spec.law == "ogden") {
-    for (int i = 1; i <= 3; ++i) {
-      bool hasMu = spec.has(fmt::format("mu{}", i)), hasAlpha = spec.has(fmt::format("alpha{}", i));
-      if (hasMu != hasAlpha)
-        throw m.error((hasMu ? "alpha" : "mu") + std::to_string(i), "", "Ogden terms need both mu and alpha",
-                      fmt::format("mu{0} and alpha{0}", i));
-      if (hasAlpha && spec.param(fmt::format("alpha{}", i)) == 0.0)
-        throw m.error(fmt::format("alpha{}", i), "0", "an Ogden exponent must be non-zero", "alpha != 0");
-    }
-  }
+  if (auto bad = materials::checkLawParams(spec)) throw m.error(bad->key, bad->value, bad->why, bad->allowed);
   if (auto rho = m.optNumber("density"); rho && (m.has("density") || base.empty())) spec.density = *rho;
   auto terms = m.list("prony");
   if (!terms.empty()) spec.prony.clear();

@@ -189,19 +189,8 @@ void inclusionsAndMaterials(std::vector<FieldDoc>& s) {
   add(other("material", "law", Kind::Choice, "", "constitutive law (required unless base is given)", false, {},
             materials::lawNames()));
   add(positive("material", "density", D::Density, "1000 kg/m^3", "mass density"));
-  add(positive("material", "E", D::Pressure, "", "Young's modulus (linear)"));
-  add(q("material", "nu", D::None, "", -1.0, 0.5, true, true, "Poisson ratio (linear; or the volumetric part of a hyperelastic law)"));
-  add(positive("material", "K", D::Pressure, "", "bulk modulus of a hyperelastic law (instead of nu)"));
-  add(positive("material", "C10", D::Pressure, "", "neo-Hookean / Mooney-Rivlin / Yeoh first coefficient"));
-  add(nonneg("material", "C01", D::Pressure, "", "Mooney-Rivlin second coefficient"));
-  add(q("material", "C20", D::Pressure, "", -kInf, kInf, false, false, "Yeoh second coefficient"));
-  add(q("material", "C30", D::Pressure, "", -kInf, kInf, false, false, "Yeoh third coefficient"));
-  for (int i = 1; i <= 3; ++i) {
-    add(q("material", fmt::format("mu{}", i), D::Pressure, "", -kInf, kInf, false, false, fmt::format("Ogden modulus of term {}", i)));
-    add(q("material", fmt::format("alpha{}", i), D::None, "", -kInf, kInf, false, false, fmt::format("Ogden exponent of term {}", i)));
-  }
-  add(positive("material", "mu", D::Pressure, "", "Fung-Demiray modulus (seed 000 eq 8)"));
-  add(positive("material", "gamma", D::None, "", "Fung-Demiray exponent (seed 000 eq 8)"));
+  for (const auto& p : materials::lawParameterFields())  // each law's parameters (materials/laws/)
+    add(q("material", p.key, p.pressure ? D::Pressure : D::None, "", p.lo, p.hi, p.loOpen, p.hiOpen, p.help));
   add(other("material", "prony", Kind::List, "", "Prony series terms (seed 001 eqs 1-4)", false, "prony"));
   add(q("prony", "g", D::None, "", 0.0, 1.0, true, true, "relative modulus g_i; the g_i must sum to less than 1", true));
   add(positive("prony", "tau", D::Time, "", "relaxation time tau_i", true));
