@@ -1,5 +1,6 @@
 // One scenario through every engine that accepts it (docs/models/frame.md): the
-// engines share one frame, so they must agree on the physics' signs.
+// engines share one frame, so they must agree on the physics' signs, on what each results
+// column means, and, where their models coincide, on the force itself.
 //  - A bevel tip is pushed away from the side its face looks to (seed 002 section 3,
 //    seed 003 section 3.4): at bevel_orientation 0 the face looks to +lateral, so the
 //    tissue's lateral force on the needle is < 0 (rigid needles: mpm, explicit; the
@@ -7,7 +8,14 @@
 //    180 deg both change sign. The steering paths curve to -y.
 //  - An oblique needle (entry_angle 70 deg) goes towards +y as it goes deeper: every
 //    engine puts its tip at y > entry_offset.
-// The block, needle and motion are one text; only model.engine changes between runs.
+//  - Columns: tip_* is the needle's axis at the tip in every engine; force_total is the sum of
+//    its parts in every engine that reports them (force_tip + force_shaft; force_stiffness +
+//    force_cutting + force_friction).
+//  - Agreement: in the friction phase realtime2d and realtime3d carry the lumped model's force
+//    (seed 003 eqs 3.23-3.24, the same cutting force and friction law) within the part of it
+//    that depends on how fast the tissue slides along the shaft (see AxialForce...).
+// The block, needle and motion are one text; only model.engine changes between runs
+// ("explicit3d": the explicit engine in 3D, on hexahedra).
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -21,7 +29,13 @@ using namespace needlesim;
 namespace {
 
 // 12 x 10 x 6 mm soft gel, a 2 mm 45 deg needle pushed 4 mm in: seconds in every engine.
-std::string scenario(const std::string& engine, const std::string& insertion, const std::string& tip) {
+std::string scenario(std::string engine, const std::string& insertion, const std::string& tip,
+                     const std::string& to = "4 mm") {
+  std::string explicitModel = "dimension: 2d, element: quad4, element_size: 0.5 mm";
+  if (engine == "explicit3d") {
+    engine = "explicit";
+    explicitModel = "dimension: 3d, element: hex8, element_size: 1 mm";
+  }
   return R"(
 name: frame
 tissue:
@@ -36,13 +50,14 @@ insertion:
 )" + insertion +
          R"(  start_depth: -0.5 mm
   profile:
-    - insert: {to: 4 mm, speed: 10 mm/s}
+    - insert: {to: )" + to + R"(, speed: 10 mm/s}
 model:
   engine: )" +
          engine + R"(
   time_step: 1 ms
   realtime2d: {nodes_depth: 13, nodes_lateral: 21, field_interval: 0 s}
-  explicit: {dimension: 2d, element: quad4, element_size: 0.5 mm, max_element_size: 2 mm, core_width: 4 mm,
+  realtime3d: {nodes_depth: 13, nodes_lateral: 11, nodes_height: 7, field_interval: 0 s}
+  explicit: {)" + explicitModel + R"(, max_element_size: 2 mm, core_width: 4 mm,
              mass_scaling: 15, tip_friction: 0, pre_cut: false}
   mpm: {grid_spacing: 1 mm, particle_spacing: 0.5 mm, mass_scaling: 1e4, field_interval: 0 s,
         faces: {exit: fixed, y_min: roller, y_max: roller, z_min: roller, z_max: roller}}
@@ -51,8 +66,16 @@ output: {interval: 10 ms}
 )";
 }
 
-MemorySink run(const std::string& engine, const std::string& insertion, const std::string& tip = "bevel") {
-  return runInMemory(scenario::readText(scenario(engine, insertion, tip), "<frame " + engine + ">"));
+MemorySink run(const std::string& engine, const std::string& insertion, const std::string& tip = "bevel",
+               const std::string& to = "4 mm") {
+  return runInMemory(scenario::readText(scenario(engine, insertion, tip, to), "<frame " + engine + ">"));
+}
+
+// 10 mm in with a light puncture (0.002 N): the tissue the press pushed in springs back little after it.
+MemorySink runLightPuncture(const std::string& engine, const std::string& insertion) {
+  std::string text = scenario(engine, insertion, "conical", "10 mm");
+  text.replace(text.find("force: 0.02 N"), 13, "force: 0.002 N");
+  return runInMemory(scenario::readText(text, "<frame light puncture " + engine + ">"));
 }
 
 // Mean of a forces.csv column over the rows of the last half of the insertion depth.
@@ -82,14 +105,15 @@ const char* kNormal = "  entry_angle: 90 deg\n";
 }  // namespace
 
 TEST(OneFrame, BevelPushesEveryNeedleToTheSameSide) {
-  for (const char* engine : {"realtime2d", "explicit", "mpm"}) {
+  for (const char* engine : {"realtime2d", "realtime3d", "explicit", "explicit3d", "mpm"}) {
     const MemorySink zero = run(engine, std::string(kNormal) + "  bevel_orientation: 0 deg\n");
     const MemorySink half = run(engine, std::string(kNormal) + "  bevel_orientation: 180 deg\n");
     const double f0 = lateMean(zero, "force_lateral"), f180 = lateMean(half, "force_lateral");
     EXPECT_LT(f0, 0.0) << engine;
     EXPECT_GT(f180, 0.0) << engine;
-    // mirror images of one another in a block symmetric about the path
-    EXPECT_NEAR(f0, -f180, 0.05 * std::abs(f0)) << engine;
+    // mirror images of one another in a block symmetric about the path; realtime3d's tets are all
+    // split one way (docs/models/realtime3d.md), so its mesh is not mirror-symmetric: signs only
+    if (std::string(engine) != "realtime3d") EXPECT_NEAR(f0, -f180, 0.05 * std::abs(f0)) << engine;
     if (hasColumn(zero, "forces", "tip_deflection")) {  // a flexible needle
       EXPECT_LT(zero.tables.at("forces").column("tip_deflection").back(), 0.0) << engine;
       EXPECT_GT(half.tables.at("forces").column("tip_deflection").back(), 0.0) << engine;
@@ -100,7 +124,7 @@ TEST(OneFrame, BevelPushesEveryNeedleToTheSameSide) {
 
 TEST(OneFrame, ObliqueNeedleGoesTowardsPlusYInEveryEngine) {
   const std::string oblique = "  entry_angle: 70 deg\n  entry_offset: 1 mm\n";
-  for (const char* engine : {"lumped", "realtime2d", "explicit", "mpm"}) {
+  for (const char* engine : {"lumped", "realtime2d", "realtime3d", "explicit", "explicit3d", "mpm"}) {
     const MemorySink m = run(engine, oblique, "conical");
     // the tip at 4 mm along an axis 20 deg off the face normal: y = 1 mm + 4 mm sin 20 deg
     EXPECT_NEAR(lastTipY(m), 1e-3 + 4e-3 * std::sin(20.0 * M_PI / 180.0), 0.1e-3) << engine;
@@ -108,4 +132,60 @@ TEST(OneFrame, ObliqueNeedleGoesTowardsPlusYInEveryEngine) {
   }
   // a straight path of the kinematic model: conical tip, no curvature
   EXPECT_NEAR(lastTipY(run("kinematic", oblique, "conical")), 1e-3 + 4e-3 * std::sin(20.0 * M_PI / 180.0), 1e-9);
+}
+
+// tip_y is the needle's axis at the tip in every engine: the straight axis (y = 0) for a rigid
+// needle, the elastic deflection for a flexible one, and never the bevel's sharp point (-R at
+// orientation 0 for this 2 mm needle; explicit and mpm give it as sharp_y). force_total is the
+// sum of the parts each engine reports, row by row.
+TEST(OneFrame, EveryEngineGivesItsColumnsOneMeaning) {
+  const std::string bevel0 = std::string(kNormal) + "  bevel_orientation: 0 deg\n";
+  for (const char* engine : {"lumped", "realtime2d", "realtime3d", "explicit", "explicit3d", "mpm"}) {
+    const MemorySink m = run(engine, bevel0);
+    const auto& f = m.tables.at("forces");
+    const double axisY = hasColumn(m, "forces", "tip_deflection") ? f.column("tip_deflection").back() : 0.0;
+    EXPECT_NEAR(f.column("tip_y").back(), axisY, 1e-9) << engine;
+    if (hasColumn(m, "forces", "sharp_y")) EXPECT_NEAR(f.column("sharp_y").back(), -1e-3, 1e-9) << engine;
+    const auto total = f.column("force_total");
+    const bool tipShaft = hasColumn(m, "forces", "force_tip"), parts = hasColumn(m, "forces", "force_friction");
+    EXPECT_TRUE(tipShaft || parts) << engine;
+    for (std::size_t r = 0; r < total.size(); ++r) {
+      const double tol = 1e-12 + 1e-9 * std::abs(total[r]);
+      if (tipShaft) ASSERT_NEAR(total[r], f.column("force_tip")[r] + f.column("force_shaft")[r], tol) << engine << " row " << r;
+      if (parts)
+        ASSERT_NEAR(total[r], f.column("force_stiffness")[r] + f.column("force_cutting")[r] + f.column("force_friction")[r], tol)
+            << engine << " row " << r;
+    }
+  }
+}
+
+// The lumped model and the real-time engines share eq 3.16 (puncture), eq 3.24 (cutting 0.05 N)
+// and the friction law (eq 3.23, C_p 1 N/m, b_p 10 N s/m^2) over the shaft in the tissue, L = the
+// depth. They differ in one thing: the lumped shaft slides past the tissue at the needle's speed v,
+// the FE tissue moves (dragged along by the friction, pushed ahead by the cutting load and springing
+// back as the tip passes), so its v_rel differs from v, by less than v itself while the needle moves
+// at a steady speed. While cutting at v = 10 mm/s, two node spacings past the entry, the real-time
+// force is therefore the lumped force within b_p v L (0.1 N/m x L, 9 % of the friction, 1 mN at
+// 10 mm); a share of the 0.05 N cutting force counted twice would exceed it.
+TEST(OneFrame, AxialForceOfTheRealtimeEnginesIsTheLumpedForceWithinTheSlidingSpeedPart) {
+  const std::string bevel0 = std::string(kNormal) + "  bevel_orientation: 0 deg\n";
+  const MemorySink lumped = runLightPuncture("lumped", bevel0);
+  const auto& L = lumped.tables.at("forces");
+  const auto Ld = L.column("depth"), Lf = L.column("force_total");
+  const double v = 10e-3, bv = 10.0 * v;  // b_p v, N/m
+  for (const char* engine : {"realtime2d", "realtime3d"}) {
+    const MemorySink m = runLightPuncture(engine, bevel0);
+    const auto& f = m.tables.at("forces");
+    const auto d = f.column("depth"), F = f.column("force_total"), phase = f.column("phase"), vel = f.column("velocity");
+    int compared = 0;
+    for (std::size_t r = 0; r < d.size(); ++r) {
+      if (phase[r] != 2 || d[r] < 2e-3 || vel[r] < v - 1e-12) continue;  // cutting at v, past two node spacings
+      std::size_t k = 0;
+      while (k + 1 < Ld.size() && Ld[k] < d[r] - 1e-12) ++k;
+      ASSERT_NEAR(Ld[k], d[r], 1e-9) << "the rows are at the same times";
+      EXPECT_NEAR(F[r], Lf[k], bv * d[r]) << engine << " at " << d[r] * 1e3 << " mm";
+      ++compared;
+    }
+    EXPECT_GT(compared, 50) << engine;
+  }
 }

@@ -106,7 +106,9 @@ TEST(Realtime2dSession, NodesSlideOnlyWhenFrictionIsExceeded) {
       // tip carry little shaft length and may slip briefly (known gap, see
       // docs/validation/realtime2d.md), so only the entry node is checked exactly.
       EXPECT_NEAR(u1[0] - u0[0], 2e-4, 1e-9);
-      for (int i = 0; i < r0.coupled; ++i) EXPECT_GT(u1[2 * i] - u0[2 * i], 0.95 * 2e-4);
+      // The last node, at the tip, takes the cutting load (eq 3.24) on a few microns of shaft: its
+      // static limit D l cannot hold that (the cutting load is not friction), so it may slip.
+      for (int i = 0; i + 1 < r0.coupled; ++i) EXPECT_GT(u1[2 * i] - u0[2 * i], 0.95 * 2e-4) << i;
     } else {
       EXPECT_EQ(r.sticking, 0);
       for (int i = 0; i < r0.coupled; ++i) EXPECT_LT(u1[2 * i] - u0[2 * i], 0.5 * 2e-4);

@@ -123,25 +123,37 @@ TEST(Realtime3dSession, RetractionReversesFriction) {
 }
 
 // Two layers: the entry face and the inner boundary are each pressed (eq 3.16) up to their
-// puncture force and then released: two punctures; at the inner one (0.15 N on top of the
-// shaft friction) the force peaks and drops when the press is released.
+// puncture force and then released: two punctures; at the inner one the press reaches 0.15 N on
+// top of the shaft friction and is released.
 TEST(Realtime3dSession, LayerPuncturesShowPeaks) {
   auto c = small(21, 7);
   const double E2 = 3.0 * c.tissue.material.E;
   c.tissue.layers = {{0.03, c.tissue.material}, {0.08, {E2, c.tissue.material.nu, c.tissue.material.density}}};
   c.layers = {{0.03, c.friction, c.cutting_force, 0.0}, {0.08, c.friction, 2.0 * c.cutting_force, 0.15}};
   Session s(c);
-  std::vector<double> punct, before, after;
-  double prev = 0.0, d = -1e-3;
+  std::vector<double> punct, before, after, pressBefore, pressAfter;
+  double prev = 0.0, prevPress = 0.0, d = -1e-3;
   while (d < 0.05) {
     const auto& r = s.step(s.poseAtDepth(d += 3e-3 * c.dt), c.dt);
-    if (r.punctured_now) { punct.push_back(r.depth); before.push_back(prev); after.push_back(r.axial_force); }
+    if (r.punctured_now) {
+      punct.push_back(r.depth);
+      before.push_back(prev);
+      after.push_back(r.axial_force);
+      pressBefore.push_back(prevPress);
+      pressAfter.push_back(r.stiffness_force);
+    }
     prev = r.axial_force;
+    prevPress = r.stiffness_force;
   }
   ASSERT_EQ(punct.size(), 2u);
   EXPECT_NEAR(punct[1], 0.03, 0.01);
   EXPECT_NEAR(before[0], c.puncture_force, 1e-3);  // eq 3.16 at the threshold (one 3 um step short)
-  EXPECT_LT(after[1], before[1] - 0.1);
+  // The inner boundary's press (eq 3.16 with E2) reaches its 0.15 N threshold and is released.
+  // The total force changes by F1 - 2 F_c = 0.063 N less the friction's recovery once the press
+  // no longer pushes the tissue ahead of the shaft, so its drop is not asserted.
+  EXPECT_NEAR(pressBefore[1], 0.15, 0.01);
+  EXPECT_EQ(pressAfter[1], 0.0);
+  EXPECT_GT(before[1], pressBefore[1]);  // the press on top of the shaft's friction
   EXPECT_NEAR(s.last().cutting_force, 2.0 * c.cutting_force, 1e-15);
 }
 

@@ -8,8 +8,9 @@
 //                            the needle along the axis (> 0 while inserting)
 //   force_lateral [N]        the tissue's force on the needle along the frame's lateral
 //                            direction (a bevel at orientation 0 gives < 0)
-//   tip_x, tip_y, tip_z [m]  the tip (foremost point of the needle) in the tissue frame:
-//                            origin at the centre of the entry face, x depth, y width, z height
+//   tip_x, tip_y, tip_z [m]  the needle's axis at the tip (of the bent needle where it bends) in
+//                            the tissue frame: origin at the centre of the entry face, x depth,
+//                            y width, z height (a bevel's sharp point: an engine's sharp_* columns)
 //   tip_deflection [m]       the tip's offset from the straight axis along `lateral`
 //                            (only where the needle is flexible)
 #include <cmath>

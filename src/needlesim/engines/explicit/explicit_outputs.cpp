@@ -2,15 +2,17 @@
 // 2D plane-strain model are per metre of thickness times the slab thickness (the needle diameter).
 //
 // forces.csv: the common columns (results/forces_table.hpp; force_lateral along the frame's lateral,
-// tip_* the leading point: a bevel's sharp point, a cone's apex; a needle on a crack path: force_total
-// along the local tangents, force_lateral and force_tip_lateral along the tip's lateral, out-of-plane x
-// the tip's axis), then
+// tip_* the needle's axis at the tip; a needle on a crack path: force_total along the local tangents,
+// force_lateral and force_tip_lateral along the tip's lateral, out-of-plane x the tip's axis), then
 //   force_tip [N]          axial force on the tip surface (bevel faces; seed 004's P), > 0 pushing back
+//   force_shaft [N]        the rest of force_total: the shaft's friction (force_total = force_tip + force_shaft)
 //   moment [N m]           the tissue's moment on the needle about the base centre, about the out-of-plane axis
 //   force_tip_lateral [N]  the tissue's force on the tip surface along the frame's lateral (seed 004's Q at bevel 0)
 //   axial_torque [N m]     the tissue's torque on the needle about its axis (the base holds minus this)
 //   bevel_orientation [rad] the bevel side's angle from lateral towards out-of-plane
 //   contact_nodes [1]      tissue nodes in contact with the needle
+//   sharp_x, sharp_y, sharp_z [m] the leading point in the tissue frame: a bevel's sharp point (the axis
+//                          tip moved by the radius away from the bevel side), a cone's apex
 //   (needle_model: beam) tip_slope [rad]: the tip's slope towards lateral; beam_tip_deflection [m]: the
 //   beam's tip deflection along lateral under the last step's loads (the applied tip_deflection follows it)
 // energy.csv, contact.csv, seam.csv (with a seam): see the column lists below and docs/models/explicit.md.
@@ -42,8 +44,10 @@ io::CellType cellType(ElementType t) {
 }
 
 std::vector<io::Column> forceColumns(bool beam) {
-  std::vector<io::Column> c{{"force_tip", "N"},     {"moment", "N m"},         {"force_tip_lateral", "N"},
-                            {"axial_torque", "N m"}, {"bevel_orientation", "rad"}, {"contact_nodes", "1"}};
+  std::vector<io::Column> c{{"force_tip", "N"},       {"force_shaft", "N"},           {"moment", "N m"},
+                            {"force_tip_lateral", "N"}, {"axial_torque", "N m"},       {"bevel_orientation", "rad"},
+                            {"contact_nodes", "1"},     {"sharp_x", "m"},              {"sharp_y", "m"},
+                            {"sharp_z", "m"}};
   if (beam) c.insert(c.end(), {{"tip_slope", "rad"}, {"beam_tip_deflection", "m"}});
   return c;
 }
@@ -117,18 +121,23 @@ void ExplicitRun::record() {
   f.velocity = motion_.at(t).velocity;
   f.force_total = (n->path ? -n->driveForce : -frame_.axialOf(n->force)) * thick;
   f.force_lateral = lateral.dot(n->force) * thick;
-  f.tip_x = lead.x(), f.tip_y = lead.y(), f.tip_z = lead.z();
+  f.tip_x = n->pose.tip.x(), f.tip_y = n->pose.tip.y(), f.tip_z = n->pose.tip.z();
   inclusions_.tip(n->pose.tip, n->pose.axis);
   if (beam_) f.tip_deflection = beam_->tipDeflectionAlong(frame_.lateral);
   // torque the tissue applies about the needle axis (the base must hold -torque)
   const double torque = frame_.axialOf(n->moment) * thick;
   const Vector3d& b = n->pose.bevelSide;
-  std::vector<double> extra{-n->tipForce.dot(n->path ? n->pose.axis : frame_.axial) * thick,
+  const double tipAxial = -n->tipForce.dot(n->path ? n->pose.axis : frame_.axial) * thick;
+  std::vector<double> extra{tipAxial,
+                            f.force_total - tipAxial,
                             frame_.outOfPlaneOf(n->moment) * thick,
                             lateral.dot(n->tipForce) * thick,
                             torque,
                             std::atan2(frame_.outOfPlaneOf(b), frame_.lateralOf(b)),
-                            static_cast<double>(n->nodesInContact)};
+                            static_cast<double>(n->nodesInContact),
+                            lead.x(),
+                            lead.y(),
+                            lead.z()};
   if (beam_) extra.insert(extra.end(), {beam_->tipSlopeAlong(frame_.lateral), beam_->targetDeflectionAlong(frame_.lateral)});
   forces_->add(f, extra);
   peak_ = std::max(peak_, f.force_total);

@@ -31,7 +31,8 @@ std::vector<std::vector<std::size_t>> populate(MpmSolver& solver, const Scenario
 }
 
 std::vector<io::Column> engineForceColumns() {
-  return {{"force_tip", "N"}, {"force_shaft", "N"}, {"contact_nodes", "1"}, {"time_step", "s"}};
+  return {{"force_tip", "N"},   {"force_shaft", "N"}, {"contact_nodes", "1"}, {"time_step", "s"},
+          {"sharp_x", "m"},     {"sharp_y", "m"},     {"sharp_z", "m"}};
 }
 
 // energy.csv; with a sliding inclusion also the energy stored in the two bodies' pair contact.
@@ -134,11 +135,11 @@ void MpmRun::startFresh() {
   results::NeedleForces f;
   f.depth = ms_.depth;
   f.velocity = ms_.velocity;
-  const Vec3 tip = needleTip(setup_, ms_.depth, solver_.rigid(kNeedle).bevelSide);
+  const Vec3 tip = setup_.frame.onAxis(ms_.depth), sharp = needleTip(setup_, ms_.depth, solver_.rigid(kNeedle).bevelSide);
   f.tip_x = tip.x();
   f.tip_y = tip.y();
   f.tip_z = tip.z();
-  forces_.add(f, {0.0, 0.0, 0.0, 0.0});
+  forces_.add(f, {0.0, 0.0, 0.0, 0.0, sharp.x(), sharp.y(), sharp.z()});
   std::vector<double> zero(energy_.columns().size(), 0.0);
   zero[1] = ms_.depth;
   energy_.addRow(zero);
@@ -168,10 +169,12 @@ void MpmRun::recordRow(double t, const mpm::StepReport& rep) {
     sum_.peak = sum_.lastForce;
     sum_.peakDepth = ms_.depth;
   }
-  const Vec3 tip = needleTip(setup_, ms_.depth, solver_.rigid(kNeedle).bevelSide);
+  // tip_*: the needle's axis at the tip; sharp_*: the leading point (a bevel's sharp point)
+  const Vec3 tip = setup_.frame.onAxis(ms_.depth), sharp = needleTip(setup_, ms_.depth, solver_.rigid(kNeedle).bevelSide);
   const results::NeedleForces f{t,         ms_.depth, ms_.velocity, sum_.lastForce, setup_.frame.lateralOf(F),
                                 tip.x(),   tip.y(),   tip.z()};
-  forces_.add(f, {sum_.lastTip, sum_.lastShaft, static_cast<double>(imp_.contactNodes), rep.dt});
+  forces_.add(f, {sum_.lastTip, sum_.lastShaft, static_cast<double>(imp_.contactNodes), rep.dt, sharp.x(), sharp.y(),
+                  sharp.z()});
   std::vector<double> e{t, ms_.depth, rep.kinetic, rep.internal, rep.internal > 0 ? rep.kinetic / rep.internal : 0.0};
   if (setup_.config.bodies > 1) e.push_back(rep.contact);
   energy_.addRow(e);

@@ -15,36 +15,19 @@ namespace {
 // A coupled node is released only once it lies this far ahead of the tip, so a node
 // dragged along right at the tip does not flicker between coupled and free.
 constexpr double kReleaseGap = 1e-4;  // m
-
-// Transition of the modified Karnopp law (eq 3.23): stick -> hold beyond the static limit
-// D l, hold -> slip beyond the band, slip -> stick inside it. Fa: axial load per length.
-FrictionStatus nextStatus(FrictionStatus s, double Fa, double vrel, const FrictionSpec& fr, double band) {
-  using S = FrictionStatus;
-  switch (s) {
-    case S::Stick: return Fa > fr.D_p ? S::HoldPos : (Fa < -fr.D_n ? S::HoldNeg : S::Stick);
-    case S::HoldPos: return vrel >= band ? S::SlipPos : (vrel <= 0.0 ? S::Stick : s);
-    case S::HoldNeg: return vrel <= -band ? S::SlipNeg : (vrel >= 0.0 ? S::Stick : s);
-    case S::SlipPos: return vrel < band ? S::Stick : s;
-    case S::SlipNeg: return vrel > -band ? S::Stick : s;
-  }
-  return s;
-}
 }  // namespace
 
 ShaftCoupling::ShaftCoupling(ShaftSettings s) : cfg_(std::move(s)) {
   lat_ = cfg_.lateral;
   comps_ = 1 + lat_;
   P_ = static_cast<int>(cfg_.path_s.size());
-  for (auto& fr : cfg_.friction) {
-    if (fr.D_p <= 0.0) fr.D_p = fr.C_p;  // static limit defaults to dynamic
-    if (fr.D_n <= 0.0) fr.D_n = fr.C_n;
-  }
   const auto P = static_cast<std::size_t>(P_), D = static_cast<std::size_t>(comps_ * P_);
   status_.assign(P, FrictionStatus::Stick);
   offset_.assign(P * static_cast<std::size_t>(lat_), 0.0);
   lambda_.assign(P * static_cast<std::size_t>(lat_), 0.0);
   sigma_.assign(P, 0.0); ell_.assign(P, 0.0); pos_.assign(P, 0.0);
   idx_.assign(D, 0);
+  order_.assign(P, 0);
   fK_.setZero(comps_ * P_); f_.setZero(comps_ * P_); y_.setZero(comps_ * P_);
   rhs_.setZero(comps_ * P_); x_.setZero(comps_ * P_);
   H_.setZero(comps_ * P_, comps_ * P_);
@@ -79,18 +62,28 @@ void ShaftCoupling::couple(bool entered, double reach, const Eigen::VectorXd& pu
   k_ = k;
 }
 
-// Current axial positions of the coupled nodes, their tributary shaft lengths in contact
-// (boundaries clamped to the tissue: 0 .. tip or exit face) and arc positions from the base.
+// Current axial positions of the coupled nodes, their tributary shaft lengths in contact and
+// arc positions from the base. The lengths follow the nodes' current order along the axis (a
+// node dragged past others keeps its share): boundaries halfway between neighbours in that
+// order, clamped to the tissue (entry .. tip or exit face), so they add up to the shaft in
+// contact exactly.
 void ShaftCoupling::measure(double s_tip, double s_exit, const Eigen::VectorXd& pu) {
   const int k = k_;
   for (int i = 0; i < k; ++i) pos_[static_cast<std::size_t>(i)] = cfg_.path_s[static_cast<std::size_t>(i)] + pu[comps_ * i];
-  const double top = std::min(s_tip, s_exit);
-  for (int i = 0; i < k; ++i) {
-    const auto p = static_cast<std::size_t>(i);
-    const double in = std::min(cfg_.entry_s, top);
-    const double lo = i == 0 ? in : std::clamp(0.5 * (pos_[p - 1] + pos_[p]), in, top);
-    const double hi = i + 1 == k ? top : std::clamp(0.5 * (pos_[p] + pos_[p + 1]), in, top);
-    ell_[p] = std::max(hi - lo, 0.0);
+  for (int i = 0; i < k; ++i) {  // insertion sort: the nodes are nearly in order, and it allocates nothing
+    int r = i;
+    for (; r > 0 && pos_[static_cast<std::size_t>(order_[static_cast<std::size_t>(r - 1)])] > pos_[static_cast<std::size_t>(i)]; --r)
+      order_[static_cast<std::size_t>(r)] = order_[static_cast<std::size_t>(r - 1)];
+    order_[static_cast<std::size_t>(r)] = i;
+  }
+  const double top = std::min(s_tip, s_exit), in = std::min(cfg_.entry_s, top);
+  for (int r = 0; r < k; ++r) {
+    const auto p = static_cast<std::size_t>(order_[static_cast<std::size_t>(r)]);
+    const double prev = r == 0 ? 0.0 : pos_[static_cast<std::size_t>(order_[static_cast<std::size_t>(r - 1)])];
+    const double next = r + 1 == k ? 0.0 : pos_[static_cast<std::size_t>(order_[static_cast<std::size_t>(r + 1)])];
+    const double lo = r == 0 ? in : std::clamp(0.5 * (prev + pos_[p]), in, top);
+    const double hi = r + 1 == k ? top : std::clamp(0.5 * (pos_[p] + next), in, top);
+    ell_[p] = hi - lo;
     sigma_[p] = std::max((pos_[p] - nl_.sB) / nl_.cosphi, 0.0);
   }
 }
@@ -124,10 +117,10 @@ void ShaftCoupling::addKnownLoads(const TissueDynamics& t) {
     const double l = ell_[static_cast<std::size_t>(i)];
     const auto& fr = cfg_.friction[static_cast<std::size_t>(i)];
     if (!(l > 1e-9)) continue;
-    if (st == S_::HoldPos) f_[comps_ * i] += fr.D_p * l;
-    if (st == S_::HoldNeg) f_[comps_ * i] -= fr.D_n * l;
-    if (st == S_::SlipPos && !(fr.b_p * l > 1e-12)) f_[comps_ * i] += fr.C_p * l;
-    if (st == S_::SlipNeg && !(fr.b_n * l > 1e-12)) f_[comps_ * i] -= fr.C_n * l;
+    const bool pos = st == S_::HoldPos || st == S_::SlipPos;
+    if (st == S_::HoldPos || st == S_::HoldNeg) f_[comps_ * i] += contact::karnoppStaticLimit(fr, pos) * l;
+    if ((st == S_::SlipPos || st == S_::SlipNeg) && !(contact::karnoppDamping(fr, pos) * l > 1e-12))
+      f_[comps_ * i] += contact::karnoppSliding(fr, pos, 0.0) * l;
   }
   y_ = t.predictedPath();
   for (int l = 0; l < f_.size(); ++l)
@@ -140,8 +133,8 @@ bool ShaftCoupling::axialUnknown(int i) const {
   const double l = ell_[static_cast<std::size_t>(i)];
   const auto& fr = cfg_.friction[static_cast<std::size_t>(i)];
   if (!(l > 1e-9)) return false;  // no shaft in contact (dragged out of the tissue): no axial load
-  return st == FrictionStatus::Stick || (st == FrictionStatus::SlipPos && fr.b_p * l > 1e-12) ||
-         (st == FrictionStatus::SlipNeg && fr.b_n * l > 1e-12);
+  const bool slip = st == FrictionStatus::SlipPos || st == FrictionStatus::SlipNeg;
+  return st == FrictionStatus::Stick || (slip && contact::karnoppDamping(fr, st == FrictionStatus::SlipPos) * l > 1e-12);
 }
 
 // The SPD system on the unknown slots (all lateral ties, axial stick and damped slip):
@@ -174,12 +167,12 @@ int ShaftCoupling::assemble(const TissueDynamics& t, const AxialMotion& mo, doub
                 offset_[p * static_cast<std::size_t>(lat_) + static_cast<std::size_t>(j)] - y_[ia];
     } else if (status_[p] == FrictionStatus::Stick) {  // axial: moves with the needle
       rhs_[a] = pu[ia] + mo.ds - y_[ia];
-    } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity)
+    } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity v = e + a1 u)
       const auto& fr = cfg_.friction[p];
       const bool posv = status_[p] == FrictionStatus::SlipPos;
-      const double C = posv ? fr.C_p : -fr.C_n, b = posv ? fr.b_p : fr.b_n;
       const double e = pv[ia] + dt * (1.0 - gam) * pa[ia] - c.a1 * pu[ia] - dt * gam * (c.a2 * pv[ia] + c.a3 * pa[ia]);
-      const double r = ell_[p] * (C + b * (mo.v_ax - e)), cc = ell_[p] * b * c.a1;
+      const double r = ell_[p] * contact::karnoppSliding(fr, posv, mo.v_ax - e);
+      const double cc = ell_[p] * contact::karnoppDamping(fr, posv) * c.a1;
       H_(a, a) += 1.0 / cc;
       rhs_[a] = r / cc - y_[ia];
     }
@@ -194,7 +187,6 @@ bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo,
   const auto& c = t.coefficients();
   const Eigen::VectorXd& u0 = t.predictedPath();
   const Eigen::VectorXd &pu = t.pathU(), &pv = t.pathV(), &pa = t.pathA();
-  const double band = 0.5 * cfg_.static_band;
   bool changed = false;
   for (int i = 0; i < k_; ++i) {
     const auto p = static_cast<std::size_t>(i);
@@ -203,8 +195,9 @@ bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo,
     for (int l = 0; l < f_.size(); ++l)
       if (f_[l] != 0.0) un += S(ia, l) * f_[l];
     const double vn = c.velocity(pv[ia], pa[ia], c.acceleration(un, pu[ia], pv[ia], pa[ia]));
-    const double Fa = ell_[p] > 0.0 ? f_[ia] / ell_[p] : 0.0;
-    const FrictionStatus next = nextStatus(status_[p], Fa, mo.v_ax - vn, cfg_.friction[p], band);
+    // the shaft's load per length: the known tip loads on the node are not friction
+    const double Fa = ell_[p] > 0.0 ? (f_[ia] - fK_[ia]) / ell_[p] : 0.0;
+    const FrictionStatus next = contact::karnoppNext(status_[p], cfg_.friction[p], Fa, mo.v_ax - vn);
     if (monotone && next == FrictionStatus::Stick) continue;
     if (next != status_[p]) { status_[p] = next; changed = true; }
   }

@@ -7,22 +7,23 @@
 //
 // `lateral` bending directions (1 in 2D: n; 2 in 3D: n and b); path load k = comps i + c with
 // comps = 1 + lateral, c = 0 axial t, c = 1.. the lateral directions (tissue_dynamics.hpp).
-// Per step: couple() the path prefix the tip has passed, measure() the shaft in contact, then
-// solve() the small SPD system on the coupled nodes (lateral ties + axial stick or implicit
+// Per step: couple() the path prefix the tip has passed, measure() the shaft in contact (each
+// node's share of it, from the nodes' current order along the axis), then solve() the small SPD system on the coupled nodes (lateral ties + axial stick or implicit
 // slip) by an active set on the friction status. Allocation-free after construction.
 #include <Eigen/Core>
 #include <array>
 #include <string>
 #include <vector>
 
+#include "needlesim/contact/karnopp.hpp"
 #include "needlesim/engines/realtime/tip_forces.hpp"
 #include "needlesim/engines/realtime/tissue_dynamics.hpp"
 #include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim::realtime {
 
-// Status of the modified Karnopp law (eq 3.23) at one coupled node.
-enum class FrictionStatus : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
+// Status of the modified Karnopp law (eq 3.23, contact/karnopp.hpp) at one coupled node.
+using FrictionStatus = contact::KarnoppState;
 
 // Rigid needle pose relative to the reference axis (entry point, t, lateral directions) and
 // the bevel's transverse tip load, per lateral direction j.
@@ -37,8 +38,8 @@ struct ShaftSettings {
   int lateral = 1;
   double EI = 0.0, length = 0.0;  // N m^2, m
   std::vector<double> path_s;     // m, reference axial position of each path node
-  std::vector<FrictionSpec> friction;  // per path node (eq 3.23; D = 0 defaults to C)
-  double static_band = 0.0;       // m/s, Karnopp's Delta v
+  // Per path node (eq 3.23), its static band included; D_p and D_n as given (contact/karnopp.hpp).
+  std::vector<FrictionSpec> friction;
   int max_iterations = 12;
   double entry_s = 0.0;           // m, where the axis enters the tissue (the first node's rubbed length starts there)
 };
@@ -66,6 +67,9 @@ class ShaftCoupling {
   int coupled() const { return k_; }
   int comps() const { return comps_; }
   const Eigen::VectorXd& loads() const { return f_; }  // path loads of the last solve
+  // Node i's axial load from the shaft alone (friction): its path load less the known tip loads
+  // (press, cutting) put on it, which the tip carries.
+  double shaftAxialLoad(int i) const { return f_[comps_ * i] - fK_[comps_ * i]; }
   double position(int i) const { return pos_[static_cast<std::size_t>(i)]; }
   double contactLength(int i) const { return ell_[static_cast<std::size_t>(i)]; }
   FrictionStatus status(int i) const { return status_[static_cast<std::size_t>(i)]; }
@@ -83,7 +87,7 @@ class ShaftCoupling {
   NeedleLine nl_;
   std::vector<FrictionStatus> status_;
   std::vector<double> offset_, sigma_, ell_, pos_, lambda_;
-  std::vector<int> idx_;
+  std::vector<int> idx_, order_;
   Eigen::VectorXd fK_, f_, y_, rhs_, x_;
   Eigen::MatrixXd H_;
 };

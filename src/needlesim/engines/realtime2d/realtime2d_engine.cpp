@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/linear_range.hpp"
 #include "needlesim/engines/realtime/markers.hpp"
 #include "needlesim/engines/realtime/run_report.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
@@ -70,6 +71,13 @@ std::vector<io::Column> engineColumns() {
 
 std::vector<double> mm(std::vector<double> v) { return realtimeMm(std::move(v)); }
 
+// Every element's corner triangles, for the linear-range check (realtime/linear_range.hpp).
+realtime::SimplexStrains elementStrains(const Mesh& mesh) {
+  std::vector<std::array<int, 4>> quads;
+  for (int e = 0; e < mesh.elementCount(); ++e) quads.push_back({mesh.quads(0, e), mesh.quads(1, e), mesh.quads(2, e), mesh.quads(3, e)});
+  return {2, std::vector<double>(mesh.nodes.data(), mesh.nodes.data() + mesh.nodes.size()), realtime::quadCornerTriangles(quads)};
+}
+
 constexpr int kShapePoints = 41;
 
 // One run of a scenario: set up, step through the insertion profile, record, report.
@@ -81,7 +89,7 @@ class Realtime2dRun {
         cadence_(motion_.duration(), dt_, sc.output.interval, sc.model.realtime2d.field_interval),
         forces_(true, engineColumns()), inclusions_(sc.tissue.inclusions, cfg_.frame),
         markers_(2, [this](int node) { return nodeDisplacement3(node); }),
-        shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}}) {
+        shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}}), strains_(elementStrains(session_.mesh())) {
     forces_.reserve(cadence_.rows());
     placeMarkers();
     if (cadence_.fieldEvery > 0) openFields();
@@ -101,6 +109,7 @@ class Realtime2dRun {
       const bool sample = cadence_.sample(k);
       if (sample || (k & 15) == 0) markers_.trackExtremes();  // extremes every 16 steps, rows at the output interval
       if (sample) record(t, m, o);
+      if (sample) range_.check(strains_.measure(session_.displacement()), o.depth, sink_);
       if (cadence_.field(k)) writeFields(t);
       if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
     }
@@ -267,6 +276,8 @@ class Realtime2dRun {
   }
 
   void writeNotes() {
+    sink_.note(fmt::format("Largest small strain in the tissue{}: {:.2g} (the linear model is held to {:g}; "
+                           "realtime/linear_range.hpp).", "", range_.worstStrain(), realtime::kLinearStrainBound));
     const auto& r = sc_.model.realtime2d;
     const Mesh& mesh = session_.mesh();
     sink_.note(fmt::format(
@@ -311,6 +322,8 @@ class Realtime2dRun {
   results::InclusionMotion inclusions_;
   RealtimeMarkers markers_;
   io::Table shape_;
+  realtime::SimplexStrains strains_;
+  realtime::LinearRangeWarning range_{"realtime2d"};
   io::FieldSeries* tissueSeries_ = nullptr;
   io::FieldSeries* needleSeries_ = nullptr;
   Eigen::Matrix2Xd needle_{2, kShapePoints};

@@ -48,8 +48,7 @@ Session::Session(const SessionConfig& cfg_in)
 }
 
 realtime::ShaftSettings Session::shaftSettings() const {
-  realtime::ShaftSettings s{"realtime2d", 1, EI_, L_, {}, {}, cfg_.friction.static_band, cfg_.max_active_set_iterations,
-                            s_entry_};
+  realtime::ShaftSettings s{"realtime2d", 1, EI_, L_, {}, {}, cfg_.max_active_set_iterations, s_entry_};
   for (const auto& p : tissue_.path()) s.path_s.push_back(p.s);
   s.friction.assign(static_cast<std::size_t>(P_), cfg_.friction);
   if (!cfg_.layers.empty())
@@ -162,9 +161,10 @@ void Session::reportLoads(const BasePose& pose, double F1, double Fc, StepResult
   const Eigen::VectorXd& f = shaft_.loads();
   const int k = shaft_.coupled();
   for (int i = 0; i < k; ++i) {
-    fric += f[2 * i];
+    const double fa = shaft_.shaftAxialLoad(i);  // the tip's press and cutting loads are added once, below
+    fric += fa;
     if (shaft_.status(i) == realtime::FrictionStatus::Stick) ++o.sticking;
-    const Eigen::Vector2d Fi = -f[2 * i] * t0_ - f[2 * i + 1] * n0_;
+    const Eigen::Vector2d Fi = -fa * t0_ - f[2 * i + 1] * n0_;
     const double p = shaft_.position(i);
     const Eigen::Vector2d r = (p - sB_) * t0_ + (shaft_.lateralAt(0, p) - dB_) * n0_;
     F += Fi;
@@ -200,6 +200,7 @@ SessionConfig thesisGelatinConfig(int nodesDepth, int nodesLateral, Backend back
   c.friction.C_p = c.friction.C_n = 3.791;      // seed 003 section 5.1
   c.friction.b_p = c.friction.b_n = 285.053;
   c.friction.static_band = 1e-4;
+  c.friction.D_p = c.friction.D_n = 3.791 + 285.053 * 0.5e-4;  // the continuous law (the scenario default)
   c.cutting_force = 0.04335;
   c.dt = 1e-3;
   return c;

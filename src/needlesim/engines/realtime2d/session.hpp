@@ -90,6 +90,8 @@ class Session {
   void needleShape(int count, Eigen::Matrix2Xd& out) const;
   // Lateral elastic deflection (+n) of the needle at arc length sigma from the base.
   double needleDeflection(double sigma) const;
+  // The needle-tissue coupling of the last step (coupled nodes, contact lengths, friction status).
+  const realtime::ShaftCoupling& shaft() const { return shaft_; }
   const SessionConfig& config() const { return cfg_; }
   const Eigen::Vector2d& entryPoint() const { return entry_; }   // centred tissue frame
   const Eigen::Vector2d& cornerShift() const { return shift_; }  // centred -> mesh coordinates

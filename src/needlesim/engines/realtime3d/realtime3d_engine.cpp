@@ -8,6 +8,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/linear_range.hpp"
 #include "needlesim/engines/realtime/markers.hpp"
 #include "needlesim/engines/realtime/run_report.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
@@ -90,6 +91,21 @@ struct Extremes {
   }
 };
 
+// The tets for the linear-range check (realtime/linear_range.hpp): all, or those with a node on
+// the needle path (where the shaft's loads act and the strains peak; cheap enough for every sample).
+realtime::SimplexStrains tetStrains(const Session& s, bool pathOnly) {
+  const auto& mesh = s.mesh();
+  std::vector<char> onPath(static_cast<std::size_t>(mesh.nodes()), 0);
+  for (const auto& p : s.tissue().path()) onPath[static_cast<std::size_t>(p.node)] = 1;
+  std::vector<int> tets;
+  for (std::size_t e = 0; e + 4 <= mesh.conn.size(); e += 4) {
+    bool keep = !pathOnly;
+    for (std::size_t a = 0; a < 4; ++a) keep = keep || onPath[static_cast<std::size_t>(mesh.conn[e + a])] != 0;
+    if (keep) tets.insert(tets.end(), mesh.conn.begin() + static_cast<std::ptrdiff_t>(e), mesh.conn.begin() + static_cast<std::ptrdiff_t>(e + 4));
+  }
+  return {3, mesh.X, std::move(tets)};
+}
+
 class Realtime3dRun {
  public:
   Realtime3dRun(const Scenario& sc, ResultSink& sink, const RunOptions& options)
@@ -98,7 +114,8 @@ class Realtime3dRun {
         cadence_(motion_.duration(), dt_, sc.output.interval, sc.model.realtime3d.field_interval), forces_(true, engineColumns()),
         inclusions_(sc.tissue.inclusions, cfg_.frame),
         markers_(3, [this](int node) { return session_.tissue().nodeDisplacement(node); }),
-        shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}}) {
+        shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}}),
+        pathStrains_(tetStrains(session_, true)) {
     forces_.reserve(cadence_.rows());
     if (cadence_.fieldEvery > 0) fields_ = std::make_unique<Fields3d>(sink_, session_);
     placeMarkers();
@@ -118,11 +135,13 @@ class Realtime3dRun {
       const StepResult& o = session_.step(pose, dt_);
       ext_.track(o);
       if (cadence_.sample(k)) record(t, m, o);
+      if (cadence_.sample(k)) range_.check(pathStrains_.measure(session_.displacement()), o.depth, sink_);
       if (fields_ && cadence_.field(k)) fields_->write(t);
       if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
     }
     progress.finish();
     run_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - run0).count();
+    range_.check(tetStrains(session_, false).measure(session_.displacement()), session_.last().depth, sink_);  // every tet
     addShape(motion_.duration());
   }
 
@@ -224,6 +243,8 @@ class Realtime3dRun {
   }
 
   void writeNotes() {
+    sink_.note(fmt::format("Largest small strain in the tissue{}: {:.2g} (the linear model is held to {:g}; "
+                           "realtime/linear_range.hpp).", " (the elements on the needle path, and all at the end)", range_.worstStrain(), realtime::kLinearStrainBound));
     const auto& b = cfg_.tissue.block;
     sink_.note(fmt::format(
         "Real-time 3D FE model (seed 003 sections 3.1-3.5 on a tetrahedral block): {} x {} x {} nodes, {} tets ({} "
@@ -252,6 +273,8 @@ class Realtime3dRun {
   results::InclusionMotion inclusions_;
   RealtimeMarkers markers_;
   io::Table shape_;
+  realtime::SimplexStrains pathStrains_;
+  realtime::LinearRangeWarning range_{"realtime3d"};
   std::unique_ptr<Fields3d> fields_;
   Extremes ext_;
 };

@@ -55,8 +55,7 @@ double Session::cuttingAt(double s_tip) const {
 }
 
 realtime::ShaftSettings Session::shaftSettings() const {
-  realtime::ShaftSettings s{"realtime3d", 2, cfg_.needle.EI, L_, path_s_, {}, cfg_.friction.static_band,
-                            cfg_.max_active_set_iterations};
+  realtime::ShaftSettings s{"realtime3d", 2, cfg_.needle.EI, L_, path_s_, {}, cfg_.max_active_set_iterations};
   for (const auto& p : tissue_.path())  // the layer holding the node (by its depth x)
     s.friction.push_back(cfg_.layers.empty() ? cfg_.friction
                                              : cfg_.layers[layerAt(tissue_.mesh().coord(p.node, 0), 1e-12)].friction);
@@ -158,9 +157,10 @@ void Session::reportLoads(double F1, double Fc, StepResult& o) {
   Eigen::Vector3d F = Eigen::Vector3d::Zero(), T = Eigen::Vector3d::Zero();
   double fric = 0.0;
   for (int i = 0; i < k; ++i) {
-    fric += f[3 * i];
+    const double fa = shaft_.shaftAxialLoad(i);  // the tip's press and cutting loads are added once, below
+    fric += fa;
     if (shaft_.status(i) == realtime::FrictionStatus::Stick) ++o.sticking;
-    const Eigen::Vector3d Fi = -f[3 * i] * t0_ - f[3 * i + 1] * n0_ - f[3 * i + 2] * b0_;
+    const Eigen::Vector3d Fi = -fa * t0_ - f[3 * i + 1] * n0_ - f[3 * i + 2] * b0_;
     F += Fi;
     T += (at(shaft_.position(i)) - base).cross(Fi);
   }

@@ -81,6 +81,8 @@ class Session {
   void needleShape(int count, Eigen::Matrix3Xd& out) const;
   // Elastic deflection (lateral, outOfPlane) of the needle at arc length sigma from the base.
   Eigen::Vector2d needleDeflection(double sigma) const;
+  // The needle-tissue coupling of the last step (coupled nodes, contact lengths, friction status).
+  const realtime::ShaftCoupling& shaft() const { return shaft_; }
   const SessionConfig& config() const { return cfg_; }
   const Eigen::Vector3d& cornerShift() const { return shift_; }  // centred -> mesh coordinates
   double exitDepth() const { return s_exit_; }
