@@ -330,10 +330,11 @@ int ExplicitSolver::addGroup() {
   return static_cast<int>(groupVelocity_.size()) - 1;
 }
 void ExplicitSolver::addDof(int group, int node, int comp) { dofGroup_[static_cast<std::size_t>(node) * dim_ + comp] = group; }
-void ExplicitSolver::addTie(int a, int b) {
+void ExplicitSolver::addTie(int a, int b, double lead) {
   tieA_.push_back(a);
   tieB_.push_back(b);
   tieOn_.push_back(1);
+  tieLead_.push_back(lead);
   ftie_.assign(u_.size(), 0.0);
 }
 void ExplicitSolver::setContactSide(int node, int side) {
@@ -553,8 +554,10 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
   // a wall-side lip released above the point's line by the chisel (2D), would otherwise meet the lip side
   // rule of queryNeedle with a jump in depth: 2D cut with G_c = 2 J/m^2, h = 0.125 mm: needle balance 8.4 %
   // with the switch to queryNeedle at d = 1, 0.26 % without)
-  const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
-                   (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel);
+  // (a node-release seam through the axis, setWedgeLips: every lip node, tied or released)
+  const bool lip = (!cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
+                    (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel)) ||
+                   (wedgeLips_ && !planar && !contactSide_.empty() && contactSide_[n] != 0);
   if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
       (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
     // the gap at the node's reference axial station; for the 3D bevel's seam through the axis also at its
@@ -799,7 +802,7 @@ void ExplicitSolver::tieForces(double alpha) {
       if (!tieOn_[t]) continue;
       Vector3d x = Vector3d::Zero();
       for (int i = 0; i < d; ++i) x[i] = mesh_.X[static_cast<std::size_t>(tieA_[t]) * d + i] + u_[static_cast<std::size_t>(tieA_[t]) * d + i];
-      if ((x - lead).dot(nd.pose.axis) < releaseDistance_) tieOn_[t] = 0;
+      if ((x - lead).dot(nd.pose.axis) < releaseDistance_ + tieLead_[t]) tieOn_[t] = 0;
     }
   }
   std::fill(ftie_.begin(), ftie_.end(), 0.0);
