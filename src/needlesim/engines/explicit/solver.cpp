@@ -380,6 +380,7 @@ void ExplicitSolver::setNeedle(const RigidNeedle& n) {
   if (n.path) contactAxis_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
   else contactAxis_.clear();
   needleK_.assign(nnode_, 0.0);
+  pose0_ = n.pose;
 }
 double ExplicitSolver::totalMass() const {
   double s = 0;
@@ -572,9 +573,10 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
     needle::NeedleHit wh;
     const Vector3d xRef(mesh_.X[static_cast<std::size_t>(n) * d], mesh_.X[static_cast<std::size_t>(n) * d + 1],
                         d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
-    const bool in = sleeveRadius_ > 0
+    bool in = sleeveRadius_ > 0
                         ? sleeveWedge(nd.shape, pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial, &xRef)
                         : lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
+    if (in && wedgeLips_ && cohPairOf_.empty()) in = lessStartOverlap(n, xRef, wh);
     hit = in ? wh : needle::NeedleHit{};
   } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
     const double c = hit.normal.dot(pose.bevelSide);
@@ -585,6 +587,23 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
     }
   }
   return hit;
+}
+
+// A node-release lip that the wedge already overlapped at the start (the needle starting within the chisel's
+// reach, R / tan(kLipRampAngle), of the entry face) is opened over the first reach of travel instead of at once:
+// its gap less its gap at the start times the share of that reach still to travel (the opening rate at most
+// doubles; LS-DYNA's tracked initial penetrations do the same for contact surfaces that start overlapped).
+// False when no gap is left.
+bool ExplicitSolver::lessStartOverlap(int n, const Vector3d& xRef, needle::NeedleHit& hit) const {
+  const RigidNeedle& nd = needle_;
+  const double reach = nd.shape.radius / std::tan(needle::kLipRampAngle);
+  const double left = 1.0 - (nd.pose.tip - pose0_.tip).dot(pose0_.axis) / reach;
+  if (!(left > 0.0)) return true;
+  needle::NeedleHit h0;
+  double slope0 = 0.0;
+  if (!lipWedge(nd.shape, pose0_, xRef, contactSide_[n], false, h0, slope0)) return true;
+  hit.depth -= h0.depth * left;
+  return hit.depth > 0.0;
 }
 
 // Needle contact stiffness of node n for this step: k = contact_penalty m / dtPen^2 (contact/penalty.hpp).

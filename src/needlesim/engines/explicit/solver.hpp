@@ -270,6 +270,7 @@ class ExplicitSolver {
   void recordNormalContact(int node, int body, const Eigen::Vector3d& normal, double k, double depth,
                            const Eigen::Vector3d& vb, double mu = 0.0);
   void normalContactCorrection(double dt, double dtAvg);
+  bool lessStartOverlap(int node, const Eigen::Vector3d& xRef, needle::NeedleHit& hit) const;
   void gatherForces();
   // tri3/tet4 average nodal pressure: replaces each element's pressure by the mean of its nodes'
   // volume-averaged pressures (nodal_pressure.cpp)
@@ -334,6 +335,7 @@ class ExplicitSolver {
   std::vector<char> tieOn_;
   std::vector<double> tieLead_;  // per tie: extra release distance ahead of the leading point
   bool wedgeLips_ = false;       // setWedgeLips
+  needle::NeedlePose pose0_;     // the needle's pose at setNeedle (lessStartOverlap)
   std::vector<double> ftie_;
   double releaseDistance_ = 0.0;
   double sleeveRadius_ = 0.0;  // > 0: the cohesive seam is a cylindrical sleeve (cohesive_sleeve.hpp)
