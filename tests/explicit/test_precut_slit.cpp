@@ -57,11 +57,14 @@ double axialForceNear(const MemorySink& r, double depth) {
 
 }  // namespace
 
-// Core 0.6 mm (one lip node per side inside the needle) against 0.4 mm (three). Before the slit through the
-// axis the needle lay on one lip and was felt only by the nodes inside it: the force at 0.6 mm was a
-// fraction of the 0.4 mm force (the run stopped on penetration at 3.3 mm). With the slit the lips take the
-// needle's outline at each node, a polygon inscribed in it whose error falls with the square of the element
-// size; measured (0.6 / 0.4 / reference 0.35-0.7 mm study in docs/models/explicit.md): LIMIT_NOTE.
+// Core 0.6 mm (one lip node per side inside the needle) against 0.4 mm (three). With the seam through the sharp
+// point the needle lay on one lip and was felt only by the nodes inside it: on this block the 0.6 mm run stops
+// on penetration at 3.3 mm (0.4 mm: 36 mN at 5 mm), and on the reference block the force at 20 mm went 11 / 33 /
+// 94 mN at 0.7 / 0.5 / 0.35 mm. With the slit the lips take the needle's outline at each node, and the force
+// changes by -5 % here (33.6 / 35.5 mN over the last 0.5 mm), +5 % from 0.7 to 0.5 mm at 10 mm on the reference
+// block (docs/models/explicit.md "Pre-cut slit (3D)"). The limit, 15 %, is three times the measured change: the
+// window's 6 rows still hold the node-release ripple (a range of 10-13 mN, some +-4 % on their mean); a needle felt by the nodes it happens to cover
+// changes by a factor of 3.
 TEST(PrecutSlit3d, LongAxialForceHardlyChangesWithTheCoreElementSize) {
   const MemorySink coarse = runInMemory(scenario::readText(slitYaml("0.6 mm"), "<slit-0.6>"));
   const MemorySink fine = runInMemory(scenario::readText(slitYaml("0.4 mm"), "<slit-0.4>"));
@@ -69,7 +72,7 @@ TEST(PrecutSlit3d, LongAxialForceHardlyChangesWithTheCoreElementSize) {
   std::printf("axial force at 4.5-5 mm: core 0.6 mm %.4g mN, 0.4 mm %.4g mN (%+.1f %%)\n", Fc * 1e3, Ff * 1e3,
               100 * (Fc / Ff - 1));
   ASSERT_GT(Ff, 0.0);
-  EXPECT_LT(std::abs(Fc / Ff - 1), 0.10);
+  EXPECT_LT(std::abs(Fc / Ff - 1), 0.15);
 }
 
 // A core coarser than the needle radius leaves no node on the slit: refused with the field and the largest size.
