@@ -75,15 +75,15 @@ TEST(PrecutSlit3d, LongAxialForceHardlyChangesWithTheCoreElementSize) {
   EXPECT_LT(std::abs(Fc / Ff - 1), 0.15);
 }
 
-// A core coarser than the needle radius leaves no node on the slit: refused with the field and the largest size.
-TEST(PrecutSlit3d, ACoreCoarserThanTheNeedleRadiusIsRefused) {
+// A core as coarse as the needle's diameter leaves no node on the slit: refused with the field and the size.
+TEST(PrecutSlit3d, ACoreAsCoarseAsTheNeedleIsRefused) {
   try {
-    runInMemory(scenario::readText(slitYaml("1 mm"), "<slit-1mm>"));
-    FAIL() << "a 1 mm core was accepted for a 0.635 mm radius";
+    runInMemory(scenario::readText(slitYaml("1.5 mm"), "<slit-1.5mm>"));
+    FAIL() << "a 1.5 mm core was accepted for a 1.27 mm needle";
   } catch (const InputError& e) {
     const std::string what = e.what();
     EXPECT_NE(what.find("model.explicit.element_size"), std::string::npos) << what;
-    EXPECT_NE(what.find("0.635 mm"), std::string::npos) << what;
+    EXPECT_NE(what.find("1.27 mm"), std::string::npos) << what;
   }
 }
 

@@ -44,6 +44,28 @@ Vector3d nodePoint(const Mesh& m, int n) {
   return p;
 }
 
+// Grid lines across the slit (3D axis seam): the core [-half, half] of a graded list replaced by uniform
+// pieces with lines on the slit's fronts +-R, the slit itself split into ceil(2R / h) equal elements (never
+// coarser than h), so the lip nodes sit at the same fractions of the needle's width on every mesh of a
+// given count and their distance to the fronts falls steadily with h.
+// (R = 0: the plane of the slit, a line at the centre c with equal elements either side.)
+std::vector<double> slitCoordinates(const std::vector<double>& graded, double half, double R, double h,
+                                    double c = 0.0) {
+  std::vector<double> z;
+  for (double v : graded)
+    if (v < c - half - 1e-12 || v > c + half + 1e-12) z.push_back(v);
+  auto piece = [&](double a, double b, int n) {
+    for (int i = 0; i <= n; ++i) z.push_back(c + a + (b - a) * i / n);
+  };
+  const int outer = std::max(1, static_cast<int>(std::lround((half - R) / h)));
+  piece(-half, -R, outer);
+  if (R > 0) piece(-R, R, std::max(1, static_cast<int>(std::ceil(2.0 * R / h - 1e-9))));
+  piece(R, half, outer);
+  std::sort(z.begin(), z.end());
+  z.erase(std::unique(z.begin(), z.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }), z.end());
+  return z;
+}
+
 }  // namespace
 
 ExplicitRun::ExplicitRun(const Scenario& sc, ResultSink& sink)
@@ -152,7 +174,7 @@ void ExplicitRun::requireNodesOnSlit() const {
                    fmt::format("explicit: no tissue node lies on the pre-cut slit across the needle (outer radius "
                                "{:g} mm): the needle would pass between the nodes without touching the tissue",
                                shape_.radius * 1e3),
-                   fmt::format("an element size of at most the needle's outer radius, {:g} mm", shape_.radius * 1e3));
+                   fmt::format("an element size below the needle's outer diameter, {:g} mm", 2e3 * shape_.radius));
 }
 
 // Tissue block: depth x in [0, length] from the entry face, y across the width (needle path at
@@ -164,7 +186,10 @@ void ExplicitRun::buildBlock() {
   // along the path: the core size down to just past the deepest tip position, then graded
   auto xs = gradedCoordinates(0.0, t.length, 0.0, std::max(dmax_, h), h, H, ex_.grading);
   auto ys = gradedCoordinates(-0.5 * t.width, 0.5 * t.width, y0 - half, y0 + half, h, H, ex_.grading);
-  if (seamOn_) snapCoordinate(ys, seamY_);
+  if (axisSeam_ && y0 - half > -0.5 * t.width && y0 + half < 0.5 * t.width)  // the slit plane: equal elements either side
+    ys = slitCoordinates(ys, half, 0.0, h, y0);
+  else if (seamOn_)
+    snapCoordinate(ys, seamY_);  // (3D slit: the seam plane through the axis)
   const ElementType type = elementTypeFromName(ex_.element.empty() ? (dim_ == 2 ? "quad4" : "hex8") : ex_.element);
   if (elementDim(type) != dim_)
     throw InputError(sc_.where("model.explicit.element"), "model.explicit.element", elementName(type),
@@ -174,7 +199,9 @@ void ExplicitRun::buildBlock() {
     mesh_ = structuredBlock(xs, ys, type);
   } else {
     auto zs = gradedCoordinates(-0.5 * t.height, 0.5 * t.height, -half, half, h, H, ex_.grading);
-    if (axisSeam_)  // the slit's fronts at the needle's outline, whatever the element size
+    if (axisSeam_ && half > shape_.radius && half < 0.5 * t.height)  // the slit's fronts on the needle's outline
+      zs = slitCoordinates(zs, half, shape_.radius, h);
+    else if (axisSeam_)
       for (double z : {-shape_.radius, shape_.radius}) snapCoordinate(zs, z);
     mesh_ = structuredBlock(xs, ys, zs, type);
   }
