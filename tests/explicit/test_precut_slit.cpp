@@ -57,13 +57,14 @@ double axialForceNear(const MemorySink& r, double depth) {
 
 }  // namespace
 
-// Core 0.6 mm (one lip node per side inside the needle) against 0.4 mm (three). With the seam through the sharp
-// point the needle lay on one lip and was felt only by the nodes inside it: on this block the 0.6 mm run stops
-// on penetration at 3.3 mm (0.4 mm: 36 mN at 5 mm), and on the reference block the force at 20 mm went 11 / 33 /
-// 94 mN at 0.7 / 0.5 / 0.35 mm. With the slit the lips take the needle's outline at each node, and the force
-// changes by -5 % here (33.6 / 35.5 mN over the last 0.5 mm), +5 % from 0.7 to 0.5 mm at 10 mm on the reference
-// block (docs/models/explicit.md "Pre-cut slit (3D)"). The limit, 15 %, is three times the measured change: the
-// window's 6 rows still hold the node-release ripple (a range of 10-13 mN, some +-4 % on their mean); a needle felt by the nodes it happens to cover
+// Core 0.6 mm (3 elements across the slit) against 0.4 mm (4). With the seam through the sharp point the
+// needle lay on one lip and was felt only by the nodes inside it: on this block the 0.6 mm run stops on
+// penetration at 3.3 mm (0.4 mm: 36 mN at 5 mm), and on the reference block the force at 20 mm went 11 / 33 /
+// 94 mN at 0.7 / 0.5 / 0.35 mm. With the slit the lips take the needle's outline at each node: measured here
+// 32.0 / 35.6 mN over the last 0.5 mm (-10 %); on the reference block at 10 mm 74.5 / 72.5 mN at 0.6 / 0.5 mm
+// (both 3 elements across the slit, -3 %), 44.5 mN at 0.7 mm (2 elements: one lip node per side).
+// docs/models/explicit.md "Pre-cut slit (3D)". The limit, 20 %, is twice the measured change (the window's
+// 6 rows hold the node-release ripple, a range of 10-13 mN); a needle felt by the nodes it happens to cover
 // changes by a factor of 3.
 TEST(PrecutSlit3d, LongAxialForceHardlyChangesWithTheCoreElementSize) {
   const MemorySink coarse = runInMemory(scenario::readText(slitYaml("0.6 mm"), "<slit-0.6>"));
@@ -72,7 +73,7 @@ TEST(PrecutSlit3d, LongAxialForceHardlyChangesWithTheCoreElementSize) {
   std::printf("axial force at 4.5-5 mm: core 0.6 mm %.4g mN, 0.4 mm %.4g mN (%+.1f %%)\n", Fc * 1e3, Ff * 1e3,
               100 * (Fc / Ff - 1));
   ASSERT_GT(Ff, 0.0);
-  EXPECT_LT(std::abs(Fc / Ff - 1), 0.15);
+  EXPECT_LT(std::abs(Fc / Ff - 1), 0.20);
 }
 
 // A core as coarse as the needle's diameter leaves no node on the slit: refused with the field and the size.
