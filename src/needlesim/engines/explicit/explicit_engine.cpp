@@ -37,6 +37,17 @@ void ExplicitRun::poseNeedle(double t, double dt) {
                   thickness_);
 }
 
+// A needle that went into the tissue by more than an element without touching a node passed between the
+// nodes: its zero force is the mesh's, not the tissue's, so the run stops instead of completing.
+void ExplicitRun::requireContact() const {
+  const double deepest = sc_.maxDepth(), h = ex_.element_size;
+  if (touched_ || !(deepest > h)) return;
+  throw SolverError(fmt::format("the needle went {:g} mm into the tissue without touching a tissue node: it passes "
+                                "between the nodes of the {:g} mm mesh. Remedy: model.explicit.element_size of at "
+                                "most the needle's outer radius ({:g} mm), or pre_cut: true",
+                                deepest * 1e3, h * 1e3, shape_.radius * 1e3));
+}
+
 void ExplicitRun::run(const RunOptions& options) {
   Progress progress("explicit FE", options.progress);
   const auto t0 = std::chrono::steady_clock::now();
@@ -51,6 +62,7 @@ void ExplicitRun::run(const RunOptions& options) {
       const double t = solver_->time(), dt = std::min(solver_->timeStep(), T - t);
       poseNeedle(t, dt);
       solver_->advanceTo(std::min(T, t + solver_->timeStep()));
+      if (const auto* n = solver_->needle(); n && n->nodesInContact > 0) touched_ = true;
       if (solver_->time() >= nextOut * (1 - 1e-9) || solver_->time() >= T * (1 - 1e-12)) {
         record();
         nextOut += outDt;
@@ -61,6 +73,7 @@ void ExplicitRun::run(const RunOptions& options) {
         nextField += fieldDt;
       }
     }
+    requireContact();
   } catch (const SolverError& e) {
     record();
     finish(std::string("stopped: ") + e.what());

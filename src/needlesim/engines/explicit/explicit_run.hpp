@@ -47,6 +47,7 @@ class ExplicitRun {
   void buildMesh();
   void buildBlock();
   void cutSeam();
+  void requireNodesOnSlit() const;
   void assignRegions();
   void checkInclusionResolution();
   std::vector<Material> regionMaterials() const;
@@ -60,6 +61,7 @@ class ExplicitRun {
   std::vector<double> wallFrictionPerNode() const;
   // step (explicit_engine.cpp)
   void poseNeedle(double t, double dt);
+  void requireContact() const;
   // record and finish (explicit_outputs.cpp)
   void createOutputs();
   void record();
@@ -86,6 +88,9 @@ class ExplicitRun {
   Eigen::Vector3d bevelSide_ = Eigen::Vector3d::UnitY();  // at the start (2D: +-lateral)
   // seam: node release (pre_cut) or cohesive, through the bevel's sharp point (or the axis)
   bool seamOn_ = false, sleeve_ = false, cohesive_ = false;
+  // 3D node-release seam of a generated block: through the axis, as wide as the needle (chooseSeam)
+  bool axisSeam_ = false;
+  bool touched_ = false;  // the needle touched a tissue node (requireContact)
   double seamY_ = 0.0, sleeveRadius_ = 0.0;
   // mesh and its seam pairs (original, copy); thickness_: slab thickness of a 2D model
   Mesh mesh_;

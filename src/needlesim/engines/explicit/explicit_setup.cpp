@@ -8,6 +8,7 @@
 #include "needlesim/engines/explicit/path_needle.hpp"
 #include "needlesim/engines/explicit/sleeve_setup.hpp"
 #include "needlesim/materials/material_spec.hpp"
+#include "needlesim/tissue/regions.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -43,11 +44,26 @@ Vector3d nodePoint(const Mesh& m, int n) {
   return p;
 }
 
-// Index of the last inclusion containing x (later ones are laid over earlier ones), -1 none.
-int inclusionAt(const std::vector<InclusionSpec>& inclusions, const Vector3d& x) {
-  for (int i = static_cast<int>(inclusions.size()) - 1; i >= 0; --i)
-    if (inclusions[i].contains(x.x(), x.y(), x.z())) return i;
-  return -1;
+// Grid lines across the slit (3D axis seam): the core [-half, half] of a graded list replaced by uniform
+// pieces with lines on the slit's fronts +-R, the slit itself split into ceil(2R / h) equal elements (never
+// coarser than h), so the lip nodes sit at the same fractions of the needle's width on every mesh of a
+// given count and their distance to the fronts falls steadily with h.
+// (R = 0: the plane of the slit, a line at the centre c with equal elements either side.)
+std::vector<double> slitCoordinates(const std::vector<double>& graded, double half, double R, double h,
+                                    double c = 0.0) {
+  std::vector<double> z;
+  for (double v : graded)
+    if (v < c - half - 1e-12 || v > c + half + 1e-12) z.push_back(v);
+  auto piece = [&](double a, double b, int n) {
+    for (int i = 0; i <= n; ++i) z.push_back(c + a + (b - a) * i / n);
+  };
+  const int outer = std::max(1, static_cast<int>(std::lround((half - R) / h)));
+  piece(-half, -R, outer);
+  if (R > 0) piece(-R, R, std::max(1, static_cast<int>(std::ceil(2.0 * R / h - 1e-9))));
+  piece(R, half, outer);
+  std::sort(z.begin(), z.end());
+  z.erase(std::unique(z.begin(), z.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }), z.end());
+  return z;
 }
 
 }  // namespace
@@ -88,7 +104,12 @@ void ExplicitRun::checkInput() const {
                      fmt::format("model.explicit.dimension: {}d, or a {}D mesh", g->mesh->dim, dim_));
 }
 
-// The pre-cut seam runs through the leading point of the tip (the bevel's sharp point, at -R bevelSide).
+// The pre-cut seam runs through the leading point of the tip (the bevel's sharp point, at -R bevelSide)
+// in 2D and through an imported 3D mesh. In a generated 3D block it is a slit through the needle axis,
+// exactly as wide as the needle (|z| < R, its fronts on grid lines at z = +-R whatever the element
+// size), whose lips the needle wedges open to its outline on either side (cohesive_wedge.hpp): the
+// displaced lip shape is the needle's at every node, so the load converges with the mesh instead of
+// depending on which nodes happen to lie inside the needle (docs/models/explicit.md "Pre-cut slit").
 void ExplicitRun::chooseSeam() {
   const double th = sc_.insertion.entry_angle, phi = sc_.insertion.bevel_orientation;
   const bool aligned = std::abs(th - 0.5 * M_PI) < 1e-9 && std::abs(std::sin(phi)) < 1e-9;
@@ -98,7 +119,8 @@ void ExplicitRun::chooseSeam() {
   sleeve_ = cohesive_ && ex_.cohesive.seam == "sleeve";
   // 3D bevel with the cohesive zone: through the needle axis instead (docs/models/cohesive.md "3D bevel"),
   // a plane through the point is tangent to the shaft and the needle would indent the tissue beside it.
-  const bool seamThroughAxis = dim_ == 3 && cohesive_;
+  axisSeam_ = seamOn_ && dim_ == 3 && !cohesive_ && !sc_.tissue.geometry;
+  const bool seamThroughAxis = (dim_ == 3 && cohesive_) || axisSeam_;
   seamY_ = sc_.insertion.entry_offset -
            (sc_.needle.tip == TipType::Bevel && !seamThroughAxis ? shape_.radius * bevelSide_.y() : 0.0);
 }
@@ -126,9 +148,10 @@ void ExplicitRun::buildMesh() {
 // are first moved onto the seam (snapOntoSeam), the 3D strip as wide as the needle and the
 // largest element edge that crosses the seam plane near the axis.
 void ExplicitRun::cutSeam() {
-  double halfWidth = dim_ == 3 ? shape_.radius + 1.01 * ex_.element_size : 0.0;
+  double halfWidth = axisSeam_ ? shape_.radius : dim_ == 3 ? shape_.radius + 1.01 * ex_.element_size : 0.0;
   if (!sc_.tissue.geometry) {
     seam_ = splitSeam(mesh_, seamY_, 0.0, dmax_, halfWidth);
+    if (axisSeam_) requireNodesOnSlit();
     return;
   }
   if (dim_ == 3) halfWidth = shape_.radius + 1.01 * largestEdgeAcross(mesh_, seamY_, 2 * shape_.radius);
@@ -141,6 +164,19 @@ void ExplicitRun::cutSeam() {
                          seamY_ * 1e3, seam_.size(), moved, off));
 }
 
+// The slit through the axis must hold lip nodes inside the needle's section, else the needle would pass
+// between the nodes and feel no tissue.
+void ExplicitRun::requireNodesOnSlit() const {
+  for (auto [a, b] : seam_)
+    if (std::abs(mesh_.coord(a, 2)) < shape_.radius) return;
+  throw InputError(sc_.where("model.explicit.element_size"), "model.explicit.element_size",
+                   fmt::format("{:g} mm", ex_.element_size * 1e3),
+                   fmt::format("explicit: no tissue node lies on the pre-cut slit across the needle (outer radius "
+                               "{:g} mm): the needle would pass between the nodes without touching the tissue",
+                               shape_.radius * 1e3),
+                   fmt::format("an element size below the needle's outer diameter, {:g} mm", 2e3 * shape_.radius));
+}
+
 // Tissue block: depth x in [0, length] from the entry face, y across the width (needle path at
 // y = entry_offset), z across the height (path at z = 0): the centred tissue frame.
 void ExplicitRun::buildBlock() {
@@ -150,7 +186,10 @@ void ExplicitRun::buildBlock() {
   // along the path: the core size down to just past the deepest tip position, then graded
   auto xs = gradedCoordinates(0.0, t.length, 0.0, std::max(dmax_, h), h, H, ex_.grading);
   auto ys = gradedCoordinates(-0.5 * t.width, 0.5 * t.width, y0 - half, y0 + half, h, H, ex_.grading);
-  if (seamOn_) snapCoordinate(ys, seamY_);
+  if (axisSeam_ && y0 - half > -0.5 * t.width && y0 + half < 0.5 * t.width)  // the slit plane: equal elements either side
+    ys = slitCoordinates(ys, half, 0.0, h, y0);
+  else if (seamOn_)
+    snapCoordinate(ys, seamY_);  // (3D slit: the seam plane through the axis)
   const ElementType type = elementTypeFromName(ex_.element.empty() ? (dim_ == 2 ? "quad4" : "hex8") : ex_.element);
   if (elementDim(type) != dim_)
     throw InputError(sc_.where("model.explicit.element"), "model.explicit.element", elementName(type),
@@ -160,6 +199,10 @@ void ExplicitRun::buildBlock() {
     mesh_ = structuredBlock(xs, ys, type);
   } else {
     auto zs = gradedCoordinates(-0.5 * t.height, 0.5 * t.height, -half, half, h, H, ex_.grading);
+    if (axisSeam_ && half > shape_.radius && half < 0.5 * t.height)  // the slit's fronts on the needle's outline
+      zs = slitCoordinates(zs, half, shape_.radius, h);
+    else if (axisSeam_)
+      for (double z : {-shape_.radius, shape_.radius}) snapCoordinate(zs, z);
     mesh_ = structuredBlock(xs, ys, zs, type);
   }
 }
@@ -172,9 +215,9 @@ void ExplicitRun::assignRegions() {
   const int layers = static_cast<int>(t.layers.size());
   for (int e = 0; e < mesh_.elements(); ++e) {
     const Vector3d c = centroid(mesh_, e);
-    if (!t.geometry) mesh_.region[e] = static_cast<int>(t.layerAt(c.x()));
-    const int i = inclusionAt(t.inclusions, c);
-    if (i >= 0) mesh_.region[e] = layers + i;
+    const int r = tissue::regionAt(t, c.x(), c.y(), c.z());
+    // an imported geometry's elements keep their group's layer unless an inclusion covers them
+    if (!t.geometry || r >= layers) mesh_.region[e] = r;
   }
 }
 
@@ -215,8 +258,7 @@ void ExplicitRun::checkInclusionResolution() {
 
 std::vector<Material> ExplicitRun::regionMaterials() const {
   std::vector<Material> mats;
-  for (const auto& l : sc_.tissue.layers) mats.push_back(Material::fromSpec(l.material));
-  for (const auto& I : sc_.tissue.inclusions) mats.push_back(Material::fromSpec(I.material));
+  for (const auto& r : tissue::regions(sc_.tissue)) mats.push_back(Material::fromSpec(r.material));
   return mats;
 }
 
@@ -248,12 +290,18 @@ void ExplicitRun::setupSeam() {
   if (cohesive_ && !sleeve_ && sc_.tissue.geometry) requireSeamOnPlane();
   // splitSeam gives the copies to the +y lip; the bevel faces +y when bevelSide.y > 0
   const int copySide = sleeve_ || bevelSide_.y() >= 0 ? 1 : -1;  // sleeve: core side -1, outer side +1
+  // the axis slit's lips take the lip wedge; a pair is released where the wedge (the virtual chisel ahead of
+  // a bevel's point, slope kLipRampAngle) first reaches it, at w / tan(beta) ahead, w its half chord
+  if (axisSeam_) solver_->setWedgeLips(true);
+  const double R = shape_.radius, tb = std::tan(needle::kLipRampAngle);
   for (auto [a, b] : seam_) {
-    if (!cohesive_) solver_->addTie(a, b);
+    const double z = mesh_.coord(a, 2);
+    const double lead = axisSeam_ && sc_.needle.tip == TipType::Bevel ? std::sqrt(std::max(R * R - z * z, 0.0)) / tb : 0.0;
+    if (!cohesive_) solver_->addTie(a, b, lead);
     // 3D: the lip sides disambiguate the nearest exit only on the sharp point's line (z = 0); off
     // it the tube's lower wall is the natural exit of the upper lip, which the side rule forbids
     // (node-release seam only: the cohesive wedge needs every lip's side, cohesive_wedge.hpp)
-    if (dim_ == 3 && !cohesive_ && std::abs(mesh_.coord(a, 2)) > 0.5 * ex_.element_size) continue;
+    if (dim_ == 3 && !cohesive_ && !axisSeam_ && std::abs(z) > 0.5 * ex_.element_size) continue;
     solver_->setContactSide(a, -copySide);
     solver_->setContactSide(b, copySide);
   }
@@ -277,12 +325,11 @@ void ExplicitRun::requireSeamOnPlane() const {
 // K and t_c from the model's settings or that material's modulus (docs/models/cohesive.md).
 CohesiveLaw ExplicitRun::cohesiveLawAt(const Vector3d& x) const {
   const auto& cs = ex_.cohesive;
-  const auto& t = sc_.tissue;
-  const int i = inclusionAt(t.inclusions, x);
-  const LayerSpec& layer = t.layers[t.layerAt(x.x())];
-  const std::string where = i >= 0 ? fmt::format("tissue.inclusions[{}]", i) : "layer " + layer.name;
-  const materials::MaterialSpec& material = i >= 0 ? t.inclusions[i].material : layer.material;
-  const double toughness = i >= 0 ? t.inclusions[i].toughness : layer.toughness;
+  const auto regions = tissue::regions(sc_.tissue);
+  const tissue::Region& region = regions[tissue::regionAt(sc_.tissue, x.x(), x.y(), x.z())];
+  const std::string where = region.inclusion ? region.field : "layer " + region.name;
+  const materials::MaterialSpec& material = region.material;
+  const double toughness = region.toughness;
   if (!(cs.fracture_energy > 0) && !(toughness > 0))
     throw InputError(sc_.where("model.explicit.cohesive"), "model.explicit.cohesive.fracture_energy", "0",
                      "explicit: " + where + ".toughness is not given, and the cohesive zone through it needs G_c",
@@ -346,10 +393,9 @@ void ExplicitRun::fixDistalFace() {
 // Wall friction per tissue node: the mean of its elements' layer or inclusion coefficients; empty
 // when one coefficient holds everywhere.
 std::vector<double> ExplicitRun::wallFrictionPerNode() const {
-  std::vector<double> mu;
-  for (const auto& l : sc_.tissue.layers) mu.push_back(l.friction.coefficient);
-  for (const auto& I : sc_.tissue.inclusions) mu.push_back(I.friction_coefficient);
-  if (std::all_of(mu.begin(), mu.end(), [&](double m) { return m == mu.front(); })) return {};
+  const auto regions = tissue::regions(sc_.tissue);
+  if (tissue::uniformFriction(regions)) return {};
+  const std::vector<double> mu = tissue::regionFrictions(regions);
   const Mesh& m = solver_->mesh();
   const int npe = nodesPerElement(m.type);
   std::vector<double> sum(m.nodes(), 0.0), count(m.nodes(), 0.0);

@@ -330,10 +330,11 @@ int ExplicitSolver::addGroup() {
   return static_cast<int>(groupVelocity_.size()) - 1;
 }
 void ExplicitSolver::addDof(int group, int node, int comp) { dofGroup_[static_cast<std::size_t>(node) * dim_ + comp] = group; }
-void ExplicitSolver::addTie(int a, int b) {
+void ExplicitSolver::addTie(int a, int b, double lead) {
   tieA_.push_back(a);
   tieB_.push_back(b);
   tieOn_.push_back(1);
+  tieLead_.push_back(lead);
   ftie_.assign(u_.size(), 0.0);
 }
 void ExplicitSolver::setContactSide(int node, int side) {
@@ -379,6 +380,7 @@ void ExplicitSolver::setNeedle(const RigidNeedle& n) {
   if (n.path) contactAxis_.assign(static_cast<std::size_t>(nnode_) * 3, 0.0);
   else contactAxis_.clear();
   needleK_.assign(nnode_, 0.0);
+  pose0_ = n.pose;
 }
 double ExplicitSolver::totalMass() const {
   double s = 0;
@@ -553,8 +555,10 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
   // a wall-side lip released above the point's line by the chisel (2D), would otherwise meet the lip side
   // rule of queryNeedle with a jump in depth: 2D cut with G_c = 2 J/m^2, h = 0.125 mm: needle balance 8.4 %
   // with the switch to queryNeedle at d = 1, 0.26 % without)
-  const bool lip = !cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
-                   (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel);
+  // (a node-release seam through the axis, setWedgeLips: every lip node, tied or released)
+  const bool lip = (!cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
+                    (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel)) ||
+                   (wedgeLips_ && !planar && !contactSide_.empty() && contactSide_[n] != 0);
   if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
       (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
     // the gap at the node's reference axial station; for the 3D bevel's seam through the axis also at its
@@ -569,9 +573,10 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
     needle::NeedleHit wh;
     const Vector3d xRef(mesh_.X[static_cast<std::size_t>(n) * d], mesh_.X[static_cast<std::size_t>(n) * d + 1],
                         d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
-    const bool in = sleeveRadius_ > 0
+    bool in = sleeveRadius_ > 0
                         ? sleeveWedge(nd.shape, pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial, &xRef)
                         : lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
+    if (in && wedgeLips_ && cohPairOf_.empty()) in = lessStartOverlap(n, xRef, wh);
     hit = in ? wh : needle::NeedleHit{};
   } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
     const double c = hit.normal.dot(pose.bevelSide);
@@ -582,6 +587,23 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
     }
   }
   return hit;
+}
+
+// A node-release lip that the wedge already overlapped at the start (the needle starting within the chisel's
+// reach, R / tan(kLipRampAngle), of the entry face) is opened over the first reach of travel instead of at once:
+// its gap less its gap at the start times the share of that reach still to travel (the opening rate at most
+// doubles; LS-DYNA's tracked initial penetrations do the same for contact surfaces that start overlapped).
+// False when no gap is left.
+bool ExplicitSolver::lessStartOverlap(int n, const Vector3d& xRef, needle::NeedleHit& hit) const {
+  const RigidNeedle& nd = needle_;
+  const double reach = nd.shape.radius / std::tan(needle::kLipRampAngle);
+  const double left = 1.0 - (nd.pose.tip - pose0_.tip).dot(pose0_.axis) / reach;
+  if (!(left > 0.0)) return true;
+  needle::NeedleHit h0;
+  double slope0 = 0.0;
+  if (!lipWedge(nd.shape, pose0_, xRef, contactSide_[n], false, h0, slope0)) return true;
+  hit.depth -= h0.depth * left;
+  return hit.depth > 0.0;
 }
 
 // Needle contact stiffness of node n for this step: k = contact_penalty m / dtPen^2 (contact/penalty.hpp).
@@ -799,7 +821,7 @@ void ExplicitSolver::tieForces(double alpha) {
       if (!tieOn_[t]) continue;
       Vector3d x = Vector3d::Zero();
       for (int i = 0; i < d; ++i) x[i] = mesh_.X[static_cast<std::size_t>(tieA_[t]) * d + i] + u_[static_cast<std::size_t>(tieA_[t]) * d + i];
-      if ((x - lead).dot(nd.pose.axis) < releaseDistance_) tieOn_[t] = 0;
+      if ((x - lead).dot(nd.pose.axis) < releaseDistance_ + tieLead_[t]) tieOn_[t] = 0;
     }
   }
   std::fill(ftie_.begin(), ftie_.end(), 0.0);

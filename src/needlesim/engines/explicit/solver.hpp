@@ -140,8 +140,13 @@ class ExplicitSolver {
   void setExternalForce(int node, int component, double f) { fext_[node * dim_ + component] = f; }
 
   // Tie two coincident nodes (a pre-cut seam) until the needle's leading point
-  // comes within `releaseDistance` of them along the axis (node release).
-  void addTie(int a, int b);
+  // comes within `releaseDistance` + `lead` of them along the axis (node release; lead: how far
+  // ahead of the point the needle's wedge first reaches the pair, setWedgeLips).
+  void addTie(int a, int b, double lead = 0.0);
+  // Node-release seam through the needle axis (3D): its lips (nodes with a contact side) meet the
+  // needle through the lip wedge of cohesive_wedge.hpp, each pushed across the seam to the needle's
+  // outline on its own side, instead of through queryNeedle's nearest exit.
+  void setWedgeLips(bool on) { wedgeLips_ = on; }
   // Which lip of a cut through the bevel's sharp point a node lies on (+1 the bevel
   // side, -1 the wall side; needle::queryNeedle's `side`): set on seam nodes.
   void setContactSide(int node, int side);
@@ -265,6 +270,7 @@ class ExplicitSolver {
   void recordNormalContact(int node, int body, const Eigen::Vector3d& normal, double k, double depth,
                            const Eigen::Vector3d& vb, double mu = 0.0);
   void normalContactCorrection(double dt, double dtAvg);
+  bool lessStartOverlap(int node, const Eigen::Vector3d& xRef, needle::NeedleHit& hit) const;
   void gatherForces();
   // tri3/tet4 average nodal pressure: replaces each element's pressure by the mean of its nodes'
   // volume-averaged pressures (nodal_pressure.cpp)
@@ -327,6 +333,9 @@ class ExplicitSolver {
   // seam ties
   std::vector<int> tieA_, tieB_;
   std::vector<char> tieOn_;
+  std::vector<double> tieLead_;  // per tie: extra release distance ahead of the leading point
+  bool wedgeLips_ = false;       // setWedgeLips
+  needle::NeedlePose pose0_;     // the needle's pose at setNeedle (lessStartOverlap)
   std::vector<double> ftie_;
   double releaseDistance_ = 0.0;
   double sleeveRadius_ = 0.0;  // > 0: the cohesive seam is a cylindrical sleeve (cohesive_sleeve.hpp)

@@ -11,6 +11,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/mpm/geometry_fill.hpp"
 #include "needlesim/mesh/volume_mesh.hpp"
+#include "needlesim/tissue/regions.hpp"
 
 namespace needlesim::engines {
 
@@ -30,24 +31,15 @@ InputError refusal(const Scenario& sc, const std::string& field, const std::stri
   return InputError(sc.where(field), field, value, "mpm: " + problem, allowed);
 }
 
-// The Coulomb coefficients of needle contact: per layer, then per inclusion.
-std::vector<double> needleFrictions(const TissueSpec& t) {
-  std::vector<double> mu;
-  for (const auto& L : t.layers) mu.push_back(L.friction.coefficient);
-  for (const auto& I : t.inclusions) mu.push_back(I.friction_coefficient);
-  return mu;
-}
-
-// One solver material per layer, then per inclusion. Where the coefficients
-// differ, each material takes its own to the needle contact (eq 20 where its
-// point is nearest to the needle); else the needle's one coefficient applies.
+// One solver material per region (tissue/regions.hpp: layers, then inclusions). Where the Coulomb
+// coefficients differ, each material takes its own to the needle contact (eq 20 where its point is
+// nearest to the needle); else the needle's one coefficient applies.
 std::vector<MpmMaterial> tissueMaterials(const TissueSpec& t) {
   std::vector<MpmMaterial> out;
-  for (const auto& L : t.layers) out.push_back(MpmMaterial::fromSpec(L.material));
-  for (const auto& I : t.inclusions) out.push_back(MpmMaterial::fromSpec(I.material));
-  const std::vector<double> mu = needleFrictions(t);
-  if (std::any_of(mu.begin(), mu.end(), [&](double m) { return m != mu.front(); }))
-    for (std::size_t i = 0; i < out.size(); ++i) out[i].rigidFriction = mu[i];
+  const auto regions = tissue::regions(t);
+  for (const auto& r : regions) out.push_back(MpmMaterial::fromSpec(r.material));
+  if (!tissue::uniformFriction(regions))
+    for (std::size_t i = 0; i < out.size(); ++i) out[i].rigidFriction = regions[i].friction;
   return out;
 }
 
