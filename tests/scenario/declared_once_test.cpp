@@ -133,6 +133,8 @@ TEST(DeclaredOnce, StructDefaultsAreTheSchemaDefaults) {
   EXPECT_EQ(o.checkpoint_interval, units::parse(scenario::field("output", "checkpoint_interval").default_text).value);
   EXPECT_EQ(o.max_steps, units::parse(scenario::field("output", "max_steps").default_text).value);
   EXPECT_EQ(MotionSegment{}.duty_cycle, units::parse(scenario::field("insert", "duty_cycle").default_text).value);
+  EXPECT_EQ(ModelSpec{}.time_step, units::parse(scenario::field("model", "time_step").default_text).value);
+  EXPECT_EQ(ModelSpec{}.engine, scenario::field("model", "engine").default_text);
   EXPECT_EQ(LayerSpec{}.cutting_force, units::parse(scenario::field("cutting", "force").default_text).value);
   EXPECT_EQ(ExplicitModelSpec{}.cfl, units::parse(scenario::field("explicit", "cfl").default_text).value);
   EXPECT_EQ(MpmModelSpec{}.grid_spacing, units::parse(scenario::field("mpm", "grid_spacing").default_text).value);
@@ -154,12 +156,18 @@ void expectSchemaIsTable(const scenario::ParamTable<Spec>& table) {
   }
 }
 
-TEST(DeclaredOnce, NeedleInsertionOutputAndForceSectionsAreTheirTables) {
+TEST(DeclaredOnce, BlockNeedleInsertionModelOutputAndForceSectionsAreTheirTables) {
+  expectSchemaIsTable(scenario::blockTable());
   expectSchemaIsTable(scenario::needleTable());
   expectSchemaIsTable(scenario::insertionTable());
   expectSchemaIsTable(scenario::segmentTable());
   for (const char* kind : {"insert", "retract", "pause", "rotate"}) expectSchemaIsTable(scenario::segmentKindTable(kind));
   expectSchemaIsTable(scenario::outputTable());
+  // model: engine and time_step from the table, then one row per engine's section
+  const auto model = scenario::modelTable().docs();
+  ASSERT_EQ(model.size(), 2u);
+  EXPECT_EQ(scenario::fieldsOf("model").at(0)->key, model[0].key);
+  EXPECT_EQ(scenario::fieldsOf("model").at(1)->default_text, model[1].default_text);
   expectSchemaIsTable(scenario::frictionTable());
   expectSchemaIsTable(scenario::punctureTable());
   expectSchemaIsTable(scenario::cuttingTable());
@@ -198,6 +206,8 @@ insertion:
   EXPECT_EQ(sc.insertion.segments[0].duty_cycle, m.duty_cycle);
   EXPECT_EQ(sc.insertion.segments[1].axial, m.axial);
   EXPECT_EQ(sc.insertion.segments[1].duration, 1.0);  // 90 deg at 90 deg/s
+  EXPECT_EQ(sc.model.engine, ModelSpec{}.engine);
+  EXPECT_EQ(sc.model.time_step, ModelSpec{}.time_step);
   const OutputSpec o;
   EXPECT_EQ(sc.output.directory, o.directory);
   EXPECT_EQ(sc.output.interval, o.interval);

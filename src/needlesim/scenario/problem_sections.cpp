@@ -8,18 +8,34 @@
 #include <cmath>
 #include <numbers>
 
+#include "needlesim/scenario/model_section.hpp"
+
 namespace needlesim::scenario {
 namespace {
 
 namespace D = units::dim;
 constexpr double kDeg = std::numbers::pi / 180.0;
 
-// Plausibility bounds on needle sizes: a length above them is a slip of the unit ("55 Mm"). The
+// Plausibility bounds on sizes: a length above them is a slip of the unit ("55 Mm"), not tissue.
+// Tissue samples, phantoms and organs of needle-insertion studies are centimetres to tens of
+// centimetres (a human torso is under 0.5 m across), so a block side is at most 1 m. The
 // longest clinical needles (spinal, biopsy, brachytherapy) are about 0.3 m long, so a needle is at
 // most 1 m long; the thickest gauge of the table is 10 G (3.4 mm) and trocars reach about 10 mm,
 // so an outer diameter is at most 20 mm.
+constexpr double kMaxBlockSide = 1.0;
 constexpr double kMaxNeedleLength = 1.0;
 constexpr double kMaxNeedleDiameter = 0.02;
+
+ParamTable<TissueSpec> makeBlock() {
+  using T = TissueSpec;
+  ParamTable<T> t("block");
+  t.required(&T::length, "length", D::Length, openClosed(0.0, kMaxBlockSide),
+             "extent along the insertion axis (entry face to exit face)")
+      .required(&T::width, "width", D::Length, openClosed(0.0, kMaxBlockSide),
+                "extent across the insertion axis, in the insertion plane")
+      .required(&T::height, "height", D::Length, openClosed(0.0, kMaxBlockSide), "extent out of the insertion plane");
+  return t;
+}
 
 // needle.outer_diameter (a length or a gauge) and inner_diameter, whose default the gauge gives.
 void readDiameters(Section& s, NeedleSpec& N, const Scenario&) {
@@ -163,6 +179,19 @@ ParamTable<MotionSegment> makeSegmentKind(const std::string& kind) {
         .required(&M::rate, "rate", D::AngularVelocity, positive(), "rotation rate")
         .choice(&M::axial, "axis", {{"axial", true}, {"in-plane", false}},
                 "about the needle axis (bevel flip) or the base in the insertion plane");
+  return t;
+}
+
+ParamTable<ModelSpec> makeModel() {
+  ParamTable<ModelSpec> t("model");
+  std::string help = "engine:";
+  std::vector<std::string> names;
+  for (const auto& [name, summary] : engineNames()) {
+    help += fmt::format("{} {}: {}", names.empty() ? "" : ";", name, summary);
+    names.push_back(name);
+  }
+  t.word(&ModelSpec::engine, "engine", names, help)
+      .quantity(&ModelSpec::time_step, "time_step", D::Time, "ms", positive(), "integration step");
   return t;
 }
 
@@ -319,6 +348,10 @@ ParamTable<LayerSpec> makeInteraction() {
 
 }  // namespace
 
+const ParamTable<TissueSpec>& blockTable() {
+  static const auto t = makeBlock();
+  return t;
+}
 const ParamTable<NeedleSpec>& needleTable() {
   static const auto t = makeNeedle();
   return t;
@@ -335,6 +368,10 @@ const ParamTable<MotionSegment>& segmentKindTable(const std::string& kind) {
   static const auto insert = makeSegmentKind("insert"), pause = makeSegmentKind("pause"),
                     retract = makeSegmentKind("retract"), rotate = makeSegmentKind("rotate");
   return kind == "insert" ? insert : kind == "pause" ? pause : kind == "retract" ? retract : rotate;
+}
+const ParamTable<ModelSpec>& modelTable() {
+  static const auto t = makeModel();
+  return t;
 }
 const ParamTable<OutputSpec>& outputTable() {
   static const auto t = makeOutput();

@@ -225,7 +225,7 @@ void readPlacedInclusion(Section& s, InclusionSpec& I, const TissueSpec& T) {
 }
 
 // tissue.block, or tissue.geometry (scenario/tissue_geometry.hpp) whose bounding box is the block.
-void readBlockOrGeometry(Section& t, const std::string& source, TissueSpec& T) {
+void readBlockOrGeometry(Section& t, const std::string& source, TissueSpec& T, const Scenario& sc) {
   if (t.has("block") == t.has("geometry"))
     throw t.error(t.has("block") ? "geometry" : "block", "",
                   t.has("block") ? "is given together with tissue.block" : "is required but missing",
@@ -236,9 +236,7 @@ void readBlockOrGeometry(Section& t, const std::string& source, TissueSpec& T) {
     return;
   }
   Section b = t.sub("block");
-  T.length = b.number("length");
-  T.width = b.number("width");
-  T.height = b.number("height");
+  blockTable().read(b, T, sc);
 }
 
 // Regions, inclusion shapes and the held far side of an imported geometry.
@@ -253,7 +251,7 @@ void finishGeometry(Section& t, TissueSpec& T) {
 
 TissueSpec readTissue(Section& t, const std::string& source, const Scenario& sc) {
   TissueSpec T;
-  readBlockOrGeometry(t, source, T);
+  readBlockOrGeometry(t, source, T, sc);
   const double blockLength = T.geometry ? 0.0 : T.length;
   auto layers = t.list("layers");
   if (layers.empty()) {
@@ -363,8 +361,7 @@ Scenario readSections(Section top, const std::string& source, const Section::Rec
   checkEntryPoint(ins, sc.insertion, sc.tissue, sc.maxDepth());
 
   Section model = top.sub("model");
-  sc.model.engine = model.choice("engine");
-  sc.model.time_step = model.number("time_step");
+  modelTable().read(model, sc.model, sc);
   // Every engine's section (scenario/model_section.hpp), given or not: the record holds them all.
   // Their refusals name fields read before (Scenario::where).
   sc.given_at = record->given_at;

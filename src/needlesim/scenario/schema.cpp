@@ -48,13 +48,6 @@ FieldDoc count(std::string sec, std::string key, std::string def, double lo, dou
   f.whole = true;
   return f;
 }
-// Plausibility bound on sizes: a length above it is a slip of the unit ("55 Mm"), not tissue.
-// Tissue samples, phantoms and organs of needle-insertion studies are centimetres to tens of
-// centimetres (a human torso is under 0.5 m across), so a block side is at most 1 m.
-constexpr double kMaxBlockSide = 1.0;
-FieldDoc extent(std::string sec, std::string key, double hi, std::string help, bool required = true) {
-  return q(std::move(sec), std::move(key), D::Length, "", 0.0, hi, true, false, std::move(help), required);
-}
 FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::string help,
                bool required = false, std::string child = {}, std::vector<std::string> choices = {}) {
   FieldDoc f;
@@ -67,17 +60,6 @@ FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::s
   f.child = std::move(child);
   f.choices = std::move(choices);
   return f;
-}
-
-// model.engine: one of the registered engines (engines/registry.cpp).
-FieldDoc engineChoice() {
-  std::string help = "engine:";
-  std::vector<std::string> names;
-  for (const auto& [name, summary] : engineNames()) {
-    help += fmt::format("{} {}: {}", names.empty() ? "" : ";", name, summary);
-    names.push_back(name);
-  }
-  return other("model", "engine", Kind::Choice, "lumped", help, false, {}, names);
 }
 
 // The rows of the top level, the tissue, its geometry and layers.
@@ -105,9 +87,7 @@ void scenarioAndTissue(std::vector<FieldDoc>& s) {
   add(other("tissue", "inclusions", Kind::List, "",
             "bodies embedded in the block (a tumour to target, a vessel): engines mpm, explicit and realtime2d",
             false, "inclusion"));
-  add(extent("block", "length", kMaxBlockSide, "extent along the insertion axis (entry face to exit face)"));
-  add(extent("block", "width", kMaxBlockSide, "extent across the insertion axis, in the insertion plane"));
-  add(extent("block", "height", kMaxBlockSide, "extent out of the insertion plane"));
+  for (const auto& f : blockTable().docs()) add(f);
 
   // --- geometry (scenario/tissue_geometry.hpp)
   add(other("geometry", "file", Kind::String, "",
@@ -219,8 +199,7 @@ void needleInsertionModel(std::vector<FieldDoc>& s) {
     for (const auto& f : segmentKindTable(kind).docs()) add(f);
 
   // --- model
-  add(engineChoice());
-  add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
+  for (const auto& f : modelTable().docs()) add(f);
   // Each engine's section model.<key>, declared beside the engine (scenario/model_section.hpp).
   for (const ModelSection* m : modelSections()) {
     add(other("model", m->key, Kind::Section, "", m->help, false, m->key));
