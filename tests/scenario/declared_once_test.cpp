@@ -16,6 +16,7 @@
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/scenario/model_section.hpp"
+#include "needlesim/scenario/problem_sections.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/scenario/schema.hpp"
 
@@ -125,8 +126,112 @@ TEST(DeclaredOnce, StructDefaultsAreTheSchemaDefaults) {
   EXPECT_EQ(n.youngs_modulus, units::parse(scenario::field("needle", "youngs_modulus").default_text).value);
   EXPECT_EQ(n.density, units::parse(scenario::field("needle", "density").default_text).value);
   EXPECT_EQ(n.poisson, units::parse(scenario::field("needle", "poisson").default_text).value);
+  const InsertionSpec ins;
+  EXPECT_EQ(ins.entry_angle, units::parse(scenario::field("insertion", "entry_angle").default_text).value);
+  EXPECT_EQ(ins.entry_offset, units::parse(scenario::field("insertion", "entry_offset").default_text).value);
+  const OutputSpec o;
+  EXPECT_EQ(o.checkpoint_interval, units::parse(scenario::field("output", "checkpoint_interval").default_text).value);
+  EXPECT_EQ(o.max_steps, units::parse(scenario::field("output", "max_steps").default_text).value);
+  EXPECT_EQ(MotionSegment{}.duty_cycle, units::parse(scenario::field("insert", "duty_cycle").default_text).value);
+  EXPECT_EQ(ModelSpec{}.time_step, units::parse(scenario::field("model", "time_step").default_text).value);
+  EXPECT_EQ(ModelSpec{}.engine, scenario::field("model", "engine").default_text);
+  EXPECT_EQ(LayerSpec{}.cutting_force, units::parse(scenario::field("cutting", "force").default_text).value);
   EXPECT_EQ(ExplicitModelSpec{}.cfl, units::parse(scenario::field("explicit", "cfl").default_text).value);
   EXPECT_EQ(MpmModelSpec{}.grid_spacing, units::parse(scenario::field("mpm", "grid_spacing").default_text).value);
+}
+
+// The schema rows of section `type` are the rows of its table, in order.
+template <class Spec>
+void expectSchemaIsTable(const scenario::ParamTable<Spec>& table) {
+  const auto rows = table.docs();
+  const auto schema = scenario::fieldsOf(table.type());
+  ASSERT_EQ(rows.size(), schema.size()) << table.type();
+  for (std::size_t i = 0; i < rows.size(); ++i) {
+    SCOPED_TRACE(table.type() + "." + rows[i].key);
+    EXPECT_EQ(schema[i]->key, rows[i].key);
+    EXPECT_EQ(schema[i]->default_text, rows[i].default_text);
+    EXPECT_EQ(schema[i]->rangeText(), rows[i].rangeText());
+    EXPECT_EQ(schema[i]->required, rows[i].required);
+    EXPECT_EQ(schema[i]->help, rows[i].help);
+  }
+}
+
+TEST(DeclaredOnce, BlockNeedleInsertionModelOutputAndForceSectionsAreTheirTables) {
+  expectSchemaIsTable(scenario::blockTable());
+  expectSchemaIsTable(scenario::needleTable());
+  expectSchemaIsTable(scenario::insertionTable());
+  expectSchemaIsTable(scenario::segmentTable());
+  for (const char* kind : {"insert", "retract", "pause", "rotate"}) expectSchemaIsTable(scenario::segmentKindTable(kind));
+  expectSchemaIsTable(scenario::outputTable());
+  // model: engine and time_step from the table, then one row per engine's section
+  const auto model = scenario::modelTable().docs();
+  ASSERT_EQ(model.size(), 2u);
+  EXPECT_EQ(scenario::fieldsOf("model").at(0)->key, model[0].key);
+  EXPECT_EQ(scenario::fieldsOf("model").at(1)->default_text, model[1].default_text);
+  expectSchemaIsTable(scenario::frictionTable());
+  expectSchemaIsTable(scenario::punctureTable());
+  expectSchemaIsTable(scenario::cuttingTable());
+  expectSchemaIsTable(scenario::interactionTable());
+}
+
+TEST(DeclaredOnce, AScenarioGivingOnlyWhatIsRequiredGetsTheStructDefaults) {
+  // Every optional field of the needle, insertion, its segments, output and a layer's forces left out.
+  const std::string yaml = R"(tissue:
+  block: {length: 50 mm, width: 50 mm, height: 50 mm}
+  material: gelatin_10wt
+needle: {outer_diameter: 1 mm, length: 100 mm}
+insertion:
+  profile:
+    - insert: {to: 20 mm, speed: 1 mm/s}
+    - rotate: {by: 90 deg, rate: 90 deg/s}
+    - pause: {duration: 1 s}
+    - retract: {to: 0 mm, speed: 1 mm/s}
+)";
+  const Scenario sc = scenario::readText(yaml, "required_only.yaml");
+  const NeedleSpec n;
+  EXPECT_EQ(sc.needle.inner_diameter, 0.0);  // no gauge: solid
+  EXPECT_EQ(sc.needle.bevel_angle, n.bevel_angle);
+  EXPECT_EQ(sc.needle.tip, n.tip);
+  EXPECT_EQ(sc.needle.youngs_modulus, n.youngs_modulus);
+  EXPECT_EQ(sc.needle.poisson, n.poisson);
+  EXPECT_EQ(sc.needle.density, n.density);
+  const InsertionSpec ins;
+  EXPECT_EQ(sc.insertion.entry_angle, ins.entry_angle);
+  EXPECT_EQ(sc.insertion.entry_offset, ins.entry_offset);
+  EXPECT_EQ(sc.insertion.start_depth, ins.start_depth);
+  EXPECT_EQ(sc.insertion.bevel_orientation, ins.bevel_orientation);
+  const MotionSegment m;
+  ASSERT_EQ(sc.insertion.segments.size(), 4u);
+  EXPECT_EQ(sc.insertion.segments[0].rate, m.rate);
+  EXPECT_EQ(sc.insertion.segments[0].duty_cycle, m.duty_cycle);
+  EXPECT_EQ(sc.insertion.segments[1].axial, m.axial);
+  EXPECT_EQ(sc.insertion.segments[1].duration, 1.0);  // 90 deg at 90 deg/s
+  EXPECT_EQ(sc.model.engine, ModelSpec{}.engine);
+  EXPECT_EQ(sc.model.time_step, ModelSpec{}.time_step);
+  const OutputSpec o;
+  EXPECT_EQ(sc.output.directory, o.directory);
+  EXPECT_EQ(sc.output.interval, o.interval);
+  EXPECT_EQ(sc.output.checkpoint_interval, o.checkpoint_interval);
+  EXPECT_EQ(sc.output.max_steps, o.max_steps);
+  EXPECT_EQ(sc.output.csv, o.csv);
+  EXPECT_EQ(sc.output.html, o.html);
+  const LayerSpec l;
+  const LayerSpec& got = sc.tissue.layers.at(0);
+  EXPECT_EQ(got.puncture_force, l.puncture_force);
+  EXPECT_EQ(got.puncture_depth, l.puncture_depth);
+  EXPECT_EQ(got.cutting_force, l.cutting_force);
+  EXPECT_EQ(got.interaction_stiffness, l.interaction_stiffness);
+  EXPECT_EQ(got.toughness, l.toughness);
+  EXPECT_EQ(got.friction.C_p, l.friction.C_p);
+  EXPECT_EQ(got.friction.coefficient, l.friction.coefficient);
+  // The scenario's Karnopp band is the schema's (the struct keeps 0 for friction built in code).
+  EXPECT_EQ(got.friction.static_band, units::parse(scenario::field("friction", "static_band").default_text).value);
+  // Schema, record and struct agree on every field of these sections (walks the record).
+  std::set<std::string> seen;
+  compare(nlohmann::json::parse(sc.understood), "scenario", "", sc, seen);
+  for (const char* f : {"rotate.axis", "insert.duty_cycle", "insert.spin_rate", "output.max_steps",
+                        "output.checkpoint_interval", "needle.inner_diameter", "friction.D_n", "cutting.force"})
+    EXPECT_TRUE(seen.count(f)) << f << " is not recorded";
 }
 
 TEST(DeclaredOnce, APunctureDepthIsItsOwnField) {

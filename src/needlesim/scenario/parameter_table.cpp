@@ -3,9 +3,22 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <stdexcept>
 
 namespace needlesim::scenario {
+namespace {
+// "1e+06" -> "1e6", "2.5e-05" -> "2.5e-5": an exponent as a user writes it.
+std::string compactExponent(std::string t) {
+  const auto e = t.find('e');
+  if (e == std::string::npos) return t;
+  std::string exponent = t.substr(e + 1);
+  const bool negative = exponent[0] == '-';
+  exponent.erase(0, exponent.find_first_not_of("+-"));
+  exponent.erase(0, std::min(exponent.find_first_not_of('0'), exponent.size() - 1));
+  return t.substr(0, e + 1) + (negative ? "-" : "") + exponent;
+}
+}  // namespace
 
 std::string defaultText(double si, const units::Dim& dim, const std::string& unit) {
   const auto readsBack = [&](const std::string& text) {
@@ -16,7 +29,7 @@ std::string defaultText(double si, const units::Dim& dim, const std::string& uni
     }
   };
   if (unit.empty()) {
-    const std::string t = fmt::format("{:g}", si);
+    const std::string t = compactExponent(fmt::format("{:g}", si));
     return readsBack(t) ? t : fmt::format("{}", si);
   }
   const double scale = units::parse("1 " + unit).value;

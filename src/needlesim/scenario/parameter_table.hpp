@@ -58,6 +58,26 @@ class ParamTable {
   ParamTable& number(double Spec::*member, const std::string& key, Range r, std::string help) {
     return quantity(member, key, units::dim::None, "", r, std::move(help));
   }
+  // A quantity the file must give (no default).
+  ParamTable& required(double Spec::*member, const std::string& key, const units::Dim& dim, Range r,
+                       std::string help) {
+    FieldDoc f = numberDoc(type_, key, dim, r, "", std::move(help));
+    f.required = true;
+    return row(std::move(f), [member, key](Section& s, Spec& spec, const Scenario&) { spec.*member = s.number(key); });
+  }
+  // A quantity that may be left out: the member keeps its initial value, and nothing is recorded.
+  ParamTable& optional(double Spec::*member, const std::string& key, const units::Dim& dim, Range r,
+                       std::string help) {
+    return row(numberDoc(type_, key, dim, r, "", std::move(help)),
+               [member, key](Section& s, Spec& spec, const Scenario&) {
+                 if (const auto given = s.optNumber(key)) spec.*member = *given;
+               });
+  }
+  // Free text; `shown` documents what an absent one stands for (nothing is recorded then).
+  ParamTable& text(std::string Spec::*member, const std::string& key, std::string shown, std::string help) {
+    return row(otherDoc(key, Kind::String, std::move(shown), std::move(help)),
+               [member, key](Section& s, Spec& spec, const Scenario&) { spec.*member = s.text(key); });
+  }
   // A quantity whose default is a formula of other fields (`formula` documents it); absent,
   // `resolve` gives the value, which is recorded.
   ParamTable& derived(double Spec::*member, const std::string& key, const units::Dim& dim, Range r,

@@ -7,13 +7,13 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
-#include <numbers>
 
 #include "needlesim/core/embedded.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/nearest_name.hpp"
 #include "needlesim/scenario/mesh_file.hpp"
 #include "needlesim/scenario/model_section.hpp"
+#include "needlesim/scenario/problem_sections.hpp"
 #include "needlesim/scenario/tissue_geometry.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/scenario/yaml_document.hpp"
@@ -109,7 +109,7 @@ MaterialSpec readMaterial(Section& parent, const std::string& key) {
   return spec;
 }
 
-LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockLength) {
+LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockLength, const Scenario& sc) {
   LayerSpec L;
   if (shorthand) {
     L.name = "tissue";
@@ -131,36 +131,13 @@ LayerSpec readLayer(Section& s, std::size_t index, bool shorthand, double blockL
   L.material = readMaterial(s, "material");
 
   Section p = s.sub("puncture");
-  auto pf = p.optNumber("force");
-  auto pd = p.optNumber("depth");
-  if (pf && pd) throw p.error("depth", "", "give the puncture force or depth, not both", "force or depth");
-  if (pf) L.puncture_force = *pf;
-  if (pd) L.puncture_depth = *pd;  // the engine's stiffness law gives the force at this depth
-
+  punctureTable().read(p, L, sc);
   Section c = s.sub("cutting");
-  L.cutting_force = c.number("force");
-
+  cuttingTable().read(c, L, sc);
   Section f = s.sub("friction");
-  FrictionSpec& fr = L.friction;
-  // A default that is another field or a formula is recorded as the value it gives.
-  const auto orDerived = [&f](const char* key, double value) {
-    if (auto given = f.optNumber(key)) return *given;
-    f.rememberNumber(key, value);
-    return value;
-  };
-  fr.C_p = f.number("C_p");
-  fr.b_p = f.number("b_p");
-  fr.C_n = orDerived("C_n", fr.C_p);
-  fr.b_n = orDerived("b_n", fr.b_p);
-  fr.static_band = f.number("static_band");
-  // seed 003 eq 3.23: continuity of the Karnopp law at |v| = Delta v / 2 by default.
-  fr.D_p = orDerived("D_p", fr.C_p + fr.b_p * fr.static_band / 2.0);
-  fr.D_n = orDerived("D_n", fr.C_n + fr.b_n * fr.static_band / 2.0);
-  fr.coefficient = f.number("coefficient");
-
+  frictionTable().read(f, L.friction, sc);
   Section in = s.sub("interaction");
-  L.interaction_stiffness = in.optNumber("K_T").value_or(0.0);
-  L.toughness = in.optNumber("toughness").value_or(0.0);
+  interactionTable().read(in, L, sc);
   return L;
 }
 
@@ -239,7 +216,7 @@ void readPlacedInclusion(Section& s, InclusionSpec& I, const TissueSpec& T) {
 }
 
 // tissue.block, or tissue.geometry (scenario/tissue_geometry.hpp) whose bounding box is the block.
-void readBlockOrGeometry(Section& t, const std::string& source, TissueSpec& T) {
+void readBlockOrGeometry(Section& t, const std::string& source, TissueSpec& T, const Scenario& sc) {
   if (t.has("block") == t.has("geometry"))
     throw t.error(t.has("block") ? "geometry" : "block", "",
                   t.has("block") ? "is given together with tissue.block" : "is required but missing",
@@ -250,9 +227,7 @@ void readBlockOrGeometry(Section& t, const std::string& source, TissueSpec& T) {
     return;
   }
   Section b = t.sub("block");
-  T.length = b.number("length");
-  T.width = b.number("width");
-  T.height = b.number("height");
+  blockTable().read(b, T, sc);
 }
 
 // Regions, inclusion shapes and the held far side of an imported geometry.
@@ -265,13 +240,13 @@ void finishGeometry(Section& t, TissueSpec& T) {
   T.geometry = geometry;
 }
 
-TissueSpec readTissue(Section& t, const std::string& source) {
+TissueSpec readTissue(Section& t, const std::string& source, const Scenario& sc) {
   TissueSpec T;
-  readBlockOrGeometry(t, source, T);
+  readBlockOrGeometry(t, source, T, sc);
   const double blockLength = T.geometry ? 0.0 : T.length;
   auto layers = t.list("layers");
   if (layers.empty()) {
-    T.layers.push_back(readLayer(t, 0, true, T.length));
+    T.layers.push_back(readLayer(t, 0, true, T.length, sc));
   } else {
     for (const char* k : {"material", "puncture", "cutting", "friction", "interaction"})
       if (t.has(k))
@@ -279,7 +254,7 @@ TissueSpec readTissue(Section& t, const std::string& source) {
                       "either tissue.layers, or one layer's fields directly under tissue");
     for (std::size_t i = 0; i < layers.size(); ++i) {
       Section l = t.element(layers[i], "layers", i);
-      T.layers.push_back(readLayer(l, i, false, blockLength));
+      T.layers.push_back(readLayer(l, i, false, blockLength, sc));
     }
   }
   if (!layers.empty() && !T.geometry) {
@@ -305,88 +280,6 @@ TissueSpec readTissue(Section& t, const std::string& source) {
   return T;
 }
 
-NeedleSpec readNeedle(Section& s) {
-  NeedleSpec N;
-  units::Quantity od = s.lengthOrGauge("outer_diameter");
-  double defaultInner = 0.0;
-  if (od.gauge) {
-    auto g = units::gaugeSize(static_cast<int>(od.value));
-    N.outer_diameter = g->outer;
-    defaultInner = g->inner;
-  } else {
-    N.outer_diameter = od.value;
-  }
-  N.inner_diameter = s.optNumber("inner_diameter").value_or(defaultInner);
-  if (!s.has("inner_diameter")) s.rememberNumber("inner_diameter", N.inner_diameter);
-  if (N.inner_diameter >= N.outer_diameter)
-    throw s.error("inner_diameter", fmt::format("{:g} mm", N.inner_diameter * 1e3),
-                  "must be smaller than the outer diameter",
-                  fmt::format("< {:g} mm", N.outer_diameter * 1e3));
-  N.length = s.number("length");
-  N.bevel_angle = s.number("bevel_angle");
-  std::string tip = s.choice("tip");
-  N.tip = tip == "bevel" ? TipType::Bevel : tip == "conical" ? TipType::Conical : TipType::Blunt;
-  N.youngs_modulus = s.number("youngs_modulus");
-  N.poisson = s.number("poisson");
-  N.density = s.number("density");
-  return N;
-}
-
-InsertionSpec readInsertion(Section& s, const NeedleSpec& needle) {
-  InsertionSpec I;
-  I.entry_angle = s.number("entry_angle");
-  I.entry_offset = s.number("entry_offset");
-  I.start_depth = s.number("start_depth");
-  I.bevel_orientation = s.number("bevel_orientation");
-  if (I.start_depth > needle.length)
-    throw s.error("start_depth", "", "is deeper than the needle is long", fmt::format("<= {:g} mm", needle.length * 1e3));
-  auto segs = s.list("profile");
-  double depth = I.start_depth;
-  for (std::size_t i = 0; i < segs.size(); ++i) {
-    if (!segs[i].IsMap() || segs[i].size() != 1)
-      throw s.errorAt(segs[i], fmt::format("insertion.profile[{}]", i), segs[i].IsScalar() ? segs[i].Scalar() : "",
-                      "each segment must be exactly one of insert / pause / retract / rotate",
-                      "e.g. '- insert: {to: 60 mm, speed: 3 mm/s}'");
-    Section seg = s.element(segs[i], "profile", i);
-    MotionSegment m;
-    std::string kind = segs[i].begin()->first.as<std::string>();
-    Section body = seg.sub(kind);
-    if (kind == "insert" || kind == "retract") {
-      m.kind = kind == "insert" ? MotionSegment::Kind::Insert : MotionSegment::Kind::Retract;
-      m.to_depth = body.number("to");
-      m.speed = body.number("speed");
-      if (kind == "insert") {
-        m.rate = body.number("spin_rate");
-        m.duty_cycle = body.number("duty_cycle");
-        if (m.to_depth <= depth)
-          throw body.error("to", fmt::format("{:g} mm", m.to_depth * 1e3),
-                           fmt::format("an insert must go deeper than where the tip is ({:g} mm)", depth * 1e3),
-                           fmt::format("> {:g} mm (use retract to go back)", depth * 1e3));
-        if (m.to_depth > needle.length)
-          throw body.error("to", fmt::format("{:g} mm", m.to_depth * 1e3), "is deeper than the needle is long",
-                           fmt::format("<= needle.length = {:g} mm", needle.length * 1e3));
-      } else if (m.to_depth >= depth) {
-        throw body.error("to", fmt::format("{:g} mm", m.to_depth * 1e3),
-                         fmt::format("a retract must end shallower than where the tip is ({:g} mm)", depth * 1e3),
-                         fmt::format("< {:g} mm", depth * 1e3));
-      }
-      depth = m.to_depth;
-    } else if (kind == "pause") {
-      m.kind = MotionSegment::Kind::Pause;
-      m.duration = body.number("duration");
-    } else {
-      m.kind = MotionSegment::Kind::Rotate;
-      m.angle = body.number("by");
-      m.rate = body.number("rate");
-      m.axial = body.choice("axis") == "axial";
-      if (m.angle == 0.0) throw body.error("by", "0", "a rotation must turn by a non-zero angle", "!= 0 deg");
-      m.duration = std::abs(m.angle) / m.rate;
-    }
-    I.segments.push_back(m);
-  }
-  return I;
-}
-
 // The entry point must lie on the entry face, which spans the block's width in the insertion plane.
 // An imported geometry: the path must cross it (scenario/tissue_geometry.hpp findEntry).
 void checkEntryPoint(Section& ins, const InsertionSpec& I, TissueSpec& T, double maxDepth) {
@@ -408,59 +301,6 @@ void checkEntryPoint(Section& ins, const InsertionSpec& I, TissueSpec& T, double
 }
 
 Scenario readSections(Section top, const std::string& source, const Section::Record& record);
-
-// Per display dimension, the unit the problem (tissue, needle, insertion) writes most often,
-// the first written on a tie; the solver's settings (model, output) decide only a dimension
-// the problem does not write (a time step in ms does not make durations ms).
-units::DisplayUnits mostWrittenUnits(const std::vector<UnitWritten>& written) {
-  units::DisplayUnits display;
-  for (const auto& d : units::displayDimensions()) {
-    const UnitWritten* best = nullptr;
-    const auto votes = [](const UnitWritten& w) { return std::pair{w.problem, w.settings}; };
-    for (const auto& w : written)
-      if (units::displayDimensionOfUnit(w.unit) == &d && (!best || votes(w) > votes(*best))) best = &w;
-    if (best) display.prefer(d.name, best->unit);
-  }
-  return display;
-}
-
-// One unit of output.units: InputError at its line for a unit of another dimension or an unknown one.
-std::string displayUnitGiven(Section& us, const units::DisplayDimension& d) {
-  const YAML::Node n = us.raw(std::string(d.name));
-  const std::string key(d.name), text = n.IsScalar() ? n.Scalar() : std::string("a list or section");
-  const std::string allowed = fmt::format("one of: {}", fmt::join(d.units, ", "));
-  for (const auto u : d.units)
-    if (n.IsScalar() && u == text) return us.choice(key);
-  if (const units::DisplayDimension* other = units::displayDimensionOfUnit(text))
-    throw us.error(key, text, fmt::format("is a unit of {}, not of {}", other->name, d.name), allowed);
-  try {
-    const units::Quantity q = units::parse("1 " + text);
-    if (!(q.dim == d.dim))
-      throw us.error(key, text, fmt::format("is a unit of {}, not of {} ({})", units::siName(q.dim), d.name, d.si),
-                     allowed);
-  } catch (const std::invalid_argument&) {
-    throw us.error(key, text, "is not a known unit", allowed);
-  }
-  throw us.error(key, text, fmt::format("is not one of the units results of {} are shown in", d.name), allowed);
-}
-
-// output.units over the units written most often, else SI. Every dimension's unit is
-// recorded, so that a summary.json (whose quantities are all SI) shows its results in the
-// same units again.
-units::DisplayUnits readDisplayUnits(Section& out) {
-  Section us = out.sub("units");
-  const units::DisplayUnits written = mostWrittenUnits(us.unitsWritten());
-  units::DisplayUnits display;
-  for (const auto& d : units::displayDimensions()) {
-    const std::string key(d.name);
-    if (us.has(key))
-      display.set(d.name, displayUnitGiven(us, d));
-    else
-      display.prefer(d.name, written.unitFor(d.si));
-    us.remember(key, display.unitFor(d.si));
-  }
-  return display;
-}
 
 // Data files named in a scenario, relative to the scenario file: the record keeps them
 // absolute so that a scenario re-read from its summary.json finds the same files.
@@ -504,16 +344,15 @@ Scenario readSections(Section top, const std::string& source, const Section::Rec
                       "letters, digits, '_', '-', '.'");
   sc.description = top.text("description");
   Section tissue = top.sub("tissue");
-  sc.tissue = readTissue(tissue, source);
+  sc.tissue = readTissue(tissue, source, sc);
   Section needle = top.sub("needle");
-  sc.needle = readNeedle(needle);
+  needleTable().read(needle, sc.needle, sc);
   Section ins = top.sub("insertion");
-  sc.insertion = readInsertion(ins, sc.needle);
+  insertionTable().read(ins, sc.insertion, sc);
   checkEntryPoint(ins, sc.insertion, sc.tissue, sc.maxDepth());
 
   Section model = top.sub("model");
-  sc.model.engine = model.choice("engine");
-  sc.model.time_step = model.number("time_step");
+  modelTable().read(model, sc.model, sc);
   // Every engine's section (scenario/model_section.hpp), given or not: the record holds them all.
   // Their refusals name fields read before (Scenario::where).
   sc.given_at = record->given_at;
@@ -523,16 +362,7 @@ Scenario readSections(Section top, const std::string& source, const Section::Rec
   }
 
   Section out = top.sub("output");
-  sc.output.directory = out.text("directory");
-  sc.output.interval = out.number("interval");
-  sc.output.checkpoint_interval = out.number("checkpoint_interval");
-  sc.output.max_steps = out.number("max_steps");
-  sc.output.csv = out.boolean("csv");
-  sc.output.html = out.boolean("html");
-  sc.output.units = readDisplayUnits(out);
-  if (sc.output.interval > 0.0 && sc.output.interval < sc.model.time_step)
-    throw out.error("interval", fmt::format("{:g} s", sc.output.interval), "is shorter than model.time_step",
-                    fmt::format(">= {:g} s, or 0 for every step", sc.model.time_step));
+  outputTable().read(out, sc.output, sc);
   if (sc.totalDuration() / sc.model.time_step > 1e9)
     throw model.error("time_step", fmt::format("{:g} s", sc.model.time_step),
                       fmt::format("gives more than 1e9 steps for a {:g} s profile", sc.totalDuration()),

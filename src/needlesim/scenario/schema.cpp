@@ -9,6 +9,7 @@
 #include "needlesim/core/nearest_name.hpp"
 #include "needlesim/materials/material_spec.hpp"
 #include "needlesim/scenario/model_section.hpp"
+#include "needlesim/scenario/problem_sections.hpp"
 
 namespace needlesim::scenario {
 namespace {
@@ -47,18 +48,6 @@ FieldDoc count(std::string sec, std::string key, std::string def, double lo, dou
   f.whole = true;
   return f;
 }
-// Plausibility bounds on sizes: a length above them is a slip of the unit ("55 Mm"), not tissue.
-// Tissue samples, phantoms and organs of needle-insertion studies are centimetres to tens of
-// centimetres (a human torso is under 0.5 m across), so a block side is at most 1 m. The longest
-// clinical needles (spinal, biopsy, brachytherapy) are about 0.3 m long, so a needle is at most
-// 1 m long; the thickest gauge of the table is 10 G (3.4 mm) and trocars reach about 10 mm, so an
-// outer diameter is at most 20 mm.
-constexpr double kMaxBlockSide = 1.0;
-constexpr double kMaxNeedleLength = 1.0;
-constexpr double kMaxNeedleDiameter = 0.02;
-FieldDoc extent(std::string sec, std::string key, double hi, std::string help, bool required = true) {
-  return q(std::move(sec), std::move(key), D::Length, "", 0.0, hi, true, false, std::move(help), required);
-}
 FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::string help,
                bool required = false, std::string child = {}, std::vector<std::string> choices = {}) {
   FieldDoc f;
@@ -71,17 +60,6 @@ FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::s
   f.child = std::move(child);
   f.choices = std::move(choices);
   return f;
-}
-
-// model.engine: one of the registered engines (engines/registry.cpp).
-FieldDoc engineChoice() {
-  std::string help = "engine:";
-  std::vector<std::string> names;
-  for (const auto& [name, summary] : engineNames()) {
-    help += fmt::format("{} {}: {}", names.empty() ? "" : ";", name, summary);
-    names.push_back(name);
-  }
-  return other("model", "engine", Kind::Choice, "lumped", help, false, {}, names);
 }
 
 // The rows of the top level, the tissue, its geometry and layers.
@@ -109,9 +87,7 @@ void scenarioAndTissue(std::vector<FieldDoc>& s) {
   add(other("tissue", "inclusions", Kind::List, "",
             "bodies embedded in the block (a tumour to target, a vessel): engines mpm, explicit and realtime2d",
             false, "inclusion"));
-  add(extent("block", "length", kMaxBlockSide, "extent along the insertion axis (entry face to exit face)"));
-  add(extent("block", "width", kMaxBlockSide, "extent across the insertion axis, in the insertion plane"));
-  add(extent("block", "height", kMaxBlockSide, "extent out of the insertion plane"));
+  for (const auto& f : blockTable().docs()) add(f);
 
   // --- geometry (scenario/tissue_geometry.hpp)
   add(other("geometry", "file", Kind::String, "",
@@ -195,62 +171,24 @@ void inclusionsAndMaterials(std::vector<FieldDoc>& s) {
   add(q("prony", "g", D::None, "", 0.0, 1.0, true, true, "relative modulus g_i; the g_i must sum to less than 1", true));
   add(positive("prony", "tau", D::Time, "", "relaxation time tau_i", true));
 
-  // --- lumped force parameters of a layer
-  add(positive("puncture", "force", D::Force, "", "force at which the tip punctures the layer (give force or depth)"));
-  add(positive("puncture", "depth", D::Length, "", "indentation at which the tip punctures the layer (give force or depth)"));
-  add(nonneg("cutting", "force", D::Force, "0 N", "constant cutting force while the tip advances inside the layer (seed 003 eq 3.24)"));
-  add(nonneg("friction", "C_p", D::ForcePerLength, "0 N/m", "dynamic friction per length in contact, insertion (seed 003 eqs 3.23, 5.1)"));
-  add(nonneg("friction", "b_p", D::ForceTimePerArea, "0 N s/m^2", "viscous friction per length in contact, insertion"));
-  add(nonneg("friction", "C_n", D::ForcePerLength, "C_p", "dynamic friction per length, retraction"));
-  add(nonneg("friction", "b_n", D::ForceTimePerArea, "b_p", "viscous friction per length, retraction"));
-  add(nonneg("friction", "D_p", D::ForcePerLength, "C_p + b_p static_band/2", "static friction limit per length, positive direction"));
-  add(nonneg("friction", "D_n", D::ForcePerLength, "C_n + b_n static_band/2", "static friction limit per length, negative direction (magnitude)"));
-  add(positive("friction", "static_band", D::Velocity, "0.1 mm/s", "Karnopp band Delta v: |v| < Delta v/2 sticks"));
-  add(nonneg("friction", "coefficient", D::None, "0", "Coulomb coefficient for the contact engines (seed 001: 0.3)"));
-  add(positive("interaction", "K_T", D::Pressure, "", "needle-tissue interaction stiffness per unit length (seed 002 eq 13)"));
-  add(positive("interaction", "toughness", D::ForcePerLength, "", "rupture toughness G_c (seed 002 eq 19, seed 004 Table I)"));
+  // --- a layer's force parameters (scenario/problem_sections.hpp)
+  for (const auto& docs : {punctureTable().docs(), cuttingTable().docs(), frictionTable().docs(),
+                           interactionTable().docs()})
+    for (const auto& f : docs) add(f);
 }
 
 // The rows of the needle, the insertion, the model and the engines' sections.
 void needleInsertionModel(std::vector<FieldDoc>& s) {
   auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
-  const double deg = M_PI / 180.0;
-  // --- needle
-  add(extent("needle", "outer_diameter", kMaxNeedleDiameter, "outer diameter, or a gauge such as 18 G"));
-  add(nonneg("needle", "inner_diameter", D::Length, "from the gauge, else 0 mm", "bore diameter (0 = solid)"));
-  add(extent("needle", "length", kMaxNeedleLength, "free length from the base to the tip"));
-  add(q("needle", "bevel_angle", D::Angle, "20 deg", 0.0, 90.0 * deg, true, false, "tip angle alpha of the bevel or cone"));
-  add(other("needle", "tip", Kind::Choice, "bevel", "tip type", false, {}, {"bevel", "conical", "blunt"}));
-  add(positive("needle", "youngs_modulus", D::Pressure, "200 GPa", "needle material (stainless steel; Nitinol is 50 GPa in seed 002)"));
-  add(q("needle", "poisson", D::None, "0.3", -1.0, 0.5, true, true, "needle Poisson ratio"));
-  add(positive("needle", "density", D::Density, "7850 kg/m^3", "needle density"));
-
-  // --- insertion
-  add(q("insertion", "entry_angle", D::Angle, "90 deg", 0.0, 90.0 * deg, true, false, "angle between needle and entry face (90 deg = perpendicular)"));
-  add(q("insertion", "entry_offset", D::Length, "0 mm", -kInf, kInf, false, false,
-        "entry point from the centre of the entry face, in the insertion plane; inside the face (|offset| < block.width / 2)"));
-  add(q("insertion", "start_depth", D::Length, "0 mm", -kInf, kInf, false, false, "tip position along the needle axis at t = 0 (negative = outside)"));
-  add(q("insertion", "bevel_orientation", D::Angle, "0 deg", -kInf, kInf, false, false, "initial axial orientation of the bevel"));
-  add(other("insertion", "profile", Kind::List, "", "motion segments, each one of insert / pause / retract / rotate", true, "segment"));
-  add(other("segment", "insert", Kind::Section, "", "advance the tip", false, "insert"));
-  add(other("segment", "pause", Kind::Section, "", "hold still", false, "pause"));
-  add(other("segment", "retract", Kind::Section, "", "withdraw the tip", false, "retract"));
-  add(other("segment", "rotate", Kind::Section, "", "rotate the needle at the current depth", false, "rotate"));
-  add(q("insert", "to", D::Length, "", -kInf, kInf, false, false, "tip depth at the end of the segment (deeper than at its start)", true));
-  add(positive("insert", "speed", D::Velocity, "", "insertion speed", true));
-  add(nonneg("insert", "spin_rate", D::AngularVelocity, "0 deg/s", "axial spin rate while inserting (duty-cycled steering)"));
-  add(q("insert", "duty_cycle", D::None, "0", 0.0, 1.0, false, false, "fraction of each cycle spent spinning"));
-  add(q("retract", "to", D::Length, "", -kInf, kInf, false, false, "tip depth at the end of the segment (shallower than at its start)", true));
-  add(positive("retract", "speed", D::Velocity, "", "retraction speed", true));
-  add(positive("pause", "duration", D::Time, "", "how long to hold still", true));
-  add(q("rotate", "by", D::Angle, "", -kInf, kInf, false, false, "rotation angle (non-zero)", true));
-  add(positive("rotate", "rate", D::AngularVelocity, "", "rotation rate", true));
-  add(other("rotate", "axis", Kind::Choice, "axial", "about the needle axis (bevel flip) or the base in the insertion plane",
-            false, {}, {"axial", "in-plane"}));
+  // --- needle and insertion (scenario/problem_sections.hpp)
+  for (const auto& f : needleTable().docs()) add(f);
+  for (const auto& f : insertionTable().docs()) add(f);
+  for (const auto& f : segmentTable().docs()) add(f);
+  for (const char* kind : {"insert", "retract", "pause", "rotate"})
+    for (const auto& f : segmentKindTable(kind).docs()) add(f);
 
   // --- model
-  add(engineChoice());
-  add(positive("model", "time_step", D::Time, "1 ms", "integration step"));
+  for (const auto& f : modelTable().docs()) add(f);
   // Each engine's section model.<key>, declared beside the engine (scenario/model_section.hpp).
   for (const ModelSection* m : modelSections()) {
     add(other("model", m->key, Kind::Section, "", m->help, false, m->key));
@@ -261,21 +199,8 @@ void needleInsertionModel(std::vector<FieldDoc>& s) {
 // The rows of the output and parameter studies.
 void outputAndStudy(std::vector<FieldDoc>& s) {
   auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
-  // --- output
-  add(other("output", "directory", Kind::String, "results/<name>", "results folder; an existing one is never overwritten"));
-  add(nonneg("output", "interval", D::Time, "0 s", "sampling interval of the time series (0 = every step)"));
-  add(nonneg("output", "checkpoint_interval", D::Time, "10 min",
-             "wall-clock time between checkpoints of a long run, written beside the results folder for `needlesim run "
-             "--resume` (0 = none; mpm only so far)"));
-  add(q("output", "max_steps", D::None, "1e6", 1.0, 1e15, false, false, "refuse a run whose step estimate (printed before the first step, and by `needlesim check`) is larger; raise it to allow a long run"));
-  add(other("output", "csv", Kind::Bool, "true", "write CSV time series"));
-  add(other("output", "html", Kind::Bool, "true", "write report.html"));
-  add(other("output", "units", Kind::Section, "",
-            "units the terminal and report.html show results in, per dimension (files keep SI); a dimension not "
-            "given here is shown in the unit the file writes most often for it (tissue, needle and insertion "
-            "first, then model and output), else in SI, or in the unit that shows the value (an axis or column: "
-            "its largest) between 0.1 and 1000 when that one does not (20 s, not 20000 ms)",
-            false, "units"));
+  // --- output (scenario/problem_sections.hpp)
+  for (const auto& f : outputTable().docs()) add(f);
   for (const auto& d : units::displayDimensions()) {
     std::vector<std::string> allowed(d.units.begin(), d.units.end());
     std::string words(d.name);
