@@ -1,7 +1,7 @@
 #pragma once
 // Modified Karnopp friction per unit length of needle in contact
 // (seed 003 eq 3.23, per-length coefficients as in eq 5.1).
-#include "needlesim/scenario/scenario.hpp"
+#include "needlesim/contact/friction_spec.hpp"
 
 namespace needlesim::contact {
 
