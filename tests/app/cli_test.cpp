@@ -511,10 +511,13 @@ TEST(Cli, ACohesiveLawWithoutABilinearTriangleIsRefusedWithItsLine) {
   ASSERT_NE(pos, std::string::npos);
   yaml.insert(pos + at.size(), "      stiffness: 1 Pa/m\n");
   std::ofstream(dir / "soft_law.yaml") << yaml;
+  // the line of the inserted stiffness: the one after `cohesive:`
+  const auto line = std::count(yaml.begin(), yaml.begin() + static_cast<std::ptrdiff_t>(pos), '\n') + 2;
+  const std::string where = "soft_law.yaml:" + std::to_string(line) + ":";
   for (const std::string& cmd : {std::string("check "), "run --quiet --out " + (dir / "out").string() + " "}) {
     auto r = runCli(cmd + (dir / "soft_law.yaml").string());
     EXPECT_EQ(r.code, 2) << cmd << r.out;
-    EXPECT_NE(r.out.find("soft_law.yaml:51:"), std::string::npos) << r.out;
+    EXPECT_NE(r.out.find(where), std::string::npos) << where << "\n" << r.out;
     EXPECT_NE(r.out.find("model.explicit.cohesive"), std::string::npos) << r.out;
     EXPECT_NE(r.out.find("no bilinear law exists"), std::string::npos) << r.out;
   }
