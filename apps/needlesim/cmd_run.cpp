@@ -16,7 +16,7 @@
 #include "needlesim/core/units.hpp"
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/run_scenario.hpp"
-#include "needlesim/io/checkpoint.hpp"
+#include "needlesim/results/checkpoint.hpp"
 #include "needlesim/io/folder_lock.hpp"
 #include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"

@@ -11,7 +11,7 @@
 #include "commands.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 #include "needlesim/live/haptic_server.hpp"
 #include "needlesim/live/live_session.hpp"
 #include "needlesim/live/net_address.hpp"

@@ -16,8 +16,8 @@
 #include <csignal>
 #include <vector>
 
-#include "needlesim/io/checkpoint.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/checkpoint.hpp"
+#include "needlesim/results/results_folder.hpp"
 #include "cli_run.hpp"
 
 namespace fs = std::filesystem;
@@ -204,7 +204,7 @@ TEST(Cli, EveryShippedExampleAndStudyPassesCheck) {
   EXPECT_NE(bad.out.find("1 of 2 files"), std::string::npos) << bad.out;
 }
 
-// needlesim run --resume (io/checkpoint.hpp): every refusal is an input error
+// needlesim run --resume (results/checkpoint.hpp): every refusal is an input error
 // (exit code 2) naming the file; the bit-identical resume itself is tested in
 // tests/mpm/test_mpm_checkpoint.cpp.
 TEST(Cli, ResumeRefusalsExitWithCode2AndNameTheFile) {

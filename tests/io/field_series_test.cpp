@@ -14,7 +14,7 @@
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/field_series.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;

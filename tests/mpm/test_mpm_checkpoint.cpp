@@ -1,4 +1,4 @@
-// Checkpoints of the mpm engine (io/checkpoint.hpp, MpmSolver::saveState /
+// Checkpoints of the mpm engine (results/checkpoint.hpp, MpmSolver::saveState /
 // loadState; docs/models/mpm.md "Checkpoints"): a run interrupted after a
 // checkpoint and resumed must give the same results folder, bit for bit, as
 // one uninterrupted run with the same thread count; a checkpoint of another
@@ -22,7 +22,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 #include "needlesim/engines/run_scenario.hpp"
-#include "needlesim/io/checkpoint.hpp"
+#include "needlesim/results/checkpoint.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;

@@ -6,7 +6,7 @@
 //
 // D_p and D_n are used as given: the scenario reader's default is the continuous law,
 // D = C + b static_band / 2; a FrictionSpec built in code with D = 0 has no static friction.
-#include "needlesim/scenario/scenario.hpp"
+#include "needlesim/contact/friction_spec.hpp"
 
 namespace needlesim::contact {
 

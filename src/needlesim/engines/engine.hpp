@@ -8,8 +8,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"  // RunInterrupted
 #include "needlesim/engines/step_guard.hpp"
-#include "needlesim/io/html_report.hpp"
-#include "needlesim/io/table.hpp"
+#include "needlesim/results/result_sink.hpp"
 #include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim {
@@ -17,33 +16,12 @@ namespace scenario {
 struct ModelSection;
 }
 namespace io {
-class FieldSeries;
 class Checkpoint;
 }
 
-class ResultSink {
- public:
-  virtual ~ResultSink() = default;
-  // A time series or other table; written as <name>.csv.
-  virtual void table(const std::string& name, io::Table table) = 0;
-  // A key result for summary.json and the report's table.
-  virtual void result(const std::string& key, double value, const std::string& unit,
-                      const std::string& meaning) = 0;
-  virtual void plot(io::Plot plot) = 0;
-  virtual void note(const std::string& text) = 0;
-  // Something the user must see: the results may not mean what they seem
-  // (not quasi-static, energy balance off, values clipped, stopped early).
-  // A results folder prints it at once and lists it in summary.json
-  // ("warnings") and at the top of the report; other sinks keep it as a note.
-  virtual void warning(const std::string& text) { note("warning: " + text); }
-  // A field time series for ParaView (<name>.h5 + <name>.xdmf), streamed step
-  // by step; nullptr when this sink keeps no fields (tests, sweeps without fields).
-  virtual io::FieldSeries* fields(const std::string& /*name*/, int /*dim*/) { return nullptr; }
-};
-
 struct RunOptions {
   bool progress = true;  // show progress on a terminal
-  // Checkpoints (io/checkpoint.hpp): where to write them, how often, and
+  // Checkpoints (results/checkpoint.hpp): where to write them, how often, and
   // whether to resume; nullptr = none (sweeps, in-memory runs). Engines that
   // do not support them ignore it (only mpm writes checkpoints so far).
   io::Checkpoint* checkpoint = nullptr;

@@ -8,7 +8,7 @@
 #include <thread>
 
 #include "needlesim/core/error.hpp"
-#include "needlesim/io/checkpoint.hpp"
+#include "needlesim/results/checkpoint.hpp"
 
 namespace needlesim {
 

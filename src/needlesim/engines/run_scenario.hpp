@@ -5,7 +5,7 @@
 #include <vector>
 
 #include "needlesim/engines/engine.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 
 namespace needlesim {
 

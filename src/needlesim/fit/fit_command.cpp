@@ -13,7 +13,7 @@
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/csv_reader.hpp"
 #include "needlesim/io/html_report.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 #include "needlesim/results/display_units.hpp"
 
 namespace needlesim::fit {

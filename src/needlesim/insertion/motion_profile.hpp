@@ -3,7 +3,7 @@
 // axis, its velocity, and the rotations, for any engine to sample.
 #include <vector>
 
-#include "needlesim/scenario/scenario.hpp"
+#include "needlesim/insertion/insertion_spec.hpp"
 
 namespace needlesim {
 

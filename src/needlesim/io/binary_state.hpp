@@ -1,5 +1,5 @@
 #pragma once
-// Versioned binary state files (checkpoints of long runs, io/checkpoint.hpp).
+// Versioned binary state files (checkpoints of long runs, results/checkpoint.hpp).
 // A file is: the magic "NSSTATE\n", the kind (e.g. "checkpoint"), the format
 // version, the payload length, the payload, and an FNV-1a 64-bit checksum of
 // everything before it. Readers check all of these and name the file and

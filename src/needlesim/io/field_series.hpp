@@ -53,7 +53,7 @@ class FieldSeries {
   std::size_t steps() const;
   const std::filesystem::path& xdmfPath() const;
 
-  // Checkpoints (io/checkpoint.hpp): saveState writes the series so far (its
+  // Checkpoints (results/checkpoint.hpp): saveState writes the series so far (its
   // steps and datasets) into `w` and a copy of the HDF5 file to `h5copy`
   // (through a temporary file, renamed); restore continues the series from
   // such a copy, replacing whatever this series holds, and rewrites the XDMF.

@@ -8,7 +8,7 @@
 #include "needlesim/api/scenario_impl.hpp"
 #include "needlesim/core/error.hpp"
 #include "needlesim/io/csv_reader.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 #include "needlesim/results/forces_table.hpp"
 
 namespace needlesim::live {

@@ -30,8 +30,4 @@ double InsertionFrame::bevelSign(double roll) const {
   return std::cos(bevelOrientation + roll) >= 0.0 ? 1.0 : -1.0;
 }
 
-Eigen::Vector3d cornerShift(const TissueSpec& tissue) {
-  return {0.0, 0.5 * tissue.width, 0.5 * tissue.height};
-}
-
 }  // namespace needlesim::needle

@@ -24,7 +24,7 @@
 // needle along `lateral`, tip_deflection the tip's offset along `lateral`.
 #include <Eigen/Core>
 
-#include "needlesim/scenario/scenario.hpp"
+#include "needlesim/insertion/insertion_spec.hpp"
 
 namespace needlesim::needle {
 
@@ -53,7 +53,11 @@ struct InsertionFrame {
 
 // Vector from the centre of the entry face to the block's corner origin
 // (x = 0, y = -width/2, z = -height/2): add it to a centred point to get the
-// point in a frame whose origin is that corner.
-Eigen::Vector3d cornerShift(const TissueSpec& tissue);
+// point in a frame whose origin is that corner. Tissue: anything with width and
+// height (a TissueSpec of scenario/scenario.hpp, which this layer does not include).
+template <class Tissue>
+Eigen::Vector3d cornerShift(const Tissue& tissue) {
+  return {0.0, 0.5 * tissue.width, 0.5 * tissue.height};
+}
 
 }  // namespace needlesim::needle

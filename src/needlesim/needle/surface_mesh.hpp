@@ -20,7 +20,7 @@
 #include <Eigen/Geometry>
 #include <vector>
 
-#include "needlesim/scenario/scenario.hpp"
+#include "needlesim/needle/needle_spec.hpp"
 
 namespace needlesim::needle {
 

@@ -1,7 +1,7 @@
 #include "needlesim/results/inclusion_motion.hpp"
 
 #include "needlesim/core/error.hpp"
-#include "needlesim/engines/engine.hpp"
+#include "needlesim/results/result_sink.hpp"
 
 namespace needlesim::results {
 

@@ -8,7 +8,10 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/units.hpp"
+#include "needlesim/contact/friction_spec.hpp"
+#include "needlesim/insertion/insertion_spec.hpp"
 #include "needlesim/materials/material_spec.hpp"
+#include "needlesim/needle/needle_spec.hpp"
 // Each engine's model.<engine> settings, declared beside the engine (engines/<engine>/<engine>_section.hpp).
 #include "needlesim/engines/explicit/explicit_section.hpp"
 #include "needlesim/engines/lumped/lumped_section.hpp"
@@ -22,19 +25,6 @@ namespace needlesim {
 namespace mesh {
 struct VolumeMesh;  // mesh/volume_mesh.hpp
 }
-
-// Modified Karnopp friction along the shaft, per unit length in contact
-// (seed 003 eq 3.23 with the per-length coefficients of eq 5.1).
-struct FrictionSpec {
-  double C_p = 0.0;          // N/m, dynamic friction, insertion
-  double b_p = 0.0;          // N s/m^2, damping, insertion
-  double C_n = 0.0;          // N/m, dynamic friction, retraction (magnitude)
-  double b_n = 0.0;          // N s/m^2, damping, retraction
-  double D_p = 0.0;          // N/m, static friction limit, positive direction
-  double D_n = 0.0;          // N/m, static friction limit, negative direction (magnitude)
-  double static_band = 0.0;  // m/s, Delta v: |v| < Delta v/2 counts as sticking
-  double coefficient = 0.0;  // Coulomb coefficient for contact engines (seed 001: 0.3)
-};
 
 struct LayerSpec {
   std::string name;
@@ -98,39 +88,6 @@ struct TissueSpec {
   std::size_t layerAt(double x) const;
 };
 
-enum class TipType { Bevel, Conical, Blunt };
-
-struct NeedleSpec {
-  double outer_diameter = 0.0;  // m
-  double inner_diameter = 0.0;  // m (0 = solid)
-  double length = 0.0;          // m
-  double bevel_angle = 20.0 * (3.14159265358979323846 / 180.0);  // rad (tip angle alpha), 20 deg
-  TipType tip = TipType::Bevel;
-  double youngs_modulus = 200e9;  // Pa (steel)
-  double poisson = 0.3;
-  double density = 7850.0;  // kg/m^3 (steel)
-};
-
-struct MotionSegment {
-  enum class Kind { Insert, Pause, Retract, Rotate };
-  Kind kind = Kind::Insert;
-  double speed = 0.0;       // m/s, > 0 (Insert, Retract)
-  double to_depth = 0.0;    // m, needle tip depth along its axis at the end (Insert, Retract)
-  double duration = 0.0;    // s (Pause; Rotate derived from angle/rate)
-  double angle = 0.0;       // rad (Rotate)
-  double rate = 0.0;        // rad/s (Rotate; spin rate while inserting)
-  bool axial = true;        // Rotate: about the needle axis (bevel) or in the insertion plane (base)
-  double duty_cycle = 0.0;  // Insert: fraction of time spinning (0 = no spinning)
-};
-
-struct InsertionSpec {
-  double entry_angle = 1.5707963267948966;  // rad, between needle and surface (90 deg = normal)
-  double entry_offset = 0.0;                // m, entry point from the centre of the entry face
-  double start_depth = 0.0;                 // m, tip position at t = 0 (negative = outside)
-  double bevel_orientation = 0.0;           // rad, initial axial orientation of the bevel
-  std::vector<MotionSegment> segments;
-};
-
 struct ModelSpec {
   std::string engine = "lumped";  // lumped (others are listed in docs/scenario-format.md)
   double time_step = 1e-3;        // s, output and integration step
@@ -145,7 +102,7 @@ struct ModelSpec {
 struct OutputSpec {
   std::string directory;    // empty = results/<scenario name>
   double interval = 0.0;    // s, sampling interval of the time series (0 = every step)
-  double checkpoint_interval = 600.0;  // s of wall-clock time between checkpoints (0 = none; io/checkpoint.hpp)
+  double checkpoint_interval = 600.0;  // s of wall-clock time between checkpoints (0 = none; results/checkpoint.hpp)
   double max_steps = 1e6;   // run budget: the most steps an engine's estimate may reach (engines/step_guard.hpp)
   bool html = true;
   bool csv = true;

@@ -17,7 +17,7 @@
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/folder_lock.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"

@@ -12,7 +12,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
-#include "needlesim/io/checkpoint.hpp"
+#include "needlesim/results/checkpoint.hpp"
 
 namespace needlesim::engines {
 
@@ -214,7 +214,7 @@ void MpmRun::step() {
   }
 }
 
-// Checkpoints (io/checkpoint.hpp, docs/models/mpm.md "Checkpoints"): the
+// Checkpoints (results/checkpoint.hpp, docs/models/mpm.md "Checkpoints"): the
 // engine's state between two steps (the tables so far, the accumulators of
 // the next output row, the next output times, the markers' and the fracture
 // tracker's records) followed by the solver's. Everything else is set up

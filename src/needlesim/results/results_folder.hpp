@@ -10,7 +10,8 @@
 
 #include <nlohmann/json.hpp>
 
-#include "needlesim/engines/engine.hpp"
+#include "needlesim/results/result_sink.hpp"
+#include "needlesim/scenario/scenario.hpp"
 #include "needlesim/io/field_series.hpp"
 
 namespace needlesim::io {

@@ -1,4 +1,4 @@
-#include "needlesim/io/checkpoint.hpp"
+#include "needlesim/results/checkpoint.hpp"
 
 #include <fmt/format.h>
 
@@ -17,7 +17,7 @@
 #include "needlesim/core/version.hpp"
 #include "needlesim/io/atomic_file.hpp"
 #include "needlesim/io/field_series.hpp"
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 
 namespace needlesim::io {
 namespace fs = std::filesystem;

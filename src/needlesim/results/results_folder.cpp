@@ -1,4 +1,4 @@
-#include "needlesim/io/results_folder.hpp"
+#include "needlesim/results/results_folder.hpp"
 
 #include <fcntl.h>
 #include <fmt/format.h>

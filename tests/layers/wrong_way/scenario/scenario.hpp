@@ -1,0 +1,3 @@
+#pragma once
+// A higher layer that includes a lower one: allowed.
+#include "needlesim/core/units.hpp"
