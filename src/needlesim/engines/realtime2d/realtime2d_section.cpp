@@ -139,19 +139,31 @@ const scenario::ParamTable<Spec>& table() {
 std::vector<scenario::FieldDoc> docs() {
   using namespace scenario;
   std::vector<FieldDoc> out = table().docs();
-  ParamTable<MarkerSpec> m("marker");
-  m.row(m.otherDoc("name", Kind::String, "", "label in results"))
-      .row(numberDoc("marker", "x", units::dim::Length, nonNegative(), "", "depth from the entry face"))
-      .row(numberDoc("marker", "y", units::dim::Length, anyValue(), "",
-                     "lateral distance from the needle path line (through the entry point)"));
-  for (auto f : m.docs()) {
-    f.required = true;
+  for (auto& f : realtimeMarkerDocs(false, "lateral distance from the needle path line (through the entry point)"))
     out.push_back(f);
-  }
   return out;
 }
 
 }  // namespace
+
+std::vector<scenario::FieldDoc> realtimeMarkerDocs(bool with_z, const std::string& y_help) {
+  using namespace scenario;
+  const std::string section = with_z ? "marker3d" : "marker";
+  ParamTable<MarkerSpec> m(section);
+  m.row(m.otherDoc("name", Kind::String, "", "label in results"))
+      .row(numberDoc(section, "x", units::dim::Length, nonNegative(), "", "depth from the entry face"))
+      .row(numberDoc(section, "y", units::dim::Length, anyValue(), "", y_help));
+  std::vector<FieldDoc> out;
+  for (auto f : m.docs()) {
+    f.required = true;
+    out.push_back(f);
+  }
+  if (with_z)
+    out.push_back(numberDoc(section, "z", units::dim::Length, anyValue(),
+                            defaultText(MarkerSpec{}.z, units::dim::Length, "mm"),
+                            "distance from the insertion plane (mid-height of the block)"));
+  return out;
+}
 
 const scenario::ModelSection& realtime2dSection() {
   static const scenario::ModelSection s{

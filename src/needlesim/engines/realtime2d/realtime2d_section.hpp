@@ -10,6 +10,7 @@ struct Scenario;
 namespace scenario {
 struct ModelSection;
 class Section;
+struct FieldDoc;
 }
 
 // A point of the tissue whose displacement is reported (realtime2d, realtime3d engines).
@@ -48,6 +49,8 @@ namespace engines {
 // The markers of a real-time engine's section (markers: a list of `marker`, or of `marker3d`
 // when with_z): inside the block, each name once.
 std::vector<MarkerSpec> readRealtimeMarkers(scenario::Section& engine, const Scenario& sc, bool with_z);
+// The schema rows of those markers: `marker` (name, x, y) or, with_z, `marker3d` (and z).
+std::vector<scenario::FieldDoc> realtimeMarkerDocs(bool with_z, const std::string& y_help);
 // The real-time engines' path-node coupling needs the needle within 45 deg of the entry-face
 // normal: InputError at insertion.entry_angle otherwise.
 void refuseShallowEntry(const Scenario& sc, const std::string& engine);

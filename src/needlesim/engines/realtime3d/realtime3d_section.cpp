@@ -56,17 +56,9 @@ const scenario::ParamTable<Spec>& table() {
 std::vector<scenario::FieldDoc> docs() {
   using namespace scenario;
   std::vector<FieldDoc> out = table().docs();
-  ParamTable<MarkerSpec> m("marker3d");
-  m.row(m.otherDoc("name", Kind::String, "", "label in results"))
-      .row(numberDoc("marker3d", "x", units::dim::Length, nonNegative(), "", "depth from the entry face"))
-      .row(numberDoc("marker3d", "y", units::dim::Length, anyValue(), "",
-                     "lateral distance from the needle path line (through the entry point), in the insertion plane"));
-  for (auto f : m.docs()) {
-    f.required = true;
+  for (auto& f : realtimeMarkerDocs(
+           true, "lateral distance from the needle path line (through the entry point), in the insertion plane"))
     out.push_back(f);
-  }
-  out.push_back(numberDoc("marker3d", "z", units::dim::Length, anyValue(), defaultText(MarkerSpec{}.z, units::dim::Length, "mm"),
-                          "distance from the insertion plane (mid-height of the block)"));
   return out;
 }
 
