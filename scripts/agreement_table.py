@@ -67,7 +67,10 @@ def depth_of_time(forces):
 
 
 def engine_label(folder):
-    summary = json.loads((folder / "summary.json").read_text())
+    try:
+        summary = json.loads((folder / "summary.json").read_text())
+    except (OSError, ValueError) as e:
+        sys.exit(f"agreement_table: {folder / 'summary.json'}: unreadable ({e})")
     sc = summary.get("scenario", {})
     engine = summary.get("engine") or sc.get("model", {}).get("engine", "?")
     if engine == "explicit":
@@ -89,6 +92,9 @@ def marker_series(folder, forces, marker):
 
 def row_for(folder, depths, marker):
     forces = read_table(folder / "forces.csv")
+    if "depth" not in forces or "force_total" not in forces:
+        sys.exit(f"agreement_table: {folder / 'forces.csv'}: no 'depth' and 'force_total' columns "
+                 "(not a needlesim forces table, or an empty one)")
     depth = forces["depth"]
     idx = insertion_phase(depth)
     engine, status = engine_label(folder)
@@ -137,11 +143,12 @@ def main():
     ap.add_argument("--marker", default="beside_path", help="marker name (default beside_path)")
     a = ap.parse_args()
     depths = [float(x) * 1e-3 for x in a.depths.split(",")]
+    folders = folders_of(a.folders)
     dmm = "/".join(f"{d * 1e3:g}" for d in depths)
     print(f"| engine | status | axial force at {dmm} mm (mN) | tip / shaft at {depths[-1] * 1e3:g} mm (mN) "
           f"| lateral at {depths[-1] * 1e3:g} mm (mN) | tip deflection (mm) | marker {a.marker} u_x / u_y (mm) |")
     print("|---|---|---|---|---|---|---|")
-    for f in folders_of(a.folders):
+    for f in folders:
         print("| " + " | ".join(row_for(f, depths, a.marker)) + " |")
 
 
