@@ -183,9 +183,9 @@ int main(int argc, char** argv) {
     std::printf("\n");
     const MpmSolver::ScatterPlan plan = s.scatterPlan(s.threads());
     std::printf("scatter: %zu blocks in %d colours (%d barriers per scatter), %d of %d threads with points, "
-                "imbalance %.3f (scatter speed-up <= %.2f)\n",
+                "imbalance %.3f (scatter speed-up <= %.2f), %lld sorts by block\n",
                 plan.blocks, plan.colours, plan.colours - 1, plan.busyThreads, s.threads(), plan.imbalance,
-                s.threads() / plan.imbalance);
+                s.threads() / plan.imbalance, plan.sorts);
     if (!ms.empty()) {
       std::sort(ms.begin(), ms.end());
       const double np = static_cast<double>(s.size());

@@ -555,7 +555,8 @@ void MpmSolver::blockBounds(std::size_t listed, int* lo, int* hi) const {
 
 // Stable counting sort of the points by colour, then block (base node of the
 // support, clamped to the grid), creation order within a block; the blocks
-// with points are listed.
+// with points are listed. The passes over the points run on all threads, the
+// counting on one.
 void MpmSolver::sortByBlock() {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
@@ -563,11 +564,17 @@ void MpmSolver::sortByBlock() {
   const auto baseNode = [&](std::size_t p, int a) {
     return std::clamp(static_cast<int>(std::floor((P_[p].x[a] - cfg_.origin[a]) * invh - sh)), 0, nn_[a] - 1);
   };
+  int lo0 = nn_[0] - 1, lo1 = nn_[1] - 1, lo2 = nn_[2] - 1;
+#pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(min : lo0, lo1, lo2)
+  for (std::size_t p = 0; p < np; ++p) {
+    lo0 = std::min(lo0, baseNode(p, 0));
+    lo1 = std::min(lo1, baseNode(p, 1));
+    lo2 = std::min(lo2, baseNode(p, 2));
+  }
+  const int lowest[3] = {lo0, lo1, lo2};
   for (int a = 0; a < 3; ++a) {
-    int lowest = nn_[a] - 1;
-    for (std::size_t p = 0; p < np; ++p) lowest = std::min(lowest, baseNode(p, a));
-    blockOrigin_[a] = lowest;
-    blocks_[a] = (nn_[a] - lowest + kBlock - 1) / kBlock;
+    blockOrigin_[a] = lowest[a];
+    blocks_[a] = (nn_[a] - lowest[a] + kBlock - 1) / kBlock;
   }
   const auto nb1 = static_cast<std::size_t>(blocks_[1]), nb2 = static_cast<std::size_t>(blocks_[2]);
   const std::size_t nblocks = static_cast<std::size_t>(blocks_[0]) * nb1 * nb2;
@@ -586,14 +593,15 @@ void MpmSolver::sortByBlock() {
   }
   firstOfColour[8] = r;
   std::vector<std::uint32_t> key(np);
-  std::vector<std::uint32_t> start(nblocks + 1, 0);
+#pragma omp parallel for schedule(static) num_threads(nthreads_)
   for (std::size_t p = 0; p < np; ++p) {
     std::size_t b = 0;
     for (int a = 0; a < 3; ++a)
       b = b * static_cast<std::size_t>(blocks_[a]) + static_cast<std::size_t>((baseNode(p, a) - blockOrigin_[a]) / kBlock);
     key[p] = rank[b];
-    ++start[key[p] + 1];
   }
+  std::vector<std::uint32_t> start(nblocks + 1, 0);
+  for (std::size_t p = 0; p < np; ++p) ++start[key[p] + 1];
   blockStart_.clear();
   blockId_.clear();
   for (std::size_t c = 0; c < 8; ++c) {
