@@ -1733,7 +1733,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     std::size_t nready = 0;
     for (std::size_t qi = c0; qi < c1; ++qi) {
       const std::size_t p = order[qi];
-      if (qi >= blockEnd) {
+      if (qi >= blockEnd) [[unlikely]] {
         while (qi >= blockStart_[block + 1]) ++block;
         blockEnd = blockStart_[block + 1];
         blockBounds(block, lo, hi);
@@ -1745,7 +1745,8 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
       const double J = advancePoint<Usl>(p, g, dt, flip);
       const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
       const double o[3] = {ox, oy, oz};
-      const int cause = checkAdvanced<S>(p, J, speed2, o, invh, limEnd, n1, lo, hi, occ, occW, strayed);
+      const int cause =
+          checkAdvanced<S>(p, J, speed2, o, invh, limEnd, n1, blocked ? lo : nullptr, hi, occ, occW, strayed);
       if (cause) {
         int expected = 0;
         if (bad.compare_exchange_strong(expected, cause)) badP = p;
@@ -1858,7 +1859,7 @@ template <bool Usl>
 // 1 J not positive or not finite, 3 its support at the new position leaves
 // the grid (origin o, 1 / h invh; base nodes below limEnd). A point that goes
 // on sets strayed when its base node leaves [baseLo, baseHi] (its block's
-// bounds, blockBounds) and, two bodies, marks its cell in occ (occW words per body and row).
+// bounds, blockBounds; no check without baseLo) and, two bodies, marks its cell in occ (occW words per body and row).
 template <int S>
 [[gnu::always_inline]] inline int MpmSolver::checkAdvanced(std::size_t p, double J, double speed2, const double* o,
                                                            double invh, const double* limEnd, std::size_t n1,
@@ -1875,10 +1876,11 @@ template <int S>
   for (int d = 0; d < 3; ++d)
     if (!(xs[d] >= 0.0 && xs[d] < limEnd[d])) cause = 3;
   if (cause) return cause;
-  for (int d = 0; d < 3; ++d) {
-    const int l = static_cast<int>(xs[d]);  // = the floor, xs >= 0
-    strayed = strayed || l < baseLo[d] || l > baseHi[d];
-  }
+  if (baseLo)  // blocks (two or more threads)
+    for (int d = 0; d < 3; ++d) {
+      const int l = static_cast<int>(xs[d]);  // = the floor, xs >= 0
+      strayed = strayed || l < baseLo[d] || l > baseHi[d];
+    }
   if (occ) {  // as markNearBodies' own pass; threads meet at a row: atomic OR, skipped when set
     const grid::Cell c = grid::cellAt(xc[0], xc[1], xc[2], n1);
     std::uint64_t* w = occ + cellWord(c, body_[p], occW);
