@@ -4,7 +4,8 @@
 # (`--large`), T = 1, 2, 4, 8, 16; prints one table: problem, threads, M particle-steps/s (median
 # step wall time), parallel efficiency (rate / (T x the 1-thread rate)) and the scatter's plan
 # (imbalance of the block colouring: 1 = even shares; the bound on the scatter's speed-up).
-# About 1 min on a 16-core machine (STEPS 200, LARGE_STEPS 30; each run is cut at 100 s).
+# About 1 min on a 16-core machine (STEPS 200, LARGE_STEPS 20); each of the 10 runs is cut at 22 s,
+# so the script ends within 4 min whatever happens (a run cut short prints 'failed').
 # usage: scripts/mpm_scaling.sh [BENCH_MPM]
 #   BENCH_MPM: a bench_mpm binary (default .devcarry/bin/bench_mpm if present, else
 #   build/release/bench/bench_mpm). Environment: STEPS, LARGE_STEPS, THREADS ("1 2 4 8 16");
@@ -16,7 +17,7 @@ if [ -z "$B" ]; then
 fi
 [ -x "$B" ] || { echo "$0: $B is not an executable bench_mpm (build it: cmake --build --preset release --target bench_mpm)" >&2; exit 2; }
 STEPS=${STEPS:-200}
-LARGE_STEPS=${LARGE_STEPS:-30}
+LARGE_STEPS=${LARGE_STEPS:-20}
 THREADS=${THREADS:-"1 2 4 8 16"}
 for v in "$STEPS" "$LARGE_STEPS" $THREADS; do
   [[ "$v" =~ ^[1-9][0-9]*$ ]] || { echo "$0: STEPS, LARGE_STEPS and THREADS take positive integers, not '$v'" >&2; exit 2; }
@@ -29,7 +30,7 @@ for problem in needle large; do
     args="--steps $LARGE_STEPS --large"; name="large, 1,008,000 points"; fi
   one=""
   for t in $THREADS; do
-    out=$(timeout 100 "$B" $args --threads "$t" 2>&1)
+    out=$(timeout 22 "$B" $args --threads "$t" 2>&1)
     rate=$(sed -n 's/.*median [0-9.]* ms (\([0-9.]*\) M\/s).*/\1/p' <<<"$out")
     imb=$(sed -n 's/.*imbalance \([0-9.]*\).*/\1/p' <<<"$out")
     if [ -z "$rate" ]; then
