@@ -174,6 +174,68 @@ TEST(DeclaredOnce, BlockNeedleInsertionModelOutputAndForceSectionsAreTheirTables
   expectSchemaIsTable(scenario::interactionTable());
 }
 
+TEST(DeclaredOnce, TopLevelTissueLayersMaterialsInclusionsGeometryAndUnitsAreTheirTables) {
+  expectSchemaIsTable(scenario::scenarioTable());
+  expectSchemaIsTable(scenario::tissueTable());
+  expectSchemaIsTable(scenario::layerTable());
+  expectSchemaIsTable(scenario::materialTable());
+  expectSchemaIsTable(scenario::pronyTable());
+  expectSchemaIsTable(scenario::inclusionTable());
+  expectSchemaIsTable(scenario::geometryTable());
+  expectSchemaIsTable(scenario::surfaceTable());
+  expectSchemaIsTable(scenario::offsetTable());
+  expectSchemaIsTable(scenario::rotationTable());
+  expectSchemaIsTable(scenario::unitsTable());
+  // Every section type of a scenario comes from a table (the studies' own file is no scenario).
+  std::set<std::string> tables;
+  for (const auto& f : scenario::schema())
+    if (f.section != "study" && f.section != "parameter") tables.insert(f.section);
+  std::size_t rows = 0;
+  for (const auto& type : tables) rows += scenario::fieldsOf(type).size();
+  std::size_t declared = 0;
+  for (const auto& docs :
+       {scenario::scenarioTable().docs(), scenario::tissueTable().docs(), scenario::blockTable().docs(),
+        scenario::layerTable().docs(), scenario::materialTable().docs(), scenario::pronyTable().docs(),
+        scenario::inclusionTable().docs(), scenario::geometryTable().docs(), scenario::surfaceTable().docs(),
+        scenario::offsetTable().docs(), scenario::rotationTable().docs(), scenario::punctureTable().docs(),
+        scenario::cuttingTable().docs(), scenario::frictionTable().docs(), scenario::interactionTable().docs(),
+        scenario::needleTable().docs(), scenario::insertionTable().docs(), scenario::segmentTable().docs(),
+        scenario::modelTable().docs(), scenario::outputTable().docs(), scenario::unitsTable().docs()})
+    declared += docs.size();
+  for (const char* kind : {"insert", "retract", "pause", "rotate"}) declared += scenario::segmentKindTable(kind).docs().size();
+  for (const scenario::ModelSection* m : scenario::modelSections()) declared += 1 + m->docs().size();
+  EXPECT_EQ(declared, rows) << "a section's rows are written outside its table";
+}
+
+TEST(DeclaredOnce, InclusionMaterialAndPlacementStructDefaultsAreTheSchemaDefaults) {
+  const InclusionSpec i;
+  EXPECT_EQ(i.y, units::parse(scenario::field("inclusion", "lateral").default_text).value);
+  EXPECT_EQ(i.z, units::parse(scenario::field("inclusion", "elevation").default_text).value);
+  EXPECT_EQ(i.interface_friction, units::parse(scenario::field("inclusion", "interface_friction").default_text).value);
+  EXPECT_EQ(i.sliding ? "sliding" : "bonded", scenario::field("inclusion", "interface").default_text);
+  EXPECT_EQ(i.target ? "true" : "false", scenario::field("inclusion", "target").default_text);
+  EXPECT_EQ(i.shape == InclusionSpec::Shape::Sphere ? "sphere" : "cylinder", scenario::field("inclusion", "shape").default_text);
+  const materials::MaterialSpec m;
+  EXPECT_EQ(m.density, units::parse(scenario::field("material", "density").default_text).value);
+  EXPECT_EQ(m.name, scenario::field("material", "name").default_text);
+  EXPECT_EQ(scenario::Placement{}.x, units::parse(scenario::field("offset", "x").default_text).value);
+  EXPECT_EQ(scenario::Placement{}.z, units::parse(scenario::field("rotation", "z").default_text).value);
+}
+
+TEST(DeclaredOnce, AGaugeGivesTheBoreAndALengthASolidNeedle) {
+  std::string yaml = exampleText("examples/gelatin_18G_3mms.yaml");
+  const Scenario gauge = scenario::readText(yaml, "gauge.yaml");
+  EXPECT_EQ(gauge.needle.outer_diameter, units::gaugeSize(18)->outer);
+  EXPECT_EQ(gauge.needle.inner_diameter, units::gaugeSize(18)->inner);
+  const auto at = yaml.find("outer_diameter: 18 G");
+  ASSERT_NE(at, std::string::npos);
+  yaml.replace(at, 20, "outer_diameter: 1.27 mm");
+  const Scenario length = scenario::readText(yaml, "length.yaml");
+  EXPECT_EQ(length.needle.outer_diameter, 1.27e-3);
+  EXPECT_EQ(length.needle.inner_diameter, 0.0);
+  EXPECT_EQ(siOf(nlohmann::json::parse(length.understood)["needle"]["inner_diameter"]), 0.0);
+}
+
 TEST(DeclaredOnce, AScenarioGivingOnlyWhatIsRequiredGetsTheStructDefaults) {
   // Every optional field of the needle, insertion, its segments, output and a layer's forces left out.
   const std::string yaml = R"(tissue:
