@@ -321,7 +321,7 @@ TEST(DeclaredOnce, EveryEngineNotesEachGivenFieldItDoesNotUseOnce) {
   ASSERT_GT(sc.given_at.count("tissue.friction.C_p"), 0u);
   for (const auto& e : engineRegistry()) {
     const auto notes = unusedFieldNotes(e, sc);
-    const bool karnopp = std::find(e.uses.begin(), e.uses.end(), "friction.C_p") != e.uses.end();
+    const bool karnopp = e.friction == FrictionLaw::Karnopp;
     int cp = 0;
     for (const auto& n : notes) cp += n.find("tissue.friction.C_p given but not used by engine " + e.name) == 0;
     EXPECT_EQ(cp, karnopp ? 0 : 1) << e.name;
@@ -336,6 +336,30 @@ TEST(DeclaredOnce, EveryEngineNotesEachGivenFieldItDoesNotUseOnce) {
   int noted = 0;
   for (const auto& n : sink.notes) noted += n.find("tissue.friction.coefficient given but not used by engine lumped") == 0;
   EXPECT_EQ(noted, 1);
+}
+
+TEST(DeclaredOnce, EachEngineAppliesOneNamedFrictionLawAndUsesOnlyItsFields) {
+  const std::vector<std::string> karnopp = frictionFields(FrictionLaw::Karnopp);
+  const std::vector<std::string> coulomb = frictionFields(FrictionLaw::Coulomb);
+  for (const auto& e : engineRegistry()) {
+    SCOPED_TRACE(e.name);
+    EXPECT_NE(e.friction, FrictionLaw::None);
+    const auto& own = e.friction == FrictionLaw::Karnopp ? karnopp : coulomb;
+    const auto& other = e.friction == FrictionLaw::Karnopp ? coulomb : karnopp;
+    for (const auto& f : own) EXPECT_TRUE(e.usesField(f)) << f;
+    for (const auto& f : other) EXPECT_FALSE(e.usesField(f)) << f;
+    // The registration's own list names no friction field: the law says which.
+    for (const auto& f : e.uses) EXPECT_FALSE(f.starts_with("friction.")) << f;
+  }
+  EXPECT_EQ(findEngine("lumped")->friction, FrictionLaw::Karnopp);
+  EXPECT_EQ(findEngine("realtime3d")->friction, FrictionLaw::Karnopp);
+  EXPECT_EQ(findEngine("explicit")->friction, FrictionLaw::Coulomb);
+  EXPECT_EQ(findEngine("mpm")->friction, FrictionLaw::Coulomb);
+  // The schema says which law each friction field belongs to, and each engine's law.
+  for (const auto* f : scenario::fieldsOf("friction"))
+    EXPECT_TRUE(f->help.starts_with(f->key == "coefficient" ? "Coulomb law" : "Karnopp law")) << f->key;
+  EXPECT_NE(scenario::field("model", "engine").help.find("lumped insertion-force model (seed 003 section 3.2) (friction: Karnopp)"),
+            std::string::npos);
 }
 
 TEST(DeclaredOnce, AnInclusionTakesTheFrictionOfTheLayerAroundIt) {

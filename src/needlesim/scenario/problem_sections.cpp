@@ -289,27 +289,27 @@ ParamTable<FrictionSpec> makeFriction() {
   ParamTable<F> t("friction");
   const auto sameAs = [](double F::*of) { return [of](const F& f, const Scenario&) { return f.*of; }; };
   t.quantity(&F::C_p, "C_p", D::ForcePerLength, "N/m", nonNegative(),
-             "dynamic friction per length in contact, insertion (seed 003 eqs 3.23, 5.1)")
+             "Karnopp law: dynamic friction per length in contact, insertion (seed 003 eqs 3.23, 5.1)")
       .quantity(&F::b_p, "b_p", D::ForceTimePerArea, "N s/m^2", nonNegative(),
-                "viscous friction per length in contact, insertion")
+                "Karnopp law: viscous friction per length in contact, insertion")
       .derived(&F::C_n, "C_n", D::ForcePerLength, nonNegative(), "C_p", sameAs(&F::C_p),
-               "dynamic friction per length, retraction")
+               "Karnopp law: dynamic friction per length, retraction")
       .derived(&F::b_n, "b_n", D::ForceTimePerArea, nonNegative(), "b_p", sameAs(&F::b_p),
-               "viscous friction per length, retraction")
+               "Karnopp law: viscous friction per length, retraction")
       .row(numberDoc("friction", "D_p", D::ForcePerLength, nonNegative(), "C_p + b_p static_band/2",
-                     "static friction limit per length, positive direction"))
+                     "Karnopp law: static friction limit per length, positive direction"))
       .row(numberDoc("friction", "D_n", D::ForcePerLength, nonNegative(), "C_n + b_n static_band/2",
-                     "static friction limit per length, negative direction (magnitude)"))
+                     "Karnopp law: static friction limit per length, negative direction (magnitude)"))
       // The struct keeps a zero band for friction built in code; a scenario's band defaults to 0.1 mm/s.
       .row(numberDoc("friction", "static_band", D::Velocity, positive(), "0.1 mm/s",
-                     "Karnopp band Delta v: |v| < Delta v/2 sticks"),
+                     "Karnopp law: band Delta v, |v| < Delta v/2 sticks"),
            [](Section& s, F& f, const Scenario&) { f.static_band = s.number("static_band"); })
       // seed 003 eq 3.23: continuity of the Karnopp law at |v| = Delta v / 2 by default (D_p, D_n above).
       .check([](Section& s, F& f, const Scenario&) {
         f.D_p = givenOrDerived(s, "D_p", f.C_p + f.b_p * f.static_band / 2.0);
         f.D_n = givenOrDerived(s, "D_n", f.C_n + f.b_n * f.static_band / 2.0);
       })
-      .number(&F::coefficient, "coefficient", nonNegative(), "Coulomb coefficient for the contact engines (seed 001: 0.3)");
+      .number(&F::coefficient, "coefficient", nonNegative(), "Coulomb law: tangential force at most coefficient x normal force (seed 001: 0.3)");
   return t;
 }
 

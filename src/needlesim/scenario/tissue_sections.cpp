@@ -189,7 +189,8 @@ T& layerSections(T& t) {
       .section("puncture", Kind::Section, "puncture", false, "", "puncture threshold; omitted = punctures on contact",
                sub("puncture", punctureTable))
       .section("cutting", Kind::Section, "cutting", false, "force: 0 N", "cutting at the tip", sub("cutting", cuttingTable))
-      .section("friction", Kind::Section, "friction", false, "all zero", "friction along the shaft",
+      .section("friction", Kind::Section, "friction", false, "all zero", "friction along the shaft: the coefficients of the Karnopp law (C_p to static_band) and of the Coulomb "
+               "law (coefficient); each engine applies one law (model.engine)",
                [](Section& s, L& l, const Scenario& sc) {
                  Section f = s.sub("friction");
                  frictionTable().read(f, l.friction, sc);
