@@ -363,6 +363,10 @@ Scenario readSections(Section top, const std::string& source, const Section::Rec
 
   Section out = top.sub("output");
   outputTable().read(out, sc.output, sc);
+  if (top.has("plan")) {
+    Section plan = top.sub("plan");
+    readPlan(plan, sc);
+  }
   if (sc.totalDuration() / sc.model.time_step > 1e9)
     throw model.error("time_step", fmt::format("{:g} s", sc.model.time_step),
                       fmt::format("gives more than 1e9 steps for a {:g} s profile", sc.totalDuration()),

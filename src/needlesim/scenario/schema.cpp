@@ -73,6 +73,7 @@ void scenarioAndTissue(std::vector<FieldDoc>& s) {
   add(other("scenario", "insertion", Kind::Section, "", "entry pose and motion profile", true, "insertion"));
   add(other("scenario", "model", Kind::Section, "engine: lumped", "which engine and its parameters", false, "model"));
   add(other("scenario", "output", Kind::Section, "", "where and what to write", false, "output"));
+  add(other("scenario", "plan", Kind::Section, "", "a needle path to plan (needlesim plan, docs/planning.md)", false, "plan"));
 
   // --- tissue
   add(other("tissue", "block", Kind::Section, "", "block size (required unless tissue.geometry is given)", false, "block"));
@@ -209,6 +210,9 @@ void outputAndStudy(std::vector<FieldDoc>& s) {
               fmt::format("unit of {} results (SI: {}) on the terminal and in report.html", words, d.si), false, {},
               allowed));
   }
+
+  // --- the plan (scenario/plan_section.hpp)
+  for (auto& f : planDocs()) add(std::move(f));
 
   // --- parameter studies (`needlesim sweep STUDY.yaml`), not part of a scenario
   add(other("study", "scenario", Kind::String, "", "base scenario file, relative to the study file", true));
