@@ -10,6 +10,7 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/io/folder_lock.hpp"
 #include "needlesim/planning/plan_run.hpp"
+#include "needlesim/planning/verify.hpp"
 #include "needlesim/results/display_units.hpp"
 #include "needlesim/results/results_folder.hpp"
 #include "needlesim/scenario/reader.hpp"
@@ -21,6 +22,7 @@ namespace fs = std::filesystem;
 struct PlanArgs {
   std::string file;
   std::string out;
+  std::string verify;
   bool overwrite = false;
   bool quiet = false;
 };
@@ -45,6 +47,7 @@ void printOutcome(const planning::PlanFolder& f, const Scenario& sc) {
     fmt::print("targeting error (closed loop): p50 {}, p95 {}\n",
                results::shownText(f.outcome.closed_loop->p50, "m", sc.output.units, "{:.3g}"),
                results::shownText(f.outcome.closed_loop->p95, "m", sc.output.units, "{:.3g}"));
+  if (!f.verified.empty()) fmt::print("{}\n", f.verified);
   fmt::print("results: {}/\n", f.folder.string());
 }
 
@@ -54,12 +57,15 @@ int planCommand(const PlanArgs& args) {
   if (!sc.plan.given)
     throw InputError(SourceLocation{sc.source, 0, 0}, "plan", "", "the scenario has no plan section",
                      "a plan section with a target (docs/planning.md)");
+  if (!args.verify.empty()) planning::checkVerifyEngine(args.verify);
   const bool byOut = !args.out.empty();
   const fs::path chosen = byOut ? io::outputPath(args.out, "--out", commandLine()) : fs::path("results") / (sc.name + "-plan");
   const fs::path target =
       io::resolveResultsTarget(chosen, byOut ? "--out" : "", byOut ? commandLine() : SourceLocation{sc.source, 0, 0}, args.overwrite);
   const io::FolderLock lock(target, byOut ? "--out" : "name", byOut ? commandLine() : SourceLocation{sc.source, 0, 0});
-  const planning::PlanFolder f = planning::planToFolder(sc, target, args.overwrite);
+  const planning::PlanFolder f = args.verify.empty()
+                                     ? planning::planToFolder(sc, target, args.overwrite)
+                                     : planning::planAndVerifyToFolder(sc, args.verify, target, args.overwrite);
   if (!args.quiet) printOutcome(f, sc);
   return f.outcome.search.feasible ? 0 : kInfeasible;
 }
@@ -72,6 +78,8 @@ void registerPlanCommand(CLI::App& app) {
                                          "(exit 4 when no plan reaches it; the folder says why)");
   cmd->add_option("scenario", args->file, "scenario file with a plan section (YAML)")->required();
   cmd->add_option("-o,--out", args->out, "results folder (default: results/<name>-plan)");
+  cmd->add_option("--verify", args->verify,
+                  "run the plan through this physics engine (realtime3d) and report the executed miss distance");
   cmd->add_flag("--overwrite", args->overwrite, "replace an existing needlesim results folder once the new one is complete");
   cmd->add_flag("-q,--quiet", args->quiet, "no summary on the terminal");
   cmd->callback([args] {

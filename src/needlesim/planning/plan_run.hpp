@@ -41,6 +41,7 @@ struct PlanFolder {
   std::filesystem::path folder;
   std::vector<std::string> files;
   PlanOutcome outcome;
+  std::string verified;  // --verify: what the physics engine executed (verify.hpp)
 };
 // Plans and writes the results folder (results/results_folder.hpp) at `target`.
 PlanFolder planToFolder(const Scenario& sc, const std::filesystem::path& target, bool overwrite);
