@@ -17,6 +17,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/planning/plan_run.hpp"
+#include "needlesim/planning/verify.hpp"
 #include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim;
@@ -216,4 +217,18 @@ TEST(PlanExamples, AnUnreachableTargetExitsWithFourAndSaysWhy) {
   EXPECT_EQ(summary["results"]["feasible"]["value"].get<double>(), 0.0);
   EXPECT_NE(summary["warnings"].dump().find("beyond the reach"), std::string::npos);
   std::filesystem::remove_all(dir);
+}
+
+TEST(PlanExamples, VerifyInRealtime3dSetsTheExecutedMissBesideThePlannedOne) {
+  // 20 mm with a 500 mm radius: the plan's arc leaves its entry axis by at most 20^2 / (2 * 500)
+  // = 0.4 mm. realtime3d moves the needle along that axis and bends it elastically, so its tip
+  // ends within that arc's deviation of the planned tip; the nodule's motion adds to the miss.
+  const Scenario sc = scenario::readFile(std::string(NEEDLESIM_SOURCE_DIR) + "/examples/planning/gelatin_verify.yaml");
+  const PlanOutcome o = planScenario(sc);
+  ASSERT_TRUE(o.search.feasible) << o.search.reason;
+  const Verification v = verifyPlan(sc, o, "realtime3d");
+  EXPECT_LE(v.tip_gap, 0.4e-3);
+  EXPECT_GT(v.target_motion, 0.0);
+  EXPECT_LE(v.executed_miss, v.planned_miss + v.tip_gap + v.target_motion + 1e-12);
+  EXPECT_THROW(checkVerifyEngine("lumped"), InputError);
 }
