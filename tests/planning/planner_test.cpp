@@ -232,3 +232,18 @@ TEST(PlanExamples, VerifyInRealtime3dSetsTheExecutedMissBesideThePlannedOne) {
   EXPECT_LE(v.executed_miss, v.planned_miss + v.tip_gap + v.target_motion + 1e-12);
   EXPECT_THROW(checkVerifyEngine("lumped"), InputError);
 }
+
+TEST(Planner, ChooseRiskTakesThePlanWithTheLowestObstacleTouchProbability) {
+  const Scenario sc = scenarioWith("  target: tumour\n  avoid:\n    - {inclusion: vessel, clearance: 0.5 mm}\n"
+                                   "  entry_window: 15 mm\n  max_entry_angle: 15 deg\n  choose: risk\n"
+                                   "  uncertainty: {samples: 300, entry_sd: 1 mm, angle_sd: 1 deg, curvature_sd: 0.1}\n");
+  const PlanOutcome o = planScenario(sc);
+  ASSERT_TRUE(o.search.feasible) << o.search.reason;
+  ASSERT_GT(o.search.found.size(), 1u);
+  EXPECT_EQ(o.chosen_by, "risk");
+  const ErrorDistribution chosen = openLoopErrors(o.problem, o.search.best.plan, sc.plan.uncertainty);
+  for (const CheckedPath& p : o.search.found) {
+    const ErrorDistribution e = openLoopErrors(o.problem, p.plan, sc.plan.uncertainty);
+    EXPECT_GE(e.touch_probability, chosen.touch_probability);
+  }
+}

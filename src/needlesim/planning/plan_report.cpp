@@ -203,8 +203,9 @@ void planNotes(const Scenario& sc, const PlanOutcome& o, ResultSink& sink) {
   else
     sink.warning(fmt::format("No plan: {}. path.csv holds the closest approach: {}.", s.reason, actionsText(s.best.plan)));
   sink.note(fmt::format("Search: sampling-based with an analytic last arc over the kinematic bevel-tip model "
-                        "(Webster et al. 2006), rotation counts 0 to {} searched in turn ({} searched); {} paths checked "
-                        "in {:.3g} s (docs/planning.md).", o.problem.max_rotations, s.rotations_searched, s.paths, s.seconds));
+                        "(Webster et al. 2006), rotation counts searched in turn from 0 up to {} (of at most {}); {} "
+                        "paths checked in {:.3g} s (docs/planning.md).", s.rotations_searched, o.problem.max_rotations,
+                        s.paths, s.seconds));
   if (o.open_loop)
     sink.note(fmt::format("Targeting error over {} Monte Carlo samples of the kinematic model (curvature sd {:g}, modulus sd "
                           "{:g}, target sd {:g} mm, entry sd {:g} mm, angle sd {:g} deg){}.", sc.plan.uncertainty.samples,
