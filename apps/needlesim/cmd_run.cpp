@@ -18,6 +18,7 @@
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/results/checkpoint.hpp"
 #include "needlesim/io/folder_lock.hpp"
+#include "needlesim/planning/plan_problem.hpp"
 #include "needlesim/results/display_units.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/study/study.hpp"
@@ -219,6 +220,12 @@ void registerCheckCommand(CLI::App& app) {
           continue;
         }
         Scenario sc = scenario::readFile(f);
+        if (sc.plan.given) {  // a scenario for `needlesim plan`: what the planner needs (docs/planning.md)
+          const planning::PlanProblem pb = planning::planProblem(sc);
+          fmt::print("{}: ok (plan: target at depth {}, {} obstacle(s), curvature {:.4g} 1/m; for needlesim plan)\n", f,
+                     results::shownText(pb.target.x(), "m", sc.output.units, "{:.4g}"), pb.obstacles.size(), pb.kappa);
+          continue;
+        }
         // refuses what the engine does not model and what its steps do not resolve, as run would
         const StepEstimate estimate = preflight(sc);
         fmt::print("{}: ok ({} layer{}, engine {}, {} of motion, max depth {}; estimate: {})\n", f,

@@ -9,6 +9,7 @@ void registerRunCommand(CLI::App& app);
 void registerCheckCommand(CLI::App& app);
 void registerSchemaCommand(CLI::App& app);
 void registerSweepCommand(CLI::App& app);
+void registerPlanCommand(CLI::App& app);  // cmd_plan.cpp
 void registerServeCommand(CLI::App& app);  // serve and replay (cmd_serve.cpp)
 }  // namespace needlesim::app
 

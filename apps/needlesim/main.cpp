@@ -24,10 +24,13 @@ int main(int argc, char** argv) {
   needlesim::app::registerCheckCommand(app);
   needlesim::app::registerSchemaCommand(app);
   needlesim::app::registerSweepCommand(app);
+  needlesim::app::registerPlanCommand(app);
   needlesim::app::registerServeCommand(app);
   if (registerFitCommand) registerFitCommand(app);
   try {
     app.parse(argc, argv);
+  } catch (const CLI::RuntimeError& e) {  // a command's own exit status (plan: 4, no plan)
+    return e.get_exit_code();
   } catch (const CLI::ParseError& e) {
     const int code = app.exit(e);  // prints the help, the version or what is wrong with the arguments
     return code == 0 ? 0 : 2;      // bad arguments are bad input: exit 2, as for a scenario

@@ -64,6 +64,7 @@ __all__ = [
     "git_revision",
     "load",
     "open_results",
+    "plan",
     "run",
     "schema",
 ]
@@ -126,6 +127,18 @@ def run(scenario, out=None, *, overwrite=False, fields=False):
             results.folder = None
             return results
     return Results.from_memory(scenario, _core.run_in_memory(scenario))
+
+
+def plan(scenario):
+    """Plan a needle path to the scenario's plan target around its obstacles (docs/planning.md)
+    and return its Results in memory: key results (feasible, planned_miss, entry_offset,
+    entry_angle, bevel_roll, rotations, clearance_<name>, planning_time, paths_per_second,
+    error_p50, error_p95, ...) and the tables plan, path and error_distribution. A scenario
+    without a plan section, or one that cannot be planned, raises InputError; a target that no
+    path reaches gives feasible 0 with the reason in warnings and the closest approach in path.
+    """
+    _require_type("needlesim.plan", "scenario", scenario, Scenario, "a needlesim.Scenario (needlesim.load)")
+    return Results.from_memory(scenario, _core.plan_in_memory(scenario))
 
 
 def _run_to_folder(scenario, out, overwrite):

@@ -20,6 +20,7 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/core/version.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/planning/plan_run.hpp"
 #include "needlesim/engines/run_scenario.hpp"
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/scenario/reader.hpp"
@@ -210,6 +211,17 @@ py::dict runInMemoryDict(const PyScenario& s) {
   return toDict(sink);
 }
 
+// Plans the scenario's plan section in memory (docs/planning.md): a dict as run_in_memory's.
+py::dict planInMemoryDict(const PyScenario& s) {
+  MemorySink sink;
+  {
+    py::gil_scoped_release release;
+    const planning::PlanOutcome o = planning::planScenario(s.scenario);
+    planning::reportPlan(s.scenario, o, sink);
+  }
+  return toDict(sink);
+}
+
 // Runs into the results folder `out`: {'folder': its path, 'tables': as run_in_memory's, exact}
 // (Python reads the rest back from the folder).
 // A results folder that cannot be made or written (a file system error, a write that
@@ -343,6 +355,9 @@ void bindFunctions(py::module_& m) {
   m.def("run_in_memory", &runInMemoryDict, py::arg("scenario"),
         "Runs the scenario's engine in memory: {'results': {key: (value, unit, meaning)}, 'tables': {name: "
         "([(column, unit)], rows x columns array)}, 'notes': [...], 'warnings': [...]}.");
+  m.def("plan_in_memory", &planInMemoryDict, py::arg("scenario"),
+        "Plans a path to the scenario's plan target (docs/planning.md): results and tables as run_in_memory's "
+        "(plan, path, error_distribution)");
   m.def("run_to_folder", &runToFolder, py::arg("scenario"), py::arg("out"), py::arg("overwrite") = false,
         "Runs the scenario's engine into the results folder `out` (a str or pathlib.Path): {'folder': its path, "
         "'tables': {name: ([(column, unit)], rows x columns array)}}.");

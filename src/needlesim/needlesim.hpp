@@ -137,6 +137,17 @@ struct RunSettings {
 NEEDLESIM_API Results run(const Scenario& scenario, const std::filesystem::path& folder,
                           const RunSettings& settings = {});
 
+// ---------------------------------------------------------------- path planning
+// Plans a needle path to the scenario's plan target around its obstacles (docs/planning.md), in
+// memory: key results (feasible, planned_miss, entry_offset, entry_angle, bevel_roll, rotations,
+// clearance_<name>, planning_time, paths_per_second, error_p50, error_p95, ...) and the tables
+// plan, path and error_distribution. A target no path reaches gives feasible 0, the reason in
+// warnings and the closest approach in `path`. InputError without a plan section.
+NEEDLESIM_API Results plan(const Scenario& scenario);
+// The same into a results folder (as `needlesim plan --out`: report.html, the path for ParaView).
+NEEDLESIM_API Results plan(const Scenario& scenario, const std::filesystem::path& folder,
+                           const RunSettings& settings = {});
+
 // ---------------------------------------------------------------- real-time stepping
 // The base motion of one step: the tip's depth along the insertion axis from the entry
 // point, and (realtime2d only) the base's lateral offset, the turn of the insertion

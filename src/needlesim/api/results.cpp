@@ -80,16 +80,25 @@ const Table& Results::table(const std::string& name) const {
   return it->second;
 }
 
+Results detail::memoryResults(MemorySink& sink) {
+  Results r;
+  r.status = "complete";
+  for (const auto& [key, v] : sink.results) r.values[key] = Value{v.value, v.unit, v.meaning};
+  for (const auto& [name, t] : sink.tables) r.tables[name] = publicTable(t);
+  r.notes = std::move(sink.notes);
+  r.warnings = std::move(sink.warnings);
+  return r;
+}
+
+void detail::readFolder(Results& r) {
+  readSummary(r);
+  r.fieldFiles = fieldFilesIn(r.folder);
+}
+
 Results run(const Scenario& scenario) {
   return detail::translated([&] {
     MemorySink sink = runInMemory(detail::ScenarioAccess::typed(scenario));
-    Results r;
-    r.status = "complete";
-    for (const auto& [key, v] : sink.results) r.values[key] = Value{v.value, v.unit, v.meaning};
-    for (const auto& [name, t] : sink.tables) r.tables[name] = publicTable(t);
-    r.notes = std::move(sink.notes);
-    r.warnings = std::move(sink.warnings);
-    return r;
+    return detail::memoryResults(sink);
   });
 }
 

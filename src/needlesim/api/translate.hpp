@@ -6,7 +6,16 @@
 #include "needlesim/core/progress.hpp"
 #include "needlesim/needlesim.hpp"
 
+namespace needlesim {
+class MemorySink;
+}
+
 namespace needlesim::api::detail {
+
+// The public results of a run kept in memory (api/results.cpp).
+Results memoryResults(MemorySink& sink);
+// Status, notes, warnings and field files of a committed results folder, into r (r.folder set).
+void readFolder(Results& r);
 
 // Runs `body` and rethrows needlesim's errors as the api:: error of the same kind.
 template <class Body>

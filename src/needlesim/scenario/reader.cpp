@@ -119,7 +119,13 @@ ParamTable<Scenario> makeScenario() {
                  checkEntryPoint(ins, sc.insertion, sc.tissue, sc.maxDepth());
                })
       .section("model", Kind::Section, "model", false, "engine: lumped", "which engine and its parameters", readModel)
-      .section("output", Kind::Section, "output", false, "", "where and what to write", readOutput);
+      .section("output", Kind::Section, "output", false, "", "where and what to write", readOutput)
+      .section("plan", Kind::Section, "plan", false, "", "a needle path to plan (needlesim plan, docs/planning.md)",
+               [](Section& top, S& sc, const S&) {
+                 if (!top.has("plan")) return;
+                 Section plan = top.sub("plan");
+                 readPlan(plan, sc);
+               });
   return t;
 }
 

@@ -12,6 +12,7 @@
 #include "needlesim/insertion/insertion_spec.hpp"
 #include "needlesim/materials/material_spec.hpp"
 #include "needlesim/needle/needle_spec.hpp"
+#include "needlesim/scenario/plan_section.hpp"
 // Each engine's model.<engine> settings, declared beside the engine (engines/<engine>/<engine>_section.hpp).
 #include "needlesim/engines/explicit/explicit_section.hpp"
 #include "needlesim/engines/lumped/lumped_section.hpp"
@@ -129,6 +130,7 @@ struct Scenario {
   InsertionSpec insertion;
   ModelSpec model;
   OutputSpec output;
+  PlanSpec plan;  // `needlesim plan` (scenario/plan_section.hpp)
 
   // The tip depth at the end of the motion profile and the largest reached.
   double maxDepth() const;

@@ -103,6 +103,9 @@ void outputAndStudy(std::vector<FieldDoc>& s) {
   addTable(s, outputTable());
   addTable(s, unitsTable());
 
+  // --- the plan (scenario/plan_section.hpp)
+  for (auto& f : planDocs()) add(std::move(f));
+
   // --- parameter studies (`needlesim sweep STUDY.yaml`), not part of a scenario
   add(other("study", "scenario", Kind::String, "", "base scenario file, relative to the study file", true));
   add(other("study", "name", Kind::String, "study file name", "name of the study, used for its folder"));
