@@ -113,7 +113,8 @@ scenario::ParamTable<Spec> build() {
             "as wide as the needle (explicit 3D's slit): no material point reaches a grid node across it, so the two "
             "lips move apart instead of being dragged as one field (docs/models/mpm.md \"Parting contact\"). tip: "
             "cut from the entry to where the tip reaches the plane, as it advances; path: pre-cut from the entry to "
-            "the insertion's deepest point; none: one velocity field across the path")
+            "the insertion's deepest point; none: one velocity field across the path. Bevel tips only: a cone or a flat "
+            "tip has no cutting edge and pushes the tissue aside")
       .number(&Spec::flip, "flip", closed(0.0, 1.0), "FLIP fraction of the particle velocity update (1 = seed 000 eq 4, 0 = PIC)")
       .number(&Spec::time_step_factor, "time_step_factor", openClosed(0.0, 1.0),
               "k_t of seed 000 eq 26 (time step = k_t times the eq 25 limit)")

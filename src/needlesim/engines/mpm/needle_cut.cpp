@@ -50,19 +50,22 @@ constexpr double kMinVisibleWeight = 0.25;
 // 3D releases its slit); other tips at their tip plane.
 struct CutStrip {
   Vec3 c, e, t, n;
-  double halfWidth, length, cotBevel;
+  double halfWidth, length, cotBevel, onPlane;
   explicit CutStrip(const RigidBody& rb)
       : c(rb.axisPoint() + rb.cutAhead * rb.axis), e(rb.axis), n(rb.bevelSide), halfWidth(rb.radius),
         length(rb.length + rb.cutAhead),
-        cotBevel(rb.tip == RigidBody::Tip::Bevel ? 1.0 / std::tan(rb.tipAngle) : 0.0) {
+        cotBevel(rb.tip == RigidBody::Tip::Bevel ? 1.0 / std::tan(rb.tipAngle) : 0.0), onPlane(1e-9 * rb.radius) {
     t = e.cross(n);
     t.normalize();
   }
   double front(double b) const { return cotBevel * std::sqrt(std::max(0.0, halfWidth * halfWidth - b * b)); }
+  // The bevel side of the plane, a point on it (to rounding) included: a needle turned by
+  // 180 deg sees the mirror image.
+  bool bevelSide(double d) const { return d >= -onPlane; }
   // Whether the segment from the point x (side value dp) to the node y crosses the strip.
   bool crosses(const Vec3& x, double dp, const Vec3& y) const {
     const double dn = (y - c).dot(n);
-    if ((dp >= 0.0) == (dn >= 0.0)) return false;
+    if (bevelSide(dp) == bevelSide(dn)) return false;
     const Vec3 at = x + (dp / (dp - dn)) * (y - x);
     const double s = (at - c).dot(e), b = (at - c).dot(t);
     return std::abs(b) <= halfWidth && s <= front(b) && s >= -length;
@@ -80,7 +83,8 @@ std::size_t MpmSolver::cutPoints() const {
 void MpmSolver::planCut() {
   cutRigid_ = -1;
   for (std::size_t r = 0; r < rigids_.size() && cutRigid_ < 0; ++r)
-    if (rigids_[r].kind == RigidBody::Kind::Needle && rigids_[r].parting) cutRigid_ = static_cast<int>(r);
+    if (rigids_[r].kind == RigidBody::Kind::Needle && rigids_[r].tip == RigidBody::Tip::Bevel && rigids_[r].parting)
+      cutRigid_ = static_cast<int>(r);  // a cone or a flat tip has no cutting edge: it pushes the tissue aside
   if (cutRigid_ < 0) {
     cutMask_.clear();  // the particle passes test for an empty mask
     return;
@@ -239,7 +243,7 @@ void MpmSolver::gatherCutPoint(std::size_t p, std::size_t off, bool usl, double*
 bool MpmSolver::wallLipNormal(std::size_t r, const Vec3& x, Vec3& n) const {
   if (static_cast<int>(r) != cutRigid_) return false;
   const RigidBody& rb = rigids_[r];
-  if (rb.tip != RigidBody::Tip::Bevel || (x - rb.axisPoint()).dot(rb.bevelSide) >= 0.0) return false;
+  if (rb.tip != RigidBody::Tip::Bevel || (x - rb.axisPoint()).dot(rb.bevelSide) >= -1e-9 * rb.radius) return false;
   n = std::sin(needle::kLipRampAngle) * rb.axis - std::cos(needle::kLipRampAngle) * rb.bevelSide;
   return true;
 }
