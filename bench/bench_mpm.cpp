@@ -12,24 +12,32 @@
 #include <numbers>
 #include <vector>
 
+#include "needlesim/engines/mpm/cuda/plugin_loader.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 
 using namespace needlesim::mpm;
 
 namespace {
 
-MpmSolver makeNeedleProblem(Shape shape, Update update, int threads) {
-  // 12 x 12 x 22 mm block, 0.4 mm particles, 0.8 mm grid: 49,500 particles.
-  const double h = 0.8e-3, dp = 0.4e-3;
+// The GPU back-end of --device cuda (null: the CPU) and its P2G kernel.
+struct Device {
+  const NsMpmBackend* backend = nullptr;
+  int kernel = NSMPM_KERNEL_SORTED;
+};
+
+MpmSolver makeNeedleProblem(Shape shape, Update update, int threads, double scale = 1.0, Device device = {}) {
+  // 12 x 12 x 22 mm block, 0.4 mm particles, 0.8 mm grid: 49,500 particles
+  // (each edge times `scale`: scale^3 as many).
+  const double h = 0.8e-3, dp = 0.4e-3, a = 6e-3 * scale, len = 22e-3 * scale;
   MpmConfig cfg;
   cfg.h = h;
   cfg.shape = shape;
   cfg.update = update;
   cfg.threads = threads;
-  cfg.origin = Vec3(-4 * h, -6e-3 - 3 * h, -6e-3 - 3 * h);
-  cfg.cells = {static_cast<int>(22e-3 / h) + 8, static_cast<int>(12e-3 / h) + 7, static_cast<int>(12e-3 / h) + 7};
-  cfg.boxLo = Vec3(0, -6e-3, -6e-3);
-  cfg.boxHi = Vec3(22e-3, 6e-3, 6e-3);
+  cfg.origin = Vec3(-4 * h, -a - 3 * h, -a - 3 * h);
+  cfg.cells = {static_cast<int>(len / h) + 8, static_cast<int>(2 * a / h) + 7, static_cast<int>(2 * a / h) + 7};
+  cfg.boxLo = Vec3(0, -a, -a);
+  cfg.boxHi = Vec3(len, a, a);
   cfg.faces = {FaceBC::Free, FaceBC::Fixed, FaceBC::Roller, FaceBC::Roller, FaceBC::Roller, FaceBC::Roller};
   cfg.massScaling = 1e4;
   MpmSolver s(cfg);
@@ -52,6 +60,7 @@ MpmSolver makeNeedleProblem(Shape shape, Update update, int threads) {
   n.friction = 0.255;
   s.addRigid(n);
   s.finalize();
+  if (device.backend) s.attachDevice(device.backend, device.kernel);
   for (int i = 0; i < 20; ++i) s.step();
   return s;
 }
@@ -134,8 +143,9 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density]] [--threads T]`: N steps of the
-// problem (1 thread unless told) without the benchmark harness, for instruction counts
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density]] [--threads T] [--scale S]
+// [--device cuda [--kernel naive]]`: N steps of the problem (1 thread unless told; the needle
+// problem's block edges times S; on the CUDA plugin) without the benchmark harness, for instruction counts
 // under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread);
 // prints the fastest and the median step wall time (docs/performance.md).
 int main(int argc, char** argv) {
@@ -145,6 +155,9 @@ int main(int argc, char** argv) {
   bool twoBlocks = false;
   BodyContact law = MpmConfig{}.bodyContact;
   int threads = 1;
+  double scale = 1.0;
+  Device device;
+  bool cuda = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
@@ -153,9 +166,27 @@ int main(int argc, char** argv) {
     if (a == "--two-blocks") twoBlocks = true;
     if (a == "--density") law = BodyContact::Density;  // two blocks with the density contact (density_contact.hpp)
     if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (a == "--scale" && i + 1 < argc) scale = std::atof(argv[++i]);
+    if (a == "--device" && i + 1 < argc) cuda = std::string(argv[++i]) == "cuda";
+    if (a == "--kernel" && i + 1 < argc) device.kernel = std::string(argv[++i]) == "naive" ? NSMPM_KERNEL_NAIVE : NSMPM_KERNEL_SORTED;
+  }
+  if (cuda) {
+    const needlesim::mpm::PluginLoad load = needlesim::mpm::loadCudaPlugin();
+    char msg[512] = "";
+    if (!load.backend || load.backend->probe(msg, sizeof msg) < 1) {
+      std::fprintf(stderr, "bench_mpm: --device cuda: %s\n", load.backend ? msg : load.problem.c_str());
+      return 2;
+    }
+    if (twoBlocks) {
+      std::fprintf(stderr, "bench_mpm: --device cuda: the two-block problem (two bodies) is CPU-only\n");
+      return 2;
+    }
+    std::printf("device: %s, %s kernel\n", msg, device.kernel == NSMPM_KERNEL_NAIVE ? "naive" : "sorted");
+    device.backend = load.backend;
   }
   if (steps >= 0) {
-    MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads, law) : makeNeedleProblem(shape, update, threads);
+    MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads, law)
+                            : makeNeedleProblem(shape, update, threads, scale, device);
     // Wall time of each step: the fastest and the median (on a shared machine
     // the fastest steps are those that found the cores free).
     std::vector<double> ms;
