@@ -5,7 +5,8 @@
 # runs the quick example and the seed 000 local model (grid contact) through
 # the CLI on the GPU. Run from the repository root with prebuilt host programs
 # in .devcarry/bin (needlesim, bench_mpm, test_gpu) and their shared libraries
-# in .devcarry/lib. Logs go to $OUT (default: .devcarry/out). Under 6 minutes.
+# in .devcarry/lib (or packed in .devcarry/lib.tar.xz). Logs go to $OUT (default:
+# .devcarry/out), at most 8 files. Under 6 minutes.
 set -uo pipefail
 ROOT=$(pwd)
 CARRY=$ROOT/.devcarry
@@ -17,6 +18,10 @@ export LD_LIBRARY_PATH=$CARRY/lib${LD_LIBRARY_PATH:+:$LD_LIBRARY_PATH}
 export NEEDLESIM_MPM_CUDA_PLUGIN=$BIN/libneedlesim_mpm_cuda.so
 export NEEDLESIM_SOURCE_DIR=$ROOT
 WORK=$(mktemp -d /tmp/gpu_check.XXXXXX)
+# The shared libraries may come packed (.devcarry/lib.tar.xz, to fit the carry limit).
+if [ -f "$CARRY/lib.tar.xz" ]; then
+  mkdir -p "$WORK/lib" && tar -C "$WORK/lib" -xJf "$CARRY/lib.tar.xz" && export LD_LIBRARY_PATH=$WORK/lib:$LD_LIBRARY_PATH
+fi
 t_start=$(date +%s)
 section() { echo; echo "=== $* ($(( $(date +%s) - t_start )) s)"; }
 
