@@ -469,10 +469,10 @@ NSMPM_HD void remapNode(const Grid& g, const Params& P, size_t I) {
 
 // MUSL: the new point velocity (FLIP blended with PIC), sum N v_new kept for
 // the position update, and the remap of its momentum into the records.
-template <int S>
-NSMPM_HD void g2pRemapPoint(const Grid& g, const Points& pt, const Params& P, size_t p) {
+template <int S, class Sink>
+NSMPM_HD void g2pRemapPoint(const Grid& g, const Points& pt, const Params& P, size_t p, const Stencil<S>& st,
+                            const Sink& sink) {
   const size_t n = pt.n;
-  const Stencil<S> st = stencilAt<S>(g, pt.x[p], pt.x[n + p], pt.x[2 * n + p]);
   double an[3] = {0, 0, 0}, ao[3] = {0, 0, 0};
   for (int i = 0; i < S; ++i)
     for (int j = 0; j < S; ++j) {
@@ -504,10 +504,18 @@ NSMPM_HD void g2pRemapPoint(const Grid& g, const Points& pt, const Params& P, si
   for (int i = 0; i < S; ++i)
     for (int j = 0; j < S; ++j) {
       const double wij = st.wx[i] * st.wy[j];
-      double* r = g.rec + 8 * nodeIndex(g, st.bx + i, st.by + j, st.bz);
-      for (int k = 0; k < S; ++k, r += 8)
-        for (int c = 0; c < 3; ++c) addTo(r + 1 + c, st.wz[k] * (wij * q[c]));
+      for (int k = 0; k < S; ++k) {
+        double* r = sink.node(st.bx + i, st.by + j, st.bz + k);
+        for (int c = 0; c < 3; ++c) sink.add(r, 1 + c, st.wz[k] * (wij * q[c]));
+      }
     }
+}
+
+template <int S>
+NSMPM_HD void g2pRemapPoint(const Grid& g, const Points& pt, const Params& P, size_t p) {
+  const size_t n = pt.n;
+  const Stencil<S> st = stencilAt<S>(g, pt.x[p], pt.x[n + p], pt.x[2 * n + p]);
+  g2pRemapPoint<S>(g, pt, P, p, st, GlobalSink{&g});
 }
 
 // Totals of the final pass over the points.

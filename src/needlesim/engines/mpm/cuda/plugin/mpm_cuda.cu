@@ -4,10 +4,10 @@
 // state stays on the device between steps; one small copy of the step's
 // totals comes back per step, the particles only on download.
 // Kernels: NAIVE (one thread per point in storage order, global atomics) and
-// SORTED (points sorted by cell with CUB's radix sort every few steps; P2G
-// into a shared-memory tile of the nodes a block of sorted points reaches,
-// then one global atomic per touched record entry: the block-local P2G of
-// Claymore, Wang et al. 2020, on a dense grid).
+// SORTED (points sorted by cell with CUB's radix sort every few steps; P2G and
+// the MUSL remap add into a shared-memory tile of the nodes a block of sorted
+// points reaches, then one global atomic per touched record entry: the
+// block-local P2G of Claymore, Wang et al. 2020, on a dense grid).
 #include <cub/cub.cuh>
 #include <cuda_runtime.h>
 
@@ -100,11 +100,22 @@ struct TileSink {
   NSMPM_HD void add(double* r, int c, double v) const { addTo(r + c, v); }
 };
 
-// Tiled P2G over sorted points: the block's base cells span at most
-// kTileCells in index, so its nodes fit a 9 x kTileRow tile; else the block
-// falls back to global atomics.
-template <int S>
-__global__ void __launch_bounds__(kTileThreads) p2gTiled(Grid g, Points pt, Params P) {
+// What a tiled scatter adds: P2G (mass, momentum, force) or the MUSL remap (momentum).
+enum class Scatter { P2G, Remap };
+
+template <int S, Scatter What, class Sink>
+__device__ void scatterInto(const Grid& g, const Points& pt, const Params& P, size_t p, const Stencil<S>& st,
+                            const Sink& sink) {
+  if (What == Scatter::P2G) scatterPoint<S>(pt, p, st, sink);
+  else g2pRemapPoint<S>(g, pt, P, p, st, sink);
+}
+
+// Tiled scatter over sorted points: the block's base cells span at most
+// kTileCells in index, so its nodes fit a 9 x kTileRow tile in shared memory;
+// the block adds there, then each non-zero entry once into the global grid.
+// A block whose points spread wider adds globally.
+template <int S, Scatter What>
+__global__ void __launch_bounds__(kTileThreads) scatterTiled(Grid g, Points pt, Params P) {
   __shared__ double tile[kTileEntries];
   __shared__ unsigned long long cmin;
   const size_t p = blockIdx.x * static_cast<size_t>(blockDim.x) + threadIdx.x;
@@ -127,11 +138,11 @@ __global__ void __launch_bounds__(kTileThreads) p2gTiled(Grid g, Points pt, Para
   const unsigned long long c0 = cmin;
   const bool wide = __syncthreads_or(valid && c - c0 > static_cast<unsigned long long>(kTileCells - S + 1));
   if (wide) {
-    if (valid) scatterPoint<S>(pt, p, st, GlobalSink{&g});
+    if (valid) scatterInto<S, What>(g, pt, P, p, st, GlobalSink{&g});
   } else {
     for (int e = threadIdx.x; e < kTileEntries; e += blockDim.x) tile[e] = 0.0;
     __syncthreads();
-    if (valid) scatterPoint<S>(pt, p, st, TileSink{tile, static_cast<long long>(c - c0), st.bx, st.by, st.bz});
+    if (valid) scatterInto<S, What>(g, pt, P, p, st, TileSink{tile, static_cast<long long>(c - c0), st.bx, st.by, st.bz});
     __syncthreads();
     const size_t nz = static_cast<size_t>(g.nz), nyz = static_cast<size_t>(g.ny) * nz;
     for (int e = threadIdx.x; e < kTileEntries; e += blockDim.x) {
@@ -142,7 +153,7 @@ __global__ void __launch_bounds__(kTileThreads) p2gTiled(Grid g, Points pt, Para
       if (node < g.nodes) atomicAdd(g.rec + 8 * node + comp, v);
     }
   }
-  if (valid && P.cfg.nRigids > 0) gapMinima<S>(g, P, x, st);
+  if (What == Scatter::P2G && valid && P.cfg.nRigids > 0) gapMinima<S>(g, P, x, st);
 }
 
 __global__ void gridUpdate(Grid g, Params P, ForceSums* sums) {
@@ -335,14 +346,17 @@ int stepWith(Run& r, const Params& P, char* err, size_t len) {
   NSMPM_CHECK(cudaMemsetAsync(r.rec, 0, 8 * nodes * sizeof(double), r.stream));
   NSMPM_CHECK(cudaMemsetAsync(r.totals, 0, sizeof(Totals), r.stream));
   if (n > 0) {
-    if (sorted) p2gTiled<S><<<blocks(n, kTileThreads), kTileThreads, 0, r.stream>>>(g, pt, P);
+    if (sorted) scatterTiled<S, Scatter::P2G><<<blocks(n, kTileThreads), kTileThreads, 0, r.stream>>>(g, pt, P);
     else p2gNaive<S><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P);
   }
   NSMPM_CHECK(cudaGetLastError());
   gridUpdate<<<blocks(nodes, kThreads), kThreads, 0, r.stream>>>(g, P, &r.totals->sums);
   NSMPM_CHECK(cudaGetLastError());
   if (r.cfg.musl) {
-    if (n > 0) remapScatter<S><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P);
+    if (n > 0 && sorted)
+      scatterTiled<S, Scatter::Remap><<<blocks(n, kTileThreads), kTileThreads, 0, r.stream>>>(g, pt, P);
+    else if (n > 0)
+      remapScatter<S><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P);
     remapUpdate<<<blocks(nodes, kThreads), kThreads, 0, r.stream>>>(g, P);
     NSMPM_CHECK(cudaGetLastError());
   }
