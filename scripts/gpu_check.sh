@@ -56,9 +56,11 @@ section "bench_mpm on the GPU"
   for k in sorted naive; do
     echo "--- 49.5k points, $k"
     timeout 60 "$BIN/bench_mpm" --steps 200 --device cuda --kernel $k
-    echo "--- 4.2 M points (--scale 4.4), $k"
-    timeout 90 "$BIN/bench_mpm" --steps 40 --scale 4.4 --device cuda --kernel $k
+    echo "--- 4.2 M points (--scale 4.4), $k (with the per-phase profile: events between the kernels)"
+    NEEDLESIM_MPM_CUDA_PROFILE=1 timeout 90 "$BIN/bench_mpm" --steps 40 --scale 4.4 --device cuda --kernel $k
   done
+  echo "--- 4.2 M points, sorted, sorting every step"
+  NEEDLESIM_MPM_CUDA_SORT_EVERY=1 timeout 90 "$BIN/bench_mpm" --steps 40 --scale 4.4 --device cuda --kernel sorted
   echo "--- 49.5k points, CPU, $(nproc) threads (reference)"
   timeout 60 "$BIN/bench_mpm" --steps 60 --threads "$(nproc)"
 } 2>&1 | tee "$OUT/bench.log"

@@ -59,7 +59,36 @@ struct Run {
   int sortEvery = 8;
   std::vector<double> staging;
   std::vector<uint32_t> hostOrig;
+  // NEEDLESIM_MPM_CUDA_PROFILE: per-phase device times, summed and printed at destroy.
+  bool profile = false;
+  cudaEvent_t marks[8] = {};
+  double phaseMs[7] = {};
+  long long profiled = 0;
 };
+
+// Phases between the profile marks.
+const char* const kPhases[7] = {"sort", "clear", "p2g", "grid", "remap scatter", "remap update", "g2p+stress"};
+
+void mark(Run& r, int i) {
+  if (r.profile) cudaEventRecord(r.marks[i], r.stream);
+}
+
+// After a step's sync: the phase times of this step into the sums.
+void collectPhases(Run& r) {
+  if (!r.profile) return;
+  for (int i = 0; i < 7; ++i) {
+    float ms = 0.0f;
+    if (cudaEventElapsedTime(&ms, r.marks[i], r.marks[i + 1]) == cudaSuccess) r.phaseMs[i] += ms;
+  }
+  ++r.profiled;
+}
+
+void printPhases(const Run& r) {
+  if (!r.profile || r.profiled == 0) return;
+  std::fprintf(stderr, "mpm cuda profile: %zu points, %lld steps, mean per step:", r.n, r.profiled);
+  for (int i = 0; i < 7; ++i) std::fprintf(stderr, " %s %.1f us;", kPhases[i], 1e3 * r.phaseMs[i] / r.profiled);
+  std::fprintf(stderr, "\n");
+}
 
 unsigned blocks(size_t count, int threads) { return static_cast<unsigned>((count + threads - 1) / threads); }
 
@@ -251,6 +280,9 @@ __global__ void gatherSmall(const uint8_t* mat, uint8_t* matOut, const uint32_t*
 
 void release(Run* r) {
   if (!r) return;
+  printPhases(*r);
+  for (cudaEvent_t e : r->marks)
+    if (e) cudaEventDestroy(e);
   void* ptrs[] = {r->pdata, r->pscratch, r->vg, r->mat, r->matScratch, r->orig, r->origScratch, r->keys,
                   r->keysOut, r->slots, r->perm, r->cubTemp, r->rec, r->vel, r->rnormal, r->dash, r->gmin,
                   r->active, r->fix, r->totals};
@@ -264,6 +296,8 @@ void release(Run* r) {
 int allocate(Run& r, char* err, size_t len) {
   const size_t n = r.n, nodes = r.nodes, R = r.cfg.nRigids > 0 ? static_cast<size_t>(r.cfg.nRigids) : 1;
   NSMPM_CHECK(cudaStreamCreate(&r.stream));
+  if (r.profile)
+    for (cudaEvent_t& e : r.marks) NSMPM_CHECK(cudaEventCreate(&e));
   NSMPM_CHECK(cudaMalloc(&r.pdata, kPointDoubles * n * sizeof(double)));
   NSMPM_CHECK(cudaMalloc(&r.pscratch, kPointDoubles * n * sizeof(double)));
   NSMPM_CHECK(cudaMalloc(&r.vg, 3 * n * sizeof(double)));
@@ -340,33 +374,42 @@ template <int S>
 int stepWith(Run& r, const Params& P, char* err, size_t len) {
   const size_t n = r.n, nodes = r.nodes;
   const bool sorted = r.cfg.kernel == NSMPM_KERNEL_SORTED;
+  mark(r, 0);
   if (sorted && n > 0 && r.steps % r.sortEvery == 0 && sortPoints<S>(r, err, len) != 0) return -1;
+  mark(r, 1);
   const Grid g = gridOf(r);
   const Points pt = pointsOf(r);
   NSMPM_CHECK(cudaMemsetAsync(r.rec, 0, 8 * nodes * sizeof(double), r.stream));
   NSMPM_CHECK(cudaMemsetAsync(r.totals, 0, sizeof(Totals), r.stream));
+  mark(r, 2);
   if (n > 0) {
     if (sorted) scatterTiled<S, Scatter::P2G><<<blocks(n, kTileThreads), kTileThreads, 0, r.stream>>>(g, pt, P);
     else p2gNaive<S><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P);
   }
   NSMPM_CHECK(cudaGetLastError());
+  mark(r, 3);
   gridUpdate<<<blocks(nodes, kThreads), kThreads, 0, r.stream>>>(g, P, &r.totals->sums);
   NSMPM_CHECK(cudaGetLastError());
+  mark(r, 4);
   if (r.cfg.musl) {
     if (n > 0 && sorted)
       scatterTiled<S, Scatter::Remap><<<blocks(n, kTileThreads), kTileThreads, 0, r.stream>>>(g, pt, P);
     else if (n > 0)
       remapScatter<S><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P);
-    remapUpdate<<<blocks(nodes, kThreads), kThreads, 0, r.stream>>>(g, P);
-    NSMPM_CHECK(cudaGetLastError());
   }
+  mark(r, 5);
+  if (r.cfg.musl) remapUpdate<<<blocks(nodes, kThreads), kThreads, 0, r.stream>>>(g, P);
+  NSMPM_CHECK(cudaGetLastError());
+  mark(r, 6);
   if (n > 0) {
     if (r.cfg.musl) finalPass<S, false><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P, r.totals);
     else finalPass<S, true><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P, r.totals);
   }
   NSMPM_CHECK(cudaGetLastError());
+  mark(r, 7);
   NSMPM_CHECK(cudaMemcpyAsync(r.hostTotals, r.totals, sizeof(Totals), cudaMemcpyDeviceToHost, r.stream));
   NSMPM_CHECK(cudaStreamSynchronize(r.stream));
+  collectPhases(r);
   ++r.steps;
   return 0;
 }
@@ -411,6 +454,7 @@ void* create(const NsMpmConfig* cfg, const NsMpmParticles* in, const NsMpmGrid* 
   r->keyBits = 1;
   while (r->keyBits < 32 && (size_t{1} << r->keyBits) < r->nodes) ++r->keyBits;
   if (const char* every = std::getenv("NEEDLESIM_MPM_CUDA_SORT_EVERY")) r->sortEvery = std::max(1, std::atoi(every));
+  r->profile = std::getenv("NEEDLESIM_MPM_CUDA_PROFILE") != nullptr;
   if (allocate(*r, err, len) != 0 || upload(*r, in, grid, err, len) != 0) {
     release(r);
     return nullptr;
