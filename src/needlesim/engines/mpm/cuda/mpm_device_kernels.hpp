@@ -118,6 +118,8 @@ struct Params {
   NsMpmConfig cfg;
   NsMpmRigid rigids[NSMPM_MAX_RIGIDS];
   double dt;
+  int warpReduce;  // CUDA sorted kernel: warp-level sums of runs of points in one cell before the adds
+  int tile;        // CUDA sorted kernel: adds into a shared-memory tile first
 };
 
 // Per rigid force sums (total 3, shaft 3, tip 3) and contact node counts.

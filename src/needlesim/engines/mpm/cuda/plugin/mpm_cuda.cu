@@ -57,6 +57,8 @@ struct Run {
   Totals* hostTotals = nullptr;
   long long steps = 0;
   int sortEvery = 8;
+  int warpReduce = 1;  // NEEDLESIM_MPM_CUDA_WARP=0: the sorted kernel without the warp-level sums
+  int tile = 1;        // NEEDLESIM_MPM_CUDA_TILE=0: the sorted kernel adds into the global grid directly
   std::vector<double> staging;
   std::vector<uint32_t> hostOrig;
   // NEEDLESIM_MPM_CUDA_PROFILE: per-phase device times, summed and printed at destroy.
@@ -129,6 +131,50 @@ struct TileSink {
   NSMPM_HD void add(double* r, int c, double v) const { addTo(r + c, v); }
 };
 
+// Warp-level pre-reduction (Gao et al. 2018, GPU optimization of MPM): sorted
+// points with the same base cell sit in neighbouring lanes and add into the
+// same nodes, so each run of equal cells sums its contributions by shuffles
+// and only its first lane adds. `mask`: the lanes taking part (the warp's
+// valid points, contiguous from lane 0, from a ballot of the whole warp);
+// key: the lane's base cell.
+struct WarpRun {
+  unsigned mask;
+  int lane, end, width;  // end: last lane of this lane's run; width: longest run in the warp
+  bool head;
+  __device__ static WarpRun of(unsigned key, unsigned mask) {
+    WarpRun w;
+    w.mask = mask;
+    w.lane = static_cast<int>(threadIdx.x % 32);
+    const unsigned prev = __shfl_up_sync(w.mask, key, 1);
+    w.head = w.lane == 0 || prev != key;
+    const unsigned heads = __ballot_sync(w.mask, w.head);
+    const unsigned above = heads & ~((2u << w.lane) - 1u);
+    const int last = 31 - __clz(w.mask);
+    w.end = above ? __ffs(above) - 2 : last;
+    const unsigned run = w.head ? static_cast<unsigned>(w.end - w.lane + 1) : 1u;
+    w.width = static_cast<int>(__reduce_max_sync(w.mask, run));
+    return w;
+  }
+  __device__ double sum(double v) const {
+    for (int d = 1; d < width; d <<= 1) {
+      const double o = __shfl_down_sync(mask, v, d);
+      if (lane + d <= end) v += o;
+    }
+    return v;
+  }
+};
+
+template <class Inner>
+struct WarpSink {
+  Inner in;
+  WarpRun w;
+  __device__ double* node(int i, int j, int k) const { return in.node(i, j, k); }
+  __device__ void add(double* r, int c, double v) const {
+    const double total = w.sum(v);
+    if (w.head) in.add(r, c, total);
+  }
+};
+
 // What a tiled scatter adds: P2G (mass, momentum, force) or the MUSL remap (momentum).
 enum class Scatter { P2G, Remap };
 
@@ -165,13 +211,22 @@ __global__ void __launch_bounds__(kTileThreads) scatterTiled(Grid g, Points pt, 
   if (valid) atomicMin(&cmin, c);
   __syncthreads();
   const unsigned long long c0 = cmin;
-  const bool wide = __syncthreads_or(valid && c - c0 > static_cast<unsigned long long>(kTileCells - S + 1));
+  const bool wide = __syncthreads_or(!P.tile || (valid && c - c0 > static_cast<unsigned long long>(kTileCells - S + 1)));
+  const unsigned validLanes = __ballot_sync(0xffffffffu, valid);
   if (wide) {
-    if (valid) scatterInto<S, What>(g, pt, P, p, st, GlobalSink{&g});
+    if (valid) {
+      const GlobalSink sink{&g};
+      if (P.warpReduce) scatterInto<S, What>(g, pt, P, p, st, WarpSink<GlobalSink>{sink, WarpRun::of(static_cast<unsigned>(c), validLanes)});
+      else scatterInto<S, What>(g, pt, P, p, st, sink);
+    }
   } else {
     for (int e = threadIdx.x; e < kTileEntries; e += blockDim.x) tile[e] = 0.0;
     __syncthreads();
-    if (valid) scatterInto<S, What>(g, pt, P, p, st, TileSink{tile, static_cast<long long>(c - c0), st.bx, st.by, st.bz});
+    if (valid) {
+      const TileSink sink{tile, static_cast<long long>(c - c0), st.bx, st.by, st.bz};
+      if (P.warpReduce) scatterInto<S, What>(g, pt, P, p, st, WarpSink<TileSink>{sink, WarpRun::of(static_cast<unsigned>(c), validLanes)});
+      else scatterInto<S, What>(g, pt, P, p, st, sink);
+    }
     __syncthreads();
     const size_t nz = static_cast<size_t>(g.nz), nyz = static_cast<size_t>(g.ny) * nz;
     for (int e = threadIdx.x; e < kTileEntries; e += blockDim.x) {
@@ -455,6 +510,8 @@ void* create(const NsMpmConfig* cfg, const NsMpmParticles* in, const NsMpmGrid* 
   while (r->keyBits < 32 && (size_t{1} << r->keyBits) < r->nodes) ++r->keyBits;
   if (const char* every = std::getenv("NEEDLESIM_MPM_CUDA_SORT_EVERY")) r->sortEvery = std::max(1, std::atoi(every));
   r->profile = std::getenv("NEEDLESIM_MPM_CUDA_PROFILE") != nullptr;
+  if (const char* warp = std::getenv("NEEDLESIM_MPM_CUDA_WARP")) r->warpReduce = std::atoi(warp) != 0 ? 1 : 0;
+  if (const char* tile = std::getenv("NEEDLESIM_MPM_CUDA_TILE")) r->tile = std::atoi(tile) != 0 ? 1 : 0;
   if (allocate(*r, err, len) != 0 || upload(*r, in, grid, err, len) != 0) {
     release(r);
     return nullptr;
@@ -468,6 +525,8 @@ int step(void* run, const NsMpmStepIn* in, NsMpmStepOut* out, char* err, size_t 
   std::memset(&P, 0, sizeof P);
   P.cfg = r.cfg;
   P.dt = in->dt;
+  P.warpReduce = r.warpReduce;
+  P.tile = r.tile;
   for (int k = 0; k < NSMPM_MAX_RIGIDS; ++k) P.rigids[k] = in->rigids[k];
   const int rc = r.cfg.support == 2 ? stepWith<2>(r, P, err, len) : stepWith<3>(r, P, err, len);
   if (rc != 0) return rc;
