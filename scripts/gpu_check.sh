@@ -50,24 +50,24 @@ section "GPU tests (test_gpu: label gpu)"
 timeout 120 "$BIN/test_gpu" --gtest_color=no 2>&1 | tee "$OUT/gpu_tests.log" | grep -vE '^\[ +(RUN|OK) +\]' | tail -n 40
 tests_rc=${PIPESTATUS[0]}
 echo "test_gpu exit $tests_rc"
-for v in "NEEDLESIM_MPM_CUDA_WARP=0" "NEEDLESIM_MPM_CUDA_TILE=0" "NEEDLESIM_MPM_CUDA_SORT_EVERY=1"; do
+for v in "NEEDLESIM_MPM_CUDA_SPREAD=1" "NEEDLESIM_MPM_CUDA_MINBLOCKS=8" "NEEDLESIM_MPM_CUDA_TILE=1"; do
   echo "--- the agreement tests with $v"
   env "$v" timeout 60 "$BIN/test_gpu" --gtest_color=no --gtest_filter='Cases/GpuAgreement.*' 2>&1 | grep -E 'first 100|FAIL|PASSED' | tee -a "$OUT/gpu_tests.log"
 done
 
 section "bench_mpm on the GPU"
 {
-  # the sorted kernel (default: shared-memory tile and warp-level sums), its variants, the naive one
-  for v in "X=" "NEEDLESIM_MPM_CUDA_WARP=0" "NEEDLESIM_MPM_CUDA_TILE=0"; do
+  # the sorted kernel (default: warp-level sums, then global atomics), its variants, the naive one
+  for v in "X=" "NEEDLESIM_MPM_CUDA_SPREAD=1" "NEEDLESIM_MPM_CUDA_MINBLOCKS=8" "NEEDLESIM_MPM_CUDA_TILE=1"; do
     echo "--- 49.5k points, sorted, $v"
     env "$v" timeout 60 "$BIN/bench_mpm" --steps 200 --device cuda --kernel sorted
   done
   echo "--- 49.5k points, naive"
   timeout 60 "$BIN/bench_mpm" --steps 200 --device cuda --kernel naive
-  for v in "X=" "NEEDLESIM_MPM_CUDA_WARP=0" "NEEDLESIM_MPM_CUDA_TILE=0" "NEEDLESIM_MPM_CUDA_SORT_EVERY=1" \
-           "NEEDLESIM_MPM_CUDA_SORT_EVERY=32"; do
+  for v in "X=" "NEEDLESIM_MPM_CUDA_SPREAD=1" "NEEDLESIM_MPM_CUDA_MINBLOCKS=8" "NEEDLESIM_MPM_CUDA_SORT_EVERY=32" \
+           "NEEDLESIM_MPM_CUDA_SPREAD=1 NEEDLESIM_MPM_CUDA_MINBLOCKS=8"; do
     echo "--- 4.2 M points (--scale 4.4), sorted, $v (per-phase profile: events between the kernels)"
-    env NEEDLESIM_MPM_CUDA_PROFILE=1 "$v" timeout 90 "$BIN/bench_mpm" --steps 40 --scale 4.4 --device cuda --kernel sorted
+    env NEEDLESIM_MPM_CUDA_PROFILE=1 $v timeout 90 "$BIN/bench_mpm" --steps 40 --scale 4.4 --device cuda --kernel sorted
   done
   echo "--- 4.2 M points, naive (profile)"
   NEEDLESIM_MPM_CUDA_PROFILE=1 timeout 90 "$BIN/bench_mpm" --steps 40 --scale 4.4 --device cuda --kernel naive

@@ -120,6 +120,7 @@ struct Params {
   double dt;
   int warpReduce;  // CUDA sorted kernel: warp-level sums of runs of points in one cell before the adds
   int tile;        // CUDA sorted kernel: adds into a shared-memory tile first
+  int spread;      // CUDA sorted kernel: blocks in a spread order
 };
 
 // Per rigid force sums (total 3, shaft 3, tip 3) and contact node counts.

@@ -4,10 +4,15 @@
 // state stays on the device between steps; one small copy of the step's
 // totals comes back per step, the particles only on download.
 // Kernels: NAIVE (one thread per point in storage order, global atomics) and
-// SORTED (points sorted by cell with CUB's radix sort every few steps; P2G and
-// the MUSL remap add into a shared-memory tile of the nodes a block of sorted
-// points reaches, then one global atomic per touched record entry: the
-// block-local P2G of Claymore, Wang et al. 2020, on a dense grid).
+// SORTED (points sorted by base cell with CUB's radix sort every 8 steps; in
+// P2G and the MUSL remap each run of sorted points in one cell sums its
+// contributions with warp shuffles and its first lane adds them with global
+// atomics: the warp-level reduction of Gao et al. 2018). Variants for
+// measurement (environment): NEEDLESIM_MPM_CUDA_TILE=1 adds into a
+// shared-memory tile of the nodes of a block first (the block-local P2G of
+// Claymore, Wang et al. 2020; slower on an H200 with fp64), SPREAD=1 runs the
+// blocks in a spread order, MINBLOCKS=8 halves the registers, WARP=0 drops the
+// warp sums, SORT_EVERY=N, PROFILE=1 prints per-phase device times.
 #include <cub/cub.cuh>
 #include <cuda_runtime.h>
 
@@ -58,7 +63,9 @@ struct Run {
   long long steps = 0;
   int sortEvery = 8;
   int warpReduce = 1;  // NEEDLESIM_MPM_CUDA_WARP=0: the sorted kernel without the warp-level sums
-  int tile = 1;        // NEEDLESIM_MPM_CUDA_TILE=0: the sorted kernel adds into the global grid directly
+  int tile = 0;        // NEEDLESIM_MPM_CUDA_TILE=1: the sorted kernel adds into a shared-memory tile first
+  int spread = 0;      // NEEDLESIM_MPM_CUDA_SPREAD=1: blocks of the warp scatter in a spread order
+  int minBlocks = 4;   // NEEDLESIM_MPM_CUDA_MINBLOCKS=8: the warp scatter with half the registers
   std::vector<double> staging;
   std::vector<uint32_t> hostOrig;
   // NEEDLESIM_MPM_CUDA_PROFILE: per-phase device times, summed and printed at destroy.
@@ -238,6 +245,43 @@ __global__ void __launch_bounds__(kTileThreads) scatterTiled(Grid g, Points pt, 
     }
   }
   if (What == Scatter::P2G && valid && P.cfg.nRigids > 0) gapMinima<S>(g, P, x, st);
+}
+
+// Block b of n in an order that spreads the blocks running at one time over
+// the sorted points (b times a prime, mod n): fewer of their atomics meet at
+// one node (NEEDLESIM_MPM_CUDA_SPREAD=1).
+__device__ unsigned spreadBlock(unsigned b, unsigned n) {
+  const unsigned long long s = n % 7919u != 0 ? 7919u : 7907u;
+  return static_cast<unsigned>((static_cast<unsigned long long>(b) * s) % n);
+}
+
+// The sorted kernel's default scatter: warp-level sums of the runs of points in
+// one cell, then global atomics (faster than the shared-memory tile on an H200:
+// docs/performance.md). MinBlocks: the register budget (launch bounds).
+template <int S, Scatter What, int MinBlocks>
+__global__ void __launch_bounds__(kTileThreads, MinBlocks) scatterWarp(Grid g, Points pt, Params P) {
+  const unsigned b = P.spread ? spreadBlock(blockIdx.x, gridDim.x) : blockIdx.x;
+  const size_t p = b * static_cast<size_t>(blockDim.x) + threadIdx.x;
+  const bool valid = p < pt.n;
+  const unsigned validLanes = __ballot_sync(0xffffffffu, valid);
+  if (!valid) return;
+  const size_t n = pt.n;
+  const double x[3] = {pt.x[p], pt.x[n + p], pt.x[2 * n + p]};
+  const Stencil<S> st = stencilAt<S>(g, x[0], x[1], x[2]);
+  const unsigned c = static_cast<unsigned>(nodeIndex(g, st.bx, st.by, st.bz));
+  const GlobalSink sink{&g};
+  if (P.warpReduce) scatterInto<S, What>(g, pt, P, p, st, WarpSink<GlobalSink>{sink, WarpRun::of(c, validLanes)});
+  else scatterInto<S, What>(g, pt, P, p, st, sink);
+  if (What == Scatter::P2G && P.cfg.nRigids > 0) gapMinima<S>(g, P, x, st);
+}
+
+// One scatter of the sorted kernel, as the variant switches say.
+template <int S, Scatter What>
+void launchSorted(const Run& r, const Grid& g, const Points& pt, const Params& P) {
+  const unsigned nb = blocks(r.n, kTileThreads);
+  if (r.tile) scatterTiled<S, What><<<nb, kTileThreads, 0, r.stream>>>(g, pt, P);
+  else if (r.minBlocks >= 8) scatterWarp<S, What, 8><<<nb, kTileThreads, 0, r.stream>>>(g, pt, P);
+  else scatterWarp<S, What, 4><<<nb, kTileThreads, 0, r.stream>>>(g, pt, P);
 }
 
 __global__ void gridUpdate(Grid g, Params P, ForceSums* sums) {
@@ -438,7 +482,7 @@ int stepWith(Run& r, const Params& P, char* err, size_t len) {
   NSMPM_CHECK(cudaMemsetAsync(r.totals, 0, sizeof(Totals), r.stream));
   mark(r, 2);
   if (n > 0) {
-    if (sorted) scatterTiled<S, Scatter::P2G><<<blocks(n, kTileThreads), kTileThreads, 0, r.stream>>>(g, pt, P);
+    if (sorted) launchSorted<S, Scatter::P2G>(r, g, pt, P);
     else p2gNaive<S><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P);
   }
   NSMPM_CHECK(cudaGetLastError());
@@ -448,7 +492,7 @@ int stepWith(Run& r, const Params& P, char* err, size_t len) {
   mark(r, 4);
   if (r.cfg.musl) {
     if (n > 0 && sorted)
-      scatterTiled<S, Scatter::Remap><<<blocks(n, kTileThreads), kTileThreads, 0, r.stream>>>(g, pt, P);
+      launchSorted<S, Scatter::Remap>(r, g, pt, P);
     else if (n > 0)
       remapScatter<S><<<blocks(n, kThreads), kThreads, 0, r.stream>>>(g, pt, P);
   }
@@ -512,6 +556,8 @@ void* create(const NsMpmConfig* cfg, const NsMpmParticles* in, const NsMpmGrid* 
   r->profile = std::getenv("NEEDLESIM_MPM_CUDA_PROFILE") != nullptr;
   if (const char* warp = std::getenv("NEEDLESIM_MPM_CUDA_WARP")) r->warpReduce = std::atoi(warp) != 0 ? 1 : 0;
   if (const char* tile = std::getenv("NEEDLESIM_MPM_CUDA_TILE")) r->tile = std::atoi(tile) != 0 ? 1 : 0;
+  if (const char* spread = std::getenv("NEEDLESIM_MPM_CUDA_SPREAD")) r->spread = std::atoi(spread) != 0 ? 1 : 0;
+  if (const char* mb = std::getenv("NEEDLESIM_MPM_CUDA_MINBLOCKS")) r->minBlocks = std::atoi(mb);
   if (allocate(*r, err, len) != 0 || upload(*r, in, grid, err, len) != 0) {
     release(r);
     return nullptr;
@@ -527,6 +573,7 @@ int step(void* run, const NsMpmStepIn* in, NsMpmStepOut* out, char* err, size_t 
   P.dt = in->dt;
   P.warpReduce = r.warpReduce;
   P.tile = r.tile;
+  P.spread = r.spread;
   for (int k = 0; k < NSMPM_MAX_RIGIDS; ++k) P.rigids[k] = in->rigids[k];
   const int rc = r.cfg.support == 2 ? stepWith<2>(r, P, err, len) : stepWith<3>(r, P, err, len);
   if (rc != 0) return rc;
