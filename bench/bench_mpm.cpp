@@ -1,6 +1,7 @@
 // MPM throughput: particle-steps per second with frictional contact, ~50k
 // particles (a needle into a Fung-Demiray block, quadratic B-spline or linear
-// shapes, MUSL), on 1 and 2 threads. Figures: docs/performance.md.
+// shapes, MUSL), on 1 and 2 threads; the same needle problem in a block of
+// 1,008,000 points (--large). Figures: docs/performance.md.
 #include <benchmark/benchmark.h>
 
 #include <algorithm>
@@ -25,19 +26,24 @@ struct Device {
   int kernel = NSMPM_KERNEL_SORTED;
 };
 
-MpmSolver makeNeedleProblem(Shape shape, Update update, int threads, double scale = 1.0, Device device = {}) {
-  // 12 x 12 x 22 mm block, 0.4 mm particles, 0.8 mm grid: 49,500 particles
-  // (each edge times `scale`: scale^3 as many).
-  const double h = 0.8e-3, dp = 0.4e-3, a = 6e-3 * scale, len = 22e-3 * scale;
+// A bevel needle 2 mm into a Fung-Demiray block of length x width x height
+// (needle along x, centred in y and z), 0.4 mm particles, 0.8 mm grid, after
+// `warmup` steps (on the GPU back-end of `device` when it has one). The default 22 x 12 x 12 mm block: 49,500 particles; the
+// large one, 28 x 48 x 48 mm: 1,008,000.
+MpmSolver makeNeedleProblem(Shape shape, Update update, int threads, const Vec3& size = Vec3(22e-3, 12e-3, 12e-3),
+                            int warmup = 20, Device device = {}) {
+  const double h = 0.8e-3, dp = 0.4e-3;
+  const double hy = size.y() / 2, hz = size.z() / 2;
   MpmConfig cfg;
   cfg.h = h;
   cfg.shape = shape;
   cfg.update = update;
   cfg.threads = threads;
-  cfg.origin = Vec3(-4 * h, -a - 3 * h, -a - 3 * h);
-  cfg.cells = {static_cast<int>(len / h) + 8, static_cast<int>(2 * a / h) + 7, static_cast<int>(2 * a / h) + 7};
-  cfg.boxLo = Vec3(0, -a, -a);
-  cfg.boxHi = Vec3(len, a, a);
+  cfg.origin = Vec3(-4 * h, -hy - 3 * h, -hz - 3 * h);
+  cfg.cells = {static_cast<int>(size.x() / h) + 8, static_cast<int>(size.y() / h) + 7,
+               static_cast<int>(size.z() / h) + 7};
+  cfg.boxLo = Vec3(0, -hy, -hz);
+  cfg.boxHi = Vec3(size.x(), hy, hz);
   cfg.faces = {FaceBC::Free, FaceBC::Fixed, FaceBC::Roller, FaceBC::Roller, FaceBC::Roller, FaceBC::Roller};
   cfg.massScaling = 1e4;
   MpmSolver s(cfg);
@@ -61,7 +67,7 @@ MpmSolver makeNeedleProblem(Shape shape, Update update, int threads, double scal
   s.addRigid(n);
   s.finalize();
   if (device.backend) s.attachDevice(device.backend, device.kernel);
-  for (int i = 0; i < 20; ++i) s.step();
+  for (int i = 0; i < warmup; ++i) s.step();
   return s;
 }
 
@@ -143,16 +149,37 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density]] [--threads T] [--scale S]
-// [--device cuda [--kernel naive]]`: N steps of the problem (1 thread unless told; the needle
-// problem's block edges times S; on the CUDA plugin) without the benchmark harness, for instruction counts
-// under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread);
-// prints the fastest and the median step wall time (docs/performance.md).
+// --device cuda: the plugin into `device`; false (with the reason on stderr) when it cannot run.
+bool attachCuda(Device& device, bool twoBlocks) {
+  const needlesim::mpm::PluginLoad load = needlesim::mpm::loadCudaPlugin();
+  char msg[512] = "";
+  if (!load.backend || load.backend->probe(msg, sizeof msg) < 1) {
+    std::fprintf(stderr, "bench_mpm: --device cuda: %s\n", load.backend ? msg : load.problem.c_str());
+    return false;
+  }
+  if (twoBlocks) {
+    std::fprintf(stderr, "bench_mpm: --device cuda: the two-block problem (two bodies) is CPU-only\n");
+    return false;
+  }
+  std::printf("device: %s, %s kernel\n", msg, device.kernel == NSMPM_KERNEL_NAIVE ? "naive" : "sorted");
+  device.backend = load.backend;
+  return true;
+}
+
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density] | --large] [--threads T]
+// [--scale S] [--device cuda [--kernel naive]]`: N
+// steps of the problem (1 thread unless told) without the benchmark harness, for instruction
+// counts under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread)
+// and the thread scaling (scripts/mpm_scaling.sh); prints the fastest and the median step wall
+// time and the scatter's block colouring (docs/performance.md). --large: the needle in a
+// 28 x 48 x 48 mm block, 1,008,000 points (~300 MB), after 5 warm-up steps. --scale S: the
+// needle problem's block edges times S (4.4: 4.2 M points). --device cuda: the steps on the
+// CUDA plugin (docs/architecture.md "MPM on the GPU"), its sorted or naive P2G kernel.
 int main(int argc, char** argv) {
   int steps = -1;
   Shape shape = Shape::BSpline2;
   Update update = Update::MUSL;
-  bool twoBlocks = false;
+  bool twoBlocks = false, large = false;
   BodyContact law = MpmConfig{}.bodyContact;
   int threads = 1;
   double scale = 1.0;
@@ -164,29 +191,19 @@ int main(int argc, char** argv) {
     if (a == "--linear") shape = Shape::Linear;
     if (a == "--usl") update = Update::USL;
     if (a == "--two-blocks") twoBlocks = true;
+    if (a == "--large") large = true;
     if (a == "--density") law = BodyContact::Density;  // two blocks with the density contact (density_contact.hpp)
     if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
     if (a == "--scale" && i + 1 < argc) scale = std::atof(argv[++i]);
     if (a == "--device" && i + 1 < argc) cuda = std::string(argv[++i]) == "cuda";
     if (a == "--kernel" && i + 1 < argc) device.kernel = std::string(argv[++i]) == "naive" ? NSMPM_KERNEL_NAIVE : NSMPM_KERNEL_SORTED;
   }
-  if (cuda) {
-    const needlesim::mpm::PluginLoad load = needlesim::mpm::loadCudaPlugin();
-    char msg[512] = "";
-    if (!load.backend || load.backend->probe(msg, sizeof msg) < 1) {
-      std::fprintf(stderr, "bench_mpm: --device cuda: %s\n", load.backend ? msg : load.problem.c_str());
-      return 2;
-    }
-    if (twoBlocks) {
-      std::fprintf(stderr, "bench_mpm: --device cuda: the two-block problem (two bodies) is CPU-only\n");
-      return 2;
-    }
-    std::printf("device: %s, %s kernel\n", msg, device.kernel == NSMPM_KERNEL_NAIVE ? "naive" : "sorted");
-    device.backend = load.backend;
-  }
+  if (cuda && !attachCuda(device, twoBlocks)) return 2;
   if (steps >= 0) {
     MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads, law)
-                            : makeNeedleProblem(shape, update, threads, scale, device);
+                  : large   ? makeNeedleProblem(shape, update, threads, Vec3(28e-3, 48e-3, 48e-3), 5, device)
+                            : makeNeedleProblem(shape, update, threads, scale * Vec3(22e-3, 12e-3, 12e-3), 20,
+                                                device);
     // Wall time of each step: the fastest and the median (on a shared machine
     // the fastest steps are those that found the cores free).
     std::vector<double> ms;
@@ -200,6 +217,11 @@ int main(int argc, char** argv) {
                 s.lastReport().kinetic);
     if (!twoBlocks) std::printf(", contact nodes %d, force %.12e N", s.rigidForce(0).contactNodes, s.rigidForce(0).total.x());
     std::printf("\n");
+    const MpmSolver::ScatterPlan plan = s.scatterPlan(s.threads());
+    std::printf("scatter: %zu blocks in %d colours (%d barriers per scatter), %d of %d threads with points, "
+                "imbalance %.3f (scatter speed-up <= %.2f), %lld sorts by block\n",
+                plan.blocks, plan.colours, plan.colours - 1, plan.busyThreads, s.threads(), plan.imbalance,
+                s.threads() / plan.imbalance, plan.sorts);
     if (!ms.empty()) {
       std::sort(ms.begin(), ms.end());
       const double np = static_cast<double>(s.size());

@@ -176,7 +176,7 @@ void resumedRunIsIdentical(int threads, const std::string& depth, const std::str
 
 TEST(MpmCheckpoint, ResumedRunIsBitIdenticalOneThread) { resumedRunIsIdentical(1, "2 mm"); }
 
-// Two threads: the coloured scatter's slab order is part of the state (a
+// Two threads: the coloured scatter's block order is part of the state (a
 // shorter insertion: two threads on 2304 points mostly wait at barriers).
 TEST(MpmCheckpoint, ResumedRunIsBitIdenticalTwoThreads) { resumedRunIsIdentical(2, "0.3 mm"); }
 
@@ -285,8 +285,9 @@ void roundTrip(const std::function<MpmSolver()>& make, int k, int n, const std::
 
 // Two elastic blocks (4 x 10 x 4 mm) approaching along x at 2 x 0.5 m/s, 1 mm
 // apart, two-body penalty contact with friction: in contact from about step
-// 30 (1 ms). Longest along y, so the scatter order (sorted by y layers) is
-// not the creation order (x-major): a lost slab order shows.
+// 30 (1 ms). On two threads the scatter order (sorted by grid block, the
+// blocks by colour) is not the creation order (body by body, x-major): a lost
+// block order shows.
 MpmSolver twoBlocks(int threads, BodyContact law = BodyContact::Penalty) {
   MpmConfig cfg;
   cfg.h = 1e-3;

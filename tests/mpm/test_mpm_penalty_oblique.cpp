@@ -69,6 +69,32 @@ struct ObliqueImpact {
   long long steps = 0;
 };
 
+// The impulse and spins after an oblique impact from the spheres' motions before (a0, a1) and
+// after (q0, q1), the line of centres at first contact and at the apse, and the energy E0.
+void impulseAndSpins(ObliqueImpact& c, const BodyMotion& a0, const BodyMotion& a1, const BodyMotion& q0,
+                     const BodyMotion& q1, const Vec3& nContact, const Vec3& nApse, double R, double v0, double e0) {
+  // Relative velocity of the centres before (u0 = -2 v0 x) and after, split
+  // along the apse line n and t = z x n (the direction in which sphere 1
+  // slides past sphere 0 at the contact, u0.t = 2 v0 sin theta > 0).
+  const Vec3 n = nApse, t = Vec3::UnitZ().cross(n);
+  const Vec3 u0 = a1.velocity - a0.velocity, u1 = q1.velocity - q0.velocity;
+  c.restitution = -u1.dot(n) / u0.dot(n);
+  c.tangential = u1.dot(t) / u0.dot(t);
+  const Vec3 J = q1.mass * (q1.velocity - a1.velocity);  // impulse on sphere 1 (sphere 0 gets -J to round-off)
+  c.Jn = J.dot(n);
+  c.Jt = -J.dot(t);
+  const Vec3 tc = Vec3::UnitZ().cross(nContact);
+  c.dvPerpContact = std::max(std::abs((q0.velocity - a0.velocity).dot(tc)), std::abs((q1.velocity - a1.velocity).dot(tc))) / v0;
+  const Vec3 w0 = q0.spin(), w1 = q1.spin();
+  c.spin0 = w0.z() * R / v0;
+  c.spin1 = w1.z() * R / v0;
+  c.spinOff = std::max({std::abs(w0.x()), std::abs(w0.y()), std::abs(w1.x()), std::abs(w1.y())}) * R / v0;
+  c.rigid = (0.5 * q0.mass * q0.velocity.squaredNorm() + 0.5 * q1.mass * q1.velocity.squaredNorm() +
+             0.5 * w0.dot(q0.spinMomentum) + 0.5 * w1.dot(q1.spinMomentum)) / e0;
+  c.lever0 = q0.spinMomentum.z() / (c.Jt * R);
+  c.lever1 = q1.spinMomentum.z() / (c.Jt * R);
+}
+
 // Two spheres of R = 5 mm filled on a 0.5 mm lattice (4,224 points each,
 // as the head-on test) on a 1 mm grid, default penalty (kappa 0.2) and time
 // step. The centres start at (-+X, -+b/2, 0) with 2X = sqrt(4R^2 - b^2) + gap:
@@ -165,26 +191,7 @@ ObliqueImpact collideOblique(const ObliqueRun& u) {
   c.thetaContact = std::atan2(nContact.y(), nContact.x());
   c.thetaApse = std::atan2(nApse.y(), nApse.x());
 
-  // Relative velocity of the centres before (u0 = -2 v0 x) and after, split
-  // along the apse line n and t = z x n (the direction in which sphere 1
-  // slides past sphere 0 at the contact, u0.t = 2 v0 sin theta > 0).
-  const Vec3 n = nApse, t = Vec3::UnitZ().cross(n);
-  const Vec3 u0 = a1.velocity - a0.velocity, u1 = q1.velocity - q0.velocity;
-  c.restitution = -u1.dot(n) / u0.dot(n);
-  c.tangential = u1.dot(t) / u0.dot(t);
-  const Vec3 J = q1.mass * (q1.velocity - a1.velocity);  // impulse on sphere 1 (sphere 0 gets -J to round-off)
-  c.Jn = J.dot(n);
-  c.Jt = -J.dot(t);
-  const Vec3 tc = Vec3::UnitZ().cross(nContact);
-  c.dvPerpContact = std::max(std::abs((q0.velocity - a0.velocity).dot(tc)), std::abs((q1.velocity - a1.velocity).dot(tc))) / v0;
-  const Vec3 w0 = q0.spin(), w1 = q1.spin();
-  c.spin0 = w0.z() * R / v0;
-  c.spin1 = w1.z() * R / v0;
-  c.spinOff = std::max({std::abs(w0.x()), std::abs(w0.y()), std::abs(w1.x()), std::abs(w1.y())}) * R / v0;
-  c.rigid = (0.5 * q0.mass * q0.velocity.squaredNorm() + 0.5 * q1.mass * q1.velocity.squaredNorm() +
-             0.5 * w0.dot(q0.spinMomentum) + 0.5 * w1.dot(q1.spinMomentum)) / e0;
-  c.lever0 = q0.spinMomentum.z() / (c.Jt * R);
-  c.lever1 = q1.spinMomentum.z() / (c.Jt * R);
+  impulseAndSpins(c, a0, a1, q0, q1, nContact, nApse, R, v0, e0);
   return c;
 }
 

@@ -569,13 +569,12 @@ TEST(MpmParallel, TwoThreadsMatchOne) {
   EXPECT_LT(d, 1e-12);
 }
 
-// The coloured scatter (two slabs per thread, one shared grid) is active on a
-// problem long enough in x, and two threads follow one to round-off: two
-// bodies pressed together across y while sliding along x (frictional pair
-// contact, gradient lanes), on a rigid floor (the gap minima are scattered too),
-// points created body by body so the x-layer order needs the sort.
+// The block-coloured scatter runs on two threads and follows one to
+// round-off: two bodies pressed together across y while sliding along x
+// (frictional pair contact, gradient lanes), on a rigid floor (the gap minima
+// are scattered too), points created body by body so the block order needs the sort.
 TEST(MpmParallel, ColouredScatterMatchesOneThread) {
-  auto run = [](int threads, bool& coloured) {
+  auto run = [](int threads, int& scattering) {
     MpmConfig cfg;
     cfg.h = 1e-3;
     cfg.cells = {24, 16, 10};
@@ -595,7 +594,7 @@ TEST(MpmParallel, ColouredScatterMatchesOneThread) {
     floor.friction = 0.2;
     s.addRigid(floor);
     for (int i = 0; i < 40; ++i) s.step();  // 0.5 mm apart at 1 m/s: they meet after ~8 steps
-    coloured = s.threads() == 1 || s.colouredScatter();
+    scattering = s.scatterThreads();
     EXPECT_GT(centreOfMassVelocity(s, 0).y(), -0.45);  // the pair contact acted
     std::vector<double> x;
     for (std::size_t p = 0; p < s.size(); ++p) {
@@ -604,20 +603,27 @@ TEST(MpmParallel, ColouredScatterMatchesOneThread) {
     }
     return x;
   };
-  bool c1 = false, c2 = false;
+  int c1 = 0, c2 = 0;
   const auto a = run(1, c1), b = run(2, c2);
-  EXPECT_TRUE(c2);
+  EXPECT_EQ(c1, 1);
+  EXPECT_EQ(c2, 2);
   double d = 0;
   for (std::size_t i = 0; i < a.size(); ++i) d = std::max(d, std::abs(a[i] - b[i]));
   EXPECT_LT(d, 1e-12);
   EXPECT_GT(d, 0.0);  // not the same sums: the test compares two different scatters
 }
 
-// One block [0, hi] of 0.5 mm points on a 1 mm grid moving under gravity g
-// for 20 steps on `threads`: whether the scatter was coloured, and a
-// position/velocity component of every point to compare thread counts.
-static std::vector<double> blockRun(int threads, std::array<int, 3> cells, const Vec3& origin, const Vec3& hi, const Vec3& g,
-                             bool& coloured) {
+// One block [0, hi] of 0.5 mm points on a 1 mm grid moving with `velocity`
+// under gravity g for `steps` steps on `threads`: the threads that scattered
+// points in the last step, the plan for that team, and a position/velocity
+// component of every point to compare thread counts.
+struct BlockRun {
+  std::vector<double> x;
+  int scattering = 0;
+  MpmSolver::ScatterPlan plan;
+};
+static BlockRun blockRun(int threads, std::array<int, 3> cells, const Vec3& origin, const Vec3& hi, const Vec3& g,
+                         const Vec3& velocity = Vec3(0.3, 0.2, 0.1), int steps = 20) {
   MpmConfig cfg;
   cfg.h = 1e-3;
   cfg.cells = cells;
@@ -626,12 +632,13 @@ static std::vector<double> blockRun(int threads, std::array<int, 3> cells, const
   cfg.gravity = g;
   MpmSolver s(cfg);
   s.addMaterial(linearMaterial(1e5, 0.3, 1000));
-  s.addBlock(Vec3(0, 0, 0), hi, 0.5e-3, 0, 0, Vec3(0.3, 0.2, 0.1));
-  for (int i = 0; i < 20; ++i) s.step();
-  coloured = s.colouredScatter();
-  std::vector<double> x;
-  for (std::size_t p = 0; p < s.size(); ++p) x.push_back(s.position(p).dot(g.normalized()) + 1e-3 * s.velocity(p).y());
-  return x;
+  s.addBlock(Vec3(0, 0, 0), hi, 0.5e-3, 0, 0, velocity);
+  for (int i = 0; i < steps; ++i) s.step();
+  BlockRun r;
+  r.scattering = s.scatterThreads();
+  r.plan = s.scatterPlan(threads);
+  for (std::size_t p = 0; p < s.size(); ++p) r.x.push_back(s.position(p).dot(g.normalized()) + 1e-3 * s.velocity(p).y());
+  return r;
 }
 static double largestDifference(const std::vector<double>& a, const std::vector<double>& b) {
   double d = 0;
@@ -639,31 +646,46 @@ static double largestDifference(const std::vector<double>& a, const std::vector<
   return d;
 }
 
-// The slabs follow the axis along which the points span the most layers
-// (sortByLayer): a block three cells long in x but sixteen in y is coloured
-// (cut along y) and matches one thread to round-off; with slabs along x only
-// it would scatter on one thread, as the short block below.
-TEST(MpmParallel, SlabsFollowTheLongestAxis) {
-  bool c1 = true, c2 = false;
-  const auto run = [&](int threads, bool& c) {
-    return blockRun(threads, {10, 24, 10}, Vec3(-3e-3, -4e-3, -3e-3), Vec3(3e-3, 16e-3, 3e-3), Vec3(0, -9.81, 0), c);
+// No serial fallback: a block three cells thick and forty long (too short
+// across for two slabs per thread) and a cube scatter on two or more threads
+// at every team size from 2 to 16, match one thread to round-off, and give the
+// same bits on every team of two or more (each node's sums follow the colours,
+// then the creation order within a block) and on a rerun.
+TEST(MpmParallel, BlockColouringScattersOnEveryTeam) {
+  struct Case {
+    std::array<int, 3> cells;
+    Vec3 origin, hi, g;
   };
-  const auto a = run(1, c1), b = run(2, c2);
-  EXPECT_FALSE(c1);
-  EXPECT_TRUE(c2);
-  EXPECT_LT(largestDifference(a, b), 1e-12);
+  const Case cases[] = {{{10, 10, 48}, Vec3(-3e-3, -3e-3, -4e-3), Vec3(3e-3, 3e-3, 40e-3), Vec3(0, 0, -9.81)},
+                        {{16, 16, 16}, Vec3(-4e-3, -4e-3, -4e-3), Vec3(8e-3, 8e-3, 8e-3), Vec3(-9.81, 0, 0)}};
+  for (const Case& c : cases) {
+    const BlockRun one = blockRun(1, c.cells, c.origin, c.hi, c.g);
+    EXPECT_EQ(one.scattering, 1);
+    const BlockRun two = blockRun(2, c.cells, c.origin, c.hi, c.g);
+    EXPECT_LT(largestDifference(one.x, two.x), 1e-12);
+    EXPECT_GT(largestDifference(one.x, two.x), 0.0);  // block order, not creation order
+    EXPECT_EQ(two.x, blockRun(2, c.cells, c.origin, c.hi, c.g).x);  // a rerun: the same bits
+    for (const int t : {3, 4, 8, 16}) {
+      const BlockRun r = blockRun(t, c.cells, c.origin, c.hi, c.g);
+      EXPECT_GE(r.scattering, 2) << t << " threads";
+      EXPECT_EQ(r.scattering, r.plan.busyThreads) << t << " threads";
+      EXPECT_EQ(r.x, two.x) << t << " threads";
+    }
+  }
 }
 
-// A block only three cells long cannot be cut into four slabs whose parity
-// classes are disjoint: two threads then scatter on one (and still match one
-// thread to round-off) while the other passes run on both.
-TEST(MpmParallel, ShortProblemScattersOnOneThread) {
-  bool c1 = true, c2 = true;
-  const auto run = [&](int threads, bool& c) {
-    return blockRun(threads, {10, 12, 12}, Vec3(-3e-3, -4e-3, -4e-3), Vec3(3e-3, 4e-3, 4e-3), Vec3(-9.81, 0, 0), c);
+// Points that leave their block by more than a node (a block thrown ~8 mm
+// along x, two grid blocks of 4 cells) are sorted again: two and three
+// threads still give the same bits, and one thread's answer to round-off.
+TEST(MpmParallel, MovingPointsAreSortedAgain) {
+  const auto run = [](int threads) {
+    return blockRun(threads, {28, 14, 14}, Vec3(-4e-3, -3e-3, -3e-3), Vec3(8e-3, 8e-3, 8e-3), Vec3(0, -9.81, 0),
+                    Vec3(6, 0.5, 0), 60);
   };
-  const auto a = run(1, c1), b = run(2, c2);
-  EXPECT_FALSE(c1);
-  EXPECT_FALSE(c2);
-  EXPECT_LT(largestDifference(a, b), 1e-12);
+  const BlockRun one = run(1), two = run(2), three = run(3);
+  EXPECT_LT(largestDifference(one.x, two.x), 1e-12);
+  EXPECT_EQ(two.x, three.x);
+  EXPECT_EQ(two.scattering, 2);
+  EXPECT_GE(two.plan.sorts, 2);  // sorted again on the way
+  EXPECT_EQ(one.plan.sorts, 0);  // one thread: creation order
 }

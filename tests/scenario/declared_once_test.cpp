@@ -174,6 +174,68 @@ TEST(DeclaredOnce, BlockNeedleInsertionModelOutputAndForceSectionsAreTheirTables
   expectSchemaIsTable(scenario::interactionTable());
 }
 
+TEST(DeclaredOnce, TopLevelTissueLayersMaterialsInclusionsGeometryAndUnitsAreTheirTables) {
+  expectSchemaIsTable(scenario::scenarioTable());
+  expectSchemaIsTable(scenario::tissueTable());
+  expectSchemaIsTable(scenario::layerTable());
+  expectSchemaIsTable(scenario::materialTable());
+  expectSchemaIsTable(scenario::pronyTable());
+  expectSchemaIsTable(scenario::inclusionTable());
+  expectSchemaIsTable(scenario::geometryTable());
+  expectSchemaIsTable(scenario::surfaceTable());
+  expectSchemaIsTable(scenario::offsetTable());
+  expectSchemaIsTable(scenario::rotationTable());
+  expectSchemaIsTable(scenario::unitsTable());
+  // Every section type of a scenario comes from a table (the studies' own file is no scenario).
+  std::set<std::string> tables;
+  for (const auto& f : scenario::schema())
+    if (f.section != "study" && f.section != "parameter") tables.insert(f.section);
+  std::size_t rows = 0;
+  for (const auto& type : tables) rows += scenario::fieldsOf(type).size();
+  std::size_t declared = 0;
+  for (const auto& docs :
+       {scenario::scenarioTable().docs(), scenario::tissueTable().docs(), scenario::blockTable().docs(),
+        scenario::layerTable().docs(), scenario::materialTable().docs(), scenario::pronyTable().docs(),
+        scenario::inclusionTable().docs(), scenario::geometryTable().docs(), scenario::surfaceTable().docs(),
+        scenario::offsetTable().docs(), scenario::rotationTable().docs(), scenario::punctureTable().docs(),
+        scenario::cuttingTable().docs(), scenario::frictionTable().docs(), scenario::interactionTable().docs(),
+        scenario::needleTable().docs(), scenario::insertionTable().docs(), scenario::segmentTable().docs(),
+        scenario::modelTable().docs(), scenario::outputTable().docs(), scenario::unitsTable().docs()})
+    declared += docs.size();
+  for (const char* kind : {"insert", "retract", "pause", "rotate"}) declared += scenario::segmentKindTable(kind).docs().size();
+  for (const scenario::ModelSection* m : scenario::modelSections()) declared += 1 + m->docs().size();
+  EXPECT_EQ(declared, rows) << "a section's rows are written outside its table";
+}
+
+TEST(DeclaredOnce, InclusionMaterialAndPlacementStructDefaultsAreTheSchemaDefaults) {
+  const InclusionSpec i;
+  EXPECT_EQ(i.y, units::parse(scenario::field("inclusion", "lateral").default_text).value);
+  EXPECT_EQ(i.z, units::parse(scenario::field("inclusion", "elevation").default_text).value);
+  EXPECT_EQ(i.interface_friction, units::parse(scenario::field("inclusion", "interface_friction").default_text).value);
+  EXPECT_EQ(i.sliding ? "sliding" : "bonded", scenario::field("inclusion", "interface").default_text);
+  EXPECT_EQ(i.target ? "true" : "false", scenario::field("inclusion", "target").default_text);
+  EXPECT_EQ(i.shape == InclusionSpec::Shape::Sphere ? "sphere" : "cylinder", scenario::field("inclusion", "shape").default_text);
+  const materials::MaterialSpec m;
+  EXPECT_EQ(m.density, units::parse(scenario::field("material", "density").default_text).value);
+  EXPECT_EQ(m.name, scenario::field("material", "name").default_text);
+  EXPECT_EQ(scenario::Placement{}.x, units::parse(scenario::field("offset", "x").default_text).value);
+  EXPECT_EQ(scenario::Placement{}.z, units::parse(scenario::field("rotation", "z").default_text).value);
+}
+
+TEST(DeclaredOnce, AGaugeGivesTheBoreAndALengthASolidNeedle) {
+  std::string yaml = exampleText("examples/gelatin_18G_3mms.yaml");
+  const Scenario gauge = scenario::readText(yaml, "gauge.yaml");
+  EXPECT_EQ(gauge.needle.outer_diameter, units::gaugeSize(18)->outer);
+  EXPECT_EQ(gauge.needle.inner_diameter, units::gaugeSize(18)->inner);
+  const auto at = yaml.find("outer_diameter: 18 G");
+  ASSERT_NE(at, std::string::npos);
+  yaml.replace(at, 20, "outer_diameter: 1.27 mm");
+  const Scenario length = scenario::readText(yaml, "length.yaml");
+  EXPECT_EQ(length.needle.outer_diameter, 1.27e-3);
+  EXPECT_EQ(length.needle.inner_diameter, 0.0);
+  EXPECT_EQ(siOf(nlohmann::json::parse(length.understood)["needle"]["inner_diameter"]), 0.0);
+}
+
 TEST(DeclaredOnce, AScenarioGivingOnlyWhatIsRequiredGetsTheStructDefaults) {
   // Every optional field of the needle, insertion, its segments, output and a layer's forces left out.
   const std::string yaml = R"(tissue:
@@ -259,7 +321,7 @@ TEST(DeclaredOnce, EveryEngineNotesEachGivenFieldItDoesNotUseOnce) {
   ASSERT_GT(sc.given_at.count("tissue.friction.C_p"), 0u);
   for (const auto& e : engineRegistry()) {
     const auto notes = unusedFieldNotes(e, sc);
-    const bool karnopp = std::find(e.uses.begin(), e.uses.end(), "friction.C_p") != e.uses.end();
+    const bool karnopp = e.friction == FrictionLaw::Karnopp;
     int cp = 0;
     for (const auto& n : notes) cp += n.find("tissue.friction.C_p given but not used by engine " + e.name) == 0;
     EXPECT_EQ(cp, karnopp ? 0 : 1) << e.name;
@@ -274,6 +336,30 @@ TEST(DeclaredOnce, EveryEngineNotesEachGivenFieldItDoesNotUseOnce) {
   int noted = 0;
   for (const auto& n : sink.notes) noted += n.find("tissue.friction.coefficient given but not used by engine lumped") == 0;
   EXPECT_EQ(noted, 1);
+}
+
+TEST(DeclaredOnce, EachEngineAppliesOneNamedFrictionLawAndUsesOnlyItsFields) {
+  const std::vector<std::string> karnopp = frictionFields(FrictionLaw::Karnopp);
+  const std::vector<std::string> coulomb = frictionFields(FrictionLaw::Coulomb);
+  for (const auto& e : engineRegistry()) {
+    SCOPED_TRACE(e.name);
+    EXPECT_NE(e.friction, FrictionLaw::None);
+    const auto& own = e.friction == FrictionLaw::Karnopp ? karnopp : coulomb;
+    const auto& other = e.friction == FrictionLaw::Karnopp ? coulomb : karnopp;
+    for (const auto& f : own) EXPECT_TRUE(e.usesField(f)) << f;
+    for (const auto& f : other) EXPECT_FALSE(e.usesField(f)) << f;
+    // The registration's own list names no friction field: the law says which.
+    for (const auto& f : e.uses) EXPECT_FALSE(f.starts_with("friction.")) << f;
+  }
+  EXPECT_EQ(findEngine("lumped")->friction, FrictionLaw::Karnopp);
+  EXPECT_EQ(findEngine("realtime3d")->friction, FrictionLaw::Karnopp);
+  EXPECT_EQ(findEngine("explicit")->friction, FrictionLaw::Coulomb);
+  EXPECT_EQ(findEngine("mpm")->friction, FrictionLaw::Coulomb);
+  // The schema says which law each friction field belongs to, and each engine's law.
+  for (const auto* f : scenario::fieldsOf("friction"))
+    EXPECT_TRUE(f->help.starts_with(f->key == "coefficient" ? "Coulomb law" : "Karnopp law")) << f->key;
+  EXPECT_NE(scenario::field("model", "engine").help.find("lumped insertion-force model (seed 003 section 3.2) (friction: Karnopp)"),
+            std::string::npos);
 }
 
 TEST(DeclaredOnce, AnInclusionTakesTheFrictionOfTheLayerAroundIt) {

@@ -4,21 +4,22 @@
 // law, used by the lumped model (karnoppPerLength) and by the real-time engines' shaft
 // coupling (the same branches through an explicit stick / hold / slip state, karnoppNext).
 //
-// D_p and D_n are used as given: the scenario reader's default is the continuous law,
-// D = C + b static_band / 2; a FrictionSpec built in code with D = 0 has no static friction.
+// Its coefficients are KarnoppFriction's (contact/friction_spec.hpp). D_p and D_n are used as
+// given: the scenario reader's default is the continuous law, D = C + b static_band / 2; a
+// KarnoppFriction built in code with D = 0 has no static friction.
 #include "needlesim/contact/friction_spec.hpp"
 
 namespace needlesim::contact {
 
 // The sliding branches: v > 0 gives C_p + b_p v (eq 3.23, 4th branch), v < 0 gives
 // -C_n + b_n v (1st branch: C_n sgn(v) + b_n v); `positive` picks the branch.
-inline double karnoppSliding(const FrictionSpec& f, bool positive, double v) {
+inline double karnoppSliding(const KarnoppFriction& f, bool positive, double v) {
   return positive ? f.C_p + f.b_p * v : -f.C_n + f.b_n * v;
 }
 // Its slope d/dv on the branch.
-inline double karnoppDamping(const FrictionSpec& f, bool positive) { return positive ? f.b_p : f.b_n; }
+inline double karnoppDamping(const KarnoppFriction& f, bool positive) { return positive ? f.b_p : f.b_n; }
 // The static limit of the branch: D_p, or -D_n (eq 3.23, 2nd and 3rd branches).
-inline double karnoppStaticLimit(const FrictionSpec& f, bool positive) { return positive ? f.D_p : -f.D_n; }
+inline double karnoppStaticLimit(const KarnoppFriction& f, bool positive) { return positive ? f.D_p : -f.D_n; }
 
 // Friction force per unit length on the needle, signed along the insertion
 // axis: positive resists insertion (what a base sensor reads while inserting),
@@ -27,7 +28,7 @@ inline double karnoppStaticLimit(const FrictionSpec& f, bool positive) { return 
 //   v <= -dv/2 : -C_n + b_n v                       (eq 3.23, 1st branch: C_n sgn(v) + b_n v)
 //   |v| < dv/2 :  clamp(F_a, -D_n, D_p)             (static band; see docs/models/lumped-force.md)
 // F_a is the force per length the tissue applies to the shaft while sticking.
-inline double karnoppPerLength(const FrictionSpec& f, double v, double F_a) {
+inline double karnoppPerLength(const KarnoppFriction& f, double v, double F_a) {
   const double half = 0.5 * f.static_band;
   if (v >= half) return karnoppSliding(f, true, v);
   if (v <= -half) return karnoppSliding(f, false, v);
@@ -43,7 +44,7 @@ inline double karnoppPerLength(const FrictionSpec& f, double v, double F_a) {
 struct KarnoppSlope {
   double v = 0.0, applied = 0.0;
 };
-inline KarnoppSlope karnoppSlope(const FrictionSpec& f, double v, double F_a) {
+inline KarnoppSlope karnoppSlope(const KarnoppFriction& f, double v, double F_a) {
   const double half = 0.5 * f.static_band;
   if (v >= half) return {karnoppDamping(f, true), 0.0};
   if (v <= -half) return {karnoppDamping(f, false), 0.0};
@@ -59,7 +60,7 @@ enum class KarnoppState : int { Stick, HoldPos, HoldNeg, SlipPos, SlipNeg };
 // The next branch from the load per length F_a and the relative velocity v, with the
 // thresholds of karnoppPerLength: stick -> hold beyond the static limit, hold -> slide
 // once |v| reaches dv/2, slide -> stick back inside the band.
-inline KarnoppState karnoppNext(KarnoppState s, const FrictionSpec& f, double F_a, double v) {
+inline KarnoppState karnoppNext(KarnoppState s, const KarnoppFriction& f, double F_a, double v) {
   using S = KarnoppState;
   const double half = 0.5 * f.static_band;
   switch (s) {

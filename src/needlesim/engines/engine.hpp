@@ -50,10 +50,21 @@ struct EngineInfo {
   // Its settings model.<key>, declared beside it (engines/<engine>/<engine>_section.cpp);
   // engines that share settings name the same section.
   const scenario::ModelSection& (*section)() = nullptr;
-  // The fields of the needle-tissue interaction it uses (engineDependentFields()) and any other
-  // engine's section it reads ("model.steering"); each other one the scenario gives gets a note.
+  // The law it applies along the shaft (contact/friction_spec.hpp): it uses that law's fields of
+  // the friction section (frictionFields) and no other's.
+  FrictionLaw friction = FrictionLaw::None;
+  // The other fields of the needle-tissue interaction it uses (engineDependentFields()) and any
+  // other engine's section it reads ("model.steering"); each other one the scenario gives gets a note.
   std::vector<std::string> uses = {};
+  // Whether it uses `field` (as engineDependentFields() names it, or "model.<key>").
+  bool usesField(const std::string& field) const;
 };
+
+// The scenario fields of a friction law: Karnopp's per-length coefficients (friction.C_p ...
+// friction.static_band), Coulomb's coefficients (friction.coefficient, inclusions.friction).
+const std::vector<std::string>& frictionFields(FrictionLaw law);
+// "Karnopp", "Coulomb" or "none".
+const char* frictionLawName(FrictionLaw law);
 
 // The scenario fields whose use depends on the engine (puncture, cutting, friction,
 // interaction, Prony terms, inclusion contact), as "<section>.<key>" (e.g. friction.C_p).

@@ -19,58 +19,74 @@
 namespace needlesim {
 
 namespace {
-// The steering engines' tissue: K_T and G_c (seed 002), and the Coulomb coefficient.
-const std::vector<std::string> kSteeringTissue{"interaction.K_T", "interaction.toughness", "friction.coefficient"};
+// The steering engines' tissue: K_T and G_c (seed 002); their friction is Coulomb's.
+const std::vector<std::string> kSteeringTissue{"interaction.K_T", "interaction.toughness"};
+// What the lumped force model uses of a layer besides its friction (seed 003 eqs 3.16, 3.24).
+const std::vector<std::string> kLumpedForces{"puncture.force", "puncture.depth", "cutting.force"};
 
 // A preflight from an engine's step plan: the step guards without running.
 template <StepPlan (*plan)(const Scenario&)>
 StepEstimate guarded(const Scenario& sc) {
   return guardSteps(sc, plan(sc));
 }
-}  // namespace
 
-namespace {
-// What the lumped force model uses of a layer (seed 003 eqs 3.16-3.24).
-const std::vector<std::string> kLumpedForces{"puncture.force", "puncture.depth", "cutting.force", "friction.C_p",
-                                             "friction.b_p",   "friction.C_n",   "friction.b_n",  "friction.D_p",
-                                             "friction.D_n",   "friction.static_band"};
 std::vector<std::string> with(std::vector<std::string> a, const std::vector<std::string>& b) {
   a.insert(a.end(), b.begin(), b.end());
   return a;
 }
 }  // namespace
 
+const std::vector<std::string>& frictionFields(FrictionLaw law) {
+  static const std::vector<std::string> karnopp{"friction.C_p", "friction.b_p", "friction.C_n",        "friction.b_n",
+                                                "friction.D_p", "friction.D_n", "friction.static_band"};
+  static const std::vector<std::string> coulomb{"friction.coefficient", "inclusions.friction"};
+  static const std::vector<std::string> none;
+  return law == FrictionLaw::Karnopp ? karnopp : law == FrictionLaw::Coulomb ? coulomb : none;
+}
+
+const char* frictionLawName(FrictionLaw law) {
+  return law == FrictionLaw::Karnopp ? "Karnopp" : law == FrictionLaw::Coulomb ? "Coulomb" : "none";
+}
+
+bool EngineInfo::usesField(const std::string& field) const {
+  const auto& law = frictionFields(friction);
+  return std::find(uses.begin(), uses.end(), field) != uses.end() ||
+         std::find(law.begin(), law.end(), field) != law.end();
+}
+
 const std::vector<std::string>& engineDependentFields() {
   static const std::vector<std::string> all =
-      with(kLumpedForces, {"friction.coefficient", "interaction.K_T", "interaction.toughness", "material.prony",
-                           "inclusions.friction", "inclusions.toughness", "inclusions.interface_friction"});
+      with(with(kLumpedForces, frictionFields(FrictionLaw::Karnopp)),
+           with(frictionFields(FrictionLaw::Coulomb), {"interaction.K_T", "interaction.toughness", "material.prony",
+                                                       "inclusions.toughness", "inclusions.interface_friction"}));
   return all;
 }
 
 // One line per engine: name, summary, run, checkpoints, inclusions, preflight, imported geometry
-// dimensions, its model section, the fields it uses.
+// dimensions, its model section, its friction law, the other fields it uses.
 const std::vector<EngineInfo>& engineRegistry() {
   using namespace engines;
+  using enum FrictionLaw;
   static const std::vector<EngineInfo> list{
       {"lumped", "lumped insertion-force model (seed 003 section 3.2)", runLumped, false, false,
-       guarded<lumpedStepPlan>, {}, lumpedSection, kLumpedForces},
+       guarded<lumpedStepPlan>, {}, lumpedSection, Karnopp, kLumpedForces},
       {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", runRealtime2d, false,
-       true, guarded<realtime2dStepPlan>, {2}, realtime2dSection, with(kLumpedForces, {"material.prony"})},
+       true, guarded<realtime2dStepPlan>, {2}, realtime2dSection, Karnopp, with(kLumpedForces, {"material.prony"})},
       {"realtime3d", "real-time 3D FE tissue (tetrahedral block) with a needle beam bending in two planes",
-       runRealtime3d, false, true, guarded<realtime3dStepPlan>, {}, realtime3dSection,
+       runRealtime3d, false, true, guarded<realtime3dStepPlan>, {}, realtime3dSection, Karnopp,
        with(kLumpedForces, {"material.prony"})},
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", runKinematic, false, false,
-       guarded<steeringStepPlan>, {}, steeringSection, kSteeringTissue},
+       guarded<steeringStepPlan>, {}, steeringSection, Coulomb, kSteeringTissue},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", runEnergy, false, false,
-       guarded<energyStepPlan>, {}, steeringSection, kSteeringTissue},
+       guarded<energyStepPlan>, {}, steeringSection, Coulomb, kSteeringTissue},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)",
-       runBeamFoundation, false, false, guarded<steeringStepPlan>, {}, steeringSection, kSteeringTissue},
+       runBeamFoundation, false, false, guarded<steeringStepPlan>, {}, steeringSection, Coulomb, kSteeringTissue},
       {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", runMpm, true, true,
-       guarded<mpmStepPlan>, {3}, mpmSection, {"friction.coefficient", "inclusions.friction", "inclusions.interface_friction"}},
+       guarded<mpmStepPlan>, {3}, mpmSection, Coulomb, {"inclusions.interface_friction"}},
       {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", runExplicit,
-       false, true, guarded<explicitStepPlan>, {2, 3}, explicitSection,
-       {"friction.coefficient", "inclusions.friction", "interaction.toughness", "inclusions.toughness",
-        "material.prony", "model.steering", "interaction.K_T"}},  // the last two: cohesive.path steering
+       false, true, guarded<explicitStepPlan>, {2, 3}, explicitSection, Coulomb,
+       {"interaction.toughness", "inclusions.toughness", "material.prony", "model.steering",
+        "interaction.K_T"}},  // the last two: cohesive.path steering
   };
   return list;
 }
@@ -101,7 +117,7 @@ std::string modelSectionOf(const std::string& path) {
 std::vector<std::string> unusedFieldNotes(const EngineInfo& engine, const Scenario& sc) {
   if (sc.from_record) return {};  // a summary.json writes every field; its run noted what was given
   const auto& dependent = engineDependentFields();
-  const auto used = [&](const std::string& f) { return std::find(engine.uses.begin(), engine.uses.end(), f) != engine.uses.end(); };
+  const auto used = [&](const std::string& f) { return engine.usesField(f); };
   std::map<std::string, std::vector<std::string>> unused;  // field -> where given
   for (const auto& [path, at] : sc.given_at) {
     auto [field, where] = dependentField(path);
@@ -174,7 +190,8 @@ const std::vector<const ModelSection*>& modelSections() {
 
 std::vector<std::pair<std::string, std::string>> engineNames() {
   std::vector<std::pair<std::string, std::string>> out;
-  for (const auto& e : engineRegistry()) out.emplace_back(e.name, e.summary);
+  for (const auto& e : engineRegistry())
+    out.emplace_back(e.name, fmt::format("{} (friction: {})", e.summary, frictionLawName(e.friction)));
   return out;
 }
 

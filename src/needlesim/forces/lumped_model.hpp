@@ -55,7 +55,7 @@ class LumpedForceModel {
     double start = 0.0, end = 0.0;  // along the needle axis
     double puncture_force = 0.0;
     double cutting_force = 0.0;
-    FrictionSpec friction;
+    KarnoppFriction friction;  // the lumped model applies the Karnopp law (contact/karnopp.hpp)
     StiffnessLaw stiffness;
     double held = 0.0;  // friction per length held while sticking (N/m)
   };

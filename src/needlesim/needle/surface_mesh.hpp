@@ -1,6 +1,8 @@
 #pragma once
-// Rigid needle surfaces from the needle geometry, shared by the explicit FE
-// and MPM engines: solid or hollow cylinder with a bevel of any angle
+// Rigid needle surfaces from the needle geometry, used by the explicit FE
+// contact, MPM's surface contact (CFEMP) and MPM's needle output (MPM's grid
+// contact takes the needle as its own analytic rigid body, mpm::RigidBody):
+// solid or hollow cylinder with a bevel of any angle
 // (seed 001 section 3.1: hollow 2.77/2.16 mm, 12 deg bevel; seed 004: 10-80 deg),
 // a conical or a blunt (flat) tip.
 //

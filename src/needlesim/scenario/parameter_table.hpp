@@ -4,10 +4,11 @@
 // initial value in the struct is the field's default. The schema rows (`needlesim schema`,
 // docs/scenario-format.md), the reading and the scenario as understood (summary.json) all come
 // from the table. A default that is a formula ("grid_spacing / 2") is resolved when the file is
-// read and recorded as the value it gives. Used by the engines' model sections
-// (engines/<engine>/<engine>_section.cpp).
+// read and recorded as the value it gives. Every section of a scenario is such a table
+// (scenario/problem_sections.cpp, scenario/tissue_sections.cpp, engines/<engine>/<engine>_section.cpp).
 #include <functional>
 #include <limits>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -97,6 +98,34 @@ class ParamTable {
     return row(std::move(f), [member, key](Section& s, Spec& spec, const Scenario&) {
       spec.*member = static_cast<int>(s.number(key));  // whole (schema)
     });
+  }
+  // A count kept as a double (a budget such as 2e6 elements): a whole number in [lo, hi].
+  ParamTable& whole(double Spec::*member, const std::string& key, double lo, double hi, std::string help) {
+    FieldDoc f = numberDoc(type_, key, units::dim::None, closed(lo, hi), defaultText(Spec{}.*member, units::dim::None, ""),
+                           std::move(help));
+    f.whole = true;
+    return row(std::move(f), [member, key](Section& s, Spec& spec, const Scenario&) { spec.*member = s.number(key); });
+  }
+  // A needle diameter given as a length or a gauge ("18 G"): a gauge also sets `inner` to the
+  // gauge's bore, the default of the row that reads `inner` (derived, after this one).
+  ParamTable& lengthOrGauge(double Spec::*outer, double Spec::*inner, const std::string& key, Range r,
+                            std::string help) {
+    FieldDoc f = numberDoc(type_, key, units::dim::Length, r, "", std::move(help));
+    f.required = true;
+    return row(std::move(f), [outer, inner, key](Section& s, Spec& spec, const Scenario&) {
+      const units::Quantity q = s.lengthOrGauge(key);
+      const auto gauge = q.gauge ? units::gaugeSize(static_cast<int>(q.value)) : std::nullopt;
+      spec.*outer = gauge ? gauge->outer : q.value;
+      if (gauge) spec.*inner = gauge->inner;
+    });
+  }
+  // A section or list of section type `child` (`required`: the file must give it); `read`, when
+  // given, reads it.
+  ParamTable& section(const std::string& key, Kind kind, const std::string& child, bool required, std::string shown,
+                      std::string help, Reader read = {}) {
+    FieldDoc f = otherDoc(key, kind, std::move(shown), std::move(help), child);
+    f.required = required;
+    return row(std::move(f), std::move(read));
   }
   ParamTable& flag(bool Spec::*member, const std::string& key, std::string help) {
     return row(otherDoc(key, Kind::Bool, Spec{}.*member ? "true" : "false", std::move(help)),

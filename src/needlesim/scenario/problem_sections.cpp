@@ -1,10 +1,11 @@
 // The tables of the needle, insertion, output and layer force sections (problem_sections.hpp),
-// and the readings that are no single field: the gauge, the motion profile, output.units.
+// and the readings that are no single field: the motion profile, output.units.
 #include "needlesim/scenario/problem_sections.hpp"
 
 #include <fmt/format.h>
 #include <fmt/ranges.h>
 
+#include <algorithm>
 #include <cmath>
 #include <numbers>
 
@@ -37,33 +38,18 @@ ParamTable<TissueSpec> makeBlock() {
   return t;
 }
 
-// needle.outer_diameter (a length or a gauge) and inner_diameter, whose default the gauge gives.
-void readDiameters(Section& s, NeedleSpec& N, const Scenario&) {
-  const units::Quantity od = s.lengthOrGauge("outer_diameter");
-  double defaultInner = 0.0;
-  if (od.gauge) {
-    auto g = units::gaugeSize(static_cast<int>(od.value));
-    N.outer_diameter = g->outer;
-    defaultInner = g->inner;
-  } else {
-    N.outer_diameter = od.value;
-  }
-  N.inner_diameter = s.optNumber("inner_diameter").value_or(defaultInner);
-  if (!s.has("inner_diameter")) s.rememberNumber("inner_diameter", N.inner_diameter);
-  if (N.inner_diameter >= N.outer_diameter)
-    throw s.error("inner_diameter", fmt::format("{:g} mm", N.inner_diameter * 1e3),
-                  "must be smaller than the outer diameter", fmt::format("< {:g} mm", N.outer_diameter * 1e3));
-}
-
 ParamTable<NeedleSpec> makeNeedle() {
   using N = NeedleSpec;
   ParamTable<N> t("needle");
-  FieldDoc od = numberDoc("needle", "outer_diameter", D::Length, openClosed(0.0, kMaxNeedleDiameter), "",
-                          "outer diameter, or a gauge such as 18 G");
-  od.required = true;
-  t.row(std::move(od), readDiameters)
-      .row(numberDoc("needle", "inner_diameter", D::Length, nonNegative(), "from the gauge, else 0 mm",
-                     "bore diameter (0 = solid)"))
+  t.lengthOrGauge(&N::outer_diameter, &N::inner_diameter, "outer_diameter", openClosed(0.0, kMaxNeedleDiameter),
+                  "outer diameter, or a gauge such as 18 G")
+      .derived(&N::inner_diameter, "inner_diameter", D::Length, nonNegative(), "from the gauge, else 0 mm",
+               [](const N& n, const Scenario&) { return n.inner_diameter; }, "bore diameter (0 = solid)")
+      .check([](Section& s, N& n, const Scenario&) {
+        if (n.inner_diameter >= n.outer_diameter)
+          throw s.error("inner_diameter", fmt::format("{:g} mm", n.inner_diameter * 1e3),
+                        "must be smaller than the outer diameter", fmt::format("< {:g} mm", n.outer_diameter * 1e3));
+      })
       .required(&N::length, "length", D::Length, openClosed(0.0, kMaxNeedleLength), "free length from the base to the tip")
       .quantity(&N::bevel_angle, "bevel_angle", D::Angle, "deg", openClosed(0.0, 90.0 * kDeg),
                 "tip angle alpha of the bevel or cone")
@@ -248,6 +234,19 @@ void readDisplayUnits(Section& out, OutputSpec& o, const Scenario&) {
   o.units = display;
 }
 
+ParamTable<units::DisplayUnits> makeUnits() {
+  ParamTable<units::DisplayUnits> t("units");
+  for (const auto& d : units::displayDimensions()) {
+    std::string words(d.name);
+    std::replace(words.begin(), words.end(), '_', ' ');
+    FieldDoc f = t.otherDoc(std::string(d.name), Kind::Choice, "",
+                            fmt::format("unit of {} results (SI: {}) on the terminal and in report.html", words, d.si));
+    f.choices.assign(d.units.begin(), d.units.end());
+    t.row(std::move(f));  // read by readDisplayUnits
+  }
+  return t;
+}
+
 ParamTable<OutputSpec> makeOutput() {
   using O = OutputSpec;
   ParamTable<O> t("output");
@@ -290,27 +289,27 @@ ParamTable<FrictionSpec> makeFriction() {
   ParamTable<F> t("friction");
   const auto sameAs = [](double F::*of) { return [of](const F& f, const Scenario&) { return f.*of; }; };
   t.quantity(&F::C_p, "C_p", D::ForcePerLength, "N/m", nonNegative(),
-             "dynamic friction per length in contact, insertion (seed 003 eqs 3.23, 5.1)")
+             "Karnopp law: dynamic friction per length in contact, insertion (seed 003 eqs 3.23, 5.1)")
       .quantity(&F::b_p, "b_p", D::ForceTimePerArea, "N s/m^2", nonNegative(),
-                "viscous friction per length in contact, insertion")
+                "Karnopp law: viscous friction per length in contact, insertion")
       .derived(&F::C_n, "C_n", D::ForcePerLength, nonNegative(), "C_p", sameAs(&F::C_p),
-               "dynamic friction per length, retraction")
+               "Karnopp law: dynamic friction per length, retraction")
       .derived(&F::b_n, "b_n", D::ForceTimePerArea, nonNegative(), "b_p", sameAs(&F::b_p),
-               "viscous friction per length, retraction")
+               "Karnopp law: viscous friction per length, retraction")
       .row(numberDoc("friction", "D_p", D::ForcePerLength, nonNegative(), "C_p + b_p static_band/2",
-                     "static friction limit per length, positive direction"))
+                     "Karnopp law: static friction limit per length, positive direction"))
       .row(numberDoc("friction", "D_n", D::ForcePerLength, nonNegative(), "C_n + b_n static_band/2",
-                     "static friction limit per length, negative direction (magnitude)"))
+                     "Karnopp law: static friction limit per length, negative direction (magnitude)"))
       // The struct keeps a zero band for friction built in code; a scenario's band defaults to 0.1 mm/s.
       .row(numberDoc("friction", "static_band", D::Velocity, positive(), "0.1 mm/s",
-                     "Karnopp band Delta v: |v| < Delta v/2 sticks"),
+                     "Karnopp law: band Delta v, |v| < Delta v/2 sticks"),
            [](Section& s, F& f, const Scenario&) { f.static_band = s.number("static_band"); })
       // seed 003 eq 3.23: continuity of the Karnopp law at |v| = Delta v / 2 by default (D_p, D_n above).
       .check([](Section& s, F& f, const Scenario&) {
         f.D_p = givenOrDerived(s, "D_p", f.C_p + f.b_p * f.static_band / 2.0);
         f.D_n = givenOrDerived(s, "D_n", f.C_n + f.b_n * f.static_band / 2.0);
       })
-      .number(&F::coefficient, "coefficient", nonNegative(), "Coulomb coefficient for the contact engines (seed 001: 0.3)");
+      .number(&F::coefficient, "coefficient", nonNegative(), "Coulomb law: tangential force at most coefficient x normal force (seed 001: 0.3)");
   return t;
 }
 
@@ -375,6 +374,10 @@ const ParamTable<ModelSpec>& modelTable() {
 }
 const ParamTable<OutputSpec>& outputTable() {
   static const auto t = makeOutput();
+  return t;
+}
+const ParamTable<units::DisplayUnits>& unitsTable() {
+  static const auto t = makeUnits();
   return t;
 }
 const ParamTable<FrictionSpec>& frictionTable() {

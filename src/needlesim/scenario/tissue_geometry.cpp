@@ -105,7 +105,7 @@ void boundingBox(ImportedGeometry& g) {
 void checkSize(const ImportedGeometry& g, Section& geo, const std::string& unit) {
   double extent = 0.0;
   for (int i = 0; i < 3; ++i) extent = std::max(extent, g.hi[i] - g.lo[i]);
-  constexpr double kSmallest = 1e-3, kLargest = 1.0;  // m: tissue samples to a torso (schema.cpp kMaxBlockSide)
+  constexpr double kSmallest = 1e-3, kLargest = 1.0;  // m: tissue samples to a torso (problem_sections.cpp kMaxBlockSide)
   if (extent >= kSmallest && extent <= kLargest) return;
   std::string better;
   for (const char* u : {"m", "cm", "mm", "um"}) {

@@ -74,6 +74,10 @@ std::vector<UnitWritten> Section::unitsWritten() const {
   return record_ ? record_->units_written : std::vector<UnitWritten>{};
 }
 
+std::map<std::string, SourceLocation> Section::givenAt() const {
+  return record_ ? record_->given_at : std::map<std::string, SourceLocation>{};
+}
+
 void Section::countUnit(const units::Quantity& written) const {
   if (!record_ || written.gauge || !units::displayDimensionOfUnit(written.unit)) return;
   const bool settings = path_.starts_with("model") || path_.starts_with("output");

@@ -78,6 +78,8 @@ class Section {
   void rememberNumber(const std::string& key, double value) const;
   // The units of display dimensions written so far in the whole file, with their counts.
   std::vector<UnitWritten> unitsWritten() const;
+  // Where the file gives each field read so far (the whole file's record).
+  std::map<std::string, SourceLocation> givenAt() const;
 
  private:
   units::Quantity parseQuantity(const std::string& key, const FieldDoc& f, const YAML::Node& n,

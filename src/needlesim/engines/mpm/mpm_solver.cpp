@@ -68,7 +68,7 @@ inline std::uint64_t cellBit(grid::Cell c) { return std::uint64_t{1} << (c.k % 6
 // lines of mask Lines (bit l: line l of the 256-byte Point): perf showed the
 // particle passes stalled on the first touch of a record's lines (the two-body
 // scatter 32 % of its time on the stress line), which the hardware prefetchers
-// do not fetch early enough for records visited in slab order.
+// do not fetch early enough for records visited in block order.
 constexpr std::size_t kPrefetchAhead = 6;
 template <unsigned Lines>
 [[gnu::always_inline]] inline void prefetchRecord(const void* rec) {
@@ -282,8 +282,9 @@ void MpmSolver::finalize() {
   gridClean_ = true;
   order_.resize(size());
   for (std::size_t p = 0; p < size(); ++p) order_[p] = static_cast<std::uint32_t>(p);
-  coloured_ = false;
-  planAgain_ = 0;
+  planned_ = false;
+  scatterThreads_ = 1;
+  sorts_ = 0;
   active_.assign(R * nodes_, 0);
   rnormal_.assign(3 * R * nodes_, 0.0);
   rforce_.assign(R, RigidForce{});
@@ -514,98 +515,145 @@ void MpmSolver::zeroGrid(int t, int T) {
   part(b.grad, 0.0);
 }
 
-// Slabs of one parity must touch disjoint node layers: a point with base
-// layer bx reaches layers bx .. bx + S - 1.
-// The points thread t of a team of T scatters in pass colour (0, then 1 after
-// a barrier): its slab of that parity, or all of them on thread 0 when the
-// scatter is serial.
-std::pair<std::size_t, std::size_t> MpmSolver::slabRange(int t, int T, int colour) const {
-  if (coloured_ && T == nthreads_) {
-    const auto s = static_cast<std::size_t>(2 * t + colour);
-    return {slabStart_[s], slabStart_[s + 1]};
-  }
-  if (t == 0 && colour == 0) return {0, size()};
-  return {0, 0};
+// The points thread t of a team of T scatters in pass `colour` (0 .. 7, a
+// barrier between two): a run of whole blocks of that colour, cut at the block
+// boundaries nearest to equal point counts. One thread (no blocks): every
+// point in creation order in pass 0.
+std::pair<std::size_t, std::size_t> MpmSolver::colourShare(int t, int T, int colour) const {
+  if (nthreads_ == 1) return t == 0 && colour == 0 ? std::pair<std::size_t, std::size_t>{0, size()}
+                                                   : std::pair<std::size_t, std::size_t>{0, 0};
+  const auto b0 = static_cast<std::ptrdiff_t>(colourStart_[static_cast<std::size_t>(colour)]),
+             b1 = static_cast<std::ptrdiff_t>(colourStart_[static_cast<std::size_t>(colour) + 1]);
+  const std::size_t p0 = blockStart_[static_cast<std::size_t>(b0)], p1 = blockStart_[static_cast<std::size_t>(b1)];
+  const auto cut = [&](int u) -> std::size_t {
+    if (u <= 0) return p0;
+    if (u >= T) return p1;
+    const std::size_t target = p0 + (p1 - p0) * static_cast<std::size_t>(u) / static_cast<std::size_t>(T);
+    const auto first = blockStart_.begin() + b0, last = blockStart_.begin() + b1 + 1;
+    const auto it = std::lower_bound(first, last, target);  // first boundary >= target (it != first: target >= p0)
+    const std::size_t above = *it, below = *(it == first ? it : it - 1);
+    return target - below <= above - target ? below : above;
+  };
+  return {cut(t), cut(t + 1)};
 }
 
-bool MpmSolver::slabsDisjoint() const {
-  const int reach = cfg_.shape == Shape::Linear ? 1 : 2;
-  const int ns = static_cast<int>(slabLo_.size());
-  for (int s = 0; s < ns; ++s) {
-    if (slabLo_[static_cast<std::size_t>(s)] > slabHi_[static_cast<std::size_t>(s)]) continue;  // empty
-    for (int u = s + 2; u < ns; u += 2) {
-      const auto a = static_cast<std::size_t>(s), b = static_cast<std::size_t>(u);
-      if (slabLo_[b] > slabHi_[b]) continue;
-      if (slabHi_[a] + reach >= slabLo_[b] && slabHi_[b] + reach >= slabLo_[a]) return false;
-    }
+// Base nodes a point of listed block b may have at the start of a scatter:
+// its block's, widened by one node on each side. A point with base node l
+// reaches nodes l .. l + S - 1, so along an axis block n reaches nodes
+// kBlock n - 1 .. kBlock n + kBlock + S - 1 and block n + 2 starts at
+// kBlock n + 2 kBlock - 1: disjoint for kBlock >= S + 1 (S <= 3). Two blocks
+// of one colour are two or more blocks apart along some axis.
+void MpmSolver::blockBounds(std::size_t listed, int* lo, int* hi) const {
+  std::uint32_t id = blockId_[listed];
+  for (int a = 2; a >= 0; --a) {
+    const int n = static_cast<int>(id % static_cast<std::uint32_t>(blocks_[a]));
+    id /= static_cast<std::uint32_t>(blocks_[a]);
+    lo[a] = blockOrigin_[a] + kBlock * n - 1;
+    hi[a] = blockOrigin_[a] + kBlock * n + kBlock;
   }
-  return true;
 }
 
-// Stable counting sort of the points by the layer of their base node along
-// the slab axis (the creation order is kept within a layer), cut into 2 slabs
-// per thread of equal point counts. The axis is the one along which the
-// points span the most layers (more room for disjoint slabs, and a contact
-// face, where points do more work, is then cut across rather than falling
-// into one slab: two blocks pressed together along x are cut along y);
-// another axis is tried when its slabs of one parity are not disjoint.
-// Returns whether they are (false for problems only a few cells long).
-bool MpmSolver::sortByLayer() {
+// Stable counting sort of the points by colour, then block (base node of the
+// support, clamped to the grid), creation order within a block; the blocks
+// with points are listed. The passes over the points run on all threads, the
+// counting on one.
+void MpmSolver::sortByBlock() {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
   const double sh = cfg_.shape == Shape::Linear ? 0.0 : 0.5;
-  const auto layerOf = [&](std::size_t p, int a) {
+  const auto baseNode = [&](std::size_t p, int a) {
     return std::clamp(static_cast<int>(std::floor((P_[p].x[a] - cfg_.origin[a]) * invh - sh)), 0, nn_[a] - 1);
   };
-  int span[3] = {0, 0, 0};
+  int lo0 = nn_[0] - 1, lo1 = nn_[1] - 1, lo2 = nn_[2] - 1;
+#pragma omp parallel for schedule(static) num_threads(nthreads_) reduction(min : lo0, lo1, lo2)
+  for (std::size_t p = 0; p < np; ++p) {
+    lo0 = std::min(lo0, baseNode(p, 0));
+    lo1 = std::min(lo1, baseNode(p, 1));
+    lo2 = std::min(lo2, baseNode(p, 2));
+  }
+  const int lowest[3] = {lo0, lo1, lo2};
   for (int a = 0; a < 3; ++a) {
-    int lo = std::numeric_limits<int>::max(), hi = std::numeric_limits<int>::min();
-    for (std::size_t p = 0; p < np; ++p) {
-      const int l = layerOf(p, a);
-      lo = std::min(lo, l);
-      hi = std::max(hi, l);
+    blockOrigin_[a] = lowest[a];
+    blocks_[a] = (nn_[a] - lowest[a] + kBlock - 1) / kBlock;
+  }
+  const auto nb1 = static_cast<std::size_t>(blocks_[1]), nb2 = static_cast<std::size_t>(blocks_[2]);
+  const std::size_t nblocks = static_cast<std::size_t>(blocks_[0]) * nb1 * nb2;
+  // rank of each grid block in colour-major order
+  std::vector<std::uint32_t> rank(nblocks), idOfRank(nblocks);
+  std::array<std::uint32_t, 9> firstOfColour{};
+  std::uint32_t r = 0;
+  for (std::size_t c = 0; c < 8; ++c) {
+    firstOfColour[c] = r;
+    for (std::size_t b = 0; b < nblocks; ++b) {
+      const std::size_t bi = b / (nb1 * nb2), bj = b / nb2 % nb1, bk = b % nb2;
+      if (((bi & 1) | (bj & 1) << 1 | (bk & 1) << 2) != c) continue;
+      idOfRank[r] = static_cast<std::uint32_t>(b);
+      rank[b] = r++;
     }
-    span[a] = hi - lo;
   }
-  int axes[3] = {0, 1, 2};
-  std::stable_sort(axes, axes + 3, [&](int a, int b) { return span[a] > span[b]; });
-  const std::size_t ns = 2 * static_cast<std::size_t>(nthreads_);
-  for (const int a : axes) {
-    slabAxis_ = a;
-    const int n = nn_[a];
-    std::vector<std::size_t> start(static_cast<std::size_t>(n) + 1, 0);
-    for (std::size_t p = 0; p < np; ++p) ++start[static_cast<std::size_t>(layerOf(p, a)) + 1];
-    for (int l = 0; l < n; ++l) start[static_cast<std::size_t>(l) + 1] += start[static_cast<std::size_t>(l)];
-    order_.resize(np);
-    for (std::size_t p = 0; p < np; ++p)
-      order_[start[static_cast<std::size_t>(layerOf(p, a))]++] = static_cast<std::uint32_t>(p);
-    slabStart_.resize(ns + 1);
-    slabLo_.assign(ns, std::numeric_limits<int>::max());
-    slabHi_.assign(ns, std::numeric_limits<int>::min());
-    for (std::size_t s = 0; s <= ns; ++s) slabStart_[s] = np * s / ns;
-    for (std::size_t s = 0; s < ns; ++s)
-      for (std::size_t q = slabStart_[s]; q < slabStart_[s + 1]; ++q) {
-        const int l = layerOf(order_[q], a);
-        slabLo_[s] = std::min(slabLo_[s], l);
-        slabHi_[s] = std::max(slabHi_[s], l);
+  firstOfColour[8] = r;
+  std::vector<std::uint32_t> key(np);
+#pragma omp parallel for schedule(static) num_threads(nthreads_)
+  for (std::size_t p = 0; p < np; ++p) {
+    std::size_t b = 0;
+    for (int a = 0; a < 3; ++a)
+      b = b * static_cast<std::size_t>(blocks_[a]) + static_cast<std::size_t>((baseNode(p, a) - blockOrigin_[a]) / kBlock);
+    key[p] = rank[b];
+  }
+  std::vector<std::uint32_t> start(nblocks + 1, 0);
+  for (std::size_t p = 0; p < np; ++p) ++start[key[p] + 1];
+  blockStart_.clear();
+  blockId_.clear();
+  for (std::size_t c = 0; c < 8; ++c) {
+    colourStart_[c] = static_cast<std::uint32_t>(blockId_.size());
+    for (std::uint32_t k = firstOfColour[c]; k < firstOfColour[c + 1]; ++k)
+      if (start[k + 1] > 0) {
+        blockId_.push_back(idOfRank[k]);
+        blockStart_.push_back(0);
       }
-    if (slabsDisjoint()) return true;
   }
-  return false;
+  colourStart_[8] = static_cast<std::uint32_t>(blockId_.size());
+  for (std::size_t k = 0; k < nblocks; ++k) start[k + 1] += start[k];
+  std::size_t listed = 0;
+  for (std::size_t k = 0; k < nblocks; ++k)
+    if (start[k + 1] > start[k]) blockStart_[listed++] = start[k];
+  blockStart_.push_back(static_cast<std::uint32_t>(np));
+  order_.resize(np);
+  for (std::size_t p = 0; p < np; ++p) order_[start[key[p]]++] = static_cast<std::uint32_t>(p);
+  planned_ = true;
+  ++sorts_;
 }
 
-// Before each step's scatter: keep the slabs while their parity classes stay
-// disjoint (points move less than a cell per step), else re-sort; a problem
-// too short for disjoint slabs scatters on one thread and tries again later.
+// Before each step's scatter: sort the points by block when a point has left
+// its block's bounds (blockBounds) or nothing is planned yet; one thread keeps
+// the creation order.
 void MpmSolver::planScatter() {
-  if (nthreads_ == 1 || size() == 0) {
-    coloured_ = false;
-    return;
+  if (nthreads_ == 1 || planned_) return;
+  sortByBlock();
+}
+
+MpmSolver::ScatterPlan MpmSolver::scatterPlan(int team) const {
+  ScatterPlan plan;
+  plan.sorts = sorts_;
+  if (nthreads_ == 1 || team <= 1 || size() == 0 || !planned_) return plan;
+  plan.colours = 0;
+  plan.blocks = blockId_.size();
+  std::vector<bool> busy(static_cast<std::size_t>(team), false);
+  double critical = 0.0;
+  for (int c = 0; c < 8; ++c) {
+    if (colourStart_[static_cast<std::size_t>(c)] == colourStart_[static_cast<std::size_t>(c) + 1]) continue;
+    ++plan.colours;
+    std::size_t largest = 0;
+    for (int t = 0; t < team; ++t) {
+      const auto [q0, q1] = colourShare(t, team, c);
+      largest = std::max(largest, q1 - q0);
+      if (q1 > q0) busy[static_cast<std::size_t>(t)] = true;
+    }
+    critical += static_cast<double>(largest);
   }
-  if (coloured_ && slabsDisjoint()) return;
-  if (!coloured_ && steps_ < planAgain_) return;
-  coloured_ = sortByLayer();
-  if (!coloured_) planAgain_ = steps_ + 50;
+  plan.busyThreads = static_cast<int>(std::count(busy.begin(), busy.end(), true));
+  plan.imbalance = critical * team / static_cast<double>(size());
+  return plan;
 }
 
 // ---------------------------------------------------------------- particle to grid (eqs 1-3)
@@ -736,9 +784,11 @@ struct MpmSolver::NeedleAxis {
 }
 
 // Particle to grid: mass, momentum and internal force (scatterPoint), the
-// gradient records near the other body, the gap minima of the rigids. Slabs
-// of one colour touch disjoint node layers, so the threads add into one
-// shared grid without races.
+// gradient records near the other body, the gap minima of the rigids. Blocks
+// of one colour touch disjoint nodes (blockBounds), so the threads add into
+// one shared grid without races, colour by colour; each node's sums follow
+// the colours, then the creation order within a block, on any team of two or
+// more threads.
 template <int S, bool Grad>
 MPM_CLONES void MpmSolver::p2g() {
   const double invh = 1.0 / cfg_.h;
@@ -759,6 +809,8 @@ MPM_CLONES void MpmSolver::p2g() {
   const std::size_t nearW = nearW_;
   const bool gridClean = gridClean_;  // remapUpdate cleared the records it used
   gridClean_ = false;
+  const int lastColour = lastScatterColour();
+  std::atomic<int> busy{0};
 #pragma omp parallel num_threads(nthreads_)
   {
     const int T = teamSize(), t = threadId();
@@ -766,8 +818,10 @@ MPM_CLONES void MpmSolver::p2g() {
       zeroGrid(t, T);
 #pragma omp barrier
     }
-    for (int colour = 0; colour < 2; ++colour) {
-    const auto [q0, q1] = slabRange(t, T, colour);
+    bool scattered = false;
+    for (int colour = 0; colour <= lastColour; ++colour) {
+    const auto [q0, q1] = colourShare(t, T, colour);
+    scattered = scattered || q1 > q0;
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
       if (qi + kPrefetchAhead < q1) prefetchRecord<3u>(&P_[order[qi + kPrefetchAhead]]);  // x, v, m, V | sigma
@@ -803,11 +857,13 @@ MPM_CLONES void MpmSolver::p2g() {
         minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
       }
     }
-    if (colour == 0) {
+    if (colour < lastColour && colourHasPoints(colour)) {
 #pragma omp barrier
     }
     }
+    if (scattered) busy.fetch_add(1, std::memory_order_relaxed);
   }
+  scatterThreads_ = busy.load();
 }
 
 // p2g of point p over its support st (position xp): mass and momentum (eqs
@@ -1568,11 +1624,12 @@ MPM_CLONES void MpmSolver::g2pRemap() {
   const double* __restrict vel = vel_.data();
   double* __restrict rec = buf_[0].rec.data();
   const std::uint32_t* __restrict order = order_.data();
+  const int lastColour = lastScatterColour();
 #pragma omp parallel num_threads(nthreads_)
   {
     const int T = teamSize(), t = threadId();
-    for (int colour = 0; colour < 2; ++colour) {
-    const auto [q0, q1] = slabRange(t, T, colour);
+    for (int colour = 0; colour <= lastColour; ++colour) {
+    const auto [q0, q1] = colourShare(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
       if (qi + kPrefetchAhead < q1) prefetchRecord<5u>(&P_[order[qi + kPrefetchAhead]]);  // x, v, m | vg
@@ -1617,7 +1674,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
             add(r, wz[k] * a);
         }
     }
-    if (colour == 0) {
+    if (colour < lastColour && colourHasPoints(colour)) {
 #pragma omp barrier
     }
     }
@@ -1646,26 +1703,27 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   const double limEnd[3] = {nn_[0] - S + 1.0, nn_[1] - S + 1.0, nn_[2] - S + 1.0};  // last base node + 1
   const bool fbar = cfg_.fbar;
   const std::uint32_t* __restrict order = order_.data();
-  const int slabAxis = slabAxis_;
+  const bool blocked = nthreads_ > 1;
+  bool strayed = false;
   // Two bodies: mark each point's cell at its new position for the next
   // step's markNearBodies (it zeroed occ_), instead of a pass over the points there.
   std::uint64_t* occ = cfg_.bodies > 1 && !occ_.empty() ? occ_.data() : nullptr;
   const std::size_t occW = nearW_;
-  // Same slabs as the scatter (no barrier between the two), recording each
-  // slab's range of base x layers at the new positions for planScatter.
-#pragma omp parallel num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax)
+  // Equal shares of the scatter order (no colours: the grid is only read);
+  // each point's new base node is checked against its block's bounds.
+#pragma omp parallel num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax) reduction(|| : strayed)
   {
   const int T = teamSize(), t = threadId();
-  const bool slabs = coloured_ && T == nthreads_;
-  for (int colour = 0; colour < 2; ++colour) {
-  std::size_t q0 = 0, q1 = 0;
-  if (slabs) {
-    std::tie(q0, q1) = slabRange(t, T, colour);
-  } else if (colour == 0) {
-    q0 = np * static_cast<std::size_t>(t) / static_cast<std::size_t>(T);
-    q1 = np * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
+  const std::size_t q0 = np * static_cast<std::size_t>(t) / static_cast<std::size_t>(T),
+                    q1 = np * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
+  int lo[3] = {std::numeric_limits<int>::min(), std::numeric_limits<int>::min(), std::numeric_limits<int>::min()};
+  int hi[3] = {std::numeric_limits<int>::max(), std::numeric_limits<int>::max(), std::numeric_limits<int>::max()};
+  std::size_t block = 0, blockEnd = np;  // listed block of entry qi and its end
+  if (blocked && q0 < q1) {
+    block = static_cast<std::size_t>(std::upper_bound(blockStart_.begin(), blockStart_.end(), q0) - blockStart_.begin()) - 1;
+    blockEnd = blockStart_[block + 1];
+    blockBounds(block, lo, hi);
   }
-  int layerLo = std::numeric_limits<int>::max(), layerHi = std::numeric_limits<int>::min();
   // Chunks of points: the kinematics of the chunk, then its stresses, four
   // points of one material at a time on vector lanes (materials/stress_lanes.hpp).
   constexpr std::size_t kChunk = 32;
@@ -1675,6 +1733,11 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     std::size_t nready = 0;
     for (std::size_t qi = c0; qi < c1; ++qi) {
       const std::size_t p = order[qi];
+      if (qi >= blockEnd) [[unlikely]] {
+        while (qi >= blockStart_[block + 1]) ++block;
+        blockEnd = blockStart_[block + 1];
+        blockBounds(block, lo, hi);
+      }
       if (qi + kPrefetchAhead < q1) prefetchRecord<15u>(&P_[order[qi + kPrefetchAhead]]);  // the whole record
       const lanes::Stencil4<S> st = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
@@ -1682,7 +1745,8 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
       const double J = advancePoint<Usl>(p, g, dt, flip);
       const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
       const double o[3] = {ox, oy, oz};
-      const int cause = checkAdvanced<S>(p, J, speed2, o, invh, limEnd, n1, slabAxis, occ, occW, layerLo, layerHi);
+      const int cause =
+          checkAdvanced<S>(p, J, speed2, o, invh, limEnd, n1, blocked ? lo : nullptr, hi, occ, occW, strayed);
       if (cause) {
         int expected = 0;
         if (bad.compare_exchange_strong(expected, cause)) badP = p;
@@ -1693,13 +1757,8 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     }
     stressChunk(ready, nready, ei, vmax);
   }
-  if (slabs) {
-    const auto sl = static_cast<std::size_t>(2 * t + colour);
-    slabLo_[sl] = layerLo;
-    slabHi_[sl] = layerHi;
   }
-  }
-  }
+  if (strayed || bad.load()) planned_ = false;  // sort again before the next scatter
   if (bad.load()) fail(badP.load(), bad.load());
   occFresh_ = occ != nullptr;  // every point marked its cell
   if (fbar) fbarStress(ei, vmax);
@@ -1799,13 +1858,13 @@ template <bool Usl>
 // its update, else the cause for fail: 2 a velocity or position not finite,
 // 1 J not positive or not finite, 3 its support at the new position leaves
 // the grid (origin o, 1 / h invh; base nodes below limEnd). A point that goes
-// on widens the thread's base layers [layerLo, layerHi] along slabAxis and,
-// two bodies, marks its cell in occ (occW words per body and row).
+// on sets strayed when its base node leaves [baseLo, baseHi] (its block's
+// bounds, blockBounds; no check without baseLo) and, two bodies, marks its cell in occ (occW words per body and row).
 template <int S>
 [[gnu::always_inline]] inline int MpmSolver::checkAdvanced(std::size_t p, double J, double speed2, const double* o,
                                                            double invh, const double* limEnd, std::size_t n1,
-                                                           int slabAxis, std::uint64_t* occ, std::size_t occW,
-                                                           int& layerLo, int& layerHi) {
+                                                           const int* baseLo, const int* baseHi,
+                                                           std::uint64_t* occ, std::size_t occW, bool& strayed) {
   if (!std::isfinite(speed2) || !std::isfinite(P_[p].x[0] + P_[p].x[1] + P_[p].x[2])) return 2;
   if (!(J > 0.0) || !std::isfinite(J)) return 1;
   // Base node of the support at the new position (as weights<S>) in
@@ -1817,10 +1876,12 @@ template <int S>
   for (int d = 0; d < 3; ++d)
     if (!(xs[d] >= 0.0 && xs[d] < limEnd[d])) cause = 3;
   if (cause) return cause;
-  const int l = static_cast<int>(xs[slabAxis]);  // = the floor, xs >= 0
-  layerLo = std::min(layerLo, l);
-  layerHi = std::max(layerHi, l);
-  if (occ) {  // as markNearBodies' own pass; slabs meet at a row: atomic OR, skipped when set
+  if (baseLo)  // blocks (two or more threads)
+    for (int d = 0; d < 3; ++d) {
+      const int l = static_cast<int>(xs[d]);  // = the floor, xs >= 0
+      strayed = strayed || l < baseLo[d] || l > baseHi[d];
+    }
+  if (occ) {  // as markNearBodies' own pass; threads meet at a row: atomic OR, skipped when set
     const grid::Cell c = grid::cellAt(xc[0], xc[1], xc[2], n1);
     std::uint64_t* w = occ + cellWord(c, body_[p], occW);
     const std::uint64_t bit = cellBit(c);
@@ -1829,7 +1890,7 @@ template <int S>
   return 0;
 }
 
-// g2pFinal: the stresses of the nready points ready[] (in slab order), four
+// g2pFinal: the stresses of the nready points ready[] (in scatter order), four
 // points of one material at a time on vector lanes where the law has them;
 // their strain energy into ei, the largest wave plus point speed into vmax.
 [[gnu::always_inline]] inline void MpmSolver::stressChunk(const std::size_t* ready, std::size_t nready, double& ei,

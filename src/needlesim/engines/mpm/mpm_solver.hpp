@@ -3,9 +3,9 @@
 // contact (eqs 14-21), CFL time step (eqs 25-27) and mass scaling (eq 28).
 // Particles are an array of 256-byte records; the background grid is a dense
 // box that is reset every step. Scatter is race-free on one shared grid: the
-// points are visited in x-layer order and cut into 2 slabs per thread, and the
-// even slabs (then the odd ones) touch disjoint node layers. Interpretations:
-// docs/models/mpm.md.
+// points are sorted by grid block (4 base nodes wide along each axis), the
+// blocks coloured in 2 x 2 x 2 parity, and the threads share out the blocks of
+// one colour, which touch disjoint nodes. Interpretations: docs/models/mpm.md.
 #include <Eigen/Core>
 #include <Eigen/LU>
 #include <array>
@@ -201,10 +201,27 @@ class MpmSolver {
   int material(std::size_t p) const { return mat_[p]; }
   double particleSpacing() const { return dp_; }
   void setVelocity(std::size_t p, const Vec3& v) { P_[p].v[0] = v.x(); P_[p].v[1] = v.y(); P_[p].v[2] = v.z(); }
-  void setPosition(std::size_t p, const Vec3& x) { P_[p].x[0] = x.x(); P_[p].x[1] = x.y(); P_[p].x[2] = x.z(); }  // tests (contactForces)
+  void setPosition(std::size_t p, const Vec3& x) {  // tests (contactForces); the next step sorts the points again
+    P_[p].x[0] = x.x(); P_[p].x[1] = x.y(); P_[p].x[2] = x.z();
+    planned_ = false;
+  }
   const MpmConfig& config() const { return cfg_; }
   int threads() const { return nthreads_; }
-  bool colouredScatter() const { return coloured_; }  // the scatters run on all threads (planScatter)
+  // The block colouring of the scatters for a team of `team` threads
+  // (planScatter; one thread: creation order, one pass): colours with points
+  // (a barrier between two), blocks with points, threads that get points, and
+  // the imbalance, the sum over the colours of the largest thread's share over
+  // the mean share (1: even; the scatters' speed-up is at most team / imbalance),
+  // and the sorts by block since finalize.
+  struct ScatterPlan {
+    int colours = 1;
+    std::size_t blocks = 0;
+    int busyThreads = 1;
+    double imbalance = 1.0;
+    long long sorts = 0;
+  };
+  ScatterPlan scatterPlan(int team) const;
+  int scatterThreads() const { return scatterThreads_; }  // threads that scattered points in the last p2g
   // Tests: the two-body contact forces (pair penalty or density law, without
   // friction) on every point at the current positions, and the contact energy
   // there (J); the solver's state is unchanged (penalty_contact.cpp).
@@ -234,8 +251,8 @@ class MpmSolver {
   template <bool Usl> double advancePoint(std::size_t p, const GridSums& g, double dt, double flip);  // g2pFinal
   template <int S>
   int checkAdvanced(std::size_t p, double J, double speed2, const double* o, double invh, const double* limEnd,
-                    std::size_t n1, int slabAxis, std::uint64_t* occ, std::size_t occW, int& layerLo,
-                    int& layerHi);  // g2pFinal
+                    std::size_t n1, const int* baseLo, const int* baseHi, std::uint64_t* occ,
+                    std::size_t occW, bool& strayed);  // g2pFinal
   void stressChunk(const std::size_t* ready, std::size_t nready, double& ei, double& vmax);  // g2pFinal
   void gridUpdate();
   void planGridRows();                                                               // gridUpdate
@@ -264,9 +281,21 @@ class MpmSolver {
   void remapUpdate(bool clear);
   void zeroGrid(int t, int T);
   void planScatter();
-  bool sortByLayer();
-  bool slabsDisjoint() const;
-  std::pair<std::size_t, std::size_t> slabRange(int t, int T, int colour) const;
+  void sortByBlock();  // planScatter
+  std::pair<std::size_t, std::size_t> colourShare(int t, int T, int colour) const;
+  void blockBounds(std::size_t listed, int* lo, int* hi) const;  // g2pFinal
+  bool scatterPlanValid(const std::vector<std::uint32_t>& starts, const std::vector<std::uint32_t>& ids,
+                        const std::vector<std::uint32_t>& colours, const int* origin, const int* blocks,
+                        bool planned) const;  // loadState
+  bool colourHasPoints(int c) const {
+    return nthreads_ == 1 ? c == 0 : colourStart_[static_cast<std::size_t>(c)] != colourStart_[static_cast<std::size_t>(c) + 1];
+  }
+  int lastScatterColour() const {
+    int last = 0;
+    for (int c = 1; c < 8; ++c)
+      if (colourHasPoints(c)) last = c;
+    return last;
+  }
   void stress(std::size_t p, const Mat3& F, double& energy, double& wave);
   void fbarStress(double& ei, double& vmax);
   void markNearBodies();
@@ -311,18 +340,25 @@ class MpmSolver {
     std::vector<std::uint8_t> gmat;  // per node per rigid: material of the point of the smallest gap (materialFriction_)
   };
   std::vector<Buf> buf_;                // one shared grid (buf_[0])
-  // Race-free scatter: order_ visits the points by the layer of their base
-  // node; slab s is order_[slabStart_[s], slabStart_[s + 1]), thread t scatters
-  // slab 2t, then (after a barrier) slab 2t + 1. Slabs of one parity touch
-  // disjoint node layers (checked each step from the base layers g2pFinal
-  // records; re-sorted when not). One slab (serial scatter) when that fails.
+  // Race-free scatter (3D block colouring, sortByBlock): the grid is cut,
+  // from the points' lowest base node on (so that few blocks are partly
+  // filled), into blocks of kBlock base nodes along each axis, block (bi, bj, bk) of
+  // colour (bi & 1) | (bj & 1) << 1 | (bk & 1) << 2; order_ visits the points
+  // colour by colour, block by block (creation order within a block); listed
+  // block b is order_[blockStart_[b], blockStart_[b + 1]), of grid block
+  // blockId_[b]; colour c is listed blocks [colourStart_[c], colourStart_[c + 1]).
+  // A point whose base node leaves its block by more than one node (g2pFinal)
+  // asks for a re-sort before the next scatter (planned_ false).
+  static constexpr int kBlock = 4;
   std::vector<std::uint32_t> order_;
-  std::vector<std::size_t> slabStart_;
-  std::vector<int> slabLo_, slabHi_;    // per slab: lowest, highest base layer along slabAxis_
-  int slabAxis_ = 0;                    // the axis of the layers (sortByLayer)
-  bool coloured_ = false;
+  std::vector<std::uint32_t> blockStart_, blockId_;
+  std::array<std::uint32_t, 9> colourStart_{};
+  int blockOrigin_[3] = {0, 0, 0};      // base node where block 0 starts along each axis (the points' lowest)
+  int blocks_[3] = {0, 0, 0};           // blocks from there to the grid's end along each axis
+  bool planned_ = false;
+  int scatterThreads_ = 1;
+  long long sorts_ = 0;
   bool gridClean_ = false;              // the records are all zero (remapUpdate cleared them)
-  long long planAgain_ = 0;             // serial fallback: step of the next try
   int nr_ = 8;
   grid::LineVector<double> vel_;        // per node per body: v_new (3), pad, v_old (3), pad
   std::vector<std::uint8_t> fixMask_;   // per node: bits 0-2 fixed velocity components

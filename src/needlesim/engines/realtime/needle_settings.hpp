@@ -25,7 +25,7 @@ struct NeedleConfig {
 // Forces of one layer of a layered block (depth bands from the entry face).
 struct LayerForces {
   double depth_end = 0.0;      // m, x of the layer's far boundary
-  FrictionSpec friction;       // per unit length (eq 3.23); D_p, D_n as given (contact/karnopp.hpp)
+  KarnoppFriction friction;    // per unit length (eq 3.23); D_p, D_n as given (contact/karnopp.hpp)
   double cutting_force = 0.0;  // N (eq 3.24)
   // N, threshold of eq 3.16 (with the layer's E, nu) at the layer's near boundary; the
   // first layer's is the session's puncture_force.
@@ -37,7 +37,7 @@ template <class TissueConfigT>
 struct SessionSettings {
   TissueConfigT tissue;
   NeedleConfig needle;
-  FrictionSpec friction;       // per unit length (eq 3.23); D_p, D_n as given (contact/karnopp.hpp)
+  KarnoppFriction friction;    // per unit length (eq 3.23); D_p, D_n as given (contact/karnopp.hpp)
   double cutting_force = 0.0;  // N (eq 3.24)
   // Optional layered forces: when not empty they replace `friction` and `cutting_force`,
   // by the depth x of each path node (friction) and of the tip (cutting).

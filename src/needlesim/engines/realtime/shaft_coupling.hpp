@@ -39,7 +39,7 @@ struct ShaftSettings {
   double EI = 0.0, length = 0.0;  // N m^2, m
   std::vector<double> path_s;     // m, reference axial position of each path node
   // Per path node (eq 3.23), its static band included; D_p and D_n as given (contact/karnopp.hpp).
-  std::vector<FrictionSpec> friction;
+  std::vector<KarnoppFriction> friction;
   int max_iterations = 12;
   double entry_s = 0.0;           // m, where the axis enters the tissue (the first node's rubbed length starts there)
 };
