@@ -13,18 +13,25 @@
 #include <numbers>
 #include <vector>
 
+#include "needlesim/engines/mpm/cuda/plugin_loader.hpp"
 #include "needlesim/engines/mpm/mpm_solver.hpp"
 
 using namespace needlesim::mpm;
 
 namespace {
 
+// The GPU back-end of --device cuda (null: the CPU) and its P2G kernel.
+struct Device {
+  const NsMpmBackend* backend = nullptr;
+  int kernel = NSMPM_KERNEL_SORTED;
+};
+
 // A bevel needle 2 mm into a Fung-Demiray block of length x width x height
 // (needle along x, centred in y and z), 0.4 mm particles, 0.8 mm grid, after
-// `warmup` steps. The default 22 x 12 x 12 mm block: 49,500 particles; the
+// `warmup` steps (on the GPU back-end of `device` when it has one). The default 22 x 12 x 12 mm block: 49,500 particles; the
 // large one, 28 x 48 x 48 mm: 1,008,000.
 MpmSolver makeNeedleProblem(Shape shape, Update update, int threads, const Vec3& size = Vec3(22e-3, 12e-3, 12e-3),
-                            int warmup = 20) {
+                            int warmup = 20, Device device = {}) {
   const double h = 0.8e-3, dp = 0.4e-3;
   const double hy = size.y() / 2, hz = size.z() / 2;
   MpmConfig cfg;
@@ -59,6 +66,7 @@ MpmSolver makeNeedleProblem(Shape shape, Update update, int threads, const Vec3&
   n.friction = 0.255;
   s.addRigid(n);
   s.finalize();
+  if (device.backend) s.attachDevice(device.backend, device.kernel);
   for (int i = 0; i < warmup; ++i) s.step();
   return s;
 }
@@ -141,12 +149,32 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density] | --large] [--threads T]`: N
+// --device cuda: the plugin into `device`; false (with the reason on stderr) when it cannot run.
+bool attachCuda(Device& device, bool twoBlocks) {
+  const needlesim::mpm::PluginLoad load = needlesim::mpm::loadCudaPlugin();
+  char msg[512] = "";
+  if (!load.backend || load.backend->probe(msg, sizeof msg) < 1) {
+    std::fprintf(stderr, "bench_mpm: --device cuda: %s\n", load.backend ? msg : load.problem.c_str());
+    return false;
+  }
+  if (twoBlocks) {
+    std::fprintf(stderr, "bench_mpm: --device cuda: the two-block problem (two bodies) is CPU-only\n");
+    return false;
+  }
+  std::printf("device: %s, %s kernel\n", msg, device.kernel == NSMPM_KERNEL_NAIVE ? "naive" : "sorted");
+  device.backend = load.backend;
+  return true;
+}
+
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density] | --large] [--threads T]
+// [--scale S] [--device cuda [--kernel naive]]`: N
 // steps of the problem (1 thread unless told) without the benchmark harness, for instruction
 // counts under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread)
 // and the thread scaling (scripts/mpm_scaling.sh); prints the fastest and the median step wall
 // time and the scatter's block colouring (docs/performance.md). --large: the needle in a
-// 28 x 48 x 48 mm block, 1,008,000 points (~300 MB), after 5 warm-up steps.
+// 28 x 48 x 48 mm block, 1,008,000 points (~300 MB), after 5 warm-up steps. --scale S: the
+// needle problem's block edges times S (4.4: 4.2 M points). --device cuda: the steps on the
+// CUDA plugin (docs/architecture.md "MPM on the GPU"), its sorted or naive P2G kernel.
 int main(int argc, char** argv) {
   int steps = -1;
   Shape shape = Shape::BSpline2;
@@ -154,6 +182,9 @@ int main(int argc, char** argv) {
   bool twoBlocks = false, large = false;
   BodyContact law = MpmConfig{}.bodyContact;
   int threads = 1;
+  double scale = 1.0;
+  Device device;
+  bool cuda = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
@@ -163,11 +194,16 @@ int main(int argc, char** argv) {
     if (a == "--large") large = true;
     if (a == "--density") law = BodyContact::Density;  // two blocks with the density contact (density_contact.hpp)
     if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (a == "--scale" && i + 1 < argc) scale = std::atof(argv[++i]);
+    if (a == "--device" && i + 1 < argc) cuda = std::string(argv[++i]) == "cuda";
+    if (a == "--kernel" && i + 1 < argc) device.kernel = std::string(argv[++i]) == "naive" ? NSMPM_KERNEL_NAIVE : NSMPM_KERNEL_SORTED;
   }
+  if (cuda && !attachCuda(device, twoBlocks)) return 2;
   if (steps >= 0) {
     MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads, law)
-                  : large   ? makeNeedleProblem(shape, update, threads, Vec3(28e-3, 48e-3, 48e-3), 5)
-                            : makeNeedleProblem(shape, update, threads);
+                  : large   ? makeNeedleProblem(shape, update, threads, Vec3(28e-3, 48e-3, 48e-3), 5, device)
+                            : makeNeedleProblem(shape, update, threads, scale * Vec3(22e-3, 12e-3, 12e-3), 20,
+                                                device);
     // Wall time of each step: the fastest and the median (on a shared machine
     // the fastest steps are those that found the cores free).
     std::vector<double> ms;

@@ -12,6 +12,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/mpm/cuda/device_select.hpp"
 #include "needlesim/results/checkpoint.hpp"
 
 namespace needlesim::engines {
@@ -27,6 +28,7 @@ std::vector<std::vector<std::size_t>> populate(MpmSolver& solver, const Scenario
   auto members = addTissue(solver, sc, setup);
   solver.addRigid(setup.needle);
   solver.finalize();
+  attachRequestedDevice(solver, sc);  // model.mpm.device: cuda (cuda/device_select.hpp)
   return members;
 }
 
@@ -123,6 +125,7 @@ MpmRun::Vec3 MpmRun::bevelSideAt(const MotionState& m) const {
 // The particles and the needle where the motion puts it at the recorded depth (the solver
 // places it at the start of each step).
 void MpmRun::writeFields(double t) {
+  solver_.syncFromDevice();  // GPU: the particles at output times only
   fields_.write(solver_, t);
   mpm::RigidBody shown = solver_.rigid(kNeedle);
   placeNeedle(shown, setup_, ms_.depth, bevelSideAt(ms_), ms_.velocity);
@@ -160,6 +163,7 @@ void MpmRun::recordInclusions(double t) {
 // shared frame: force_total resists insertion, force_lateral along the
 // frame's lateral direction, the tip in the tissue frame).
 void MpmRun::recordRow(double t, const mpm::StepReport& rep) {
+  solver_.syncFromDevice();  // GPU: fracture, markers and inclusions read the particles
   const Vec3 F = imp_.total / imp_.time, Ftip = imp_.tip / imp_.time, Fsh = imp_.shaft / imp_.time;
   const Vec3& axial = setup_.frame.axial;
   sum_.lastForce = 0.0 - F.dot(axial);  // 0 - x: no -0 in the table
@@ -205,6 +209,7 @@ void MpmRun::step() {
     recordRow(t, rep);
   }
   if (spec_.marker_depth_step > 0.0 && ms_.depth >= next_.nextMarkerDepth - 1e-12) {
+    solver_.syncFromDevice();
     markers_.record(solver_, t, ms_.depth);
     while (next_.nextMarkerDepth <= ms_.depth + 1e-12) next_.nextMarkerDepth += spec_.marker_depth_step;
   }
@@ -230,6 +235,7 @@ io::Checkpoint::Series seriesOf(const mpm_outputs::ParticleFields& fields, const
 }  // namespace
 
 void MpmRun::saveCheckpoint() {
+  solver_.syncFromDevice();
   io::BinaryWriter w;
   w.tag("mpm_engine");
   w.pod(kEngineLayout);

@@ -146,6 +146,7 @@ void MpmRun::runNotes(double seconds) {
       tip == TipType::Bevel ? "bevel" : tip == TipType::Conical ? "conical" : "blunt", setup_.needle.radius * 1e3,
       m.cfemp ? "CFEMP particle-to-surface contact with the triangulated needle, eqs 22-24" : "grid contact, eqs 14-21",
       sum_.steps, sum_.dtMin * 1e3, sum_.dtMax * 1e3, seconds, solver_.threads(), rate, setupSeconds_));
+  if (solver_.onDevice()) sink_.note("The steps ran on the GPU (model.mpm.device: cuda, engines/mpm/cuda).");
   if (c.bodies == 2)
     sink_.note(fmt::format("Sliding inclusions are a second body in penalty contact with the tissue (Coulomb {:g}, "
                            "penalty_contact.hpp).",

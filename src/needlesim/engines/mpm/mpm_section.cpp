@@ -123,6 +123,10 @@ scenario::ParamTable<Spec> build() {
       .count(&Spec::margin, "margin", 2.0, 100.0, "grid cells beyond the tissue block on each side")
       .count(&Spec::threads, "threads", 0.0, 1024.0,
              "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)")
+      .choice(&Spec::cuda, "device", {{"cpu", false}, {"cuda", true}},
+              "where the steps run: cpu (OpenMP threads), or cuda (the GPU plugin libneedlesim_mpm_cuda.so, built where "
+              "nvcc is found; refused with the reason where it is missing, no GPU is present or the scenario uses "
+              "what the GPU path lacks: docs/architecture.md \"MPM on the GPU\")")
       .row(t.otherDoc("faces", Kind::Section, "exit fixed, others free", "boundary condition of each face of the block",
                       "mpm_faces"),
            readFaces)

@@ -54,6 +54,7 @@ struct MpmModelSpec {
   double mass_scaling = 1.0;         // factor on the particle masses (eq 28 discussion)
   int margin = 3;                    // grid cells beyond the block
   int threads = 0;                   // 0 = all cores
+  bool cuda = false;                 // device: cpu (false) or cuda (the GPU plugin, engines/mpm/cuda)
   // Face conditions: entry (depth 0), exit, y_min, y_max, z_min, z_max; each
   // "free", "fixed", "roller" or "non-reflecting".
   std::vector<std::string> faces{"free", "fixed", "free", "free", "free", "free"};

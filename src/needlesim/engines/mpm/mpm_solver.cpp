@@ -2007,6 +2007,7 @@ StepReport MpmSolver::step() {
   }
   if (!(dt_ > 0) || !std::isfinite(dt_))
     throw SolverError("mpm: no valid time step (wave speed not finite); check the material parameters");
+  if (device_) return deviceStep();  // GPU back-end (cuda/device_bridge.cpp)
   const bool lin = cfg_.shape == Shape::Linear;
   planScatter();  // p2g clears the grid
   planCut();      // the supports the needle's cut crosses (needle_cut.cpp)

@@ -11,6 +11,7 @@
 #include <array>
 #include <atomic>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <string>
 #include <utility>
@@ -22,7 +23,11 @@
 #include "needlesim/io/binary_state.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
 
+struct NsMpmBackend;  // cuda/mpm_device_abi.h
+
 namespace needlesim::mpm {
+
+class DeviceRun;  // cuda/device_bridge.cpp
 
 namespace lanes {
 template <int S>
@@ -441,6 +446,22 @@ class MpmSolver {
   // naming the file when the state belongs to another set-up.
   void saveState(io::BinaryWriter& w) const;
   void loadState(io::BinaryReader& r);
+
+  // GPU back-end (cuda/device_bridge.cpp, docs/architecture.md "MPM on the
+  // GPU"): after attachDevice each step() runs on `backend` (the CUDA plugin or
+  // its host emulation) with the state kept there; syncFromDevice copies the
+  // particles back (before outputs and checkpoints). kernel: NsMpmKernel.
+  // deviceUnsupported: what this set-up uses that the GPU path lacks (empty: none).
+  void attachDevice(const NsMpmBackend* backend, int kernel = 0);
+  void syncFromDevice();
+  bool onDevice() const { return device_ != nullptr; }
+  std::vector<std::string> deviceUnsupported() const;
+
+ private:
+  StepReport deviceStep();
+  void uploadToDevice();
+  void dropDeviceState();  // loadState: the device copy is stale
+  std::shared_ptr<DeviceRun> device_;
 };
 
 }  // namespace needlesim::mpm

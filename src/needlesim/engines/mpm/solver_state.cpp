@@ -180,6 +180,7 @@ void MpmSolver::loadState(io::BinaryReader& r) {
   if (penalty_) penalty_->tally_ = tally;
   gridClean_ = false;  // the next scatter clears the whole grid
   occFresh_ = false;   // markNearBodies marks the cells from the loaded positions
+  dropDeviceState();   // GPU back-end: the next step uploads the loaded state
 }
 
 }  // namespace needlesim::mpm
