@@ -5,7 +5,8 @@
 // move the needle 50 -> 55 -> 50 mm at 3 mm/s (insertion and retraction, force out each step).
 // The field benchmarks time the viewer's field of needlesim serve on the same warmed block: the
 // snapshot the physics thread copies every 16 steps, and the full displacement a viewer thread
-// rebuilds from it.
+// rebuilds from it. The set-up benchmarks time building the session (one iteration each) at
+// 10,496 and 41 x 35 x 35 = 50,225 nodes; the 50,225-node block also has a step benchmark.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
@@ -33,6 +34,19 @@ void run(benchmark::State& state, int nx, int nl, Backend b) {
   state.counters["tets"] = s.mesh().elements();
   state.counters["coupled"] = s.last().coupled;
   state.counters["path_dofs"] = s.tissue().dynamics().pathDofs();
+}
+
+// Set-up of the session on the gelatin block with nx x nl x nl nodes, reduced back-end: mesh,
+// assembly, the factorisation of the stiffness, the lowest modes and the path flexibility.
+void setup(benchmark::State& state, int nx, int nl) {
+  Eigen::setNbThreads(1);
+  int nodes = 0;
+  for (auto _ : state) {
+    const Session s(gelatinBlockConfig(nx, nl, Backend::Reduced));
+    nodes = s.mesh().nodes();
+    benchmark::DoNotOptimize(nodes);
+  }
+  state.counters["nodes"] = nodes;
 }
 
 // The 10,496-node block warmed to 50 mm as above, built once for the field benchmarks.
@@ -73,6 +87,12 @@ void fieldFromSnapshot(benchmark::State& state) {
 
 static void BM_Block10496_Reduced(benchmark::State& st) { run(st, 41, 16, Backend::Reduced); }
 BENCHMARK(BM_Block10496_Reduced)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
+static void BM_Setup_Block10496(benchmark::State& st) { setup(st, 41, 16); }
+BENCHMARK(BM_Setup_Block10496)->Unit(benchmark::kMillisecond)->Iterations(1);
+static void BM_Setup_Block50225(benchmark::State& st) { setup(st, 41, 35); }
+BENCHMARK(BM_Setup_Block50225)->Unit(benchmark::kMillisecond)->Iterations(1);
+static void BM_Block50225_Reduced(benchmark::State& st) { run(st, 41, 35, Backend::Reduced); }
+BENCHMARK(BM_Block50225_Reduced)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 static void BM_Block10496_FieldSnapshot(benchmark::State& st) { fieldSnapshot(st); }
 BENCHMARK(BM_Block10496_FieldSnapshot)->Unit(benchmark::kMicrosecond)->MinTime(1.0);
 static void BM_Block10496_FieldFromSnapshot(benchmark::State& st) { fieldFromSnapshot(st); }

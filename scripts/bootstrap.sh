@@ -6,6 +6,8 @@
 # tests/paraview).
 # (libcpp-httplib-dev, libjs-three: `needlesim serve`, its page's 3D view; chromium, python3-websocket:
 # the real-browser test, tests/browser).
+# (libsuitesparse-dev, libopenblas0-serial: CHOLMOD, the supernodal Cholesky of the real-time
+# tissues' set-up, on an optimised BLAS instead of the reference one).
 # Safe to run again: it asks apt only for what is missing.
 set -euo pipefail
 PKGS=(
@@ -18,7 +20,7 @@ PKGS=(
   python3-numpy python3-pytest python3-h5py python3-matplotlib
   python3-venv python3-pip python3-setuptools python3-wheel
   calculix-ccx
-  libgmsh-dev zlib1g-dev libseccomp-dev
+  libgmsh-dev zlib1g-dev libseccomp-dev libsuitesparse-dev libopenblas0-serial
   python3-paraview xvfb libgl1-mesa-dri python3-meshio python3-h5py
   libcpp-httplib-dev libjs-three
   chromium python3-websocket

@@ -8,6 +8,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/sparse_cholesky.hpp"
 #include "needlesim/engines/realtime/tissue_integrators.hpp"
 
 namespace needlesim::realtime {
@@ -145,7 +146,7 @@ void TissueDynamics::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v
     vf[k] = v[map_.dof_of_free[static_cast<std::size_t>(k)]];
   }
   const Eigen::SparseMatrix<double> C = cfg_.rayleigh_alpha * M_ + cfg_.rayleigh_beta * K_;
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf;
+  SparseCholesky mf;
   {
     const BlockingCall call(engine_ + ": factorising the mass matrix");
     mf.compute(M_);
@@ -162,7 +163,7 @@ void TissueDynamics::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v
 
 double TissueDynamics::highestFrequency() const {
   // Power iteration on M^-1 K (Rayleigh quotient), deterministic start vector.
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> mf;
+  SparseCholesky mf;
   {
     const BlockingCall call(engine_ + ": factorising the mass matrix");
     mf.compute(M_);
@@ -172,7 +173,8 @@ double TissueDynamics::highestFrequency() const {
   double lam = 0.0;
   for (int it = 0; it < 300; ++it) {
     throwIfStopRequested(engine_ + ": the highest frequency of the tissue");
-    Eigen::VectorXd y = mf.solve(K_ * x);
+    const Eigen::VectorXd Kx = K_ * x;
+    Eigen::VectorXd y = mf.solve(Kx);
     const double nl = x.dot(K_ * x) / x.dot(M_ * x);
     x = y / y.norm();
     if (it > 10 && std::abs(nl - lam) < 1e-6 * nl) { lam = nl; break; }
@@ -185,7 +187,7 @@ Eigen::VectorXd TissueDynamics::staticSolve(const Eigen::VectorXd& f) const {
   const int n = map_.freeCount();
   Eigen::VectorXd ff(n);
   for (int k = 0; k < n; ++k) ff[k] = f[map_.dof_of_free[static_cast<std::size_t>(k)]];
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kf;
+  SparseCholesky kf;
   {
     const BlockingCall call(engine_ + ": factorising the stiffness");
     kf.compute(K_);

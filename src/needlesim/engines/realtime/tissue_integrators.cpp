@@ -7,6 +7,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/realtime/sparse_cholesky.hpp"
 
 namespace needlesim::realtime {
 
@@ -229,14 +230,17 @@ class ReducedIntegrator final : public TissueIntegrator {
     PhiP_.resize(P, m);
     for (int k = 0; k < P; ++k)
       for (Eigen::Index j = 0; j < m; ++j) PhiP_(k, j) = map_.gather(Phi_.col(j), k);
-    // Static path flexibility G^T K^-1 G, minus the kept modes' share.
-    Zs_.resize(n, P);
-    Eigen::VectorXd g(n);
+    // Static path flexibility G^T K^-1 G, minus the kept modes' share: one blocked solve
+    // for all P path loads.
+    throwIfStopRequested("realtime tissue: static path flexibility");
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(n, P);
     for (int k = 0; k < P; ++k) {
-      throwIfStopRequested("realtime tissue: static path flexibility");
-      g.setZero();
+      Eigen::Ref<Eigen::VectorXd> g = G.col(k);
       map_.scatterAdd(g, k, 1.0);
-      Zs_.col(k) = kf_.solve(g);
+    }
+    {
+      const BlockingCall call("realtime tissue: static path flexibility");
+      Zs_ = kf_.solve(G);
     }
     R_.resize(P, P);
     for (int k = 0; k < P; ++k)
@@ -342,7 +346,7 @@ class ReducedIntegrator final : public TissueIntegrator {
     for (Eigen::Index i = 0; i < n; i += 3) q[i] = -q[i];
     q /= std::sqrt(q.dot(M_ * q));
     Q.col(0) = q;
-    Eigen::VectorXd r(n), Mr(n);
+    Eigen::VectorXd r(n), Mr(n), Mq(n);
     int k = 0;
     auto done = [&](int steps) {  // enough converged Ritz values past the cutoff?
       Eigen::SelfAdjointEigenSolver<Eigen::MatrixXd> es(tridiag(alpha, betas, steps));
@@ -359,7 +363,8 @@ class ReducedIntegrator final : public TissueIntegrator {
     };
     for (; k < kmax; ++k) {
       throwIfStopRequested("realtime tissue: the lowest modes (Lanczos)");
-      r = kf_.solve(M_ * Q.col(k));
+      Mq.noalias() = M_ * Q.col(k);
+      r = kf_.solve(Mq);
       alpha[k] = Q.col(k).dot(M_ * r);
       for (int pass = 0; pass < 2; ++pass) {  // full M-reorthogonalisation
         Mr = M_ * r;
@@ -404,7 +409,7 @@ class ReducedIntegrator final : public TissueIntegrator {
   materials::Prony prony_;
   PronyStep ps_;
   std::vector<Eigen::VectorXd> h_, Hr_;  // Prony histories: kept modes, residual filter
-  Eigen::SimplicialLDLT<Eigen::SparseMatrix<double>> kf_;
+  SparseCholesky kf_;
   Eigen::MatrixXd Phi_, Zs_, R_, S_;
   Eigen::Matrix<double, Eigen::Dynamic, Eigen::Dynamic, Eigen::RowMajor> PhiP_;
   Eigen::VectorXd w2_, damp_, q_, qd_, qdd_, q0_, invA_, hq_, gres_, gdot_, t_, histr_;
