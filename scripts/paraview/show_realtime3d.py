@@ -7,8 +7,9 @@ ParaView renders through X only, so on a machine without a display run it under 
 
 RESULTS_FOLDER is the folder of `needlesim run` on a realtime3d scenario with a field_interval
 (tissue.xdmf, needle.xdmf; docs/results.md "Field files"). At the last field step (or --time):
-the tissue is clipped by the plane that holds the needle's centre line and the vertical (z)
-axis, its cut face coloured by the magnitude of `displacement [m]` (in mm), the far half kept
+the tissue, deformed by Warp By Vector (its points are the reference ones), is clipped by the
+plane that holds the needle's centre line and the vertical (z) axis, its cut face coloured by
+the magnitude of `displacement` (in mm; the array is in m), the far half kept
 and seen face-on, the uncut block as a grey outline and the needle as a dark tube. The same
 steps in the ParaView GUI: docs/results.md "Seeing inside a realtime3d tissue".
 Exit code 1 with a message when the folder has no tissue series.
@@ -67,9 +68,10 @@ def show(folder, png, time):
     bounds = tissue.GetDataInformation().GetBounds()
     origin, normal = cut_plane(bounds, needle_line(needle, t))
 
-    # displacement magnitude in mm (the array is in metres)
-    mm = simple.Calculator(Input=tissue, AttributeType="Point Data", ResultArrayName="|displacement| [mm]",
-                           Function='1000*mag("displacement [m]")')
+    # the deformed shape, its displacement magnitude in mm (the array is in metres)
+    deformed = simple.WarpByVector(Input=tissue, Vectors=["POINTS", "displacement"], ScaleFactor=1.0)
+    mm = simple.Calculator(Input=deformed, AttributeType="Point Data", ResultArrayName="|displacement| [mm]",
+                           Function="1000*mag(displacement)")
     clip = simple.Clip(Input=mm, ClipType="Plane")
     clip.ClipType.Origin = origin
     clip.ClipType.Normal = normal

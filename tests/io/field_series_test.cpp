@@ -113,7 +113,7 @@ TEST(FieldSeries, WritesMeshStepsAndAnXdmfParaViewReads) {
             std::string::npos);
   EXPECT_NE(xdmf.find("<Geometry GeometryType=\"XYZ\">\n<DataItem Dimensions=\"6 3\""), std::string::npos);
   EXPECT_NE(xdmf.find("<Time Value=\"0.5\"/>"), std::string::npos);
-  EXPECT_NE(xdmf.find("<Attribute Name=\"displacement [m]\" AttributeType=\"Vector\" Center=\"Node\">\n"
+  EXPECT_NE(xdmf.find("<Attribute Name=\"displacement\" AttributeType=\"Vector\" Center=\"Node\">\n"
                       "<DataItem Dimensions=\"6 3\""),
             std::string::npos);
   EXPECT_NE(xdmf.find("<Attribute Name=\"von_mises [Pa]\" AttributeType=\"Scalar\" Center=\"Cell\">"),
@@ -159,6 +159,33 @@ TEST(FieldSeries, ParticlesAreOnePolyvertexEach) {
   EXPECT_NE(xdmf.find("<DataItem Dimensions=\"3 3\" NumberType=\"Float\" Precision=\"8\" "
                       "Format=\"HDF\">particles.h5:/step000000/point/displacement</DataItem>"),
             std::string::npos);
+}
+
+// A region id per cell (ParaView's Threshold picks the tumour by it): an int32 dataset with the
+// legend, shown at every step under its bare name; a count other than the cells' is refused.
+TEST(FieldSeries, CellLabelsAreIntegersShownAtEveryStep) {
+  fs::path d = scratch("cell_labels");
+  {
+    io::FieldSeries fsr(d / "tissue.h5", d / "tissue.xdmf", 2);
+    fsr.setMesh({0, 0, 1, 0, 2, 0, 0, 1, 1, 1, 2, 1}, io::CellType::Quad, {0, 1, 4, 3, 1, 2, 5, 4});
+    EXPECT_THROW(fsr.meshCellLabels("region", {0, 1, 1}, "0 gland, 1 tumour"), Error);
+    fsr.meshCellLabels("region", {0, 1}, "0 gland, 1 tumour");
+    for (int k = 0; k < 2; ++k) {
+      fsr.beginStep(0.5 * k);
+      fsr.pointData("displacement", std::vector<double>(12, 0.1), 2, "m");
+      fsr.endStep();
+    }
+  }
+  EXPECT_EQ(readDataset(d / "tissue.h5", "/mesh/cell/region"), (std::vector<double>{0, 1}));
+  EXPECT_EQ(unitsOf(d / "tissue.h5", "/mesh/cell/region"), "1");
+  const std::string xdmf = readText(d / "tissue.xdmf");
+  const std::string label =
+      "<Attribute Name=\"region\" AttributeType=\"Scalar\" Center=\"Cell\">\n<DataItem Dimensions=\"2\" "
+      "NumberType=\"Int\" Precision=\"4\" Format=\"HDF\">tissue.h5:/mesh/cell/region</DataItem>";
+  const auto first = xdmf.find(label);
+  ASSERT_NE(first, std::string::npos) << xdmf;
+  EXPECT_NE(xdmf.find(label, first + 1), std::string::npos);  // in both steps
+  EXPECT_EQ(xdmf.find("/step000000/points"), std::string::npos);  // the reference points at every step
 }
 
 TEST(FieldSeries, RefusesToWriteNaN) {

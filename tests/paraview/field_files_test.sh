@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
 # The field-file test (CTest label `paraview`, tests/CMakeLists.txt): every field file
 # needlesim writes opens in ParaView's default reader and in meshio; the mpm particles carry the
-# region of each point (tests/paraview/check_regions_and_cut.py), scripts/paraview/show_regions.py
+# region of each point and the realtime3d tets that of each cell (tests/paraview/check_regions_and_cut.py),
+# every tissue file its reference points with a displacement that Warp By Vector adds once
+# (tests/paraview/open_in_paraview.py), scripts/paraview/show_regions.py
 # shows an inclusion's points and scripts/paraview/show_realtime3d.py cuts a realtime3d tissue open
 # into a non-uniform picture.
 #
@@ -72,7 +74,7 @@ open_once() {
   [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$source_dir/scripts/paraview/show_regions.py" mpm_inclusion \
     --png "$work/png/mpm_inclusion_regions.png" || rc=$?
   [ "$rc" -ne 0 ] || DISPLAY=$display pvpython "$here/check_regions_and_cut.py" mpm_inclusion \
-    "$work/png/realtime3d_cut.png" "$work/png/mpm_inclusion_regions.png" || rc=$?
+    "$work/png/realtime3d_cut.png" "$work/png/mpm_inclusion_regions.png" realtime3d realtime2d_imported || rc=$?
   kill "$xvfb_pid"
   wait "$xvfb_pid" 2> /dev/null || true
   trap - EXIT

@@ -12,11 +12,14 @@ xvfb) as above, or the private Xvfb that field_files_test.sh starts.
 For each folder: every *.xdmf opens through the default reader (OpenDataFile,
 the reader the GUI picks), every time step is read (a reader error at any
 step fails), every step must have points and cells, and at the last step
-every vector array 3 components (any array of 2 components fails). A
-displacement gets Warp By Vector (scale -1: the points are the moved ones, so
-it gives the reference configuration, shown as a grey wireframe). One PNG per
-folder at the last step: the tissue coloured by von Mises stress (particles as
-points) and the needle in dark grey.
+every vector array 3 components (any array of 2 components fails). Every
+tissue file (not the needle) carries an integer `region` per cell (per point for
+the particles). A file with a `displacement` keeps its reference points at every
+step (the first step's points at the last one), and Warp By Vector (scale 1)
+gives reference + displacement, a deformed shape that differs from the reference
+(shown as a grey wireframe over the reference coloured by von Mises stress). One
+PNG per folder at the last step: the tissue (particles as points) and the needle
+in dark grey.
 Exit code 1 with one line per failure.
 """
 import argparse
@@ -24,8 +27,10 @@ import os
 import sys
 import traceback
 
+import numpy
 from paraview import simple
 from paraview import vtk
+from vtkmodules.util.numpy_support import vtk_to_numpy
 
 # Vector arrays needlesim writes (docs/results.md); any array of 2 components is a 2D vector too.
 VECTOR_NAMES = ("displacement", "velocity")
@@ -61,7 +66,7 @@ def array_names(data_information, association):
 
 
 def check_file(name, errors, failures):
-    """Opens file `name` and reads every step; returns (reader, last time, displacement array or None,
+    """Opens file `name` and reads every step; returns (reader, times, displacement array or None,
     scalar to colour by or None), or None when it does not open."""
     try:
         reader = simple.OpenDataFile(name)
@@ -89,28 +94,66 @@ def check_file(name, errors, failures):
             say(f"  {association.lower()[:-1]} array '{array}': {components} components")
             if (array.split(" ")[0] in VECTOR_NAMES and components != 3) or components == 2:
                 failures.append(f"{name}: vector '{array}' has {components} components, not 3")
-            if array.startswith("displacement") and association == "POINTS":
+            if array == "displacement" and association == "POINTS":
                 displacement = array
             if scalar is None and components == 1 and array.startswith("von_mises"):
                 scalar = (association, array)
-    return reader, steps[-1], displacement, scalar
+    if not os.path.basename(name).startswith("needle"):
+        check_region(name, fetch(reader, steps[-1]), failures)
+        if displacement is None:
+            failures.append(f"{name}: no point array 'displacement'")
+    return reader, steps, displacement, scalar
 
 
-def warp_to_reference(name, reader, displacement, time, errors, failures):
-    """Warp By Vector by -displacement: the points are the moved ones, so this gives the reference
-    configuration. Fails when the filter reports an error or loses points."""
-    warp = simple.WarpByVector(Input=reader, Vectors=["POINTS", displacement], ScaleFactor=-1.0)
-    warp.UpdatePipeline(time)
+def fetch(proxy, time):
+    """The dataset `proxy` gives at `time` (the first block of a multiblock)."""
+    data = simple.servermanager.Fetch(simple.ForceTime(Input=proxy, ForcedTime=time, IgnorePipelineTime=1))
+    return data.GetBlock(0) if data.IsA("vtkMultiBlockDataSet") else data
+
+
+def check_region(name, data, failures):
+    """A tissue file's integer `region` id on every cell (every point of the particles)."""
+    particles = os.path.basename(name).startswith("particles")
+    arrays = data.GetPointData() if particles else data.GetCellData()
+    region = arrays.GetArray("region")
+    where = "point" if particles else "cell"
+    if region is None:
+        failures.append(f"{name}: no {where} array 'region'")
+        return
+    values = vtk_to_numpy(region)
+    if region.GetDataTypeAsString() in ("float", "double") or len(values) == 0 or values.min() < 0:
+        failures.append(f"{name}: '{where} region' is {region.GetDataTypeAsString()} from {values.min()}, not an id >= 0")
+    say(f"  region ids {sorted(set(values.tolist()))}")
+
+
+def warp_to_deformed(name, reader, displacement, steps, errors, failures):
+    """Warp By Vector (scale 1) of the reference points by the displacement: the points of the last step
+    are the first step's (the reference), and the warped points are reference + displacement, which
+    moved (max |u| > 0). Fails when the filter reports an error or the points differ."""
+    first, last = fetch(reader, steps[0]), fetch(reader, steps[-1])
+    reference = vtk_to_numpy(first.GetPoints().GetData())
+    points = vtk_to_numpy(last.GetPoints().GetData())
+    u = vtk_to_numpy(last.GetPointData().GetArray(displacement))
+    size = float(numpy.abs(reference).max())
+    if points.shape != reference.shape or numpy.abs(points - reference).max() > 1e-12 * size:
+        failures.append(f"{name}: the points of t = {steps[-1]:g} s are not the reference points of t = {steps[0]:g} s")
+    if numpy.abs(u).max() == 0.0:
+        failures.append(f"{name}: zero displacement at t = {steps[-1]:g} s: Warp By Vector shows nothing")
+    warp = simple.WarpByVector(Input=reader, Vectors=["POINTS", displacement], ScaleFactor=1.0)
+    warp.UpdatePipeline(steps[-1])
     for line in errors.take():
         failures.append(f"{name}: Warp By Vector: {line.strip()}")
-    if warp.GetDataInformation().GetNumberOfPoints() != reader.GetDataInformation().GetNumberOfPoints():
-        failures.append(f"{name}: Warp By Vector gives {warp.GetDataInformation().GetNumberOfPoints()} points")
+    warped = vtk_to_numpy(fetch(warp, steps[-1]).GetPoints().GetData())
+    if warped.shape != points.shape or numpy.abs(warped - (points + u)).max() > 1e-9 * size:
+        failures.append(f"{name}: Warp By Vector does not give reference + displacement")
+    else:
+        say(f"  Warp By Vector: deformed shape, max |u| = {numpy.linalg.norm(u, axis=1).max():.3g} m")
     return warp
 
 
 def show_file(view, name, reader, warp, scalar):
-    """The needle dark grey; the tissue coloured by its von Mises stress over its reference
-    configuration (wireframe); particles as points."""
+    """The needle dark grey; the tissue coloured by its von Mises stress on its reference
+    configuration, the deformed one (Warp By Vector) over it as a grey wireframe; particles as points."""
     display = simple.Show(reader, view)
     if name.startswith("needle"):
         display.ColorArrayName = ["POINTS", ""]
@@ -126,10 +169,10 @@ def show_file(view, name, reader, warp, scalar):
         display.SetRepresentationType("Points")
         display.PointSize = 3
     elif warp is not None:
-        reference = simple.Show(warp, view)
-        reference.SetRepresentationType("Wireframe")
-        reference.ColorArrayName = ["POINTS", ""]
-        reference.AmbientColor = reference.DiffuseColor = [0.6, 0.6, 0.6]
+        deformed = simple.Show(warp, view)
+        deformed.SetRepresentationType("Wireframe")
+        deformed.ColorArrayName = ["POINTS", ""]
+        deformed.AmbientColor = deformed.DiffuseColor = [0.6, 0.6, 0.6]
 
 
 def frame_tissue(view, bounds):
@@ -159,16 +202,16 @@ def render_folder(folder, png_dir, failures):
             opened.append((f,) + result)
     if not opened:
         return
-    end = max(time for _, _, time, _, _ in opened)
+    end = max(steps[-1] for _, _, steps, _, _ in opened)
     view = simple.CreateRenderView()
     view.ViewSize = [800, 600]
     view.OrientationAxesVisibility = 1
     view.ViewTime = end
     tissue = None  # bounds of everything but the needle
-    for f, reader, time, displacement, scalar in opened:
+    for f, reader, steps, displacement, scalar in opened:
         warp = None
         if displacement is not None:
-            warp = warp_to_reference(f, reader, displacement, time, errors, failures)
+            warp = warp_to_deformed(f, reader, displacement, steps, errors, failures)
         show_file(view, f, reader, warp, scalar)
         if not f.startswith("needle"):
             tissue = reader.GetDataInformation().GetBounds()

@@ -92,8 +92,11 @@ std::vector<double> withZeroZ(const std::vector<double>& xy) {
   return xyz;
 }
 
-// The array's name in the XDMF, which ParaView and meshio show: the dataset's name and its unit.
-std::string xdmfAttributeName(const std::string& name, const std::string& unit) {
+// The array's name in the XDMF, which ParaView and meshio show: the dataset's name and its unit,
+// except the integer labels (ids, no unit) and the displacement (the vector Warp By Vector takes),
+// whose unit is the dataset's `units` attribute only.
+std::string xdmfAttributeName(const std::string& name, const std::string& unit, bool integer) {
+  if (integer || name == "displacement") return name;
   return fmt::format("{} [{}]", name, unit);
 }
 
@@ -107,7 +110,7 @@ struct FieldSeries::Impl {
   std::size_t npoints = 0, ncells = 0;
   bool meshSet = false;
   std::vector<Step> steps;
-  std::vector<Attr> meshLabels;  // constant integer point arrays, in every step
+  std::vector<Attr> meshLabels;  // constant integer point and cell arrays, in every step
   bool open = false;
 
   // Any failed HDF5 call: an Error naming the file (errno as the failing write left it).
@@ -194,7 +197,7 @@ struct FieldSeries::Impl {
     return fmt::format(
         "<Attribute Name=\"{}\" AttributeType=\"{}\" Center=\"{}\">\n<DataItem Dimensions=\"{}{}\" "
         "NumberType=\"{}\" Precision=\"{}\" Format=\"HDF\">{}:{}</DataItem>\n</Attribute>\n",
-        xdmfAttributeName(a.name, a.unit), kind, a.cell ? "Cell" : "Node", a.count,
+        xdmfAttributeName(a.name, a.unit, a.integer), kind, a.cell ? "Cell" : "Node", a.count,
         a.components == 1 ? "" : fmt::format(" {}", a.components), a.integer ? "Int" : "Float", a.integer ? 4 : 8,
         h5path.filename().string(), a.dataset);
   }
@@ -261,6 +264,16 @@ void FieldSeries::meshPointLabels(const std::string& name, const std::vector<int
   const std::string ds = "/mesh/point/" + name;
   I.writeInt(ds, values, values.size(), 1, legend);
   I.meshLabels.push_back(Attr{name, false, 1, ds, values.size(), "1", true});
+}
+
+void FieldSeries::meshCellLabels(const std::string& name, const std::vector<int>& values, const std::string& legend) {
+  auto& I = *impl_;
+  if (!I.meshSet || values.size() != I.ncells)
+    throw Error(fmt::format("internal: FieldSeries::meshCellLabels got {} values for a mesh of {} cells", values.size(),
+                            I.ncells));
+  const std::string ds = "/mesh/cell/" + name;
+  I.writeInt(ds, values, values.size(), 1, legend);
+  I.meshLabels.push_back(Attr{name, true, 1, ds, values.size(), "1", true});
 }
 
 void FieldSeries::beginStep(double time) {

@@ -6,7 +6,10 @@
 // Layout (docs/results.md "Field files"): points with 3 coordinates (a 2D series
 // has z = 0), connectivity for every cell type (one Polyvertex per point for
 // CellType::Points), vectors of a 2D series with 3 components (z = 0), every
-// dataset with a string attribute `units`, every XDMF array named "name [unit]".
+// dataset with a string attribute `units`, every XDMF array named "name [unit]" but the integer
+// labels ("region") and "displacement", whose units are in their `units` attribute only. The
+// points of every step are the reference mesh's unless stepPoints moves them (the needle), so
+// Warp By Vector by the displacement gives the deformed shape.
 #include <filesystem>
 #include <memory>
 #include <string>
@@ -33,11 +36,15 @@ class FieldSeries {
 
   // A constant integer array on the points (after setMesh; one value per point), e.g. the
   // region each particle belongs to: dataset /mesh/point/<name> (int32, units "1", and the
-  // string attribute `names` = `legend`), shown at every step as "<name> [1]".
+  // string attribute `names` = `legend`), shown at every step as "<name>".
   void meshPointLabels(const std::string& name, const std::vector<int>& values, const std::string& legend);
 
+  // The same for the cells (one value per cell): dataset /mesh/cell/<name>, shown as "<name>".
+  void meshCellLabels(const std::string& name, const std::vector<int>& values, const std::string& legend);
+
   void beginStep(double time);
-  // Moved points for this step (particles; or the deformed mesh), as many as the mesh's. Optional.
+  // Moved points for this step (a rigid body that moves, the needle), as many as the mesh's. Optional;
+  // a deforming body keeps its reference points and writes its displacement.
   void stepPoints(const std::vector<double>& points);
   // Point or cell data: `components` values per point/cell (1 scalar, dim vector, 6 symmetric
   // tensor) in `unit` (SI, as the tables: "m", "m/s", "Pa", "1").

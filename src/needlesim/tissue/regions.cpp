@@ -41,4 +41,29 @@ int regionAt(const TissueSpec& t, double x, double y, double z) {
   return static_cast<int>(t.layerAt(x));
 }
 
+std::vector<int> cellRegions(const TissueSpec& t, const std::vector<double>& points, int dim,
+                             const std::vector<int>& conn, int perCell) {
+  std::vector<int> out(conn.size() / static_cast<std::size_t>(perCell));
+  if (t.geometry && t.geometry->region.size() == out.size()) return t.geometry->region;  // the mesh's own
+  for (std::size_t e = 0; e < out.size(); ++e) {
+    double c[3] = {0.0, 0.0, 0.0};
+    for (int a = 0; a < perCell; ++a) {
+      const auto node = static_cast<std::size_t>(conn[e * static_cast<std::size_t>(perCell) + static_cast<std::size_t>(a)]);
+      for (int k = 0; k < dim; ++k) c[k] += points[node * static_cast<std::size_t>(dim) + static_cast<std::size_t>(k)] / perCell;
+    }
+    out[e] = regionAt(t, c[0], c[1], c[2]);
+  }
+  return out;
+}
+
+std::string regionLegend(const TissueSpec& t) {
+  std::vector<std::string> names;
+  for (const auto& L : t.layers) names.push_back(L.name);
+  for (const auto& I : t.inclusions) names.push_back(I.name);
+  std::string legend;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    legend += fmt::format("{}{} {}", i ? ", " : "", i, names[i].empty() ? fmt::format("region{}", i) : names[i]);
+  return legend;
+}
+
 }  // namespace needlesim::tissue

@@ -29,5 +29,12 @@ bool uniformFriction(const std::vector<Region>& r);
 // Region of a point of the tissue frame (x depth from the entry face): the last inclusion that contains
 // it (later ones are laid over earlier ones), else the layer at its depth.
 int regionAt(const TissueSpec& t, double x, double y, double z);
+// Region of every cell of a mesh in the tissue frame (`dim` coordinates per point, 2D at z = 0; `perCell`
+// nodes per cell in `conn`): an imported geometry's element regions where the mesh is that geometry's
+// (as many cells), else the region at the cell's centroid, as the engines assign materials.
+std::vector<int> cellRegions(const TissueSpec& t, const std::vector<double>& points, int dim,
+                             const std::vector<int>& conn, int perCell);
+// The names of the regions, for the `names` attribute of a region array: "0 skin, 1 fat, 2 tumour".
+std::string regionLegend(const TissueSpec& t);
 
 }  // namespace needlesim::tissue

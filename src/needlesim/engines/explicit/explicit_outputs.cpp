@@ -26,6 +26,7 @@
 #include "needlesim/engines/explicit/sleeve_setup.hpp"
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/results/layer_boundaries.hpp"
+#include "needlesim/tissue/regions.hpp"
 
 namespace needlesim::explicit_fe {
 
@@ -96,7 +97,10 @@ void ExplicitRun::createOutputs() {
   needleFields_ = sink_.fields("needle", dim_);
   if (fields_) {
     std::vector<int> conn(solver_->mesh().conn.begin(), solver_->mesh().conn.end());
-    fields_->setMesh(mesh_.X, cellType(mesh_.type), conn);
+    fields_->setMesh(mesh_.X, cellType(mesh_.type), conn);  // the reference points (Warp By Vector deforms them)
+    std::vector<int> region = solver_->mesh().region;  // layer, then inclusion (tissue/regions.hpp)
+    region.resize(static_cast<std::size_t>(solver_->mesh().elements()), 0);
+    fields_->meshCellLabels("region", region, tissue::regionLegend(sc_.tissue));
   }
   if (needleFields_) {
     const auto surface = needleSurface(*solver_->needle(), dim_);
@@ -198,11 +202,9 @@ void ExplicitRun::recordInclusions(double depth) {
 void ExplicitRun::writeFields() {
   if (fields_) {
     const auto& u = solver_->displacement();
-    std::vector<double> xcur(u.size()), sig, vm, ls, J;
-    for (std::size_t k = 0; k < u.size(); ++k) xcur[k] = mesh_.X[k] + u[k];
+    std::vector<double> sig, vm, ls, J;
     solver_->cellFields(sig, vm, ls, J);
     fields_->beginStep(solver_->time());
-    fields_->stepPoints(xcur);
     fields_->pointData("displacement", u, dim_, "m");
     fields_->pointData("velocity", solver_->velocity(), dim_, "m/s");
     contactOut_->update(*solver_);

@@ -2,6 +2,7 @@
 
 #include "needlesim/engines/mpm/marker_errors.hpp"
 #include "needlesim/needle/surface_mesh.hpp"
+#include "needlesim/tissue/regions.hpp"
 
 #include <fmt/format.h>
 
@@ -35,17 +36,6 @@ needle::SurfaceMesh needleSurfaceOf(const mpm::RigidBody& n) {
                                                       : TipType::Blunt;
   const needle::NeedlePose pose{n.axisPoint(), n.axis, n.bevelSide};
   return needle::needleSurface3D(shape, pose, 24, 4);
-}
-
-// The names of the regions as the `names` attribute of the region array: "0 skin, 1 fat, 2 tumour".
-std::string regionLegend(const TissueSpec& t) {
-  std::vector<std::string> names;
-  for (const auto& L : t.layers) names.push_back(L.name);
-  for (const auto& I : t.inclusions) names.push_back(I.name);
-  std::string legend;
-  for (std::size_t i = 0; i < names.size(); ++i)
-    legend += fmt::format("{}{} {}", i ? ", " : "", i, names[i].empty() ? fmt::format("region{}", i) : names[i]);
-  return legend;
 }
 
 }  // namespace
@@ -199,13 +189,12 @@ ParticleFields::ParticleFields(io::FieldSeries* series, const MpmSolver& solver,
   x0_.resize(3 * np);
   for (std::size_t p = 0; p < np; ++p)
     for (int c = 0; c < 3; ++c) x0_[3 * p + static_cast<std::size_t>(c)] = solver.position(p)[c] - shift_[c];
-  pts_.resize(3 * np);
   disp_.resize(3 * np);
   vm_.resize(np);
   fs_->setMesh(x0_, io::CellType::Points, {});
   std::vector<int> region(np);
   for (std::size_t p = 0; p < np; ++p) region[p] = solver.material(p);
-  fs_->meshPointLabels("region", region, regionLegend(tissue));
+  fs_->meshPointLabels("region", region, tissue::regionLegend(tissue));
 }
 
 void ParticleFields::write(const MpmSolver& solver, double t) {
@@ -214,14 +203,12 @@ void ParticleFields::write(const MpmSolver& solver, double t) {
     const Vec3 x = solver.position(p) - shift_;
     for (int c = 0; c < 3; ++c) {
       const std::size_t i = 3 * p + static_cast<std::size_t>(c);
-      pts_[i] = x[c];
       disp_[i] = x[c] - x0_[i];
     }
     vm_[p] = vonMises(solver.cauchy(p));
   }
   fs_->beginStep(t);
-  fs_->stepPoints(pts_);
-  fs_->pointData("displacement", disp_, 3, "m");
+  fs_->pointData("displacement", disp_, 3, "m");  // on the reference points: Warp By Vector moves them
   fs_->pointData("von_mises", vm_, 1, "Pa");
   fs_->endStep();
 }

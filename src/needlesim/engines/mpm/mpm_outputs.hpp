@@ -65,7 +65,8 @@ struct FractureTracker {
   void results(ResultSink& sink) const;
 };
 
-// The particle series for ParaView: displacement and von Mises stress, the points in the
+// The particle series for ParaView: displacement and von Mises stress on the reference points (Warp
+// By Vector gives the moved particles), in the
 // tissue frame (the solver's minus `shift`, MpmSetup::shift), as forces.csv and the other engines,
 // and the constant `region` of each point: the index of its layer in tissue.layers, or the number
 // of layers plus the index of its inclusion in tissue.inclusions (its solver material).
@@ -78,7 +79,7 @@ class ParticleFields {
  private:
   io::FieldSeries* fs_;
   Vec3 shift_;
-  std::vector<double> x0_, pts_, disp_, vm_;
+  std::vector<double> x0_, disp_, vm_;
 };
 
 // The needle series for ParaView: the rigid needle's triangulated surface

@@ -18,6 +18,7 @@
 #include "needlesim/results/forces_table.hpp"
 #include "needlesim/results/inclusion_motion.hpp"
 #include "needlesim/results/layer_boundaries.hpp"
+#include "needlesim/tissue/regions.hpp"
 
 namespace needlesim::engines {
 
@@ -142,7 +143,7 @@ class Realtime2dRun {
     return {u.x(), u.y(), 0.0};
   }
 
-  // ParaView series in the centred tissue frame: the tissue (the displaced nodes, displacement,
+  // ParaView series in the centred tissue frame: the tissue (the reference nodes, region, displacement,
   // von Mises) and the needle centre line.
   void openFields() {
     const Mesh& mesh = session_.mesh();
@@ -150,7 +151,12 @@ class Realtime2dRun {
     needleSeries_ = sink_.fields("needle", 2);
     const Eigen::Matrix2Xd centred = mesh.nodes.colwise() - session_.cornerShift();
     reference_.assign(centred.data(), centred.data() + centred.size());
-    if (tissueSeries_) tissueSeries_->setMesh(reference_, mesh.triangles ? io::CellType::Triangle : io::CellType::Quad, cells(mesh));
+    if (tissueSeries_) {  // the reference points (Warp By Vector deforms them) and the region of every cell
+      const std::vector<int> conn = cells(mesh);
+      tissueSeries_->setMesh(reference_, mesh.triangles ? io::CellType::Triangle : io::CellType::Quad, conn);
+      tissueSeries_->meshCellLabels("region", tissue::cellRegions(sc_.tissue, reference_, 2, conn, mesh.triangles ? 3 : 4),
+                                    tissue::regionLegend(sc_.tissue));
+    }
     session_.needleShape(kShapePoints, needle_);
     std::vector<int> conn;
     for (int k = 0; k + 1 < kShapePoints; ++k) { conn.push_back(k); conn.push_back(k + 1); }
@@ -158,7 +164,6 @@ class Realtime2dRun {
       needleSeries_->setMesh(std::vector<double>(needle_.data(), needle_.data() + needle_.size()), io::CellType::Line,
                              conn);
     ubuf_.resize(static_cast<std::size_t>(2 * mesh.nodeCount()));
-    moved_.resize(ubuf_.size());
     vm_.resize(static_cast<std::size_t>(mesh.elementCount()));
   }
 
@@ -181,7 +186,6 @@ class Realtime2dRun {
   void writeTissueField(double t) {
     const auto& u = session_.displacement();
     std::copy(u.data(), u.data() + u.size(), ubuf_.begin());
-    for (std::size_t i = 0; i < ubuf_.size(); ++i) moved_[i] = reference_[i] + ubuf_[i];
     const Eigen::Matrix4Xd sig = session_.tissue().elementStresses();
     for (Eigen::Index e = 0; e < sig.cols(); ++e) {  // von Mises of (sxx, syy, szz, sxy)
       const double a = sig(0, e), b = sig(1, e), z = sig(3, e), xy = sig(2, e);
@@ -189,7 +193,6 @@ class Realtime2dRun {
           std::sqrt(0.5 * ((a - b) * (a - b) + (b - z) * (b - z) + (z - a) * (z - a)) + 3.0 * xy * xy);
     }
     tissueSeries_->beginStep(t);
-    tissueSeries_->stepPoints(moved_);
     tissueSeries_->pointData("displacement", ubuf_, 2, "m");
     tissueSeries_->cellData("von_mises", vm_, 1, "Pa");
     tissueSeries_->endStep();
@@ -328,7 +331,7 @@ class Realtime2dRun {
   io::FieldSeries* needleSeries_ = nullptr;
   Eigen::Matrix2Xd needle_{2, kShapePoints};
   std::vector<double> ubuf_, vm_;
-  std::vector<double> reference_, moved_;  // tissue nodes in the field frame: at rest, and displaced
+  std::vector<double> reference_;  // tissue nodes at rest in the field frame
   double peak_ = 0.0, peakDepth_ = 0.0, maxDefl_ = 0.0, maxDeflDepth_ = 0.0, maxDepth_ = 0.0;
   std::vector<double> punctures_;
 };

@@ -16,6 +16,7 @@
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/results/forces_table.hpp"
 #include "needlesim/results/inclusion_motion.hpp"
+#include "needlesim/tissue/regions.hpp"
 
 namespace needlesim::engines {
 
@@ -33,17 +34,20 @@ std::vector<io::Column> engineColumns() {
 
 constexpr int kShapePoints = 41;
 
-// The fields of one run: the tissue (tets, displacement, von Mises) and the needle centre
-// line, in the centred tissue frame.
+// The fields of one run: the tissue (tets on their reference points, region, displacement, von Mises)
+// and the needle centre line, in the centred tissue frame.
 class Fields3d {
  public:
-  Fields3d(ResultSink& sink, const Session& s) : s_(s) {
+  Fields3d(ResultSink& sink, const Session& s, const TissueSpec& spec) : s_(s) {
     tissue_ = sink.fields("tissue", 3);
     needle_ = sink.fields("needle", 3);
     const auto& m = s.mesh();
     reference_ = m.X;
     for (std::size_t i = 0; i < reference_.size(); ++i) reference_[i] -= s.cornerShift()[static_cast<Eigen::Index>(i % 3)];
-    if (tissue_) tissue_->setMesh(reference_, io::CellType::Tetra, m.conn);
+    if (tissue_) {  // the reference points (Warp By Vector deforms them) and the region of every tet
+      tissue_->setMesh(reference_, io::CellType::Tetra, m.conn);
+      tissue_->meshCellLabels("region", tissue::cellRegions(spec, reference_, 3, m.conn, 4), tissue::regionLegend(spec));
+    }
     std::vector<int> conn;
     for (int k = 0; k + 1 < kShapePoints; ++k) { conn.push_back(k); conn.push_back(k + 1); }
     s.needleShape(kShapePoints, line_);
@@ -52,11 +56,9 @@ class Fields3d {
   void write(double t) {
     if (tissue_) {
       const auto& u = s_.displacement();
-      std::vector<double> ub(u.data(), u.data() + u.size()), moved(ub.size());
-      for (std::size_t i = 0; i < ub.size(); ++i) moved[i] = reference_[i] + ub[i];
+      std::vector<double> ub(u.data(), u.data() + u.size());
       const Eigen::VectorXd vm = s_.tissue().elementVonMises();
       tissue_->beginStep(t);
-      tissue_->stepPoints(moved);
       tissue_->pointData("displacement", ub, 3, "m");
       tissue_->cellData("von_mises", std::vector<double>(vm.data(), vm.data() + vm.size()), 1, "Pa");
       tissue_->endStep();
@@ -117,7 +119,7 @@ class Realtime3dRun {
         shape_({{"time", "s"}, {"arc_length", "m"}, {"x", "m"}, {"y", "m"}, {"z", "m"}}),
         pathStrains_(tetStrains(session_, true)) {
     forces_.reserve(cadence_.rows());
-    if (cadence_.fieldEvery > 0) fields_ = std::make_unique<Fields3d>(sink_, session_);
+    if (cadence_.fieldEvery > 0) fields_ = std::make_unique<Fields3d>(sink_, session_, sc_.tissue);
     placeMarkers();
   }
 
