@@ -119,6 +119,35 @@ void BM_MpmTwoBlocks(benchmark::State& st) {
       benchmark::Counter(static_cast<double>(s.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// --phases: the mean wall time of each phase of a step (ms), its share of the
+// step, the process CPU time over the wall time in it (threads busy or
+// spinning: about T in a parallel phase, 1 in a serial one unless idle
+// threads spin at its start) and, for the particle passes, the busiest
+// thread's work time over the mean (MpmSolver::threadBusy).
+void printPhases(const MpmSolver& s, int steps) {
+  const auto& wall = s.phaseTimes();
+  const auto& cpu = s.phaseCpuTimes();
+  double total = 0;
+  for (double w : wall) total += w;
+  std::printf("phases (%d threads, mean per step):\n%-18s %9s %7s %9s %10s\n", s.threads(), "phase", "wall ms", "share",
+              "cpu/wall", "work imb.");
+  for (int k = 0; k < MpmSolver::kPhases; ++k) {
+    const double w = wall[static_cast<std::size_t>(k)], c = cpu[static_cast<std::size_t>(k)];
+    if (w == 0) continue;
+    std::printf("%-18s %9.3f %6.1f%% %9.2f", MpmSolver::phaseName(k), 1e3 * w / steps, 100 * w / total, c / w);
+    // the particle passes: the busiest thread's work time over the mean (barrier waits left out)
+    const std::vector<double> busy = s.threadBusy(static_cast<MpmSolver::Phase>(k));
+    double most = 0, sum = 0;
+    for (double b : busy) {
+      most = std::max(most, b);
+      sum += b;
+    }
+    if (sum > 0) std::printf(" %10.3f", most * static_cast<double>(busy.size()) / sum);
+    std::printf("\n");
+  }
+  std::printf("%-18s %9.3f\n", "step (sum)", 1e3 * total / steps);
+}
+
 }  // namespace
 
 BENCHMARK(BM_MpmTwoBlocks)
@@ -141,12 +170,13 @@ BENCHMARK(BM_MpmNeedle)
     ->Unit(benchmark::kMillisecond)
     ->UseRealTime();
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density] | --large] [--threads T]`: N
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density] | --large] [--threads T] [--phases]`: N
 // steps of the problem (1 thread unless told) without the benchmark harness, for instruction
 // counts under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread)
 // and the thread scaling (scripts/mpm_scaling.sh); prints the fastest and the median step wall
 // time and the scatter's block colouring (docs/performance.md). --large: the needle in a
-// 28 x 48 x 48 mm block, 1,008,000 points (~300 MB), after 5 warm-up steps.
+// 28 x 48 x 48 mm block, 1,008,000 points (~300 MB), after 5 warm-up steps. --phases: the
+// mean wall and CPU time of each phase of a step (MpmSolver::phaseTimes).
 int main(int argc, char** argv) {
   int steps = -1;
   Shape shape = Shape::BSpline2;
@@ -154,6 +184,7 @@ int main(int argc, char** argv) {
   bool twoBlocks = false, large = false;
   BodyContact law = MpmConfig{}.bodyContact;
   int threads = 1;
+  bool phases = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
@@ -163,6 +194,7 @@ int main(int argc, char** argv) {
     if (a == "--large") large = true;
     if (a == "--density") law = BodyContact::Density;  // two blocks with the density contact (density_contact.hpp)
     if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
+    if (a == "--phases") phases = true;
   }
   if (steps >= 0) {
     MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads, law)
@@ -171,6 +203,7 @@ int main(int argc, char** argv) {
     // Wall time of each step: the fastest and the median (on a shared machine
     // the fastest steps are those that found the cores free).
     std::vector<double> ms;
+    s.resetPhaseTimes();
     for (int i = 0; i < steps; ++i) {
       const auto t0 = std::chrono::steady_clock::now();
       s.step();
@@ -196,6 +229,7 @@ int main(int argc, char** argv) {
       for (int d = 1; d <= 9; ++d) std::printf(" %.2f", ms[ms.size() * static_cast<std::size_t>(d) / 10]);
       std::printf("\n");
     }
+    if (phases && steps > 0) printPhases(s, steps);
     return 0;
   }
   benchmark::Initialize(&argc, argv);
