@@ -139,6 +139,7 @@ RigidBody rigidNeedle(const Scenario& sc, const Vec3& axis) {
   n.length = sc.needle.length;
   n.surfaceContact = sc.model.mpm.cfemp;            // eqs 22-24
   n.elementSize = sc.model.mpm.cfemp_element_size;  // d_e of eq 22
+  n.parting = sc.model.mpm.parting != "none";      // needle_cut.cpp
   return n;
 }
 
@@ -157,6 +158,7 @@ MpmSetup mpmSetup(const Scenario& sc) {
   configureGeometry(sc, s);
   s.needle = rigidNeedle(sc, s.frame.axial);
   checkCfempFriction(sc, s.needle.friction);
+  if (sc.model.mpm.parting == "path") s.cutDepth = sc.maxDepth();
   placeNeedle(s.needle, s, 0.0, s.frame.bevelSide(), 0.0);
   return s;
 }
@@ -203,6 +205,7 @@ void placeNeedle(RigidBody& n, const MpmSetup& s, double depth, const Vec3& beve
   n.bevelSide = bevelSide;
   n.point = needleTip(s, depth, bevelSide) + s.shift;
   n.velocity = speed * s.frame.axial;
+  n.cutAhead = std::max(0.0, s.cutDepth - depth);  // parting "path": the pre-cut ahead of the tip
 }
 
 namespace {

@@ -23,6 +23,7 @@ struct MpmSetup {
   needle::InsertionFrame frame;
   Eigen::Vector3d shift = Eigen::Vector3d::Zero();  // tissue frame -> solver frame
   Eigen::Vector3d entry = Eigen::Vector3d::Zero();  // entry point, solver frame
+  double cutDepth = 0.0;  // model.mpm.parting "path": the depth the pre-cut reaches (0: the cut follows the tip)
 };
 // Throws InputError naming the field for what mpm cannot honour.
 MpmSetup mpmSetup(const Scenario& scenario);

@@ -108,6 +108,13 @@ scenario::ParamTable<Spec> build() {
       .quantity(&Spec::cfemp_element_size, "cfemp_element_size", D::Length, "mm", nonNegative(),
                 "d_e of the CFEMP gap rule g < (d_e + d_p)/2 (seed 000 eq 22); 0 = contact when the particle's own half "
                 "spacing reaches the exact needle surface")
+      .word(&Spec::parting, "parting", {"tip", "path", "none"},
+            "the tissue parts along the needle's cut, the strip of the plane through the axis normal to the bevel side "
+            "as wide as the needle (explicit 3D's slit): no material point reaches a grid node across it, so the two "
+            "lips move apart instead of being dragged as one field (docs/models/mpm.md \"Parting contact\"). tip: "
+            "cut from the entry to where the tip reaches the plane, as it advances; path: pre-cut from the entry to "
+            "the insertion's deepest point; none: one velocity field across the path. Bevel tips only: a cone or a flat "
+            "tip has no cutting edge and pushes the tissue aside")
       .number(&Spec::flip, "flip", closed(0.0, 1.0), "FLIP fraction of the particle velocity update (1 = seed 000 eq 4, 0 = PIC)")
       .number(&Spec::time_step_factor, "time_step_factor", openClosed(0.0, 1.0),
               "k_t of seed 000 eq 26 (time step = k_t times the eq 25 limit)")

@@ -46,6 +46,9 @@ struct MpmModelSpec {
   bool fbar = false;                 // anti-locking: F-bar with the cell-averaged det F
   bool cfemp = false;                // needle contact: CFEMP particle-to-surface (eqs 22-24); false: grid (eqs 14-21)
   double cfemp_element_size = 0.0;   // m, d_e of the eq 22 gap rule (0: the exact surface, gap d_p/2)
+  // The tissue parts along the needle's cut: "tip" (from the entry to where the tip reaches the cut's
+  // plane), "path" (pre-cut from the entry to the insertion's deepest point) or "none" (one velocity field).
+  std::string parting = "tip";
   double flip = 1.0;                 // FLIP fraction (1 = eq 4)
   double time_step_factor = 0.4;     // k_t, eq 26
   double mass_scaling = 1.0;         // factor on the particle masses (eq 28 discussion)

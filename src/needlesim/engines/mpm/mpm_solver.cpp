@@ -674,7 +674,7 @@ void MpmSolver::planScatter() {
 const char* MpmSolver::phaseName(int phase) {
   static constexpr std::array<const char*, kPhases> names = {
       "sort by block", "fork + zero grid",   "scatter (p2g)", "penalty contact", "grid row plan", "grid update",
-      "rigid force sums", "surface contact", "remap (g2p)", "remap update", "g2p + stress"};
+      "rigid force sums", "contact: cut, CFEMP", "remap (g2p)", "remap update", "g2p + stress"};
   return phase >= 0 && phase < kPhases ? names[static_cast<std::size_t>(phase)] : "?";
 }
 
@@ -871,6 +871,7 @@ MPM_CLONES void MpmSolver::p2g() {
   gridClean_ = false;
   const int lastColour = lastScatterColour();
   std::atomic<int> busy{0};
+  const std::uint32_t* cut = cutMask_.empty() ? nullptr : cutMask_.data();  // needle_cut.cpp
   const double start = wallSeconds(), cpuStart = cpuSeconds();
   double zeroed = start, cpuZeroed = cpuStart;
 #pragma omp parallel num_threads(nthreads_)
@@ -906,7 +907,10 @@ MPM_CLONES void MpmSolver::p2g() {
         const bool cand = needG && (near1Rows[w] & cellBit(c)) != 0;
         nearCell[p] = cand ? static_cast<std::uint32_t>(c.row * n2 + c.k) : kNotNear;
       }
-      scatterPoint<S, Grad>(p, st, xp, needG, centroid, rec, grad, n1, n2);
+      if (cut && cut[p])
+        scatterCutPoint(p, Grad && needG, centroid);  // the support across the needle's cut left out
+      else
+        scatterPoint<S, Grad>(p, st, xp, needG, centroid, rec, grad, n1, n2);
       // Gap of this particle to each rigid body (eq 22), kept as a nodal minimum.
       for (int r = 0; r < R; ++r) {
         const RigidBody& rb = rigids_[static_cast<std::size_t>(r)];
@@ -1152,6 +1156,7 @@ MPM_AVX_CLONES void remapNodes(double* r, double* v, std::size_t n, const std::u
   Vec3 n;
   int part = 0;
   rb.distance(xI, &n, &part);
+  if (part == 1) wallLipNormal(r, xI, n);  // a parting bevel: the wall-side lip meets the chisel (needle_cut.cpp)
   for (int c = 0; c < 3; ++c) rnormal_[3 * (r * nodes_ + I) + c] = n[c];
   std::uint8_t flag = 0;
   for (std::size_t b = 0; b < UB; ++b) {
@@ -1525,7 +1530,10 @@ void MpmSolver::findSurfacePairs(std::size_t r) {
     const double gap = std::copysign(std::sqrt(best), signDot);
     if (bt < 0 || !(gap < limit)) continue;
     const Vec3& nl = Sf.n[static_cast<std::size_t>(bt)];
-    pairs_.push_back({p, Vec3(nl.x() * e + nl.y() * ys + nl.z() * zs), Sf.tip[static_cast<std::size_t>(bt)] != 0});
+    const bool tipFacet = Sf.tip[static_cast<std::size_t>(bt)] != 0;
+    Vec3 n(nl.x() * e + nl.y() * ys + nl.z() * zs);
+    if (tipFacet) wallLipNormal(r, position(p), n);  // a parting bevel: the wall-side lip meets the chisel
+    pairs_.push_back({p, n, tipFacet});
   }
 }
 
@@ -1557,22 +1565,33 @@ void MpmSolver::surfaceContact(bool first) {
     int count = 0;
     for (const SurfacePair& pr : pairs_) {
       const std::size_t p = pr.p;
-      const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
-      const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+      // the support nodes (with the body offset) and weights; the nodes across
+      // the needle's cut left out (needle_cut.cpp)
+      std::size_t node[27];
+      double wn[27];
+      int nn = 0;
+      if (!cutMask_.empty() && cutMask_[p]) {
+        nn = cutSurfaceWeights(p, node, wn);
+      } else {
+        const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = grid::stencil<S>(P_[p].x, ox, oy, oz, invh);
+        const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
+        for (int i = 0; i < S; ++i)
+          for (int j = 0; j < S; ++j)
+            for (int k = 0; k < S; ++k, ++nn) {
+              node[nn] = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
+                         static_cast<std::size_t>(bz + k);
+              wn[nn] = wx[i] * wy[j] * wz[k];
+            }
+      }
       Vec3 vp = Vec3::Zero();
       double inv = 0.0;  // eq 24: 1/m_p = sum N^2 / m_I
-      for (int i = 0; i < S; ++i)
-        for (int j = 0; j < S; ++j)
-          for (int k = 0; k < S; ++k) {
-            const std::size_t J = off + (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                  static_cast<std::size_t>(bz + k);
-            const double m = G.rec[NR * J + kM];
-            if (!(m > 0)) continue;
-            const double w = wx[i] * wy[j] * wz[k];
-            const double* v = &vel_[8 * J + static_cast<std::size_t>(lane)];
-            vp += w * Vec3(v[0], v[1], v[2]);
-            inv += w * w / m;
-          }
+      for (int a = 0; a < nn; ++a) {
+        const double m = G.rec[NR * node[a] + kM];
+        if (!(m > 0)) continue;
+        const double* v = &vel_[8 * node[a] + static_cast<std::size_t>(lane)];
+        vp += wn[a] * Vec3(v[0], v[1], v[2]);
+        inv += wn[a] * wn[a] / m;
+      }
       if (!(inv > 0)) continue;
       const double mp = 1.0 / inv;
       const Vec3 rel = vp - rb.velocity;  // v_p - v_c
@@ -1582,20 +1601,15 @@ void MpmSolver::surfaceContact(bool first) {
       const Vec3 rt = rel - vn * pr.n;
       const double st = rt.norm();
       if (st > 0) dp -= contact::coulombScale(st, -rb.friction * vn) * mp * rt;  // Coulomb, as eqs 19-21
-      for (int i = 0; i < S; ++i)
-        for (int j = 0; j < S; ++j)
-          for (int k = 0; k < S; ++k) {
-            const std::size_t I = (static_cast<std::size_t>(bx + i) * n1 + static_cast<std::size_t>(by + j)) * n2 +
-                                  static_cast<std::size_t>(bz + k);
-            const std::size_t J = off + I;
-            const double m = G.rec[NR * J + kM];
-            if (!(m > 0)) continue;
-            const double f = wx[i] * wy[j] * wz[k] / m;
-            const std::uint8_t mask = fixMask_[I];
-            double* v = &vel_[8 * J + static_cast<std::size_t>(lane)];
-            for (int c = 0; c < 3; ++c)
-              if (!(mask & (1 << c))) v[c] += f * dp[c];
-          }
+      for (int a = 0; a < nn; ++a) {
+        const double m = G.rec[NR * node[a] + kM];
+        if (!(m > 0)) continue;
+        const double f = wn[a] / m;
+        const std::uint8_t mask = fixMask_[node[a] % nodes_];
+        double* v = &vel_[8 * node[a] + static_cast<std::size_t>(lane)];
+        for (int c = 0; c < 3; ++c)
+          if (!(mask & (1 << c))) v[c] += f * dp[c];
+      }
       ++count;
       if (first) {
         ftot -= dp / dt;
@@ -1703,6 +1717,7 @@ MPM_CLONES void MpmSolver::g2pRemap() {
   double* __restrict rec = buf_[0].rec.data();
   const std::uint32_t* __restrict order = order_.data();
   const int lastColour = lastScatterColour();
+  const std::uint32_t* cut = cutMask_.empty() ? nullptr : cutMask_.data();  // needle_cut.cpp
 #pragma omp parallel num_threads(nthreads_)
   {
     const int T = teamSize(), t = threadId();
@@ -1713,6 +1728,10 @@ MPM_CLONES void MpmSolver::g2pRemap() {
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
       if (qi + kPrefetchAhead < q1) prefetchRecord<5u>(&P_[order[qi + kPrefetchAhead]]);  // x, v, m | vg
+      if (cut && cut[p]) {
+        remapCutPoint(p, flip);  // the support across the needle's cut left out
+        continue;
+      }
       const auto [wx, wy, wz, dx, dy, dz, bx, by, bz] = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
       A4 an = {0, 0, 0, 0}, ao = {0, 0, 0, 0};  // sum N v_new, sum N v_old
@@ -1787,6 +1806,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   const std::uint32_t* __restrict order = order_.data();
   const bool blocked = nthreads_ > 1;
   bool strayed = false;
+  const std::uint32_t* cut = cutMask_.empty() ? nullptr : cutMask_.data();  // needle_cut.cpp
   // Two bodies: mark each point's cell at its new position for the next
   // step's markNearBodies (it zeroed occ_), instead of a pass over the points there.
   std::uint64_t* occ = cfg_.bodies > 1 && !occ_.empty() ? occ_.data() : nullptr;
@@ -1824,7 +1844,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
       if (qi + kPrefetchAhead < q1) prefetchRecord<15u>(&P_[order[qi + kPrefetchAhead]]);  // the whole record
       const lanes::Stencil4<S> st = lanes::stencil4<S>(P_[p].x, O, invh);  // weights in 4 lanes each
       const std::size_t off = static_cast<std::size_t>(body_[p]) * nodes_;
-      const GridSums g = gatherGridSums<S, Usl>(st, vel, off, n1, n2);
+      const GridSums g = cut && cut[p] ? cutGridSums(p, off, Usl) : gatherGridSums<S, Usl>(st, vel, off, n1, n2);
       const double J = advancePoint<Usl>(p, g, dt, flip);
       const double speed2 = P_[p].v[0] * P_[p].v[0] + P_[p].v[1] * P_[p].v[1] + P_[p].v[2] * P_[p].v[2];
       const double o[3] = {ox, oy, oz};
@@ -1899,6 +1919,14 @@ template <int S, bool Usl>
       Lz += wij * sd;
     }
   return {an, ao, Lx, Ly, Lz};
+}
+
+// g2pFinal: the sums of a point the needle's cut crosses (needle_cut.cpp).
+MpmSolver::GridSums MpmSolver::cutGridSums(std::size_t p, std::size_t off, bool usl) const {
+  double an[3], ao[3], L[9];
+  gatherCutPoint(p, off, usl, an, ao, L);
+  return {A4{an[0], an[1], an[2], 0.0}, A4{ao[0], ao[1], ao[2], 0.0}, A4{L[0], L[3], L[6], 0.0},
+          A4{L[1], L[4], L[7], 0.0}, A4{L[2], L[5], L[8], 0.0}};
 }
 
 // g2pFinal: point p over the step dt from its grid sums g: the velocity
@@ -2074,6 +2102,8 @@ StepReport MpmSolver::step() {
   };
   planScatter();  // p2g clears the grid
   lap(kSort);
+  planCut();      // the supports the needle's cut crosses (needle_cut.cpp)
+  lap(kContact);
   if (cfg_.bodies > 1) {
     markNearBodies();
     if (lin) p2g<2, true>(); else p2g<3, true>();

@@ -87,6 +87,11 @@ struct RigidBody {
   bool surfaceContact = false;  // needle: CFEMP particle-to-surface contact (eqs 22-24) instead of grid contact
   double length = 0.04;         // needle: length tip to base, m (CFEMP surface)
   double elementSize = 0.0;     // CFEMP: d_e of the gap rule g < (d_e + d_p)/2 (eq 22), m
+  // needle: the tissue parts along the needle's cut (needle_cut.cpp): no point
+  // reaches a node across the strip of the plane through the axis normal to
+  // bevelSide, as wide as the needle, that it has passed: the lips move apart.
+  bool parting = false;
+  double cutAhead = 0.0;        // parting: the cut reaches this far ahead of the tip plane (a pre-cut path), m
   // Signed distance (negative inside), the outward unit normal at the nearest
   // face, and which part is nearest (0 shaft or plane, 1 tip).
   double distance(const Vec3& x, Vec3* n, int* part) const;
@@ -234,6 +239,8 @@ class MpmSolver {
     phaseCpu_.fill(0.0);
     busy_.assign(busy_.size(), 0.0);
   }
+  // Points whose support the needle's cut crosses this step (planCut; tests).
+  std::size_t cutPoints() const;
   // Tests: the two-body contact forces (pair penalty or density law, without
   // friction) on every point at the current positions, and the contact energy
   // there (J); the solver's state is unchanged (penalty_contact.cpp).
@@ -291,6 +298,18 @@ class MpmSolver {
                       const double* vp, const double* vq, double* f) const;  // penalty_contact.cpp
   void fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const;  // penalty_contact.cpp
   void remapUpdate(bool clear);
+  // Needle cut (needle_cut.cpp, docs/models/mpm.md "Parting contact"): per
+  // point the support nodes across the cut, and the point passes over the
+  // remaining nodes with renormalised weights.
+  struct CutSupport;
+  void planCut();                                                                   // step
+  void cutSupport(std::size_t p, CutSupport& cs) const;
+  void scatterCutPoint(std::size_t p, bool needG, bool centroid);                  // p2g
+  void remapCutPoint(std::size_t p, double flip);                                  // g2pRemap
+  void gatherCutPoint(std::size_t p, std::size_t off, bool usl, double* an, double* ao, double* L) const;  // g2pFinal
+  GridSums cutGridSums(std::size_t p, std::size_t off, bool usl) const;           // g2pFinal
+  int cutSurfaceWeights(std::size_t p, std::size_t* node, double* w) const;       // surfaceContact
+  bool wallLipNormal(std::size_t r, const Vec3& x, Vec3& n) const;                // rigidContactAt, findSurfacePairs
   void zeroGrid(int t, int T);
   void planScatter();
   void sortByBlock();  // planScatter
@@ -429,6 +448,10 @@ class MpmSolver {
   std::vector<Surface> surf_;           // per rigid (empty for grid contact)
   struct SurfacePair { std::size_t p; Vec3 n; bool tip; };
   std::vector<SurfacePair> pairs_;      // CFEMP contacts of the current step
+  // Needle cut (planCut): the needle that parts the tissue (-1: none), and per
+  // point the support nodes across its cut, bit 9 i + 3 j + k (0: none).
+  int cutRigid_ = -1;
+  std::vector<std::uint32_t> cutMask_;
   double dt_ = 0.0, time_ = 0.0, maxSpeed_ = 0.0;
   long long steps_ = 0;
   StepReport last_;
