@@ -129,12 +129,12 @@ void printPhases(const MpmSolver& s, int steps) {
   const auto& cpu = s.phaseCpuTimes();
   double total = 0;
   for (double w : wall) total += w;
-  std::printf("phases (%d threads, mean per step):\n%-18s %9s %7s %9s %10s\n", s.threads(), "phase", "wall ms", "share",
+  std::printf("phases (%d threads, mean per step):\n%-20s %9s %7s %9s %10s\n", s.threads(), "phase", "wall ms", "share",
               "cpu/wall", "work imb.");
   for (int k = 0; k < MpmSolver::kPhases; ++k) {
     const double w = wall[static_cast<std::size_t>(k)], c = cpu[static_cast<std::size_t>(k)];
     if (w == 0) continue;
-    std::printf("%-18s %9.3f %6.1f%% %9.2f", MpmSolver::phaseName(k), 1e3 * w / steps, 100 * w / total, c / w);
+    std::printf("%-20s %9.3f %6.1f%% %9.2f", MpmSolver::phaseName(k), 1e3 * w / steps, 100 * w / total, c / w);
     // the particle passes: the busiest thread's work time over the mean (barrier waits left out)
     const std::vector<double> busy = s.threadBusy(static_cast<MpmSolver::Phase>(k));
     double most = 0, sum = 0;
@@ -145,7 +145,7 @@ void printPhases(const MpmSolver& s, int steps) {
     if (sum > 0) std::printf(" %10.3f", most * static_cast<double>(busy.size()) / sum);
     std::printf("\n");
   }
-  std::printf("%-18s %9.3f\n", "step (sum)", 1e3 * total / steps);
+  std::printf("%-20s %9.3f\n", "step (sum)", 1e3 * total / steps);
 }
 
 }  // namespace
