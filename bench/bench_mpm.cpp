@@ -127,6 +127,35 @@ void BM_MpmTwoBlocks(benchmark::State& st) {
       benchmark::Counter(static_cast<double>(s.size()), benchmark::Counter::kIsIterationInvariantRate);
 }
 
+// --phases: the mean wall time of each phase of a step (ms), its share of the
+// step, the process CPU time over the wall time in it (threads busy or
+// spinning: about T in a parallel phase, 1 in a serial one unless idle
+// threads spin at its start) and, for the particle passes, the busiest
+// thread's work time over the mean (MpmSolver::threadBusy).
+void printPhases(const MpmSolver& s, int steps) {
+  const auto& wall = s.phaseTimes();
+  const auto& cpu = s.phaseCpuTimes();
+  double total = 0;
+  for (double w : wall) total += w;
+  std::printf("phases (%d threads, mean per step):\n%-20s %9s %7s %9s %10s\n", s.threads(), "phase", "wall ms", "share",
+              "cpu/wall", "work imb.");
+  for (int k = 0; k < MpmSolver::kPhases; ++k) {
+    const double w = wall[static_cast<std::size_t>(k)], c = cpu[static_cast<std::size_t>(k)];
+    if (w == 0) continue;
+    std::printf("%-20s %9.3f %6.1f%% %9.2f", MpmSolver::phaseName(k), 1e3 * w / steps, 100 * w / total, c / w);
+    // the particle passes: the busiest thread's work time over the mean (barrier waits left out)
+    const std::vector<double> busy = s.threadBusy(static_cast<MpmSolver::Phase>(k));
+    double most = 0, sum = 0;
+    for (double b : busy) {
+      most = std::max(most, b);
+      sum += b;
+    }
+    if (sum > 0) std::printf(" %10.3f", most * static_cast<double>(busy.size()) / sum);
+    std::printf("\n");
+  }
+  std::printf("%-20s %9.3f\n", "step (sum)", 1e3 * total / steps);
+}
+
 }  // namespace
 
 BENCHMARK(BM_MpmTwoBlocks)
@@ -167,7 +196,7 @@ bool attachCuda(Device& device, bool twoBlocks) {
 }
 
 // `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density] | --large] [--threads T]
-// [--scale S] [--device cuda [--kernel naive]]`: N
+// [--scale S] [--device cuda [--kernel naive]] [--phases]`: N
 // steps of the problem (1 thread unless told) without the benchmark harness, for instruction
 // counts under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread)
 // and the thread scaling (scripts/mpm_scaling.sh); prints the fastest and the median step wall
@@ -175,6 +204,7 @@ bool attachCuda(Device& device, bool twoBlocks) {
 // 28 x 48 x 48 mm block, 1,008,000 points (~300 MB), after 5 warm-up steps. --scale S: the
 // needle problem's block edges times S (4.4: 4.2 M points). --device cuda: the steps on the
 // CUDA plugin (docs/architecture.md "MPM on the GPU"), its sorted or naive P2G kernel.
+// --phases: the mean wall and CPU time of each phase of a step (MpmSolver::phaseTimes).
 int main(int argc, char** argv) {
   int steps = -1;
   Shape shape = Shape::BSpline2;
@@ -185,6 +215,7 @@ int main(int argc, char** argv) {
   double scale = 1.0;
   Device device;
   bool cuda = false;
+  bool phases = false;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--steps" && i + 1 < argc) steps = std::atoi(argv[++i]);
@@ -197,6 +228,7 @@ int main(int argc, char** argv) {
     if (a == "--scale" && i + 1 < argc) scale = std::atof(argv[++i]);
     if (a == "--device" && i + 1 < argc) cuda = std::string(argv[++i]) == "cuda";
     if (a == "--kernel" && i + 1 < argc) device.kernel = std::string(argv[++i]) == "naive" ? NSMPM_KERNEL_NAIVE : NSMPM_KERNEL_SORTED;
+    if (a == "--phases") phases = true;
   }
   if (cuda && !attachCuda(device, twoBlocks)) return 2;
   if (steps >= 0) {
@@ -207,6 +239,7 @@ int main(int argc, char** argv) {
     // Wall time of each step: the fastest and the median (on a shared machine
     // the fastest steps are those that found the cores free).
     std::vector<double> ms;
+    s.resetPhaseTimes();
     for (int i = 0; i < steps; ++i) {
       const auto t0 = std::chrono::steady_clock::now();
       s.step();
@@ -232,6 +265,7 @@ int main(int argc, char** argv) {
       for (int d = 1; d <= 9; ++d) std::printf(" %.2f", ms[ms.size() * static_cast<std::size_t>(d) / 10]);
       std::printf("\n");
     }
+    if (phases && steps > 0) printPhases(s, steps);
     return 0;
   }
   benchmark::Initialize(&argc, argv);

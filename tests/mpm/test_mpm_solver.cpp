@@ -4,6 +4,7 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <limits>
@@ -688,4 +689,35 @@ TEST(MpmParallel, MovingPointsAreSortedAgain) {
   EXPECT_EQ(two.scattering, 2);
   EXPECT_GE(two.plan.sorts, 2);  // sorted again on the way
   EXPECT_EQ(one.plan.sorts, 0);  // one thread: creation order
+}
+
+// The phase times of step() (bench_mpm --phases): none negative, the scatter
+// and the final gather take time, together they fit in the wall time around
+// the steps, and resetPhaseTimes clears them.
+TEST(MpmParallel, PhaseTimesCoverTheStep) {
+  MpmConfig cfg;
+  cfg.h = 1e-3;
+  cfg.cells = {16, 16, 16};
+  cfg.origin = Vec3(-4e-3, -4e-3, -4e-3);
+  cfg.threads = 2;
+  cfg.gravity = Vec3(0, 0, -9.81);
+  MpmSolver s(cfg);
+  s.addMaterial(linearMaterial(1e5, 0.3, 1000));
+  s.addBlock(Vec3(0, 0, 0), Vec3(6e-3, 6e-3, 6e-3), 0.5e-3, 0, 0);
+  s.finalize();
+  const auto t0 = std::chrono::steady_clock::now();
+  for (int i = 0; i < 5; ++i) s.step();
+  const double wall = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  double sum = 0;
+  for (int k = 0; k < MpmSolver::kPhases; ++k) {
+    EXPECT_GE(s.phaseTimes()[static_cast<std::size_t>(k)], 0.0) << MpmSolver::phaseName(k);
+    EXPECT_GE(s.phaseCpuTimes()[static_cast<std::size_t>(k)], 0.0) << MpmSolver::phaseName(k);
+    sum += s.phaseTimes()[static_cast<std::size_t>(k)];
+  }
+  EXPECT_GT(s.phaseTimes()[MpmSolver::kScatter], 0.0);
+  EXPECT_GT(s.phaseTimes()[MpmSolver::kG2P], 0.0);
+  EXPECT_LE(sum, wall);
+  EXPECT_STREQ(MpmSolver::phaseName(MpmSolver::kSort), "sort by block");
+  s.resetPhaseTimes();
+  for (int k = 0; k < MpmSolver::kPhases; ++k) EXPECT_EQ(s.phaseTimes()[static_cast<std::size_t>(k)], 0.0);
 }

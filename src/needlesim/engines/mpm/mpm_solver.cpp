@@ -7,8 +7,10 @@
 
 #include <algorithm>
 #include <atomic>
+#include <chrono>
 #include <cmath>
 #include <cstring>
+#include <ctime>
 #include <limits>
 #include <numbers>
 #include <tuple>
@@ -29,6 +31,16 @@ namespace needlesim::mpm {
 
 namespace {
 constexpr double kInf = std::numeric_limits<double>::infinity();
+// Seconds on the steady clock (the phase times of step()).
+inline double wallSeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+// CPU seconds of the process, all threads (POSIX).
+inline double cpuSeconds() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return static_cast<double>(ts.tv_sec) + 1e-9 * static_cast<double>(ts.tv_nsec);
+}
 // Four lanes of a grid record as a GCC vector: two SSE2 operations in the
 // baseline x86-64 build, one AVX2/FMA operation in the x86-64-v3 clones of the
 // hot kernels (NEEDLESIM_MPM_CLONES). Unaligned, may alias double.
@@ -555,8 +567,8 @@ void MpmSolver::blockBounds(std::size_t listed, int* lo, int* hi) const {
 
 // Stable counting sort of the points by colour, then block (base node of the
 // support, clamped to the grid), creation order within a block; the blocks
-// with points are listed. The passes over the points run on all threads, the
-// counting on one.
+// with points are listed. The passes over the points run on all threads
+// (sortPointsByKey), the ranking of the blocks on one.
 void MpmSolver::sortByBlock() {
   const std::size_t np = size();
   const double invh = 1.0 / cfg_.h;
@@ -600,28 +612,55 @@ void MpmSolver::sortByBlock() {
       b = b * static_cast<std::size_t>(blocks_[a]) + static_cast<std::size_t>((baseNode(p, a) - blockOrigin_[a]) / kBlock);
     key[p] = rank[b];
   }
-  std::vector<std::uint32_t> start(nblocks + 1, 0);
-  for (std::size_t p = 0; p < np; ++p) ++start[key[p] + 1];
+  const std::vector<std::uint32_t> start = sortPointsByKey(key, nblocks);  // first entry of each block rank
   blockStart_.clear();
   blockId_.clear();
   for (std::size_t c = 0; c < 8; ++c) {
     colourStart_[c] = static_cast<std::uint32_t>(blockId_.size());
     for (std::uint32_t k = firstOfColour[c]; k < firstOfColour[c + 1]; ++k)
-      if (start[k + 1] > 0) {
+      if (start[k + 1] > start[k]) {
         blockId_.push_back(idOfRank[k]);
-        blockStart_.push_back(0);
+        blockStart_.push_back(start[k]);
       }
   }
   colourStart_[8] = static_cast<std::uint32_t>(blockId_.size());
-  for (std::size_t k = 0; k < nblocks; ++k) start[k + 1] += start[k];
-  std::size_t listed = 0;
-  for (std::size_t k = 0; k < nblocks; ++k)
-    if (start[k + 1] > start[k]) blockStart_[listed++] = start[k];
   blockStart_.push_back(static_cast<std::uint32_t>(np));
-  order_.resize(np);
-  for (std::size_t p = 0; p < np; ++p) order_[start[key[p]]++] = static_cast<std::uint32_t>(p);
   planned_ = true;
   ++sorts_;
+}
+
+// Stable counting sort of the points by key (< nkeys) into order_ on all
+// threads: each thread counts its static share of the points, the offsets run
+// key-major, then thread, so order_ is that of the serial stable sort. Returns
+// the first entry of each key (nkeys + 1 entries).
+std::vector<std::uint32_t> MpmSolver::sortPointsByKey(const std::vector<std::uint32_t>& key, std::size_t nkeys) {
+  const std::size_t np = key.size();
+  std::vector<std::uint32_t> count(static_cast<std::size_t>(nthreads_) * nkeys, 0);  // [thread][key]
+  std::vector<std::uint32_t> start(nkeys + 1, 0);
+  order_.resize(np);
+#pragma omp parallel num_threads(nthreads_)
+  {
+    const auto t = static_cast<std::size_t>(threadId()), T = static_cast<std::size_t>(teamSize());
+    const std::size_t p0 = np * t / T, p1 = np * (t + 1) / T;
+    std::uint32_t* c = count.data() + t * nkeys;
+    for (std::size_t p = p0; p < p1; ++p) ++c[key[p]];
+#pragma omp barrier
+#pragma omp single
+    {
+      std::uint32_t sum = 0;
+      for (std::size_t k = 0; k < nkeys; ++k) {
+        start[k] = sum;
+        for (std::size_t u = 0; u < T; ++u) {
+          const std::uint32_t n = count[u * nkeys + k];
+          count[u * nkeys + k] = sum;  // thread u's next entry of key k
+          sum += n;
+        }
+      }
+      start[nkeys] = sum;
+    }
+    for (std::size_t p = p0; p < p1; ++p) order_[c[key[p]]++] = static_cast<std::uint32_t>(p);
+  }
+  return start;
 }
 
 // Before each step's scatter: sort the points by block when a point has left
@@ -630,6 +669,27 @@ void MpmSolver::sortByBlock() {
 void MpmSolver::planScatter() {
   if (nthreads_ == 1 || planned_) return;
   sortByBlock();
+}
+
+const char* MpmSolver::phaseName(int phase) {
+  static constexpr std::array<const char*, kPhases> names = {
+      "sort by block", "fork + zero grid",   "scatter (p2g)", "penalty contact", "grid row plan", "grid update",
+      "rigid force sums", "contact: cut, CFEMP", "remap (g2p)", "remap update", "g2p + stress"};
+  return phase >= 0 && phase < kPhases ? names[static_cast<std::size_t>(phase)] : "?";
+}
+
+std::vector<double> MpmSolver::threadBusy(Phase phase) const {
+  const auto T = static_cast<std::size_t>(nthreads_);
+  if (busy_.size() != kPhases * T) return std::vector<double>(T, 0.0);
+  const auto first = busy_.begin() + static_cast<std::ptrdiff_t>(static_cast<std::size_t>(phase) * T);
+  return {first, first + static_cast<std::ptrdiff_t>(T)};
+}
+
+// Thread t's work time in a particle pass (inside its parallel region: step()
+// sized the slots, each thread adds to its own).
+void MpmSolver::addBusy(Phase phase, int t, double seconds) {
+  const std::size_t slot = static_cast<std::size_t>(phase) * static_cast<std::size_t>(nthreads_) + static_cast<std::size_t>(t);
+  if (slot < busy_.size()) busy_[slot] += seconds;  // sized by step(); a pass outside it is not timed
 }
 
 MpmSolver::ScatterPlan MpmSolver::scatterPlan(int team) const {
@@ -812,6 +872,8 @@ MPM_CLONES void MpmSolver::p2g() {
   const int lastColour = lastScatterColour();
   std::atomic<int> busy{0};
   const std::uint32_t* cut = cutMask_.empty() ? nullptr : cutMask_.data();  // needle_cut.cpp
+  const double start = wallSeconds(), cpuStart = cpuSeconds();
+  double zeroed = start, cpuZeroed = cpuStart;
 #pragma omp parallel num_threads(nthreads_)
   {
     const int T = teamSize(), t = threadId();
@@ -819,8 +881,14 @@ MPM_CLONES void MpmSolver::p2g() {
       zeroGrid(t, T);
 #pragma omp barrier
     }
+    if (t == 0) {
+      zeroed = wallSeconds();
+      cpuZeroed = cpuSeconds();
+    }
     bool scattered = false;
+    double worked = 0;
     for (int colour = 0; colour <= lastColour; ++colour) {
+    const double began = wallSeconds();
     const auto [q0, q1] = colourShare(t, T, colour);
     scattered = scattered || q1 > q0;
     for (std::size_t qi = q0; qi < q1; ++qi) {
@@ -861,13 +929,17 @@ MPM_CLONES void MpmSolver::p2g() {
         minGap<S>(B.gmin.data() + base, B.gmat.empty() ? nullptr : B.gmat.data() + base, n1 * n2, n2, gap, mat_[p]);
       }
     }
+    worked += wallSeconds() - began;
     if (colour < lastColour && colourHasPoints(colour)) {
 #pragma omp barrier
     }
     }
+    addBusy(kScatter, t, worked);
     if (scattered) busy.fetch_add(1, std::memory_order_relaxed);
   }
   scatterThreads_ = busy.load();
+  addPhase(kZeroGrid, start, cpuStart, zeroed, cpuZeroed);
+  addPhase(kScatter, zeroed, cpuZeroed, wallSeconds(), cpuSeconds());
 }
 
 // p2g of point p over its support st (position xp): mass and momentum (eqs
@@ -1110,10 +1182,13 @@ MPM_AVX_CLONES void remapNodes(double* r, double* v, std::size_t n, const std::u
 void MpmSolver::gridUpdate() {
   const std::size_t n1 = static_cast<std::size_t>(nn_[1]);
   const std::size_t rows = static_cast<std::size_t>(nn_[0]) * n1;
+  const double start = wallSeconds(), cpuStart = cpuSeconds();
   planGridRows();
+  addPhase(kGridPlan, start, cpuStart, wallSeconds(), cpuSeconds());
   // Node-wise work beyond eq 3 and the fixed components: rigid or velocity contact.
   const bool nodeWise = !rigids_.empty() || (cfg_.bodies == 2 && !penalty_);
   std::size_t touchLo = rows, touchHi = 0;  // rows with rigid contact: [touchLo, touchHi)
+  const double planned = wallSeconds(), cpuPlanned = cpuSeconds();
 #pragma omp parallel num_threads(nthreads_) reduction(min : touchLo) reduction(max : touchHi)
   {
     const auto [qa, qb] = rowShare(rowWork_, threadId(), teamSize());
@@ -1127,7 +1202,10 @@ void MpmSolver::gridUpdate() {
       }
     }
   }
+  const double updated = wallSeconds(), cpuUpdated = cpuSeconds();
   sumRigidForces(touchLo, touchHi);
+  addPhase(kGridUpdate, planned, cpuPlanned, updated, cpuUpdated);
+  addPhase(kRigidSums, updated, cpuUpdated, wallSeconds(), cpuSeconds());
 }
 
 // gridUpdate: this step's spans become the last step's, and each row's work
@@ -1643,7 +1721,9 @@ MPM_CLONES void MpmSolver::g2pRemap() {
 #pragma omp parallel num_threads(nthreads_)
   {
     const int T = teamSize(), t = threadId();
+    double worked = 0;
     for (int colour = 0; colour <= lastColour; ++colour) {
+    const double began = wallSeconds();
     const auto [q0, q1] = colourShare(t, T, colour);
     for (std::size_t qi = q0; qi < q1; ++qi) {
       const std::size_t p = order[qi];
@@ -1693,10 +1773,12 @@ MPM_CLONES void MpmSolver::g2pRemap() {
             add(r, wz[k] * a);
         }
     }
+    worked += wallSeconds() - began;
     if (colour < lastColour && colourHasPoints(colour)) {
 #pragma omp barrier
     }
     }
+    addBusy(kRemap, t, worked);
   }
 }
 
@@ -1733,6 +1815,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
   // each point's new base node is checked against its block's bounds.
 #pragma omp parallel num_threads(nthreads_) reduction(+ : ek, ei) reduction(max : vmax) reduction(|| : strayed)
   {
+  const double began = wallSeconds();
   const int T = teamSize(), t = threadId();
   const std::size_t q0 = np * static_cast<std::size_t>(t) / static_cast<std::size_t>(T),
                     q1 = np * static_cast<std::size_t>(t + 1) / static_cast<std::size_t>(T);
@@ -1777,6 +1860,7 @@ MPM_CLONES void MpmSolver::g2pFinal(double& ekOut, double& eiOut, double& vmaxOu
     }
     stressChunk(ready, nready, ei, vmax);
   }
+  addBusy(kG2P, t, wallSeconds() - began);
   }
   if (strayed || bad.load()) planned_ = false;  // sort again before the next scatter
   if (bad.load()) fail(badP.load(), bad.load());
@@ -2009,26 +2093,43 @@ StepReport MpmSolver::step() {
     throw SolverError("mpm: no valid time step (wave speed not finite); check the material parameters");
   if (device_) return deviceStep();  // GPU back-end (cuda/device_bridge.cpp)
   const bool lin = cfg_.shape == Shape::Linear;
+  busy_.resize(kPhases * static_cast<std::size_t>(nthreads_), 0.0);
+  double t0 = wallSeconds(), c0 = cpuSeconds();
+  const auto lap = [&](Phase phase) {
+    const double t1 = wallSeconds(), c1 = cpuSeconds();
+    addPhase(phase, t0, c0, t1, c1);
+    t0 = t1;
+    c0 = c1;
+  };
   planScatter();  // p2g clears the grid
+  lap(kSort);
   planCut();      // the supports the needle's cut crosses (needle_cut.cpp)
+  lap(kContact);
   if (cfg_.bodies > 1) {
     markNearBodies();
     if (lin) p2g<2, true>(); else p2g<3, true>();
   } else {
     if (lin) p2g<2, false>(); else p2g<3, false>();
   }
+  t0 = wallSeconds(), c0 = cpuSeconds();  // p2g timed its parts
   if (penalty_) penaltyForces();  // two-body penalty contact: pair forces into f_I (penalty_contact.cpp)
+  lap(kPenalty);
   gridUpdate();
+  t0 = wallSeconds(), c0 = cpuSeconds();  // gridUpdate timed its parts
   const bool cfemp = std::any_of(rigids_.begin(), rigids_.end(), [](const RigidBody& r) { return r.surfaceContact; });
   if (cfemp) {
     if (lin) surfaceContact<2>(true); else surfaceContact<3>(true);
   }
+  lap(kContact);
   if (cfg_.update == Update::MUSL) {
     if (lin) g2pRemap<2>(); else g2pRemap<3>();  // into the momentum lanes gridUpdate cleared
+    lap(kRemap);
     remapUpdate(!cfemp);  // CFEMP reads the masses after it
+    lap(kRemapUpdate);
     if (cfemp) {
       if (lin) surfaceContact<2>(false); else surfaceContact<3>(false);
     }
+    lap(kContact);
   }
   double ek = 0, ei = 0, vmax = 0;
   if (cfg_.update == Update::USL) {
@@ -2036,6 +2137,7 @@ StepReport MpmSolver::step() {
   } else {
     if (lin) g2pFinal<2, false>(ek, ei, vmax); else g2pFinal<3, false>(ek, ei, vmax);
   }
+  lap(kG2P);
   maxSpeed_ = vmax;
   time_ += dt_;
   ++steps_;

@@ -227,6 +227,23 @@ class MpmSolver {
   };
   ScatterPlan scatterPlan(int team) const;
   int scatterThreads() const { return scatterThreads_; }  // threads that scattered points in the last p2g
+  // Wall time and process CPU time (all threads) of each phase of step(),
+  // summed over the steps since finalize or the last resetPhaseTimes (s);
+  // bench_mpm --phases prints them per step.
+  enum Phase { kSort, kZeroGrid, kScatter, kPenalty, kGridPlan, kGridUpdate, kRigidSums, kContact, kRemap,
+               kRemapUpdate, kG2P, kPhases };
+  static const char* phaseName(int phase);
+  const std::array<double, kPhases>& phaseTimes() const { return phaseTimes_; }
+  const std::array<double, kPhases>& phaseCpuTimes() const { return phaseCpu_; }
+  // Of the particle passes (kScatter, kRemap, kG2P): the time each thread
+  // worked in them, barrier waits left out (s, summed as phaseTimes); the
+  // largest over the mean is the imbalance of the work, not of the points.
+  std::vector<double> threadBusy(Phase phase) const;
+  void resetPhaseTimes() {
+    phaseTimes_.fill(0.0);
+    phaseCpu_.fill(0.0);
+    busy_.assign(busy_.size(), 0.0);
+  }
   // Points whose support the needle's cut crosses this step (planCut; tests).
   std::size_t cutPoints() const;
   // Tests: the two-body contact forces (pair penalty or density law, without
@@ -369,6 +386,7 @@ class MpmSolver {
   // A point whose base node leaves its block by more than one node (g2pFinal)
   // asks for a re-sort before the next scatter (planned_ false).
   static constexpr int kBlock = 4;
+  std::vector<std::uint32_t> sortPointsByKey(const std::vector<std::uint32_t>& key, std::size_t nkeys);
   std::vector<std::uint32_t> order_;
   std::vector<std::uint32_t> blockStart_, blockId_;
   std::array<std::uint32_t, 9> colourStart_{};
@@ -377,6 +395,13 @@ class MpmSolver {
   bool planned_ = false;
   int scatterThreads_ = 1;
   long long sorts_ = 0;
+  std::array<double, kPhases> phaseTimes_{}, phaseCpu_{};
+  std::vector<double> busy_;  // [phase][thread]: threadBusy
+  void addBusy(Phase phase, int t, double seconds);
+  void addPhase(Phase phase, double wall0, double cpu0, double wall1, double cpu1) {
+    phaseTimes_[phase] += wall1 - wall0;
+    phaseCpu_[phase] += cpu1 - cpu0;
+  }
   bool gridClean_ = false;              // the records are all zero (remapUpdate cleared them)
   int nr_ = 8;
   grid::LineVector<double> vel_;        // per node per body: v_new (3), pad, v_old (3), pad
