@@ -204,6 +204,7 @@ TEST(DeclaredOnce, TopLevelTissueLayersMaterialsInclusionsGeometryAndUnitsAreThe
     declared += docs.size();
   for (const char* kind : {"insert", "retract", "pause", "rotate"}) declared += scenario::segmentKindTable(kind).docs().size();
   for (const scenario::ModelSection* m : scenario::modelSections()) declared += 1 + m->docs().size();
+  declared += scenario::planDocs().size();  // the plan, plan_avoid and plan_uncertainty tables (plan_section.cpp)
   EXPECT_EQ(declared, rows) << "a section's rows are written outside its table";
 }
 
