@@ -16,7 +16,11 @@ grid_spacing; explicit: element_size; realtime2d/3d: block.length / (nodes_depth
 with --spacings. With f1, f2, f3 on h1 > h2 > h3, p solves
   (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)    (= r^p for a constant ratio r = h1/h2 = h2/h3)
 and the extrapolated value is f3 + (f3 - f2) / ((h2/h3)^p - 1). Where the differences change sign
-(an oscillating sequence) the meshes are not in the asymptotic range: no order, no extrapolation.
+(an oscillating sequence) or do not shrink (p <= 0) the meshes are not in the asymptotic range: no
+order, no extrapolation. The engines' formal orders lie between 1 (a node spacing or the contact's
+resolution of the needle's surface) and 2 (linear elements); an observed order outside 0.5-4, or an
+extrapolation further from the finest value than the three meshes' values are from one another, is
+marked pre-asymptotic, its extrapolation not credible.
 --order does the same arithmetic on numbers given as h:f (values measured elsewhere).
 
   scripts/agreement_table.py --convergence results/rt2_16 results/rt2_31 results/rt2_61
@@ -202,19 +206,26 @@ def observed_order(h, f):
     target = d21 / d32
     lo, hi = 1e-3, 20.0  # the ratio grows with p; bisect for it
     if not ratio_of_differences(h, lo) <= target <= ratio_of_differences(h, hi):
-        kind = "diverging (p <= 0)" if target < ratio_of_differences(h, lo) else "p > 20"
-        return math.nan, math.nan, kind
+        kind = "p <= 0: the differences do not shrink" if target < ratio_of_differences(h, lo) else "p > 20"
+        return math.nan, math.nan, kind + ", not in the asymptotic range"
     for _ in range(200):
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if ratio_of_differences(h, mid) < target else (lo, mid)
     p = 0.5 * (lo + hi)
-    return p, f[2] + (f[2] - f[1]) / ((h[1] / h[2]) ** p - 1.0), "monotone"
+    extrapolated = f[2] + (f[2] - f[1]) / ((h[1] / h[2]) ** p - 1.0)
+    note = "monotone"
+    if not 0.5 <= p <= 4.0:
+        note += ", p outside 0.5-4: pre-asymptotic, the extrapolation not credible"
+    elif abs(extrapolated - f[2]) > abs(f[0] - f[2]):
+        note += ", the correction exceeds the change over the meshes: pre-asymptotic, the extrapolation not credible"
+    return p, extrapolated, note
 
 
 def convergence_table(sizes, rows):
     """Markdown: one line per quantity, its value on each mesh, p and the extrapolated value."""
     hs = " | ".join(f"h = {h:g} mm" for h in sizes)
-    out = [f"| quantity | {hs} | observed order p | extrapolated | |", "|---" * (len(sizes) + 4) + "|"]
+    last3 = ", ".join(f"{h:g}" for h in sizes[-3:])
+    out = [f"| quantity | {hs} | observed order p (h = {last3} mm) | extrapolated | |", "|---" * (len(sizes) + 4) + "|"]
     for name in rows[0]:
         f = [r[name] for r in rows]
         if all(math.isnan(x) for x in f):
@@ -234,8 +245,11 @@ def self_test():
         for p0 in (1.0, 2.0, 0.5):
             f = [5.0 + 3.0 * x ** p0 for x in h]
             p, ext, note = observed_order(h, f)
-            checks.append((f"f = 5 + 3 h^{p0:g} on h = {h}", abs(p - p0) < 1e-6 and abs(ext - 5.0) < 1e-6 and note == "monotone"))
+            ok = abs(p - p0) < 1e-6 and abs(ext - 5.0) < 1e-6 and note.startswith("monotone")
+            checks.append((f"f = 5 + 3 h^{p0:g} on h = {h}", ok))
     checks.append(("an oscillating sequence has no order", observed_order([1, 0.75, 0.6], [44.5, 74.5, 72.5])[2].startswith("non-monotone")))
+    checks.append(("an extrapolation beyond the meshes' change is marked", "not credible" in observed_order([0.75, 0.6, 0.5], [230.5, 195.4, 170.3])[2]))
+    checks.append(("a sequence whose differences grow has no order", observed_order([2, 1, 0.5], [1.0, 2.0, 4.0])[2].startswith("p <= 0")))
     checks.append(("a constant sequence is its own limit", observed_order([2, 1, 0.5], [7.0, 7.0, 7.0])[1:] == (7.0, "constant")))
     for name, ok in checks:
         print(("ok   " if ok else "FAIL ") + name)
