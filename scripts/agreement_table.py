@@ -8,6 +8,24 @@ interpolation in depth over the insertion phase (depth increasing). Values in mN
 
   scripts/agreement_table.py results/agreement_engines            # a study folder
   scripts/agreement_table.py results/a results/b --depths 5,10,20  # run folders
+
+Convergence: --convergence takes one engine's runs on three (or more) meshes, coarse to fine, and
+prints each quantity on each mesh, the observed order p of the last three and the Richardson
+extrapolation of the finest value. The mesh size h is read from each run's summary.json (mpm:
+grid_spacing; explicit: element_size; realtime2d/3d: block.length / (nodes_depth - 1)), or given
+with --spacings. With f1, f2, f3 on h1 > h2 > h3, p solves
+  (f1 - f2) / (f2 - f3) = (h1^p - h2^p) / (h2^p - h3^p)    (= r^p for a constant ratio r = h1/h2 = h2/h3)
+and the extrapolated value is f3 + (f3 - f2) / ((h2/h3)^p - 1). Where the differences change sign
+(an oscillating sequence) or do not shrink (p <= 0) the meshes are not in the asymptotic range: no
+order, no extrapolation. The engines' formal orders lie between 1 (a node spacing or the contact's
+resolution of the needle's surface) and 2 (linear elements); an observed order outside 0.5-4, or an
+extrapolation of the other sign than the values, is marked pre-asymptotic, its extrapolation not
+credible.
+--order does the same arithmetic on numbers given as h:f (values measured elsewhere).
+
+  scripts/agreement_table.py --convergence results/rt2_16 results/rt2_31 results/rt2_61
+  scripts/agreement_table.py --order 1:258.5 0.75:230.5 0.6:195.4 0.5:170.3
+  scripts/agreement_table.py --self-test     # the order/extrapolation arithmetic on synthetic sequences
 """
 import argparse
 import csv
@@ -124,6 +142,130 @@ def row_for(folder, depths, marker):
     return [engine, status, " / ".join(mN("force_total")), split, lateral, deflection, mark]
 
 
+def quantities(folder, depths, marker):
+    """The matrix's quantities of one run as numbers (mN, mm; NaN where the engine has none)."""
+    forces = read_table(folder / "forces.csv")
+    depth = forces.get("depth", [])
+    idx = insertion_phase(depth)
+    last = depths[-1]
+
+    def at(col, d, scale=1e3):
+        return scale * at_depth(depth, forces[col], d, idx) if col in forces else math.nan
+
+    q = {f"axial at {d * 1e3:g} mm (mN)": at("force_total", d) for d in depths}
+    tip = "force_tip" if "force_tip" in forces else "force_cutting"
+    shaft = "force_shaft" if "force_shaft" in forces else "force_friction"
+    q[f"tip at {last * 1e3:g} mm (mN)"] = at(tip, last)
+    q[f"shaft at {last * 1e3:g} mm (mN)"] = at(shaft, last)
+    q[f"lateral at {last * 1e3:g} mm (mN)"] = at("force_lateral", last)
+    q["tip deflection (um)"] = at("tip_deflection", last, 1e6)
+    series = marker_series(folder, forces, marker)
+    ux = uy = math.nan
+    if series:
+        md, mx, my = series
+        midx = insertion_phase(md)
+        ux, uy = 1e3 * at_depth(md, mx, last, midx), 1e3 * at_depth(md, my, last, midx)
+    q[f"{marker} u_x (mm)"], q[f"{marker} u_y (mm)"] = ux, uy
+    return q
+
+
+def mesh_size(folder):
+    """The run's mesh size in mm: mpm grid_spacing, explicit element_size, real-time node spacing."""
+    sc = json.loads((folder / "summary.json").read_text()).get("scenario", {})
+    model = sc.get("model", {})
+    engine = model.get("engine", "?")
+    section = model.get(engine, {})
+
+    def si(v):  # summary.json writes a quantity as "0.03 m" (SI) and a count as a number
+        return float(str(v).split()[0])
+
+    if engine == "mpm":
+        return 1e3 * si(section["grid_spacing"])
+    if engine == "explicit":
+        return 1e3 * si(section["element_size"])
+    if engine in ("realtime2d", "realtime3d"):
+        return 1e3 * si(sc["tissue"]["block"]["length"]) / (si(section["nodes_depth"]) - 1)
+    sys.exit(f"agreement_table: {folder}: engine {engine} has no mesh to refine")
+
+
+def ratio_of_differences(h, p):
+    """(h1^p - h2^p) / (h2^p - h3^p): what (f1 - f2) / (f2 - f3) is for f = f0 + C h^p."""
+    return (h[0] ** p - h[1] ** p) / (h[1] ** p - h[2] ** p)
+
+
+def observed_order(h, f):
+    """(p, extrapolated, note) of the last three values f on sizes h (coarse to fine)."""
+    h, f = h[-3:], f[-3:]
+    if any(math.isnan(x) for x in f):
+        return math.nan, math.nan, "-"
+    d21, d32 = f[0] - f[1], f[1] - f[2]
+    if max(abs(d21), abs(d32)) <= 1e-9 * max(abs(x) for x in f):  # equal up to rounding
+        return math.nan, f[2], "constant"
+    if d32 == 0.0 or d21 * d32 < 0.0:
+        return math.nan, math.nan, "oscillates: not in the asymptotic range"
+    target = d21 / d32
+    lo, hi = 1e-3, 20.0  # the ratio grows with p; bisect for it
+    if not ratio_of_differences(h, lo) <= target <= ratio_of_differences(h, hi):
+        kind = "p <= 0 (the differences do not shrink)" if target < ratio_of_differences(h, lo) else "p > 20"
+        return math.nan, math.nan, kind + ": not in the asymptotic range"
+    for _ in range(200):
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if ratio_of_differences(h, mid) < target else (lo, mid)
+    p = 0.5 * (lo + hi)
+    extrapolated = f[2] + (f[2] - f[1]) / ((h[1] / h[2]) ** p - 1.0)
+    note = "monotone"
+    if not 0.5 - 1e-6 <= p <= 4.0 + 1e-6:
+        note = "p outside 0.5-4: pre-asymptotic, extrapolation not credible"
+    elif extrapolated * f[2] < 0.0:
+        note = "the extrapolation changes sign: pre-asymptotic, not credible"
+    return p, extrapolated, note
+
+
+def convergence_table(sizes, rows):
+    """Markdown: one line per quantity, its value on each mesh, p and the extrapolated value."""
+    hs = " | ".join(f"h = {h:g} mm" for h in sizes)
+    last3 = ", ".join(f"{h:g}" for h in sizes[-3:])
+    out = [f"| quantity | {hs} | observed order p (h = {last3} mm) | extrapolated | |", "|---" * (len(sizes) + 4) + "|"]
+    for name in rows[0]:
+        f = [r[name] for r in rows]
+        if all(math.isnan(x) for x in f):
+            continue
+        p, ext, note = observed_order(sizes, f)
+        cells = " | ".join("-" if math.isnan(x) else f"{x:.4g}" for x in f)
+        ps = "-" if math.isnan(p) else f"{p:.2f}"
+        es = "-" if math.isnan(ext) else f"{ext:.4g}"
+        out.append(f"| {name} | {cells} | {ps} | {es} | {note} |")
+    return "\n".join(out)
+
+
+def self_test():
+    """The order and extrapolation arithmetic on sequences of known order (not a physics check)."""
+    checks = []
+    for h in ([2.0, 1.0, 0.5], [1.0, 0.75, 0.6], [0.7, 0.6, 0.5]):
+        for p0 in (1.0, 2.0, 0.5):
+            f = [5.0 + 3.0 * x ** p0 for x in h]
+            p, ext, note = observed_order(h, f)
+            ok = abs(p - p0) < 1e-6 and abs(ext - 5.0) < 1e-6 and note == "monotone"
+            checks.append((f"f = 5 + 3 h^{p0:g} on h = {h}", ok))
+    checks.append(("an oscillating sequence has no order", observed_order([1, 0.75, 0.6], [44.5, 74.5, 72.5])[2].startswith("oscillates")))
+    checks.append(("an extrapolation of the other sign is marked", "not credible" in observed_order([0.75, 0.6, 0.5], [230.5, 195.4, 170.3])[2]))
+    checks.append(("a sequence whose differences grow has no order", observed_order([2, 1, 0.5], [1.0, 2.0, 4.0])[2].startswith("p <= 0")))
+    checks.append(("a constant sequence is its own limit", observed_order([2, 1, 0.5], [7.0, 7.0, 7.0 + 1e-14])[2] == "constant"))
+    for name, ok in checks:
+        print(("ok   " if ok else "FAIL ") + name)
+    return all(ok for _, ok in checks)
+
+
+def parse_order_values(items):
+    try:
+        pairs = [tuple(float(x) for x in it.split(":")) for it in items]
+    except ValueError:
+        sys.exit("agreement_table: --order takes h:f pairs, e.g. 1:258.5 0.75:230.5 0.6:195.4")
+    if len(pairs) < 3 or any(len(pr) != 2 for pr in pairs):
+        sys.exit("agreement_table: --order takes at least three h:f pairs, coarse to fine")
+    return [pr[0] for pr in pairs], [pr[1] for pr in pairs]
+
+
 def folders_of(paths):
     out = []
     for p in map(Path, paths):
@@ -138,12 +280,28 @@ def folders_of(paths):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("folders", nargs="+")
+    ap.add_argument("folders", nargs="*")
     ap.add_argument("--depths", default="5,10,15,20", help="tip depths in mm (default 5,10,15,20)")
     ap.add_argument("--marker", default="beside_path", help="marker name (default beside_path)")
+    ap.add_argument("--convergence", action="store_true", help="the folders are one engine on meshes coarse to fine")
+    ap.add_argument("--spacings", help="mesh sizes in mm, one per folder (default: from each summary.json)")
+    ap.add_argument("--order", nargs="+", metavar="H:F", help="observed order and extrapolation of the values given")
+    ap.add_argument("--self-test", action="store_true", help="check the order arithmetic on synthetic sequences")
     a = ap.parse_args()
+    if a.self_test:
+        sys.exit(0 if self_test() else 1)
+    if a.order:
+        h, f = parse_order_values(a.order)
+        p, ext, note = observed_order(h, f)
+        print(f"p = {p:.3g}, extrapolated {ext:.4g} ({note})")
+        return
+    if not a.folders:
+        ap.error("give results folders (or --order, --self-test)")
     depths = [float(x) * 1e-3 for x in a.depths.split(",")]
     folders = folders_of(a.folders)
+    if a.convergence:
+        convergence(a, folders, depths)
+        return
     dmm = "/".join(f"{d * 1e3:g}" for d in depths)
     print(f"| engine | status | axial force at {dmm} mm (mN) | tip / shaft at {depths[-1] * 1e3:g} mm (mN) "
           f"| lateral at {depths[-1] * 1e3:g} mm (mN) | tip deflection (mm) | marker {a.marker} u_x / u_y (mm) |")
@@ -151,6 +309,14 @@ def main():
     for f in folders:
         print("| " + " | ".join(row_for(f, depths, a.marker)) + " |")
 
+
+def convergence(a, folders, depths):
+    if len(folders) < 3:
+        sys.exit("agreement_table: --convergence needs three results folders or more, coarse to fine")
+    sizes = [float(x) for x in a.spacings.split(",")] if a.spacings else [mesh_size(f) for f in folders]
+    if len(sizes) != len(folders) or any(x <= y for x, y in zip(sizes, sizes[1:])):
+        sys.exit(f"agreement_table: mesh sizes {sizes} mm: one per folder, decreasing (coarse to fine)")
+    print(convergence_table(sizes, [quantities(f, depths, a.marker) for f in folders]))
 
 if __name__ == "__main__":
     main()
