@@ -90,7 +90,7 @@ class DevTools:
 def start_server(needlesim, scenario):
     proc = subprocess.Popen([needlesim, 'serve', scenario, '--port', '0', '--speed', '8'], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
-    end = time.time() + 20
+    end = time.time() + 45  # a realtime3d block sets up in seconds, longer on a loaded machine
     lines = []
     while time.time() < end:
         line = proc.stdout.readline()
@@ -156,7 +156,9 @@ def check_angles(dt):
 def target_pixels(path):
     from PIL import Image
     pixels = Image.open(path).convert('RGB').getdata()
-    return sum(1 for r, g, b in pixels if r > 150 and b > 120 and g < 110 and abs(r - b) < 110)
+    # magenta, however lit or seen through the tissue: red and blue alike, green far below both
+    # (the |u| colour map, the background and the needle have none such)
+    return sum(1 for r, g, b in pixels if r > 90 and b > 80 and abs(r - b) < 0.4 * r and g < 0.45 * min(r, b))
 
 
 def check_target_before(dt, workdir):
@@ -249,7 +251,7 @@ def main():
         browser, dt = start_chromium(chromium, workdir)
         dt.call('Page.enable')
         dt.call('Page.navigate', url=url)
-        dt.wait_for('window.trainer && trainer.frames > 5 && trainer.info !== null', 20, 'the page to draw frames')
+        dt.wait_for('window.trainer && trainer.frames > 5 && trainer.info !== null', 40, 'the page to draw frames')
         triangles = dt.eval('trainer.renderer.info.render.triangles')
         print(f'page up at {url} after {time.time() - started:.1f} s; WebGL draws {triangles} triangles')
         assert triangles >= dt.eval('trainer.info.surface.triangles.length / 3'), 'the tissue surface is drawn'

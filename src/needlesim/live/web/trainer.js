@@ -94,6 +94,7 @@
     const material = new THREE.MeshBasicMaterial({ vertexColors: THREE.VertexColors, side: THREE.DoubleSide });
     if (solid) Object.assign(material, { transparent: true, opacity: 0.35, depthWrite: false });
     tissue = new THREE.Mesh(g, material);
+    tissue.renderOrder = 2;
     scene.add(tissue);
   }
 
@@ -190,8 +191,11 @@
     const height = (outline.hi[2] - outline.lo[2]) * MM;
     inclusionMeshes = inclusions.map((inc) => {
       const colour = inc.target ? TARGET_COLOUR : INCLUSION_COLOUR;
-      const material = new THREE.MeshLambertMaterial({ color: colour, emissive: colour, emissiveIntensity: 0.2, side: THREE.DoubleSide });
+      // see-through enough that the needle shows inside it; drawn before the tissue around it
+      const material = new THREE.MeshPhongMaterial({ color: colour, emissive: colour, emissiveIntensity: 0.4, shininess: 30,
+        specular: 0x333333, side: THREE.DoubleSide, transparent: true, opacity: 0.85, depthWrite: false });
       const mesh = new THREE.Mesh(inclusionGeometry(inc, height), material);
+      mesh.renderOrder = 1;
       placeInclusion(mesh, inc, inc.centre);
       scene.add(mesh);
       return mesh;
