@@ -200,11 +200,17 @@
       scene.add(mesh);
       return mesh;
     });
+    listInclusions(inclusions);
+  }
+
+  // Under the legend: each inclusion's colour and name (as text: names come from the scenario).
+  function listInclusions(inclusions) {
     $('inclusions').innerHTML = '';
     for (const inc of inclusions) {
-      const row = document.createElement('div');
-      row.innerHTML = `<span class="swatch" style="background:#${(inc.target ? TARGET_COLOUR : INCLUSION_COLOUR).toString(16)}"></span>`;
-      row.append(inc.name + (inc.target ? ' (target)' : ''));
+      const row = document.createElement('div'), swatch = document.createElement('span');
+      swatch.className = 'swatch';
+      swatch.style.background = '#' + (inc.target ? TARGET_COLOUR : INCLUSION_COLOUR).toString(16).padStart(6, '0');
+      row.append(swatch, inc.name + (inc.target ? ' (target)' : ''));
       $('inclusions').appendChild(row);
     }
   }
