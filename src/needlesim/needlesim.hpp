@@ -187,6 +187,17 @@ struct State {
 struct Surface {
   std::vector<double> vertices;  // m, x y z per vertex
   std::vector<int> triangles;    // 3 vertex indices per triangle
+  std::string geometry;          // tissue.geometry's file: the surface is an imported tissue's; "" = the block
+};
+
+// A tissue.inclusions entry as a viewer draws it, in the tissue frame.
+struct Inclusion {
+  std::string name;
+  std::string shape;                  // sphere, cylinder (its axis along z) or mesh (a group of tissue.geometry)
+  double x = 0.0, y = 0.0, z = 0.0;   // m, centre (mesh: the centroid of its elements)
+  double radius = 0.0;                // m (mesh: of the sphere of its volume)
+  bool target = false;                // the needle aims at it
+  std::vector<int> region;            // its material: indices of surface()'s vertices (none for lumped)
 };
 
 // What moves on the surface: per vertex, the displacement and a scalar to colour by.
@@ -249,6 +260,9 @@ class NEEDLESIM_API Session {
   // its nodes; realtime2d: its mesh as triangles in z = 0; lumped: the block's mid-plane, which
   // does not deform), and the needle's centre line, base to tip.
   Surface surface() const;
+  // The scenario's tissue.inclusions, with the vertices of surface() their material holds
+  // (realtime2d, realtime3d; their mean displacement is the inclusion's, as in inclusions.csv).
+  std::vector<Inclusion> inclusions() const;
   // Fills `field` for the current step (reuses its storage; sized for surface()).
   void surfaceField(SurfaceField& field) const;
   // The same field in two parts, so that a control loop does not compute it: snapshotField

@@ -243,6 +243,46 @@ double largest(const std::vector<double>& a) {
 // computed from a snapshot is the one surfaceField gave at the snapshot's step, to round-off, for
 // every engine and back-end, though the session has stepped on; a snapshot of another mesh, or
 // none, is refused.
+// The inclusions for a viewer: the scenario's target (layered_target.yaml: a 3 mm vessel 40 mm
+// deep, 3 mm to +y) and the surface vertices of its material, the nodes of the elements whose
+// centre lies in it: each within the radius and one element diameter (the longest triangle edge)
+// of its axis, the vertex nearest the axis among them. An imported tissue names its file.
+TEST(ApiSession, InclusionsAndTheirRegionForAViewer) {
+  api::Session s(api::Scenario::fromFile(kExamples / "realtime2d" / "layered_target.yaml"));
+  const std::vector<api::Inclusion> inclusions = s.inclusions();
+  ASSERT_EQ(inclusions.size(), 1u);
+  const api::Inclusion& vessel = inclusions[0];
+  EXPECT_EQ(vessel.name, "target");
+  EXPECT_EQ(vessel.shape, "cylinder");
+  EXPECT_TRUE(vessel.target);
+  EXPECT_NEAR(vessel.x, 0.040, 1e-12);
+  EXPECT_NEAR(vessel.y, 0.003, 1e-12);
+  EXPECT_NEAR(vessel.radius, 0.003, 1e-12);
+  const api::Surface surface = s.surface();
+  EXPECT_EQ(surface.geometry, "");
+  const auto& v = surface.vertices;
+  const auto fromAxis = [&](int n) { return std::hypot(v[3 * n] - vessel.x, v[3 * n + 1] - vessel.y); };
+  double diameter = 0.0;
+  for (std::size_t t = 0; t < surface.triangles.size(); t += 3)
+    for (std::size_t a = 0; a < 3; ++a) {
+      const int p = surface.triangles[t + a], q = surface.triangles[t + (a + 1) % 3];
+      diameter = std::max(diameter, std::hypot(v[3 * p] - v[3 * q], v[3 * p + 1] - v[3 * q + 1]));
+    }
+  ASSERT_FALSE(vessel.region.empty());
+  for (const int n : vessel.region) EXPECT_LE(fromAxis(n), vessel.radius + diameter) << n;
+  int nearest = 0;
+  for (int n = 1; n < static_cast<int>(v.size() / 3); ++n)
+    if (fromAxis(n) < fromAxis(nearest)) nearest = n;
+  EXPECT_NE(std::find(vessel.region.begin(), vessel.region.end(), nearest), vessel.region.end());
+
+  api::Session imported(api::Scenario::fromFile(kExamples / "realtime2d" / "imported_block.yaml"));
+  EXPECT_NE(imported.surface().geometry.find("imported_block.geo"), std::string::npos);
+  ASSERT_EQ(imported.inclusions().size(), 1u);
+  EXPECT_EQ(imported.inclusions()[0].shape, "mesh");
+  api::Session lumped(api::Scenario::fromFile(kExamples / "gelatin_18G_3mms.yaml"));
+  EXPECT_TRUE(lumped.inclusions().empty());
+}
+
 TEST(ApiSession, FieldFromASnapshotIsTheFieldOfItsStep) {
   const api::Scenario block = api::Scenario::fromFile(kExamples / "realtime3d/quick_block.yaml")
                                   .with({{"model.realtime3d.nodes_depth", "7"},

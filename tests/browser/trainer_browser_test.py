@@ -6,6 +6,10 @@ DevTools protocol (python3-websocket), presses W (a real key event) to insert, h
 page's Retract button (real mouse events), and checks from the page's own chart data and
 DOM that the force plot rises, that the puncture is shown and that retraction reverses the
 friction. Screenshots: <workdir>/trainer_inserted.png, trainer_retracted.png.
+Every run also checks the first view (the whole tissue in the picture, from the outline the API
+gives) and the tilt and roll readout; a scenario with a target inclusion also the anatomy: the
+target drawn in its colour (pixels of a screenshot, Pillow) and the live miss distance, in mm,
+the distance from the tip to the target's centre before the insertion and nearer after it.
 Exit 77 (CTest: skipped) with a message where Chromium or python3-websocket is absent.
 
 usage: trainer_browser_test.py NEEDLESIM SCENARIO WORKDIR
@@ -86,7 +90,7 @@ class DevTools:
 def start_server(needlesim, scenario):
     proc = subprocess.Popen([needlesim, 'serve', scenario, '--port', '0', '--speed', '8'], stdout=subprocess.PIPE,
                             stderr=subprocess.STDOUT, text=True)
-    end = time.time() + 20
+    end = time.time() + 45  # a realtime3d block sets up in seconds, longer on a loaded machine
     lines = []
     while time.time() < end:
         line = proc.stdout.readline()
@@ -119,6 +123,72 @@ def start_chromium(chromium, workdir):
     pages = json.load(urllib.request.urlopen(f'http://127.0.0.1:{port}/json/list', timeout=10))
     page = next(p for p in pages if p.get('type') == 'page')
     return proc, DevTools(page['webSocketDebuggerUrl'])
+
+
+TARGET_RGB = (0xff, 0x2b, 0xd6)  # trainer.js TARGET_COLOUR
+
+
+def check_first_view(dt):
+    """The eight corners of the tissue's bounds project inside the view, and fill a good part of it."""
+    ndc = dt.eval('(() => { const o = trainer.info.outline, out = [];'
+                  ' for (const x of [o.lo[0], o.hi[0]]) for (const y of [o.lo[1], o.hi[1]]) for (const z of [o.lo[2], o.hi[2]])'
+                  '   { const p = new THREE.Vector3(x, y, z).multiplyScalar(1000).project(trainer.camera); out.push([p.x, p.y]); }'
+                  ' return out; })()')
+    xs, ys = [p[0] for p in ndc], [p[1] for p in ndc]
+    print(f'first view: the tissue spans x {min(xs):.2f}..{max(xs):.2f}, y {min(ys):.2f}..{max(ys):.2f} (view: -1..1)')
+    assert all(-1 <= v <= 1 for v in xs + ys), 'the whole tissue is in the first view'
+    assert max(max(xs) - min(xs), max(ys) - min(ys)) > 1.0, 'the tissue fills more than half the view'
+
+
+def number_in(dt, element, unit):
+    text = dt.eval(f'document.getElementById("{element}").textContent')
+    value, _, rest = text.partition(' ')
+    assert rest == unit, f'#{element} reads {text!r}: a number and {unit}'
+    return float(value)
+
+
+def check_angles(dt):
+    text = dt.eval('document.getElementById("tilt-roll").textContent')
+    tilt, roll = (float(a.strip().rstrip('°')) for a in text.split('·'))
+    assert abs(tilt) < 90 and abs(roll) <= 360, f'tilt and roll read {text!r}'
+
+
+def target_pixels(path):
+    from PIL import Image
+    pixels = Image.open(path).convert('RGB').getdata()
+    # magenta, however lit or seen through the tissue: red and blue alike, green far below both
+    # (the |u| colour map, the background and the needle have none such)
+    return sum(1 for r, g, b in pixels if r > 90 and b > 80 and abs(r - b) < 0.4 * r and g < 0.45 * min(r, b))
+
+
+def check_target_before(dt, workdir):
+    """Before the insertion: the target drawn, the miss = |tip - centre| (the target has not moved)."""
+    info = dt.eval('trainer.info')
+    target = next(i for i in info['inclusions'] if i['target'])
+    dt.wait_for('document.getElementById("miss").textContent.endsWith(" mm")', 5, 'the miss distance shown')
+    tip = dt.eval('trainer.frame.state.tip')
+    expected = sum((a - b) ** 2 for a, b in zip(tip, target['centre'])) ** 0.5 * 1000
+    miss = number_in(dt, 'miss', 'mm')
+    label = dt.eval('document.getElementById("miss-label").textContent')
+    print(f'target {target["name"]}: miss {miss} mm before the insertion ({expected:.3f} mm from the tip); {label!r}')
+    assert abs(miss - expected) <= 0.006, 'the miss distance is the tip-to-target distance (mm, 2 decimals)'
+    assert target['name'] in label
+    shot = os.path.join(workdir, 'trainer_target.png')
+    dt.screenshot(shot)
+    pixels = target_pixels(shot)
+    print(f'{pixels} pixels of the target colour')
+    assert pixels > 400, 'the target shows in its colour inside the see-through tissue'
+    return miss
+
+
+def check_target_after(dt, before, inserted_mm):
+    miss = number_in(dt, 'miss', 'mm')
+    print(f'miss {miss} mm after {inserted_mm} mm of insertion')
+    assert miss < before - 0.5 * inserted_mm, 'the miss distance shrinks as the needle goes towards the target'
+
+
+def has_target(dt):
+    return dt.eval('trainer.info.inclusions.some((i) => i.target)')
 
 
 def insert_with_key(dt, depth_mm):
@@ -181,14 +251,19 @@ def main():
         browser, dt = start_chromium(chromium, workdir)
         dt.call('Page.enable')
         dt.call('Page.navigate', url=url)
-        dt.wait_for('window.trainer && trainer.frames > 5 && trainer.info !== null', 20, 'the page to draw frames')
+        dt.wait_for('window.trainer && trainer.frames > 5 && trainer.info !== null', 40, 'the page to draw frames')
         triangles = dt.eval('trainer.renderer.info.render.triangles')
         print(f'page up at {url} after {time.time() - started:.1f} s; WebGL draws {triangles} triangles')
         assert triangles >= dt.eval('trainer.info.surface.triangles.length / 3'), 'the tissue surface is drawn'
+        check_first_view(dt)
+        check_angles(dt)
+        miss = check_target_before(dt, workdir) if has_target(dt) else None
         insert_with_key(dt, 14.0)
         dt.wait_for('document.getElementById("events").textContent.includes("puncture")', 5, 'the puncture shown')
         time.sleep(0.3)
         dt.screenshot(os.path.join(workdir, 'trainer_inserted.png'))
+        if miss is not None:
+            check_target_after(dt, miss, 14.0)
         retract_with_button(dt, 6.0)
         time.sleep(0.3)
         dt.screenshot(os.path.join(workdir, 'trainer_retracted.png'))

@@ -51,6 +51,10 @@ struct Session::Impl {
     return *session;
   }
   bool threeD() const { return session->dimension() == 3; }
+  std::string geometryFile() const {
+    const auto& geometry = detail::ScenarioAccess::typed(scenario).tissue.geometry;
+    return geometry ? geometry->file : std::string();
+  }
   // Values of the full displacement: dimension x nodes of the FE mesh, 0 for lumped.
   std::size_t displacementValues() const {
     return session->hasMesh() ? static_cast<std::size_t>(session->dimension()) * session->nodeCount() : 0;
@@ -108,6 +112,7 @@ Surface Session::surface() const {
         for (std::size_t i = 0; i + 1 < nodes.size(); i += 2) out.vertices.insert(out.vertices.end(), {nodes[i], nodes[i + 1], 0.0});
       }
       out.triangles = impl_->session->surfaceTriangles();
+      out.geometry = impl_->geometryFile();
       return out;
     }
     // lumped: the block's mid-plane from the entry face (x = 0) to the exit face
@@ -115,6 +120,32 @@ Surface Session::surface() const {
     const double w = 0.5 * t.width;
     out.vertices = {0.0, -w, 0.0, t.length, -w, 0.0, t.length, w, 0.0, 0.0, w, 0.0};
     out.triangles = {0, 1, 2, 0, 2, 3};
+    return out;
+  });
+}
+
+namespace {
+
+const char* shapeName(InclusionSpec::Shape shape) {
+  switch (shape) {
+    case InclusionSpec::Shape::Cylinder: return "cylinder";
+    case InclusionSpec::Shape::Mesh: return "mesh";
+    default: return "sphere";
+  }
+}
+
+}  // namespace
+
+std::vector<Inclusion> Session::inclusions() const {
+  return detail::translated([&] {
+    const std::vector<InclusionSpec>& specs = detail::ScenarioAccess::typed(impl_->scenario).tissue.inclusions;
+    std::vector<std::vector<int>> nodes = impl_->session->inclusionNodes();
+    nodes.resize(specs.size());  // none without a mesh
+    std::vector<Inclusion> out;
+    for (std::size_t i = 0; i < specs.size(); ++i) {
+      const InclusionSpec& I = specs[i];
+      out.push_back({I.name, shapeName(I.shape), I.x, I.y, I.z, I.radius, I.target, std::move(nodes[i])});
+    }
     return out;
   });
 }

@@ -123,6 +123,9 @@ class SteppableSession {
   // The mesh's surface as triangles over all its nodes (3D: the block's boundary, outward;
   // 2D: every element, a collapsed quad once).
   virtual std::vector<int> surfaceTriangles() const { return {}; }
+  // The nodes of each tissue.inclusions entry's material, in its order (indices of
+  // nodePositions(); none without a mesh).
+  virtual std::vector<std::vector<int>> inclusionNodes() const { return {}; }
   // The needle's centre line, base to tip, `points` >= 2 columns of dimension() rows.
   virtual void needleShape(int points, Eigen::MatrixXd& out) const;
   // The displacement copied for a reader in another thread, and the field from that copy.

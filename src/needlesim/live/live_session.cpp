@@ -45,6 +45,7 @@ void depthRange(MotionLimits& limits, const api::Surface& surface, const std::ve
 
 LiveSession::LiveSession(const api::Scenario& scenario, const LiveSettings& settings)
     : scenario_(scenario), settings_(settings), session_(scenario), surface_(session_.surface()),
+      inclusions_(session_.inclusions()),
       engine_(session_.engine()), controls_(controlsFor(session_.axes())) {
   if (!(settings_.dt > 0.0) || !std::isfinite(settings_.dt))
     throw api::InputError("the physics step must be a finite time > 0 s", "<live session>", 0, "dt");

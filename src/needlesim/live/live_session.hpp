@@ -99,6 +99,7 @@ class LiveSession {
   std::vector<Sample> samples(std::size_t from, std::size_t& total) const;
 
   const api::Surface& surface() const { return surface_; }
+  const std::vector<api::Inclusion>& inclusions() const { return inclusions_; }
   const std::string& engine() const { return engine_; }
   const Controls& controls() const { return controls_; }
   const LiveSettings& settings() const { return settings_; }
@@ -127,6 +128,7 @@ class LiveSession {
   LiveSettings settings_;
   api::Session session_;
   api::Surface surface_;
+  std::vector<api::Inclusion> inclusions_;
   std::string engine_;
   Controls controls_;
 

@@ -1,10 +1,12 @@
 // The JSON documents of the trainer's API (web_server.hpp).
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <iterator>
 #include <utility>
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/live/inclusion_readout.hpp"
 #include "needlesim/live/web_server.hpp"
 
 namespace needlesim::live {
@@ -25,6 +27,39 @@ nlohmann::json stateJson(const api::State& s) {
           {"tip", {s.tip_x, s.tip_y, s.tip_z}}, {"phase", s.phase}};
 }
 
+nlohmann::json orNull(const std::optional<double>& v) { return v ? nlohmann::json(*v) : nlohmann::json(nullptr); }
+
+// The tissue's outline: its bounds (the surface's), and the imported geometry's file when the
+// surface is an imported tissue's (a viewer then outlines the surface itself, not a box).
+nlohmann::json outlineJson(const api::Surface& surface) {
+  std::array<double, 3> lo{0.0, 0.0, 0.0}, hi{0.0, 0.0, 0.0};
+  for (std::size_t i = 0; i + 2 < surface.vertices.size(); i += 3)
+    for (std::size_t c = 0; c < 3; ++c) {
+      lo[c] = i == 0 ? surface.vertices[i + c] : std::min(lo[c], surface.vertices[i + c]);
+      hi[c] = i == 0 ? surface.vertices[i + c] : std::max(hi[c], surface.vertices[i + c]);
+    }
+  return {{"kind", surface.geometry.empty() ? "block" : "imported"},
+          {"file", surface.geometry.empty() ? nlohmann::json(nullptr) : nlohmann::json(surface.geometry)},
+          {"lo", lo}, {"hi", hi}};
+}
+
+nlohmann::json inclusionsJson(const std::vector<api::Inclusion>& inclusions) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const api::Inclusion& I : inclusions)
+    out.push_back({{"name", I.name}, {"shape", I.shape}, {"centre", {I.x, I.y, I.z}}, {"radius", I.radius},
+                   {"target", I.target}, {"region", I.region}});
+  return out;
+}
+
+// Before the viewer thread's first field the frame's needle is not yet of a stepped state: no
+// miss then.
+nlohmann::json readoutsJson(const LiveSession& live, const Frame& f) {
+  nlohmann::json out = nlohmann::json::array();
+  for (const InclusionReadout& r : inclusionReadouts(live.inclusions(), f.field, f.fields > 0 ? f.needle : std::vector<double>{}))
+    out.push_back({{"centre", r.centre}, {"miss", orNull(r.miss)}, {"missFromAxis", orNull(r.missFromAxis)}});
+  return out;
+}
+
 }  // namespace
 
 nlohmann::json infoJson(const LiveSession& live, const WebInfo& info) {
@@ -37,6 +72,8 @@ nlohmann::json infoJson(const LiveSession& live, const WebInfo& info) {
           {"controls", {{"lateral", c.lateral}, {"rotation", c.rotation}, {"tilt", c.tilt}, {"roll", c.roll}}},
           {"limits", {{"insertSpeed", l.insertSpeed}, {"minDepth", l.minDepth}, {"maxDepth", l.maxDepth}}},
           {"surface", {{"vertices", floats(live.surface().vertices)}, {"triangles", live.surface().triangles}}},
+          {"outline", outlineJson(live.surface())},
+          {"inclusions", inclusionsJson(live.inclusions())},
           {"record", info.recordFolder.empty() ? nlohmann::json(nullptr) : nlohmann::json(info.recordFolder)},
           {"hapticPort", info.hapticPort < 0 ? nlohmann::json(nullptr) : nlohmann::json(info.hapticPort)},
           {"phases", {kPhases[0], kPhases[1], kPhases[2], kPhases[3], kPhases[4]}}};
@@ -63,6 +100,7 @@ nlohmann::json frameJson(const LiveSession& live, std::size_t since) {
                      {"name", f.field.scalarName}, {"unit", f.field.scalarUnit},
                      {"step", f.fieldStep}, {"cost", f.fieldCost}}},
           {"needle", floats(f.needle)},
+          {"inclusions", readoutsJson(live, f)},
           {"samples", std::move(samples)},
           {"next", total}};
 }

@@ -1,8 +1,10 @@
 #pragma once
 // The trainer's web server (cpp-httplib): one page (web/index.html, web/trainer.js,
 // three.js, Chart.js, all compiled in) and a small JSON API over a LiveSession:
-//   GET  /api/info            engine, controls, limits, the tissue surface (once)
-//   GET  /api/frame?since=N   latest state, surface field, needle, force samples from N on
+//   GET  /api/info            engine, controls, limits, the tissue surface, its outline and
+//                             inclusions (once)
+//   GET  /api/frame?since=N   latest state, surface field, needle, the inclusions' displaced
+//                             centres and the targets' miss distance, force samples from N on
 //   POST /api/drive           held keys/buttons {"insert":1,"rotate":0,...} in [-1, 1]
 //   POST /api/flip            bevel half a turn;  POST /api/reset   start over
 //   POST /api/stop            stop the server (as Ctrl-C; a recording is written)

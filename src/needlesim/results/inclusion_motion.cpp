@@ -2,6 +2,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/results/result_sink.hpp"
+#include "needlesim/results/target_miss.hpp"
 
 namespace needlesim::results {
 
@@ -60,9 +61,9 @@ void InclusionMotion::report(ResultSink& sink) const {
                 "shift of " + n + " out of the insertion plane (targeting error)");
     sink.result(n + "_shift_axial", frame_.axialOf(last_[i]), "m", "shift of " + n + " along the needle axis (pushed ahead of the tip when > 0)");
     if (!tipKnown_) continue;
-    const Eigen::Vector3d d = centre_[i] + last_[i] - tip_;
-    sink.result(n + "_miss_distance", d.norm(), "m", "distance from the needle tip (on its axis) to the displaced centre of " + n + " at the end");
-    sink.result(n + "_miss_from_axis", (d - d.dot(axis_) * axis_).norm(), "m",
+    const TargetMiss miss = targetMiss(centre_[i], last_[i], tip_, axis_);
+    sink.result(n + "_miss_distance", miss.distance, "m", "distance from the needle tip (on its axis) to the displaced centre of " + n + " at the end");
+    sink.result(n + "_miss_from_axis", miss.fromAxis, "m",
                 "distance of the displaced centre of " + n + " from the needle's axis at the end (how far the needle passes it)");
   }
 }

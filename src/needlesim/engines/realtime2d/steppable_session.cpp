@@ -14,7 +14,7 @@ class Realtime2dSession final : public SteppableSession {
  public:
   explicit Realtime2dSession(const Scenario& sc)
       : SteppableSession(sc, realtime2dStepPlan(sc), SessionAxes{.lateral = true, .rotation = true, .roll = true}),
-        config_(realtime2dConfig(sc)) {
+        config_(realtime2dConfig(sc)), inclusions_(sc.tissue.inclusions.size()) {
     rebuild();
   }
 
@@ -46,6 +46,11 @@ class Realtime2dSession final : public SteppableSession {
     fe_->needleShape(points, shape);
     out = shape;
   }
+  std::vector<std::vector<int>> inclusionNodes() const override {
+    std::vector<std::vector<int>> nodes(inclusions_);
+    for (std::size_t i = 0; i < inclusions_; ++i) nodes[i] = fe_->tissue().regionNodes(i);
+    return nodes;
+  }
   void saveDisplacement(realtime::DisplacementState& state) const override { fe_->saveDisplacement(state); }
   void displacementFrom(const realtime::DisplacementState& state, Eigen::VectorXd& u) const override {
     fe_->displacementFrom(state, u);
@@ -71,6 +76,7 @@ class Realtime2dSession final : public SteppableSession {
 
   realtime2d::SessionConfig config_;
   std::optional<realtime2d::Session> fe_;
+  std::size_t inclusions_;  // tissue.inclusions: the first material regions
 };
 
 }  // namespace

@@ -103,6 +103,8 @@ class Tissue {
   Eigen::Vector2d nodeDisplacement(int node) const;
   // Mean displacement of the nodes of a material region's elements (its material's motion).
   Eigen::Vector2d regionDisplacement(std::size_t region) const;
+  // Those nodes (indices of the mesh's nodes).
+  const std::vector<int>& regionNodes(std::size_t region) const { return region_nodes_.at(region); }
   // Centre stresses (sxx, syy, sxy, szz) of every element from displacement() (4 x elements);
   // szz = nu (sxx + syy) in plane strain, 0 in plane stress.
   Eigen::Matrix4Xd elementStresses() const;

@@ -15,7 +15,7 @@ class Realtime3dSession final : public SteppableSession {
   explicit Realtime3dSession(const Scenario& sc)
       : SteppableSession(sc, realtime3dStepPlan(sc),
                          SessionAxes{.lateral = true, .rotation = true, .roll = true, .tilt = true}),
-        config_(realtime3dConfig(sc)) {
+        config_(realtime3dConfig(sc)), inclusions_(sc.tissue.inclusions.size()) {
     rebuild();
   }
 
@@ -37,6 +37,11 @@ class Realtime3dSession final : public SteppableSession {
     Eigen::Matrix3Xd shape(3, points);
     fe_->needleShape(points, shape);
     out = shape;
+  }
+  std::vector<std::vector<int>> inclusionNodes() const override {
+    std::vector<std::vector<int>> nodes(inclusions_);
+    for (std::size_t i = 0; i < inclusions_; ++i) nodes[i] = fe_->tissue().regionNodes(i);
+    return nodes;
   }
   void saveDisplacement(realtime::DisplacementState& state) const override { fe_->saveDisplacement(state); }
   void displacementFrom(const realtime::DisplacementState& state, Eigen::VectorXd& u) const override {
@@ -64,6 +69,7 @@ class Realtime3dSession final : public SteppableSession {
 
   realtime3d::SessionConfig config_;
   std::optional<realtime3d::Session> fe_;
+  std::size_t inclusions_;  // tissue.inclusions: the first material regions
 };
 
 }  // namespace

@@ -64,6 +64,8 @@ class Tissue {
   realtime::TissueDynamics& dynamics() { return *dyn_; }
   Eigen::Vector3d nodeDisplacement(int node) const;
   Eigen::Vector3d regionDisplacement(std::size_t region) const;
+  // The nodes of a material region's elements (indices of the mesh's nodes).
+  const std::vector<int>& regionNodes(std::size_t region) const { return region_nodes_.at(region); }
   // Von Mises stress of every element from the current displacement.
   Eigen::VectorXd elementVonMises() const;
   // Boundary faces (triangles, outward node order) of the tet mesh, for viewers.

@@ -2,7 +2,7 @@
 // held keys and buttons (POST /api/drive). State for tests and tools: window.trainer.
 'use strict';
 (function () {
-  const MM = 1000;
+  const MM = 1000, DEG = 180 / Math.PI;
   const trainer = window.trainer = { info: null, frame: null, samples: [], punctureDepth: null, frames: 0, errors: [] };
   const $ = (id) => document.getElementById(id);
   const fmt = (v, d) => (v === null || v === undefined || !isFinite(v)) ? '–' : v.toFixed(d);
@@ -67,6 +67,7 @@
   scene.background = new THREE.Color(0x14181f);
   const camera = new THREE.PerspectiveCamera(40, 1, 0.1, 5000);
   const controls = new THREE.OrbitControls(camera, renderer.domElement);
+  trainer.camera = camera;
   scene.add(new THREE.AmbientLight(0xffffff, 0.75));
   const sun = new THREE.DirectionalLight(0xffffff, 0.5);
   sun.position.set(0.3, -0.5, 1);
@@ -93,23 +94,48 @@
     const material = new THREE.MeshBasicMaterial({ vertexColors: THREE.VertexColors, side: THREE.DoubleSide });
     if (solid) Object.assign(material, { transparent: true, opacity: 0.35, depthWrite: false });
     tissue = new THREE.Mesh(g, material);
+    tissue.renderOrder = 2;
     scene.add(tissue);
-    const outline = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxBufferGeometry(1, 1, 1)),
-      new THREE.LineBasicMaterial({ color: 0x8090a8 }));
-    const box = g.boundingBox, size = new THREE.Vector3(), centre = new THREE.Vector3();
-    box.getSize(size); box.getCenter(centre);
-    outline.scale.set(size.x, size.y, Math.max(size.z, 0.02 * size.x));
-    outline.position.copy(centre);
-    scene.add(outline);
-    const span = Math.max(size.x, size.y, size.z);
-    if (solid) {  // the whole block in view, from the entry side, above and in front
-      controls.target.set(centre.x - 0.1 * span, centre.y, centre.z);
-      camera.position.set(centre.x - 1.3 * span, centre.y - 1.6 * span, centre.z + 1.1 * span);
-    } else {
-      controls.target.set(centre.x - 0.15 * span, centre.y, 0);
-      camera.position.set(centre.x - 0.5 * span, centre.y - 1.3 * span, 0.9 * span);
+  }
+
+  // The tissue's bounds in mm (the API's outline), flat ones given a little height to draw.
+  function outlineBox(outline) {
+    const lo = new THREE.Vector3().fromArray(outline.lo).multiplyScalar(MM);
+    const hi = new THREE.Vector3().fromArray(outline.hi).multiplyScalar(MM);
+    const box = new THREE.Box3(lo, hi), size = box.getSize(new THREE.Vector3());
+    const flat = Math.max(size.z, 0.02 * size.x) - size.z;
+    box.expandByVector(new THREE.Vector3(0, 0, 0.5 * flat));
+    return box;
+  }
+
+  // The block as a box; an imported tissue by its own surface's edges (its creases and rims).
+  function buildOutline(outline) {
+    const lines = new THREE.LineBasicMaterial({ color: 0x8090a8 });
+    if (outline.kind === 'imported') {
+      scene.add(new THREE.LineSegments(new THREE.EdgesGeometry(tissue.geometry, 30), lines));
+      return;
     }
+    const box = outlineBox(outline), size = box.getSize(new THREE.Vector3());
+    const edges = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxBufferGeometry(1, 1, 1)), lines);
+    edges.scale.copy(size);
+    box.getCenter(edges.position);
+    scene.add(edges);
+  }
+
+  // The first view: the whole tissue (its bounding sphere) fills the narrower of the view's two
+  // angles, seen from the entry side, in front and above.
+  function frameTissue(outline) {
+    const sphere = outlineBox(outline).getBoundingSphere(new THREE.Sphere());
+    const half = THREE.Math.degToRad(camera.fov / 2);
+    const narrower = Math.min(half, Math.atan(Math.tan(half) * camera.aspect));
+    const distance = 1.05 * sphere.radius / Math.sin(narrower);
+    const from = (solid ? new THREE.Vector3(-1.3, -1.6, 1.1) : new THREE.Vector3(-0.4, -1.3, 1.3)).normalize();
+    controls.target.copy(sphere.center);
+    camera.position.copy(sphere.center).addScaledVector(from, distance);
+    camera.near = distance / 100;
+    camera.far = distance * 20;
     camera.up.set(0, 0, 1);
+    camera.updateProjectionMatrix();
     controls.update();
   }
 
@@ -140,6 +166,69 @@
       needle.geometry.dispose();
       needle.geometry = g;
     }
+  }
+
+  // ---------------------------------------------------------------- inclusions
+  const TARGET_COLOUR = 0xff2bd6, INCLUSION_COLOUR = 0xe8c547;
+  let inclusionMeshes = [];
+
+  // In a solid block a sphere (a vessel: a cylinder along z through the block's height); in a
+  // plane the inclusion's section, a disc.
+  function inclusionGeometry(inc, height) {
+    const r = inc.radius * MM, z = inc.centre[2] * MM;
+    if (!solid) return new THREE.CircleBufferGeometry(inc.shape === 'cylinder' ? r : Math.sqrt(Math.max(r * r - z * z, 0)), 48);
+    if (inc.shape === 'cylinder') return new THREE.CylinderBufferGeometry(r, r, height, 48).rotateX(Math.PI / 2);
+    return new THREE.SphereBufferGeometry(r, 48, 32);
+  }
+
+  // At its centre moved by the displacement shown (× the slider, as the tissue).
+  function placeInclusion(mesh, inc, centre) {
+    const shown = (c) => (inc.centre[c] + Number($('exaggerate').value) * (centre[c] - inc.centre[c])) * MM;
+    mesh.position.set(shown(0), shown(1), solid ? shown(2) : 0.2);
+  }
+
+  function buildInclusions(inclusions, outline) {
+    const height = (outline.hi[2] - outline.lo[2]) * MM;
+    inclusionMeshes = inclusions.map((inc) => {
+      const colour = inc.target ? TARGET_COLOUR : INCLUSION_COLOUR;
+      // see-through enough that the needle shows inside it; drawn before the tissue around it
+      const material = new THREE.MeshPhongMaterial({ color: colour, emissive: colour, emissiveIntensity: 0.4, shininess: 30,
+        specular: 0x333333, side: THREE.DoubleSide, transparent: true, opacity: 0.85, depthWrite: false });
+      const mesh = new THREE.Mesh(inclusionGeometry(inc, height), material);
+      mesh.renderOrder = 1;
+      placeInclusion(mesh, inc, inc.centre);
+      scene.add(mesh);
+      return mesh;
+    });
+    listInclusions(inclusions);
+  }
+
+  // Under the legend: each inclusion's colour and name (as text: names come from the scenario).
+  function listInclusions(inclusions) {
+    $('inclusions').innerHTML = '';
+    for (const inc of inclusions) {
+      const row = document.createElement('div'), swatch = document.createElement('span');
+      swatch.className = 'swatch';
+      swatch.style.background = '#' + (inc.target ? TARGET_COLOUR : INCLUSION_COLOUR).toString(16).padStart(6, '0');
+      row.append(swatch, inc.name + (inc.target ? ' (target)' : ''));
+      $('inclusions').appendChild(row);
+    }
+  }
+
+  function updateInclusions(readouts) {
+    const inclusions = trainer.info.inclusions;
+    if (!readouts || readouts.length !== inclusions.length) return;
+    readouts.forEach((r, i) => placeInclusion(inclusionMeshes[i], inclusions[i], r.centre));
+  }
+
+  // The first target's miss distance: from the tip to its displaced centre, and off the axis.
+  function showTargeting(readouts) {
+    const t = trainer.info.inclusions.findIndex((inc) => inc.target);
+    if (t < 0 || !readouts || !readouts[t]) return;
+    $('miss-label').textContent = 'miss to ' + trainer.info.inclusions[t].name;
+    const mm = (v) => (v === null ? '–' : fmt(v * MM, 2) + ' mm');
+    $('miss').textContent = mm(readouts[t].miss);
+    $('off-axis').textContent = mm(readouts[t].missFromAxis);
   }
 
   function resize() {
@@ -204,7 +293,8 @@
     $('friction').textContent = fmt(s.friction, 3) + ' N';
     $('lateral').textContent = fmt(s.lateral, 3) + ' N';
     $('deflection').textContent = fmt(s.deflection * MM, 3) + ' mm';
-    $('angles').textContent = `${fmt(p.rotation * 180 / Math.PI, 1)}° · ${fmt(p.roll * 180 / Math.PI, 0)}°`;
+    $('rotation').textContent = fmt(p.rotation * DEG, 1) + '°';
+    $('tilt-roll').textContent = `${fmt(p.tilt * DEG, 1)}° · ${fmt(p.roll * DEG, 1)}°`;
     $('rate').textContent = `${fmt(frame.rate, 0)} Hz · step ${fmt(frame.stepCost * 1e6, 0)} µs`;
   }
 
@@ -217,6 +307,8 @@
       showState(frame);
       updateTissue(frame.field);
       updateNeedle(frame.needle);
+      updateInclusions(frame.inclusions);
+      showTargeting(frame.inclusions);
       setTimeout(poll, 15);
     } catch (e) {
       trainer.errors.push(String(e));
@@ -243,7 +335,10 @@
     });
     $('btn-flip').disabled = !c.roll;
     buildTissue(info.surface);
+    buildOutline(info.outline);
+    buildInclusions(info.inclusions, info.outline);
     resize();
+    frameTissue(info.outline);
     draw();
     poll();
   }).catch((e) => { trainer.errors.push(String(e)); $('title').textContent = 'cannot reach the session: ' + e; });
