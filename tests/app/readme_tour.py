@@ -41,7 +41,7 @@ def tour_lines(readme):
     for line in block.splitlines():
         if not line.strip():
             continue
-        command, _, comment = line.partition("  #")
+        command, comment = (re.split(r"\s#\s", line, maxsplit=1) + [""])[:2]
         lines.append((command.strip(), comment.strip()))
     return lines
 
