@@ -50,9 +50,10 @@ def shipped_examples(root):
     return out
 
 
-def check_estimates(binary, root, examples):
-    """{example: estimate text} from one `needlesim check` of them all (nothing runs)."""
-    p = subprocess.run([binary, "check", *examples], cwd=root, capture_output=True, text=True)
+def check_estimates(binary, root, examples, threads):
+    """{example: estimate text} from one `needlesim check` of them all (nothing runs) on `threads`."""
+    env = dict(os.environ, OMP_NUM_THREADS=str(threads))
+    p = subprocess.run([binary, "check", *examples], cwd=root, capture_output=True, text=True, env=env)
     found = {}
     for line in p.stdout.splitlines():
         name, _, rest = line.partition(": ok (")
@@ -122,7 +123,7 @@ def main():
     binary = str(pathlib.Path(args.binary).resolve())
     examples = args.only or shipped_examples(root)
     if not args.only and args.select != "all":
-        est = check_estimates(binary, root, examples)
+        est = check_estimates(binary, root, examples, args.threads)
         quick = lambda e: (estimate_seconds(est.get(e)) or float("inf")) <= args.quick_seconds
         examples = [e for e in examples if quick(e) == (args.select == "quick")]
         if args.most_seconds:

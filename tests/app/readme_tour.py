@@ -7,7 +7,9 @@ so the checkout's results/ is never touched. A line whose comment gives its time
 is a long one: --quick leaves those out (and the lines that read what they wrote); without
 --quick every line runs. Each line must exit 0, but the CalculiX comparison may exit 77 (ccx
 not installed: skipped, as its own test does). A line without a time must take under 30 s of
-CPU time (its processes' rusage; the README marks every command over 30 s).
+CPU time (its processes' rusage; the README marks every command over 30 s). OMP_WAIT_POLICY is
+passive: OpenMP threads that wait sleep rather than spin, so that on a loaded machine the CPU
+time stays the work done.
 
 `serve` lines run with --port 0 (any free port, so that the test never meets another server on
 8080): the page is fetched, a --record session is driven in 1 s and out, and the server is
@@ -15,7 +17,8 @@ stopped through /api/stop (the recording is written then, for the `replay` line 
 The haptic client's line is paired with a server it can talk to: `serve --haptic-port 5700`
 (the port it names) on the built-in default, as its comment says; that server is stopped after.
 
-usage: readme_tour.py SOURCE_DIR BUILD_DIR WORKDIR [--quick]
+usage: readme_tour.py SOURCE_DIR BUILD_DIR WORKDIR [--quick] [--from TEXT]
+(--from: start at the first line that contains TEXT, to rerun the end of the tour by hand)
 """
 import json
 import os
@@ -70,10 +73,10 @@ def post(url, path, body):
     return json.load(urllib.request.urlopen(req, timeout=10))
 
 
-def start_serve(shell_line, work):
+def start_serve(command, bash_b, work):
     """Starts a serve line (with --port 0 added); its process and page URL."""
-    proc = subprocess.Popen(["bash", "-c", "exec " + shell_line + " --port 0"], cwd=work, stdout=subprocess.PIPE,
-                            stderr=subprocess.STDOUT, text=True)
+    proc = subprocess.Popen(["bash", "-c", "%s; exec %s --port 0" % (bash_b, command)], cwd=work,
+                            stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True)
     end = time.time() + 60
     while time.time() < end:
         line = proc.stdout.readline()
@@ -82,7 +85,7 @@ def start_serve(shell_line, work):
         if not line:
             break
     proc.kill()
-    raise AssertionError("no page URL from: " + shell_line)
+    raise AssertionError("no page URL from: " + command)
 
 
 def stop_serve(proc, url):
@@ -91,12 +94,12 @@ def stop_serve(proc, url):
     assert proc.returncode == 0, out[-3000:]
 
 
-def run_serve(shell_line, work):
+def run_serve(command, bash_b, work):
     """A serve line: start, fetch the page, drive a recorded session in and out, stop."""
-    proc, url = start_serve(shell_line, work)
+    proc, url = start_serve(command, bash_b, work)
     page = urllib.request.urlopen(url + "/", timeout=10).read().decode()
     assert "<html" in page.lower(), page[:300]
-    if "--record" in shell_line:
+    if "--record" in command:
         post(url, "/api/drive", {"insert": 1})
         time.sleep(1.0)
         post(url, "/api/drive", {"insert": -1})
@@ -106,7 +109,7 @@ def run_serve(shell_line, work):
 
 def run_haptic_client(shell_line, bash_b, work):
     """The haptic client's line against `serve --haptic-port 5700` of the built-in default."""
-    proc, url = start_serve(bash_b + "; $B serve --haptic-port 5700", work)
+    proc, url = start_serve("$B serve --haptic-port 5700", bash_b, work)
     try:
         p = subprocess.run(["bash", "-c", shell_line], cwd=work, capture_output=True, text=True, timeout=120)
         assert p.returncode == 0, p.stdout[-3000:] + p.stderr[-3000:]
@@ -116,12 +119,16 @@ def run_haptic_client(shell_line, bash_b, work):
 
 def main():
     source, build, work = sys.argv[1:4]
+    os.environ["OMP_WAIT_POLICY"] = "passive"
     quick = "--quick" in sys.argv[4:]
     prepare(source, build, work)
     lines = tour_lines(os.path.join(source, "README.md"))
     assert lines[0][0].startswith("B="), lines[0]
     bash_b = lines[0][0]
     skipped_outputs = []
+    if "--from" in sys.argv:
+        start = sys.argv[sys.argv.index("--from") + 1]
+        lines = lines[:1] + lines[next(i for i, (c, _) in enumerate(lines) if i and start in c):]
     total = time.monotonic()
     for command, comment in lines[1:]:
         seconds = marked_seconds(comment)
@@ -137,7 +144,7 @@ def main():
         t0 = time.monotonic()
         cpu0 = children_cpu()
         if re.search(r"\$B serve\b", command):
-            run_serve(shell_line, work)
+            run_serve(command, bash_b, work)
         elif "haptic_client.py" in command:
             run_haptic_client(command, bash_b, work)
         else:

@@ -70,15 +70,16 @@ inline constexpr double kExplicitSetupPerElement = 1.0e-5;
 // kMpmGrowth times the first step's count, plus, for a strain-stiffening (Fung) tissue,
 // k x (travel / h) x (diameter / h) (h the grid spacing): k = kMpmGrowthPloughing where the
 // needle pushes the tissue aside (a conical tip, or parting: none), kMpmGrowthParting where a
-// bevel parts it along its cut. A sliding inclusion's pair contact shortens the steps
-// kMpmGrowthSliding times more. Measured: neo-Hookean tissues 1.06-1.26 times the first step's
-// count, Fung 1.1-5.7 (seed000_fracture_onset, conical, 16 mm at 0.8 mm), and 2.9 with the
-// sliding tumour of tumour_target (the one example with a sliding interface).
+// bevel parts it along its cut. A sliding inclusion's pair contact (shorter steps, and the pair
+// search each step) costs kMpmSliding times more. Measured: neo-Hookean tissues 1.06-1.26 times
+// the first step's count, Fung 1.1-5.7 (seed000_fracture_onset, conical, 16 mm at 0.8 mm); the
+// sliding tumour of tumour_target (the one example with a sliding interface): 2.9 times the
+// first step's count at 1.5 times the cost per point-step of the others.
 inline constexpr double kMpmPoint = 1.2e-7;
 inline constexpr double kMpmSetupPerPoint = 2.0e-6;
 inline constexpr double kMpmGrowth = 1.15;
 inline constexpr double kMpmGrowthPloughing = 0.2;
 inline constexpr double kMpmGrowthParting = 0.04;
-inline constexpr double kMpmGrowthSliding = 2.0;
+inline constexpr double kMpmSliding = 2.2;
 
 }  // namespace needlesim::run_cost

@@ -188,7 +188,8 @@ double materialPoints(const Scenario& sc, const MpmSetup& s) {
 }
 
 // The steps a run takes per step of the first step's count (run_cost.hpp): a strain-stiffening
-// tissue the needle compresses, and a sliding inclusion's contact, shorten eq 26's step.
+// tissue the needle compresses shortens eq 26's step; a sliding inclusion's pair contact shortens
+// it and adds its pair search.
 double mpmStepGrowth(const Scenario& sc, const MpmSetup& s) {
   using namespace run_cost;
   double growth = kMpmGrowth;
@@ -201,7 +202,7 @@ double mpmStepGrowth(const Scenario& sc, const MpmSetup& s) {
     growth += (parts ? kMpmGrowthParting : kMpmGrowthPloughing) * cells;
   }
   const auto& inc = sc.tissue.inclusions;
-  if (std::any_of(inc.begin(), inc.end(), [](const InclusionSpec& i) { return i.sliding; })) growth *= kMpmGrowthSliding;
+  if (std::any_of(inc.begin(), inc.end(), [](const InclusionSpec& i) { return i.sliding; })) growth *= kMpmSliding;
   return growth;
 }
 
