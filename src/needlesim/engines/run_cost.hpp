@@ -15,7 +15,7 @@
 namespace needlesim::run_cost {
 
 // Every run: start the program, read the scenario, write summary.json, tables and report.html.
-inline constexpr double kRunSeconds = 0.1;
+inline constexpr double kRunSeconds = 0.12;
 
 // The speed-up of `threads` threads over one: each added thread gives kParallelEfficiency of a
 // thread (docs/performance.md "MPM thread scaling": 76-106 % at 2 threads, 57-68 % at 8).
@@ -23,7 +23,7 @@ inline constexpr double kParallelEfficiency = 0.8;
 inline double speedUp(int threads) { return 1.0 + kParallelEfficiency * std::max(0, threads - 1); }
 
 // lumped: a force evaluation and a row of the tables per step.
-inline constexpr double kLumpedStep = 2.0e-6;
+inline constexpr double kLumpedStep = 1.5e-6;
 
 // realtime2d / realtime3d (docs/performance.md "Real-time 2D FE", "Real-time 3D FE"). The modal
 // back-end (model.<engine>.solver auto: up to 2600 free DOFs) sets up by a dense
