@@ -99,7 +99,7 @@ TEST(StepGuardCli, NearlyIncompressibleQuickMpmIsRefusedFastWithItsEstimate) {
   std::string f = edited("mpm/quick_needle_block.yaml", "nu: 0.475", "nu: 0.4999999", "mpm_nu.yaml");
   auto check = runCli("check " + f);  // within the default budget of 1e6 steps: accepted, with its estimate
   EXPECT_EQ(check.code, 0) << check.out;
-  expectHas(check.out, {"estimate: at least 1.6e+05 steps x 2304 points, about 2 min"});
+  expectHas(check.out, {"estimate: at least 1.6e+05 steps x 2304 points, about "});
   f = edited("mpm/quick_needle_block.yaml", "nu: 0.475", "nu: 0.4999999", "mpm_nu_budget.yaml");
   std::ofstream(f, std::ios::app) << "  max_steps: 1e5\n";  // the last section is output:
   const auto t0 = std::chrono::steady_clock::now();
@@ -107,15 +107,15 @@ TEST(StepGuardCli, NearlyIncompressibleQuickMpmIsRefusedFastWithItsEstimate) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_LT(seconds, 2.0);
-  expectHas(r.out, {"output.max_steps", "'100000'", "at least 1.6e+05 steps x 2304 points, about 2 min",
+  expectHas(r.out, {"output.max_steps", "'100000'", "at least 1.6e+05 steps x 2304 points, about ",
                     "output.max_steps of at least 1.7e+05", "nu further from 0.5", "mass_scaling"});
 }
 
 TEST(StepGuardCli, ANormalRunPrintsItsEstimateAndRuns) {
   auto r = runCli("run " + example("mpm/quick_needle_block.yaml") + " --out " + scratch("quick").string());
   EXPECT_EQ(r.code, 0) << r.out;
-  expectHas(r.out, {"estimate: at least 391 steps x 2304 points, about 1 s", "peak_force"});
+  expectHas(r.out, {"estimate: at least 391 steps x 2304 points, about ", "peak_force"});
   auto check = runCli("check " + example("gelatin_18G_3mms.yaml"));
   EXPECT_EQ(check.code, 0) << check.out;
-  expectHas(check.out, {"estimate: 53334 steps"});
+  expectHas(check.out, {"estimate: 53334 steps, about "});
 }

@@ -3,6 +3,7 @@
 // the budget, and the zero-force warning.
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -10,6 +11,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/engines/run_cost.hpp"
 #include "needlesim/engines/step_guard.hpp"
 #include "needlesim/scenario/reader.hpp"
 
@@ -104,9 +106,40 @@ TEST(StepGuard, EveryEngineHasAPreflight) {
 }
 
 TEST(StepGuard, EstimateText) {
-  EXPECT_EQ((StepEstimate{391, true, 2304, "points", 0.3}).text(), "at least 391 steps x 2304 points, about 1 s");
+  EXPECT_EQ((StepEstimate{391, true, 2304, "points", 0.34}).text(), "at least 391 steps x 2304 points, about 0.34 s");
   EXPECT_EQ((StepEstimate{1.2e6, false, 0, "", 2400}).text(), "1.2e+06 steps, about 40 min");
+  EXPECT_EQ((StepEstimate{1e6, false, 0, "", 150}).text(), "1e+06 steps, about 2.5 min");
   EXPECT_EQ((StepEstimate{1, false, 0, "", NAN}).text(), "1 step");
+}
+
+// The time: the run's fixed cost, the set-up, then the steps (grown where adaptive) at their
+// per-step and per-update costs, shared by the threads (run_cost.hpp).
+TEST(StepGuard, EstimateSecondsFromThePlansCosts) {
+  const Scenario sc = scenario::defaultScenario();  // lumped, 1 ms steps
+  StepPlan p = fixedStepPlan(sc, "test");
+  p.spacing = 1.0;
+  const double steps = guardSteps(sc, p).steps;
+  EXPECT_TRUE(std::isnan(guardSteps(sc, p).seconds));  // no cost known: steps only
+  p.setupSeconds = 2.0;
+  p.secondsPerStep = 1e-4;
+  p.updatesPerStep = 100;
+  p.secondsPerUpdate = 1e-6;
+  p.stepGrowth = 1.5;
+  p.threads = 3;
+  EXPECT_DOUBLE_EQ(guardSteps(sc, p).seconds,
+                   run_cost::kRunSeconds + 2.0 + steps * 1.5 * (1e-4 + 100 * 1e-6) / (1.0 + 2 * run_cost::kParallelEfficiency));
+}
+
+// Every engine's plan gives a time; mpm counts the points its filling rule keeps (the imported
+// gland: the lattice points inside the mesh, not the block's), and its steps grow on a
+// strain-stiffening tissue.
+TEST(StepGuard, EveryExampleEngineEstimatesItsTime) {
+  for (const char* f : {"gelatin_18G_3mms.yaml", "realtime2d/thesis_gelatin_18G_3mms.yaml", "realtime3d/quick_block.yaml",
+                        "steering/flip_s_curve.yaml", "explicit/deformable_needle_2d.yaml", "mpm/quick_needle_block.yaml"})
+    EXPECT_TRUE(std::isfinite(preflight(scenario::readText(exampleText(f), f)).seconds)) << f;
+  const StepEstimate gland = preflight(scenario::readFile(std::string(NEEDLESIM_SOURCE_DIR) +
+                                                          "/examples/anatomy/prostate_tumour_mpm.yaml"));
+  EXPECT_EQ(gland.updatesPerStep, 44223.0);  // as the run reports (results: particles)
 }
 
 TEST(StepGuard, ZeroForceWithTheTipInsideIsAWarning) {

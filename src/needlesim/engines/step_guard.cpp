@@ -8,6 +8,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/engine.hpp"
+#include "needlesim/engines/run_cost.hpp"
 
 namespace needlesim {
 
@@ -23,11 +24,12 @@ std::string millimetres(double m) { return fmt::format("{:.3g} mm", m * 1e3); }
 
 std::string speed(double v) { return v >= 1.0 ? fmt::format("{:.3g} m/s", v) : fmt::format("{:.3g} mm/s", v * 1e3); }
 
+// Two significant digits: the estimate holds within a factor 1.5 at best (run_cost.hpp).
 std::string wallTime(double s) {
-  if (s < 90.0) return fmt::format("{:.0f} s", std::max(s, 1.0));
-  if (s < 90.0 * 60.0) return fmt::format("{:.0f} min", s / 60.0);
-  if (s < 48.0 * 3600.0) return fmt::format("{:.1f} h", s / 3600.0);
-  return fmt::format("{:.1f} days", s / 86400.0);
+  if (s < 90.0) return fmt::format("{:.2g} s", s);
+  if (s < 90.0 * 60.0) return fmt::format("{:.2g} min", s / 60.0);
+  if (s < 48.0 * 3600.0) return fmt::format("{:.2g} h", s / 3600.0);
+  return fmt::format("{:.2g} days", s / 86400.0);
 }
 
 std::string count(double n) {
@@ -148,8 +150,10 @@ StepEstimate estimate(const Scenario& sc, const StepPlan& plan) {
   e.steps = plan.dt > 0.0 ? std::ceil(sc.totalDuration() / plan.dt - 1e-9) : plan.steps;
   e.updatesPerStep = plan.updatesPerStep;
   e.updates = plan.updates;
-  if (plan.updatesPerStep > 0.0 && plan.updatesPerSecond > 0.0)
-    e.seconds = e.steps * plan.updatesPerStep / plan.updatesPerSecond;
+  const double perStep = plan.secondsPerStep + plan.updatesPerStep * plan.secondsPerUpdate;
+  if (perStep > 0.0)
+    e.seconds = run_cost::kRunSeconds + plan.setupSeconds +
+                e.steps * plan.stepGrowth * perStep / run_cost::speedUp(plan.threads);
   return e;
 }
 

@@ -38,11 +38,18 @@ struct StepPlan {
   std::string spacingName;       // "the grid spacing (model.mpm.grid_spacing)"
   // Depth-stepping engines: their step count.
   double steps = 0.0;
-  // Cost per step for a wall-time estimate: updates (points, elements) per step
-  // and per second of wall time; either 0 = steps only.
+  // Cost for a time estimate (the constants: engines/run_cost.hpp): updates (points,
+  // elements, nodes) per step; CPU seconds of one update and of the rest of a step on one
+  // thread; the set-up before the first step; the threads that share the steps.
   double updatesPerStep = 0.0;
-  double updatesPerSecond = 0.0;
   std::string updates;           // "points", "elements"
+  double secondsPerUpdate = 0.0;
+  double secondsPerStep = 0.0;
+  double setupSeconds = 0.0;
+  int threads = 1;
+  // Adaptive steps: the steps the time assumes per step of the first step's count (the step
+  // shrinks as the tissue stiffens; run_cost.hpp).
+  double stepGrowth = 1.0;
 };
 
 // The cost of a run estimated before its first step.
@@ -51,8 +58,8 @@ struct StepEstimate {
   bool atLeast = false;  // a lower bound (StepPlan::adaptive)
   double updatesPerStep = 0.0;
   std::string updates;
-  double seconds = NAN;  // wall time; NaN where no per-step cost is known
-  // "1.6e+05 steps x 2,304 points, about 2 min"
+  double seconds = NAN;  // wall time on an otherwise idle machine; NaN where no cost is known
+  // "at least 391 steps x 2304 points, about 0.9 s"
   std::string text() const;
 };
 

@@ -10,6 +10,7 @@
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/engines/explicit/explicit_run.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
+#include "needlesim/engines/run_cost.hpp"
 
 #ifdef _OPENMP
 #include <omp.h>
@@ -86,6 +87,19 @@ void ExplicitRun::run(const RunOptions& options) {
   finish("completed");
 }
 
+namespace {
+// The threads that share the element loops: model.explicit.threads, else OpenMP's default;
+// one below 4,000 elements, where the loops run serially (solver.cpp, kParallelMin).
+int explicitThreads([[maybe_unused]] const Scenario& sc, int elements) {
+  if (elements < 4000) return 1;
+#ifdef _OPENMP
+  return sc.model.explicit_fe.threads > 0 ? sc.model.explicit_fe.threads : omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+}  // namespace
+
 StepPlan ExplicitRun::stepPlan() const {
   StepPlan p;
   p.engine = "explicit";
@@ -101,10 +115,13 @@ StepPlan ExplicitRun::stepPlan() const {
   p.spacing = solver_->minElementSize();
   p.spacingName = "the smallest element (model.explicit.element_size)";
   p.updatesPerStep = solver_->mesh().elements();
-  // docs/performance.md: the seed 001 blocks run 0.5-1.4 M element updates per second of wall time
-  // (2,300-51,000 hex8, one or two threads, loaded machine).
-  p.updatesPerSecond = 1e6;
   p.updates = "elements";
+  const ElementType type = solver_->mesh().type;
+  p.secondsPerUpdate = type == ElementType::Hex8   ? run_cost::kExplicitHex8Element
+                       : type == ElementType::Tet4 ? run_cost::kExplicitTet4Element
+                                                   : run_cost::kExplicitPlaneElement;
+  p.setupSeconds = run_cost::kExplicitSetupPerElement * p.updatesPerStep;
+  p.threads = explicitThreads(sc_, solver_->mesh().elements());
   return p;
 }
 

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/run_cost.hpp"
 #include "needlesim/forces/lumped_model.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
@@ -21,6 +22,7 @@ StepPlan lumpedStepPlan(const Scenario& sc) {
   p.spacing = sc.tissue.layers.front().thickness;
   for (const auto& L : sc.tissue.layers) p.spacing = std::min(p.spacing, L.thickness);
   p.spacingName = "the thinnest layer";
+  p.secondsPerStep = run_cost::kLumpedStep;
   return p;
 }
 

@@ -8,8 +8,13 @@
 #include <algorithm>
 #include <cmath>
 
+#ifdef _OPENMP
+#include <omp.h>
+#endif
+
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/mpm/geometry_fill.hpp"
+#include "needlesim/engines/run_cost.hpp"
 #include "needlesim/mesh/volume_mesh.hpp"
 #include "needlesim/tissue/regions.hpp"
 
@@ -163,6 +168,54 @@ MpmSetup mpmSetup(const Scenario& sc) {
   return s;
 }
 
+namespace {
+// The material points addTissue makes: each layer's block lattice, or the lattice of the
+// block kept inside an imported geometry.
+double materialPoints(const Scenario& sc, const MpmSetup& s) {
+  const TissueSpec& t = sc.tissue;
+  const double dp = sc.model.mpm.particle_spacing;
+  if (t.geometry) {
+    const std::vector<int> material =
+        latticeRegions(*t.geometry, Lattice(Vec3::Zero(), Vec3(t.length, t.width, t.height), dp), s.shift);
+    return static_cast<double>(std::count_if(material.begin(), material.end(), [](int m) { return m >= 0; }));
+  }
+  double n = 0.0, x = 0.0;
+  for (const auto& layer : t.layers) {
+    n += static_cast<double>(Lattice(Vec3(x, 0, 0), Vec3(x + layer.thickness, t.width, t.height), dp).size());
+    x += layer.thickness;
+  }
+  return n;
+}
+
+// The steps a run takes per step of the first step's count (run_cost.hpp): a strain-stiffening
+// tissue the needle compresses shortens eq 26's step; a sliding inclusion's pair contact shortens
+// it and adds its pair search.
+double mpmStepGrowth(const Scenario& sc, const MpmSetup& s) {
+  using namespace run_cost;
+  double growth = kMpmGrowth;
+  const bool stiffens = std::any_of(s.materials.begin(), s.materials.end(),
+                                    [](const MpmMaterial& m) { return m.law.kind == materials::LawKind::Fung; });
+  if (stiffens) {
+    const bool parts = sc.needle.tip == TipType::Bevel && sc.model.mpm.parting != "none";
+    const double h = s.config.h;
+    const double cells = std::max(0.0, sc.maxDepth() - sc.insertion.start_depth) / h * sc.needle.outer_diameter / h;
+    growth += (parts ? kMpmGrowthParting : kMpmGrowthPloughing) * cells;
+  }
+  const auto& inc = sc.tissue.inclusions;
+  if (std::any_of(inc.begin(), inc.end(), [](const InclusionSpec& i) { return i.sliding; })) growth *= kMpmSliding;
+  return growth;
+}
+
+// The threads of the point loops (mpm_solver.cpp): model.mpm.threads, else OpenMP's default.
+int mpmThreads(const MpmSetup& s) {
+#ifdef _OPENMP
+  return s.config.threads > 0 ? s.config.threads : omp_get_max_threads();
+#else
+  return 1;
+#endif
+}
+}  // namespace
+
 // The needle is rigid and moves at the prescribed speed whatever the step: it
 // meets the tissue at grid nodes, so a step must not carry it across a cell.
 StepPlan mpmStepPlan(const Scenario& sc) {
@@ -188,11 +241,14 @@ StepPlan mpmStepPlan(const Scenario& sc) {
                  "speed, and so the step count, grows as 1/sqrt(1 - 2 nu))";
   p.spacing = s.config.h;
   p.spacingName = "the grid spacing (model.mpm.grid_spacing)";
-  p.updatesPerStep = sc.tissue.length * sc.tissue.width * sc.tissue.height / std::pow(m.particle_spacing, 3);
-  // docs/performance.md: examples/mpm/local_model.yaml runs 20,751 steps x 46,875 points in 232 s on two
-  // threads (4.2 M point-steps per second); the 2,304 points of quick_needle_block.yaml run at about half that.
-  p.updatesPerSecond = 3e6;
+  p.updatesPerStep = materialPoints(sc, s);
   p.updates = "points";
+  if (!m.cuda) {  // run_cost.hpp holds the CPU's costs; a GPU run gets the step count alone
+    p.secondsPerUpdate = run_cost::kMpmPoint;
+    p.setupSeconds = run_cost::kMpmSetupPerPoint * p.updatesPerStep;
+    p.stepGrowth = mpmStepGrowth(sc, s);
+    p.threads = mpmThreads(s);
+  }
   return p;
 }
 

@@ -12,9 +12,11 @@
 #include "needlesim/engines/realtime/run_report.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
 #include "needlesim/engines/realtime2d/imported_mesh.hpp"
+#include "needlesim/engines/run_cost.hpp"
 #include "needlesim/engines/step_guard.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/io/field_series.hpp"
+#include "needlesim/mesh/volume_mesh.hpp"
 #include "needlesim/results/forces_table.hpp"
 #include "needlesim/results/inclusion_motion.hpp"
 #include "needlesim/results/layer_boundaries.hpp"
@@ -343,13 +345,20 @@ class Realtime2dRun {
 StepPlan realtime2dStepPlan(const Scenario& sc) {
   const SessionConfig cfg = realtime2dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
   const auto& g = sc.tissue.geometry;
-  if (!g) return realtimeStepPlan(sc, "realtime2d", sc.model.realtime2d.nodes_depth);
+  const auto& m = sc.model.realtime2d;
+  if (!g) {  // the block: its far face and sides held (run_cost.hpp)
+    StepPlan p = realtimeStepPlan(sc, "realtime2d", m.nodes_depth);
+    run_cost::costRealtime(p, m.solver, 2, m.nodes_depth * m.nodes_lateral,
+                           2.0 * (m.nodes_depth - 1) * (m.nodes_lateral - 2));
+    return p;
+  }
   // An imported mesh: the closest two path nodes (imported_mesh.hpp).
   const auto path = importedPath(*g, sc.tissue.width, cfg.frame.entry.head<2>(), cfg.frame.axial.head<2>());
   StepPlan p = fixedStepPlan(sc, "realtime2d");
   p.spacing = sc.tissue.length;
   for (std::size_t i = 1; i < path.size(); ++i) p.spacing = std::min(p.spacing, path[i].s - path[i - 1].s);
   p.spacingName = "the closest path nodes of the imported mesh (" + g->file + ")";
+  run_cost::costRealtime(p, m.solver, 2, g->mesh->nodes(), 2.0 * g->mesh->nodes());
   return p;
 }
 

@@ -12,6 +12,7 @@
 #include "needlesim/engines/realtime/markers.hpp"
 #include "needlesim/engines/realtime/run_report.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
+#include "needlesim/engines/run_cost.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/io/field_series.hpp"
 #include "needlesim/results/forces_table.hpp"
@@ -287,7 +288,12 @@ class Realtime3dRun {
 // a step must not carry the tip past them.
 StepPlan realtime3dStepPlan(const Scenario& sc) {
   realtime3dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
-  return realtimeStepPlan(sc, "realtime3d", sc.model.realtime3d.nodes_depth);
+  const auto& m = sc.model.realtime3d;
+  StepPlan p = realtimeStepPlan(sc, "realtime3d", m.nodes_depth);
+  // the block: its far face and four sides held (run_cost.hpp)
+  run_cost::costRealtime(p, m.solver, 3, double(m.nodes_depth) * m.nodes_lateral * m.nodes_height,
+                         3.0 * (m.nodes_depth - 1) * (m.nodes_lateral - 2) * (m.nodes_height - 2));
+  return p;
 }
 
 void runRealtime3d(const Scenario& sc, ResultSink& sink, const RunOptions& options) {

@@ -10,6 +10,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
+#include "needlesim/engines/run_cost.hpp"
 #include "needlesim/engines/steering/beam_foundation.hpp"
 #include "needlesim/engines/steering/curvature_fit.hpp"
 #include "needlesim/engines/steering/energy_model.hpp"
@@ -443,6 +444,7 @@ StepPlan steeringStepPlan(const Scenario& sc) {
   StepPlan p;
   p.engine = sc.model.engine;
   p.fewerSteps = "a larger model.steering.increment";
+  p.secondsPerStep = run_cost::kSteeringStep;
   for (const Control& c : in.plan)
     p.steps += std::ceil(c.length / sc.model.steering.increment) + (c.duty_cycle > 0 ? 2.0 * c.length / c.cycle_length : 0.0);
   return p;

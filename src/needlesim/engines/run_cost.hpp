@@ -1,0 +1,85 @@
+#pragma once
+// The constants of the run-time estimate (engines/step_guard.hpp), in one place for every
+// engine: the CPU seconds of a step on one thread from what it updates, of the set-up, and the
+// threads' speed-up. Measured with scripts/example_times.py (one thread; CPU time = user + sys
+// of the whole `needlesim run`, results folder included) on the shipped examples, then fitted
+// per engine, never per example; docs/performance.md "Run-time estimates" gives the table, the
+// command and the machine. Every example lands within a factor 1.5 (the test
+// Estimates.QuickExamplesWithinAFactor1p5 and its long variant).
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+#include "needlesim/engines/step_guard.hpp"
+
+namespace needlesim::run_cost {
+
+// Every run: start the program, read the scenario, write summary.json, tables and report.html.
+inline constexpr double kRunSeconds = 0.12;
+
+// The speed-up of `threads` threads over one: each added thread gives kParallelEfficiency of a
+// thread (docs/performance.md "MPM thread scaling": 76-106 % at 2 threads, 57-68 % at 8).
+inline constexpr double kParallelEfficiency = 0.8;
+inline double speedUp(int threads) { return 1.0 + kParallelEfficiency * std::max(0, threads - 1); }
+
+// lumped: a force evaluation and a row of the tables per step.
+inline constexpr double kLumpedStep = 1.5e-6;
+
+// realtime2d / realtime3d (docs/performance.md "Real-time 2D FE", "Real-time 3D FE"). The modal
+// back-end (model.<engine>.solver auto: up to 2600 free DOFs) sets up by a dense
+// eigendecomposition, ~ DOFs^3, and steps in every mode, ~ DOFs; the reduced one sets up by a
+// sparse Cholesky and Lanczos, ~ nodes (2D) or nodes^1.22 (3D: 10.5k and 25k-node blocks), and
+// steps on the path nodes alone.
+inline constexpr double kModalSetupPerDof3 = 8.2e-10;
+inline constexpr double kModalStepPerDof2d = 5.7e-8;
+inline constexpr double kModalStepPerDof3d = 1.33e-7;
+inline constexpr int kModalMaxDofs = 2600;  // realtime/tissue_dynamics.hpp modal_max_dofs
+inline constexpr double kReducedSetupPerNode2d = 1.1e-4;
+inline constexpr double kReducedSetupPerNode3d = 4.3e-5;  // s, times nodes^kReducedSetupPower3d
+inline constexpr double kReducedSetupPower3d = 1.22;
+inline constexpr double kReducedStep2d = 2.0e-5;
+inline constexpr double kReducedStep3d = 6.0e-5;
+inline constexpr double kDirectStepPerNode = 4.5e-7;  // the sparse LDLT solve, 4.5 ms at 10k nodes
+
+// A real-time engine's plan costed for `solver` (auto, direct, modal, reduced) on a mesh of
+// `nodes` with `freeDofs` free DOFs in `dim` dimensions.
+inline void costRealtime(StepPlan& p, const std::string& solver, int dim, double nodes, double freeDofs) {
+  const bool modal = solver == "modal" || (solver == "auto" && freeDofs <= kModalMaxDofs);
+  if (modal) {
+    p.setupSeconds = kModalSetupPerDof3 * freeDofs * freeDofs * freeDofs;
+    p.secondsPerStep = (dim == 2 ? kModalStepPerDof2d : kModalStepPerDof3d) * freeDofs;
+    return;
+  }
+  p.setupSeconds = dim == 2 ? kReducedSetupPerNode2d * nodes
+                            : kReducedSetupPerNode3d * std::pow(nodes, kReducedSetupPower3d);
+  p.secondsPerStep = solver == "direct" ? kDirectStepPerNode * nodes : dim == 2 ? kReducedStep2d : kReducedStep3d;
+}
+
+// kinematic, energy, beam-foundation: one increment of the needle's path.
+inline constexpr double kSteeringStep = 2.0e-5;
+
+// explicit: one element's internal force per step, by element (plane quad4/tri3, hex8, tet4),
+// and the set-up (mesh, masses, cohesive surfaces) per element.
+inline constexpr double kExplicitPlaneElement = 1.6e-7;
+inline constexpr double kExplicitHex8Element = 3.1e-7;
+inline constexpr double kExplicitTet4Element = 1.25e-7;
+inline constexpr double kExplicitSetupPerElement = 1.0e-5;
+
+// mpm: one material point per step (scatter, grid update, gather, stress) and its set-up and
+// field output. Eq 26's step shrinks as the tissue the needle compresses stiffens: a run takes
+// kMpmGrowth times the first step's count, plus, for a strain-stiffening (Fung) tissue,
+// k x (travel / h) x (diameter / h) (h the grid spacing): k = kMpmGrowthPloughing where the
+// needle pushes the tissue aside (a conical tip, or parting: none), kMpmGrowthParting where a
+// bevel parts it along its cut. A sliding inclusion's pair contact (shorter steps, and the pair
+// search each step) costs kMpmSliding times more. Measured: neo-Hookean tissues 1.06-1.26 times
+// the first step's count, Fung 1.1-5.7 (seed000_fracture_onset, conical, 16 mm at 0.8 mm); the
+// sliding tumour of tumour_target (the one example with a sliding interface): 2.9 times the
+// first step's count at 1.5 times the cost per point-step of the others.
+inline constexpr double kMpmPoint = 1.2e-7;
+inline constexpr double kMpmSetupPerPoint = 2.0e-6;
+inline constexpr double kMpmGrowth = 1.15;
+inline constexpr double kMpmGrowthPloughing = 0.2;
+inline constexpr double kMpmGrowthParting = 0.04;
+inline constexpr double kMpmSliding = 2.2;
+
+}  // namespace needlesim::run_cost
