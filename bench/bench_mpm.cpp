@@ -89,7 +89,7 @@ void BM_MpmNeedle(benchmark::State& st) {
 // between them, mu 0.3: the default penalty contact of penalty_contact.hpp;
 // the velocity contact of eqs 14-21 before it) pressed together while
 // sliding: 2 x 25,600 = 51,200 points.
-MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads, BodyContact law = MpmConfig{}.bodyContact) {
+MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads) {
   const double h = 0.8e-3, dp = 0.4e-3, a = 16e-3, b = 6.4e-3;
   MpmConfig cfg;
   cfg.h = h;
@@ -98,7 +98,6 @@ MpmSolver makeTwoBlockProblem(Shape shape, Update update, int threads, BodyConta
   cfg.threads = threads;
   cfg.bodies = 2;
   cfg.friction = 0.3;
-  cfg.bodyContact = law;
   cfg.origin = Vec3(-4 * h, -4 * h, -4 * h);
   cfg.cells = {static_cast<int>(2 * b / h) + 12, static_cast<int>(a / h) + 8, static_cast<int>(a / h) + 8};
   cfg.massScaling = 1e4;
@@ -195,7 +194,7 @@ bool attachCuda(Device& device, bool twoBlocks) {
   return true;
 }
 
-// `bench_mpm --steps N [--linear] [--usl] [--two-blocks [--density] | --large] [--threads T]
+// `bench_mpm --steps N [--linear] [--usl] [--two-blocks | --large] [--threads T]
 // [--scale S] [--device cuda [--kernel naive]] [--phases]`: N
 // steps of the problem (1 thread unless told) without the benchmark harness, for instruction
 // counts under `valgrind --tool=callgrind` (--separate-threads=yes: the work of each thread)
@@ -210,7 +209,6 @@ int main(int argc, char** argv) {
   Shape shape = Shape::BSpline2;
   Update update = Update::MUSL;
   bool twoBlocks = false, large = false;
-  BodyContact law = MpmConfig{}.bodyContact;
   int threads = 1;
   double scale = 1.0;
   Device device;
@@ -223,7 +221,6 @@ int main(int argc, char** argv) {
     if (a == "--usl") update = Update::USL;
     if (a == "--two-blocks") twoBlocks = true;
     if (a == "--large") large = true;
-    if (a == "--density") law = BodyContact::Density;  // two blocks with the density contact (density_contact.hpp)
     if (a == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
     if (a == "--scale" && i + 1 < argc) scale = std::atof(argv[++i]);
     if (a == "--device" && i + 1 < argc) cuda = std::string(argv[++i]) == "cuda";
@@ -232,7 +229,7 @@ int main(int argc, char** argv) {
   }
   if (cuda && !attachCuda(device, twoBlocks)) return 2;
   if (steps >= 0) {
-    MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads, law)
+    MpmSolver s = twoBlocks ? makeTwoBlockProblem(shape, update, threads)
                   : large   ? makeNeedleProblem(shape, update, threads, Vec3(28e-3, 48e-3, 48e-3), 5, device)
                             : makeNeedleProblem(shape, update, threads, scale * Vec3(22e-3, 12e-3, 12e-3), 20,
                                                 device);

@@ -288,14 +288,13 @@ void roundTrip(const std::function<MpmSolver()>& make, int k, int n, const std::
 // 30 (1 ms). On two threads the scatter order (sorted by grid block, the
 // blocks by colour) is not the creation order (body by body, x-major): a lost
 // block order shows.
-MpmSolver twoBlocks(int threads, BodyContact law = BodyContact::Penalty) {
+MpmSolver twoBlocks(int threads) {
   MpmConfig cfg;
   cfg.h = 1e-3;
   cfg.origin = Vec3(-3e-3, -3e-3, -3e-3);
   cfg.cells = {15, 16, 10};
   cfg.bodies = 2;
   cfg.friction = 0.3;
-  cfg.bodyContact = law;
   cfg.threads = threads;
   MpmSolver s(cfg);
   s.addMaterial(test::linearMaterial(1e5, 0.3, 1000));
@@ -343,12 +342,6 @@ TEST(MpmCheckpoint, SolverStateRoundTripTwoBodyPenalty) {
 
 TEST(MpmCheckpoint, SolverStateRoundTripTwoBodyPenaltyTwoThreads) {
   roundTrip([] { return twoBlocks(2); }, 45, 20);
-}
-
-// The density contact (density_contact.hpp): its set-up (thresholds) comes
-// from finalize, its step limit from the saved tally.
-TEST(MpmCheckpoint, SolverStateRoundTripTwoBodyDensity) {
-  roundTrip([] { return twoBlocks(2, BodyContact::Density); }, 45, 20);
 }
 
 TEST(MpmCheckpoint, SolverStateRoundTripRigidNeedle) {

@@ -1,7 +1,7 @@
 // Penalty contact of two deformable bodies on CURVED surfaces: two identical
 // elastic spheres colliding head-on (the classic MPM test of Sulsky, Chen &
-// Schreyer 1994, here in 3D with the default MpmConfig::bodyContact =
-// Penalty, src/needlesim/engines/mpm/penalty_contact.*). The flat-face
+// Schreyer 1994, here in 3D with the pair penalty,
+// src/needlesim/engines/mpm/penalty_contact.*). The flat-face
 // collision of two blocks is tests/mpm/test_mpm_penalty_contact.cpp; this one
 // checks energy, momentum, restitution and the contact duration against
 // Hertz's closed form. docs/validation/mpm.md, "Two spheres (curved surfaces)".
@@ -49,7 +49,6 @@ struct SphereRun {
   double kappa = -1;   // penaltyFactor (< 0: the default, 0.2)
   double mu = 0.0;     // Coulomb coefficient between the spheres
   double R = 5e-3;     // sphere radius, m
-  BodyContact contact = MpmConfig{}.bodyContact;  // the default (pair penalty)
 };
 
 // Two spheres (points h/2 = 0.5 mm, 4,224 each for R = 5 mm) 1 mm apart
@@ -68,7 +67,6 @@ SphereImpact collideSpheres(const SphereRun& u) {
   cfg.cells = {2 * nx, 2 * ny, 2 * ny};
   cfg.bodies = 2;
   cfg.friction = u.mu;
-  cfg.bodyContact = u.contact;
   if (u.kappa > 0) cfg.penaltyFactor = u.kappa;
   cfg.threads = 1;
   MpmSolver s(cfg);
@@ -213,30 +211,20 @@ TEST(MpmPenaltySpheres, DefaultPenaltyHoldsAMildImpact) {
 // p0 d_p / (kappa M) = d_p, i.e. the points would pass through each other
 // (measured before the barrier: overlap 0.50 h = d_p, drift 17.9 %,
 // restitution 0.26, two contact intervals). The barrier beyond 0.3 d must stop
-// them, with the energy target and an elastic rebound, for both laws:
-// - pair penalty: the barrier acts on each pair's distance, so the deepest
-//   pair stays within half a spacing, d_p / 2 = 0.25 h. Measured: overlap
-//   0.226 h, drift 1.02 %, e 0.871, contact 0.901 of Hertz's 4.47 ms;
-// - density law (option): the barrier acts on the smoothed overlap delta =
-//   (phi - phi*) / s, which a lattice pressed flat reaches at about the same
-//   pair overlap (delta = 1.17 x the pair overlap at a whole spacing, H = 3
-//   d_p), but at a curved contact the deepest single pair (the pole) goes
-//   deeper than the smoothed face: measured 0.318 h = 0.64 d_p (drift 1.25 %,
-//   e 0.865, contact 0.908 of Hertz's). Passing through is an overlap of d_p
-//   = 0.5 h; 0.4 h (0.8 d_p, the mild impact's bound) tells the two apart.
+// them, with the energy target and an elastic rebound: the barrier acts on
+// each pair's distance, so the deepest pair stays within half a spacing,
+// d_p / 2 = 0.25 h. Measured: overlap 0.226 h, drift 1.02 %, e 0.871,
+// contact 0.901 of Hertz's 4.47 ms.
 // docs/validation/mpm.md, section 5.
 TEST(MpmPenaltySpheres, DefaultPenaltyStopsTheIssueImpact) {
-  for (BodyContact law : {BodyContact::Penalty, BodyContact::Density}) {
-    SphereRun u;
-    u.mu = 0.3;
-    u.contact = law;
-    const SphereImpact c = collideSpheres(u);
-    print(law == BodyContact::Penalty ? "two spheres, pair penalty" : "two spheres, density law", u, c);
-    EXPECT_LT(c.drift, 0.02);
-    EXPECT_LT(c.penetration, law == BodyContact::Penalty ? 0.25e-3 : 0.4e-3);
-    EXPECT_LT(c.cmVelocity, 1e-12 * u.v0);
-    EXPECT_GT(c.restitution, 0.8);
-    EXPECT_EQ(c.episodes, 1);
-    EXPECT_NEAR(c.contactTime / c.hertz, 1.0, 0.2);
-  }
+  SphereRun u;
+  u.mu = 0.3;
+  const SphereImpact c = collideSpheres(u);
+  print("two spheres, pair penalty", u, c);
+  EXPECT_LT(c.drift, 0.02);
+  EXPECT_LT(c.penetration, 0.25e-3);
+  EXPECT_LT(c.cmVelocity, 1e-12 * u.v0);
+  EXPECT_GT(c.restitution, 0.8);
+  EXPECT_EQ(c.episodes, 1);
+  EXPECT_NEAR(c.contactTime / c.hertz, 1.0, 0.2);
 }

@@ -7,7 +7,7 @@
 //     elastic stick predictor then the return map; stickSpringFriction),
 //   - the MPM grid and surface contacts (seed 000 eqs 19-21: the sticking
 //     impulse m |v_t| limited by mu times the normal impulse; coulombScale),
-//   - the MPM pair friction of the penalty and density laws (seed 000 eqs
+//   - the MPM pair friction of the penalty contact (seed 000 eqs
 //     19-21 with forces: m_r |v_t| / dt limited by mu f_N; coulombPair).
 // Each law comes with its partial derivatives with respect to the trial and
 // the normal force (tests/contact check them by finite differences). At the
@@ -91,7 +91,7 @@ inline Eigen::Vector3d stickSpringFriction(const Eigen::Vector3d& tOld, const Ei
 // normal m removed, v_t, the sticking force m_r |v_t| / dt (the force that
 // stops the pair's reduced mass m_r within the step, eq 19) limited by
 // mu fN (eqs 20-21), opposite v_t. Returns the friction work over the step
-// (J, >= 0). Used by both pair laws (penalty_contact.hpp, density_contact.hpp).
+// (J, >= 0). Used by the MPM pair penalty (penalty_contact.hpp).
 inline double coulombPair(const double* m, double fN, const double* vp, const double* vq, double mr, double mu,
                           double dt, double* f) {
   double vt[3] = {vp[0] - vq[0], vp[1] - vq[1], vp[2] - vq[2]};

@@ -13,8 +13,8 @@ namespace needlesim::mpm::grid {
 // (3), force (3), pad.
 constexpr std::size_t kM = 0, kP = 1, kF = 4;
 // Two bodies, offsets in a gradient record (MpmSolver::Buf::grad, 8 doubles):
-// mass gradient (3), mass-weighted position (3), pad (2).
-constexpr std::size_t kG = 0, kX = 3;
+// mass gradient (3), pad (5).
+constexpr std::size_t kG = 0;
 
 // Allocator on cache-line boundaries: a 64-byte grid record then never
 // straddles two lines, so its 32-byte vector loads and stores stay within one
@@ -40,7 +40,7 @@ inline std::size_t cellOf(double xi) { return static_cast<std::size_t>(static_ca
 
 // The cell (i, j, k) holding a point at (xi, yi, zi) cells from the grid
 // origin, as its (i, j) row i n1 + j and k (the bit rows of
-// MpmSolver::markNearBodies, the penalty contact's cell lists).
+// NearBodies::mark, the penalty contact's cell lists).
 struct Cell {
   std::size_t row, k;
 };

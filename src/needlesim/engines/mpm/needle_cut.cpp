@@ -159,7 +159,7 @@ void MpmSolver::cutSupport(std::size_t p, CutSupport& cs) const {
 
 // p2g of a point the cut crosses (eqs 1-2 and the internal force, as
 // scatterPoint, over the nodes it reaches).
-void MpmSolver::scatterCutPoint(std::size_t p, bool needG, bool centroid) {
+void MpmSolver::scatterCutPoint(std::size_t p, bool needG) {
   CutSupport cs;
   cutSupport(p, cs);
   const Point& q = P_[p];
@@ -180,11 +180,6 @@ void MpmSolver::scatterCutPoint(std::size_t p, bool needG, bool centroid) {
     if (!needG) continue;
     double* gr = grad + 8 * (off + cs.node[a]);
     for (int c = 0; c < 3; ++c) gr[grid::kG + c] += m * g[c];
-    gr[grid::kX] += w * m * q.x[0];
-    if (centroid) {
-      gr[grid::kX + 1] += w * m * q.x[1];
-      gr[grid::kX + 2] += w * m * q.x[2];
-    }
   }
 }
 

@@ -88,7 +88,7 @@ PairPenalty::PairPenalty(double stiffness, std::vector<double> radius, double re
 // Coulomb friction on a pair in contact (eqs 19-21), added to f (the force
 // on p); returns the pair's friction work over the step (J). The normal
 // is that of the bodies' surfaces, from the two mass gradients interpolated
-// at the pair's midpoint (as the velocity contact, eqs 14-21), not the pair axis n:
+// at the pair's midpoint (eqs 14-21), not the pair axis n:
 // on two lattices sliding past each other the pair axis tilts by up to
 // 30 deg and the friction along it fell to half of mu times the normal
 // impulse. Sticking force m_r |v_t| / dt of the pair (eq 19), limited by mu
@@ -114,6 +114,43 @@ double MpmSolver::pairFriction(std::size_t p, std::size_t q, const double* n, do
   return contact::coulombPair(m, fN, vp, vq, mr, mu, dt, f);
 }
 
+// The bodies' surface normal at x, from the two mass gradients interpolated
+// (trilinear) there: m = g0 / |g0| - g1 / |g1|, normalised (out of body 0,
+// into body 1); false where a body has no gradient.
+bool MpmSolver::surfaceNormal(const double* x, double* m) const {
+  const double invh = 1.0 / cfg_.h;
+  const std::size_t n1 = static_cast<std::size_t>(nn_[1]), n2 = static_cast<std::size_t>(nn_[2]);
+  const double* grad = buf_[0].grad.data();
+  const double xm[3] = {(x[0] - cfg_.origin.x()) * invh, (x[1] - cfg_.origin.y()) * invh, (x[2] - cfg_.origin.z()) * invh};
+  int b[3];
+  double t[3];
+  for (int d = 0; d < 3; ++d) {
+    b[d] = static_cast<int>(xm[d]);
+    t[d] = xm[d] - b[d];
+  }
+  double g0[3] = {0, 0, 0}, g1[3] = {0, 0, 0};
+  for (int i = 0; i < 2; ++i)
+    for (int j = 0; j < 2; ++j)
+      for (int k = 0; k < 2; ++k) {
+        const double w = (i ? t[0] : 1 - t[0]) * (j ? t[1] : 1 - t[1]) * (k ? t[2] : 1 - t[2]);
+        const std::size_t I = (static_cast<std::size_t>(b[0] + i) * n1 + static_cast<std::size_t>(b[1] + j)) * n2 +
+                              static_cast<std::size_t>(b[2] + k);
+        for (int c = 0; c < 3; ++c) {
+          g0[c] += w * grad[8 * I + grid::kG + c];
+          g1[c] += w * grad[8 * (nodes_ + I) + grid::kG + c];
+        }
+      }
+  const double a0 = std::sqrt(g0[0] * g0[0] + g0[1] * g0[1] + g0[2] * g0[2]);
+  const double a1 = std::sqrt(g1[0] * g1[0] + g1[1] * g1[1] + g1[2] * g1[2]);
+  if (!(a0 > 0) || !(a1 > 0)) return false;
+  for (int c = 0; c < 3; ++c) m[c] = g0[c] / a0 - g1[c] / a1;
+  const double mm = std::sqrt(m[0] * m[0] + m[1] * m[1] + m[2] * m[2]);
+  if (!(mm > 0)) return false;
+  const double s = 1.0 / mm;  // multiply by the reciprocal: the pair friction is written with this rounding
+  for (int c = 0; c < 3; ++c) m[c] *= s;
+  return true;
+}
+
 // Velocity of a point's own body field before the update, sum_I N_Ip p_I / m_I.
 void MpmSolver::fieldVelocity(std::size_t p, const double* rec, std::size_t NR, double* v) const {
   const double invh = 1.0 / cfg_.h;
@@ -133,7 +170,7 @@ void PairPenalty::bin(const std::uint32_t* nearCell, const std::uint8_t* body, s
   cells1_.clear();
   start_.assign(2 * nodes + 1, 0);
   for (std::size_t p = 0; p < n; ++p) {
-    // the other body in the cells around the point's cell (markNearBodies; p2g set the cell)
+    // the other body in the cells around the point's cell (NearBodies::mark; p2g set the cell)
     if (nearCell[p] == ~std::uint32_t{0}) continue;
     const std::size_t c = nearCell[p];
     const std::size_t key = static_cast<std::size_t>(body[p]) * nodes + c;
@@ -263,7 +300,6 @@ double PairPenalty::pairEnergy(double delta, double d) const { return contact::p
 // start; a pair that came into contact during the step holds O((v dt)^2).
 void MpmSolver::penaltyEnergyAfterStep() {
   PairPenalty& P = *penalty_;
-  if (P.density()) return densityEnergyAfterStep();
   double e = 0.0, kt = 0.0;
   for (const auto& list : P.pairs_)
     for (const auto& pq : list) {
@@ -285,7 +321,7 @@ void MpmSolver::penaltyEnergyAfterStep() {
 // force f_I of each point's own body before the momentum update (eq 3), so
 // the grid update, MUSL remap and boundary conditions treat them like the
 // internal force. Candidates are the points in cells that both bodies reach
-// within 3 cells (markNearBodies); d_p <= h, so a partner lies in the 27
+// within 3 cells (NearBodies::mark); d_p <= h, so a partner lies in the 27
 // cells around a point's cell. Each pair is visited once, from the cell of
 // its body-0 point: the pair force acts on p and its opposite on q (the
 // normal force, the friction force and the pair's friction work are odd in
@@ -293,7 +329,6 @@ void MpmSolver::penaltyEnergyAfterStep() {
 // those of a search from both sides up to the order of the sums.
 void MpmSolver::penaltyForces() {
   PairPenalty& P = *penalty_;
-  if (P.density()) return densityForces();  // the density law (density_contact.cpp)
   // Cell lists of the candidates (counting sort, serial), per body and cell
   // (key body * nodes + cell), so a point scans only the other body's points.
   P.bin(nearCell_.data(), body_.data(), size(), nodes_);
@@ -426,7 +461,7 @@ void MpmSolver::penaltyPairForces(std::size_t tid, double mu, double dt) {
   }
 }
 
-// Tests: the contact forces of either law without friction at the current
+// Tests: the pair contact forces without friction at the current
 // positions (every point a candidate, so the search misses no pair), and the
 // stored energy there. The grid records it scattered into are cleared by the
 // next p2g; the friction coefficient, step and tally are restored.

@@ -1,7 +1,6 @@
 #pragma once
 // Energy-storing contact of two deformable bodies in the MPM solver
-// (MpmConfig::bodyContact = Penalty; docs/models/mpm.md "Penalty contact of
-// two bodies").
+// (docs/models/mpm.md "Penalty contact of two bodies").
 //
 // Kept from seed 000 eqs 14-21: one velocity field per body on the grid, the
 // bodies interact only where they meet, Coulomb friction limited by mu times
@@ -45,11 +44,9 @@
 #include <cstddef>
 #include <cstdint>
 #include <limits>
-#include <optional>
 #include <utility>
 #include <vector>
 
-#include "needlesim/engines/mpm/density_contact.hpp"
 
 namespace needlesim::mpm {
 
@@ -64,10 +61,7 @@ struct PenaltyTally {
 };
 
 // Scratch and parameters of the pair search; the forces are computed and
-// scattered by MpmSolver::penaltyForces (penalty_contact.cpp), or by
-// MpmSolver::densityForces when the density law is set (density_contact.cpp),
-// which shares the binning, the search's cell lists, the reaction buffers,
-// the tally, the step limit and the scatter.
+// scattered by MpmSolver::penaltyForces (penalty_contact.cpp).
 // Where thread `tid` adds the values (`width` per slot) it computes for the
 // body-1 slots [first1, nc) of the other threads' pairs: thread 0 straight
 // into `own` (indexed by slot), the others into their own `buffer`, zeroed,
@@ -108,12 +102,6 @@ class PairPenalty {
   double pairEnergy(double delta, double d) const;
   double frictionWork() const;  // J, kinetic energy friction removed since resetFriction
   void resetFriction();
-  // The normal law: the pair law above, or the density law (density_contact.hpp).
-  void useDensity(DensityLaw law) { density_.emplace(std::move(law)); }
-  bool density() const { return density_.has_value(); }
-  // Cells the pair search looks around a point's cell (MpmSolver::markNearBodies
-  // marks the candidates within as many cells of the other body).
-  int reach() const { return density_ ? density_->reach : 1; }
 
  private:
   friend class MpmSolver;
@@ -145,7 +133,6 @@ class PairPenalty {
   std::vector<std::vector<std::array<std::uint32_t, 2>>> pairs_;  // per thread: pairs in contact (p of body 0)
   std::vector<double> friction_;                     // per thread (stride 8): friction work
   PenaltyTally tally_;
-  std::optional<DensityLaw> density_;
   std::size_t first1_ = 0;  // slots [first1_, cand_.size()) hold body 1
   // Shared by both laws: the candidates (nearCell[p] != ~0: p's cell) binned
   // per body and cell (serial counting sort into start_, items_, cells0_,

@@ -52,48 +52,13 @@ void MpmSolver::saveState(io::BinaryWriter& w) const {
   }
   // The scatter order (the summation order of p2g) and when to plan it again.
   w.tag("scatter");
-  w.vec(order_);
-  w.vec(blockStart_);
-  w.vec(blockId_);
-  w.vec(std::vector<std::uint32_t>(colourStart_.begin(), colourStart_.end()));
-  for (const int n : blockOrigin_) w.pod(static_cast<std::int32_t>(n));
-  for (const int n : blocks_) w.pod(static_cast<std::int32_t>(n));
-  w.pod(static_cast<std::uint8_t>(planned_));
+  scatter_.save(w);
   w.vec(nearCell_);
   // Two-body penalty contact: the last step's tally sets the next step's limit.
   w.tag("penalty");
   w.pod(static_cast<std::uint8_t>(penalty_.has_value()));
   if (penalty_) w.pod(penalty_->tally_);
   w.tag("end");
-}
-
-// loadState: a scatter plan of sortByBlock's form for this grid and these
-// points (blocks listed colour by colour, each of its colour and with points);
-// one that is not planned is sorted again before the next scatter.
-bool MpmSolver::scatterPlanValid(const std::vector<std::uint32_t>& starts, const std::vector<std::uint32_t>& ids,
-                                 const std::vector<std::uint32_t>& colours, const int* origin, const int* blocks,
-                                 bool planned) const {
-  if (!planned) return true;
-  std::size_t nblocks = 1;
-  for (int a = 0; a < 3; ++a) {
-    if (origin[a] < 0 || origin[a] >= nn_[a] || blocks[a] != (nn_[a] - origin[a] + kBlock - 1) / kBlock) return false;
-    nblocks *= static_cast<std::size_t>(blocks[a]);
-  }
-  if (colours.size() != 9 || colours[0] != 0 || colours[8] != ids.size() || starts.size() != ids.size() + 1 ||
-      starts.front() != 0 || starts.back() != size())
-    return false;
-  for (std::size_t b = 0; b < ids.size(); ++b)
-    if (ids[b] >= nblocks || starts[b + 1] <= starts[b]) return false;
-  for (std::size_t c = 0; c < 8; ++c) {
-    if (colours[c + 1] < colours[c]) return false;
-    for (std::uint32_t b = colours[c]; b < colours[c + 1]; ++b) {
-      const std::size_t id = ids[b], bk = id % static_cast<std::size_t>(blocks[2]),
-                        bj = id / static_cast<std::size_t>(blocks[2]) % static_cast<std::size_t>(blocks[1]),
-                        bi = id / (static_cast<std::size_t>(blocks[2]) * static_cast<std::size_t>(blocks[1]));
-      if (((bi & 1) | (bj & 1) << 1 | (bk & 1) << 2) != c) return false;
-    }
-  }
-  return true;
 }
 
 void MpmSolver::loadState(io::BinaryReader& r) {
@@ -141,17 +106,8 @@ void MpmSolver::loadState(io::BinaryReader& r) {
     f.contactNodes = r.pod<std::int32_t>();
   }
   r.tag("scatter");
-  std::vector<std::uint32_t> order = r.vec<std::uint32_t>(size(), "scatter order entries");
-  for (const std::uint32_t p : order)
-    if (p >= size()) r.fail("holds a scatter order with a point index out of range (damaged file)");
-  std::vector<std::uint32_t> starts = r.vec<std::uint32_t>(), ids = r.vec<std::uint32_t>();
-  const std::vector<std::uint32_t> colours = r.vec<std::uint32_t>();
-  int origin[3], blocks[3];
-  for (int& n : origin) n = r.pod<std::int32_t>();
-  for (int& n : blocks) n = r.pod<std::int32_t>();
-  const bool planned = r.pod<std::uint8_t>() != 0;
+  BlockColouring scatter = scatter_.read(r, size());
   std::vector<std::uint32_t> nearCell = r.vec<std::uint32_t>(nearCell_.size(), "near-body cell entries");
-  if (!scatterPlanValid(starts, ids, colours, origin, blocks, planned)) r.fail("holds an inconsistent scatter plan (damaged file)");
   r.tag("penalty");
   const bool hasPenalty = r.pod<std::uint8_t>() != 0;
   if (hasPenalty != penalty_.has_value()) r.fail("has another two-body contact (another set-up)");
@@ -169,17 +125,11 @@ void MpmSolver::loadState(io::BinaryReader& r) {
   last_ = last;
   rigids_ = std::move(rigids);
   rforce_ = std::move(rforce);
-  order_ = std::move(order);
-  blockStart_ = std::move(starts);
-  blockId_ = std::move(ids);
-  std::copy(colours.begin(), colours.end(), colourStart_.begin());
-  std::copy(origin, origin + 3, blockOrigin_);
-  std::copy(blocks, blocks + 3, blocks_);
-  planned_ = planned;
+  scatter_ = std::move(scatter);
   nearCell_ = std::move(nearCell);
   if (penalty_) penalty_->tally_ = tally;
   gridClean_ = false;  // the next scatter clears the whole grid
-  occFresh_ = false;   // markNearBodies marks the cells from the loaded positions
+  nearBodies_.setFresh(false);  // the next mark marks the cells from the loaded positions
   dropDeviceState();   // GPU back-end: the next step uploads the loaded state
 }
 

@@ -126,7 +126,7 @@ void MpmSolver::uploadToDevice() {
   c.support = cfg_.shape == Shape::Linear ? 2 : 3;
   c.musl = cfg_.update == Update::MUSL ? 1 : 0;
   c.flip = cfg_.flip;
-  c.contactGap = cfg_.contactGap;
+  c.contactGap = rigidGap_;
   c.kernel = d.kernel;
   c.nMaterials = static_cast<int>(mats_.size());
   for (std::size_t m = 0; m < mats_.size(); ++m) c.materials[m] = materialOf(mats_[m], cfg_.massScaling);
@@ -148,7 +148,7 @@ void MpmSolver::uploadToDevice() {
     d.vol[p] = q.vol;
   }
   const NsMpmParticles pts = d.arrays();
-  const NsMpmGrid g{fixMask_.data(), dashpot_.data()};
+  const NsMpmGrid g{bounds_.fixMask.data(), bounds_.dashpot.data()};
   char err[kMessage] = "";
   d.handle = d.backend->create(&c, &pts, &g, err, sizeof err);
   if (!d.handle) throw SolverError(fmt::format("mpm: the GPU back-end could not take the model: {}", err));
