@@ -11,14 +11,17 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/engines/run_scenario.hpp"
+#include "needlesim/scenario/mesh_file.hpp"
 #include "needlesim/scenario/model_section.hpp"
 #include "needlesim/scenario/problem_sections.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/scenario/schema.hpp"
+#include "needlesim/scenario/study_section.hpp"
 
 using namespace needlesim;
 using scenario::FieldDoc;
@@ -60,6 +63,9 @@ void compare(const nlohmann::json& record, const std::string& type, const std::s
   for (const FieldDoc* f : scenario::fieldsOf(type)) {
     if (f->default_text.empty() || f->kind == Kind::Section || f->kind == Kind::List) continue;
     if (kNoSingleValue.count(type + "." + f->key)) continue;
+    if (type == "geometry" && f->key == "element_size" && record.contains("file") &&
+        scenario::isGmshMeshOrScript(record["file"].get<std::string>()))
+      continue;  // a mesh has its elements, a script its own sizes: no element size is used
     ASSERT_TRUE(record.contains(f->key)) << path << f->key << " has the default '" << f->default_text
                                          << "' in the schema but is not recorded";
     if ((f->kind != Kind::Quantity && f->kind != Kind::Number) || sc.given_at.count(path + f->key)) continue;
@@ -186,10 +192,9 @@ TEST(DeclaredOnce, TopLevelTissueLayersMaterialsInclusionsGeometryAndUnitsAreThe
   expectSchemaIsTable(scenario::offsetTable());
   expectSchemaIsTable(scenario::rotationTable());
   expectSchemaIsTable(scenario::unitsTable());
-  // Every section type of a scenario comes from a table (the studies' own file is no scenario).
+  // Every section type of a scenario, and of a study file, comes from a table.
   std::set<std::string> tables;
-  for (const auto& f : scenario::schema())
-    if (f.section != "study" && f.section != "parameter") tables.insert(f.section);
+  for (const auto& f : scenario::schema()) tables.insert(f.section);
   std::size_t rows = 0;
   for (const auto& type : tables) rows += scenario::fieldsOf(type).size();
   std::size_t declared = 0;
@@ -205,6 +210,7 @@ TEST(DeclaredOnce, TopLevelTissueLayersMaterialsInclusionsGeometryAndUnitsAreThe
   for (const char* kind : {"insert", "retract", "pause", "rotate"}) declared += scenario::segmentKindTable(kind).docs().size();
   for (const scenario::ModelSection* m : scenario::modelSections()) declared += 1 + m->docs().size();
   declared += scenario::planDocs().size();  // the plan, plan_avoid and plan_uncertainty tables (plan_section.cpp)
+  declared += scenario::studyFileTable().docs().size() + scenario::studyParameterTable().docs().size();
   EXPECT_EQ(declared, rows) << "a section's rows are written outside its table";
 }
 
@@ -410,4 +416,84 @@ model: {engine: explicit, explicit: {dimension: 2d}}
   const Scenario sc = scenario::readText(yaml, "around.yaml");
   EXPECT_EQ(sc.tissue.inclusions[0].friction_coefficient, 0.4);  // the gel's, not layer 0's
   EXPECT_EQ(nlohmann::json::parse(sc.understood)["tissue"]["inclusions"][0]["friction"], 0.4);
+}
+
+TEST(DeclaredOnce, TheStudyFileAndItsParametersAreTheirTables) {
+  expectSchemaIsTable(scenario::studyFileTable());
+  expectSchemaIsTable(scenario::studyParameterTable());
+  // The struct's defaults are the schema's (read by the same table).
+  const study::StudySpec spec;
+  EXPECT_EQ(std::to_string(spec.samples), scenario::field("study", "samples").default_text);
+  EXPECT_EQ(std::to_string(spec.seed), scenario::field("study", "seed").default_text);
+  EXPECT_EQ(std::to_string(spec.parallel), scenario::field("study", "parallel").default_text);
+  EXPECT_EQ(scenario::field("study", "method").default_text, "grid");
+  EXPECT_EQ(spec.method, study::Method::Grid);
+}
+
+namespace {
+// Rows whose default is a formula of other fields or of the data ("C_p", "grid_spacing / 2",
+// "20 % of the body's depth"): a number or quantity whose default text is no value.
+std::vector<const FieldDoc*> formulaDefaults() {
+  std::vector<const FieldDoc*> out;
+  for (const auto& f : scenario::schema()) {
+    if ((f.kind != Kind::Quantity && f.kind != Kind::Number) || f.default_text.empty()) continue;
+    try {
+      units::parse(f.default_text);
+    } catch (const std::invalid_argument&) {
+      out.push_back(&f);
+    }
+  }
+  return out;
+}
+}  // namespace
+
+TEST(DeclaredOnce, EveryFormulaDefaultIsRecordedAsTheValueUsed) {
+  // Scenarios that reach every section with a formula default and leave it out: the built-in
+  // default, a layered one with inclusions, a Gmsh script and closed surfaces meshed at the
+  // default element size.
+  std::string surfaces = exampleText("examples/anatomy/kidney_surfaces_mpm.yaml");
+  const auto size = surfaces.find("    element_size: 4 mm\n");
+  ASSERT_NE(size, std::string::npos);
+  surfaces.erase(size, std::string("    element_size: 4 mm\n").size());
+  const std::string dir = std::string(NEEDLESIM_SOURCE_DIR) + "/examples/";
+  const std::vector<Scenario> scenarios{
+      scenario::defaultScenario(), scenario::readFile(dir + "realtime2d/layered_target.yaml"),
+      scenario::readFile(dir + "realtime2d/imported_block.yaml"),
+      scenario::readText(surfaces, dir + "anatomy/kidney_surfaces_default_size.yaml")};
+  std::set<std::string> seen;
+  for (const Scenario& sc : scenarios) {
+    SCOPED_TRACE(sc.source);
+    compare(nlohmann::json::parse(sc.understood), "scenario", "", sc, seen);
+  }
+  const auto formulas = formulaDefaults();
+  EXPECT_GE(formulas.size(), 12u);  // C_n, b_n, D_p, D_n, inner_diameter, support_depth, element_size, ...
+  for (const FieldDoc* f : formulas) {
+    const std::string row = f->section + "." + f->key;
+    if (kNoSingleValue.count(row)) continue;
+    EXPECT_TRUE(seen.count(row)) << row << " (default '" << f->default_text << "') is not recorded as a value";
+  }
+  // The values used: 20 % of the geometry's depth; 1/20 of the kidney's bounding-box diagonal.
+  const Scenario& script = scenarios[2];
+  const auto geo = nlohmann::json::parse(script.understood)["tissue"]["geometry"];
+  EXPECT_EQ(siOf(geo["support_depth"]), 0.2 * (script.tissue.geometry->hi[0] - script.tissue.geometry->lo[0]));
+  EXPECT_FALSE(geo.contains("element_size"));  // a script meshes at its own sizes
+  const auto kidney = nlohmann::json::parse(scenarios[3].understood)["tissue"]["geometry"];
+  EXPECT_GT(siOf(kidney["element_size"]), 1e-3);
+  EXPECT_LT(siOf(kidney["element_size"]), 0.05);
+  // Read back, the recorded value gives the same geometry.
+  const Scenario again = scenario::readText(scenarios[3].understood, dir + "anatomy/kidney_again.yaml");
+  EXPECT_EQ(again.tissue.geometry->mesh->elements(), scenarios[3].tissue.geometry->mesh->elements());
+}
+
+TEST(DeclaredOnce, AnEngineKeepsItsSettingsInTheModelsStoreWithoutAMember) {
+  struct Settings {
+    double stiffness = 3.0;
+  };
+  Scenario sc;
+  EXPECT_EQ(std::as_const(sc).model.spec<Settings>().stiffness, 3.0);  // not read: the defaults
+  sc.model.spec<Settings>().stiffness = 5.0;
+  const Scenario copy = sc;
+  sc.model.spec<Settings>().stiffness = 7.0;
+  EXPECT_EQ(copy.model.spec<Settings>().stiffness, 5.0);  // a copy of the scenario holds its own
+  EXPECT_EQ(std::as_const(sc).model.spec<Settings>().stiffness, 7.0);
 }
