@@ -56,6 +56,7 @@ mesh::VolumeMesh importFiles(Section& g, const std::string& source, double eleme
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     Section s = g.element(surfaces[i], "surfaces", i);
     sources.push_back({s.text("file"), s.text("body")});
+    if (sources.back().body.empty()) s.remember("body", std::filesystem::path(sources.back().path).stem().string());
     requireGeometryFile(s, sources.back().path, source);
   }
   for (std::size_t i = 0; i < surfaces.size(); ++i)
