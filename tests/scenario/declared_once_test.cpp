@@ -66,6 +66,9 @@ void compare(const nlohmann::json& record, const std::string& type, const std::s
     if (type == "geometry" && f->key == "element_size" && record.contains("file") &&
         scenario::isGmshMeshOrScript(record["file"].get<std::string>()))
       continue;  // a mesh has its elements, a script its own sizes: no element size is used
+    if (type == "inclusion" && !record.contains("radius") &&
+        (f->key == "shape" || f->key == "lateral" || f->key == "elevation"))
+      continue;  // an inclusion that is a group of tissue.geometry has no shape or centre to give
     ASSERT_TRUE(record.contains(f->key)) << path << f->key << " has the default '" << f->default_text
                                          << "' in the schema but is not recorded";
     if ((f->kind != Kind::Quantity && f->kind != Kind::Number) || sc.given_at.count(path + f->key)) continue;
@@ -447,19 +450,37 @@ std::vector<const FieldDoc*> formulaDefaults() {
 }
 }  // namespace
 
+// A scenario whose tissue is a 20 mm cube given as a closed surface, meshed at the default size.
+std::string cubeScenario() {
+  const auto dir = std::filesystem::temp_directory_path() / "needlesim_declared_once";
+  std::filesystem::create_directories(dir);
+  std::ofstream off(dir / "cube.off");
+  off << "OFF\n8 12 0\n";
+  for (int i = 0; i < 8; ++i) off << 20 * (i & 1) << " " << 20 * ((i >> 1) & 1) - 10 << " " << 20 * (i >> 2) - 10 << "\n";
+  // two outward triangles per face
+  for (const char* f : {"0 2 1", "1 2 3", "4 5 6", "5 7 6", "0 1 4", "1 5 4", "2 6 3", "3 6 7", "0 4 2", "2 4 6",
+                        "1 3 5", "3 7 5"})
+    off << "3 " << f << "\n";
+  return "tissue:\n  geometry: {surfaces: [{file: " + (dir / "cube.off").string() + R"(}], unit: mm}
+  layers:
+    - {name: cube, material: {law: neo-hookean, C10: 2 kPa, nu: 0.45}, friction: {coefficient: 0.2}}
+needle: {outer_diameter: 18 G, length: 100 mm}
+insertion:
+  profile:
+    - insert: {to: 10 mm, speed: 10 mm/s}
+model: {engine: mpm}
+)";
+}
+
 TEST(DeclaredOnce, EveryFormulaDefaultIsRecordedAsTheValueUsed) {
   // Scenarios that reach every section with a formula default and leave it out: the built-in
-  // default, a layered one with inclusions, a Gmsh script and closed surfaces meshed at the
-  // default element size.
-  std::string surfaces = exampleText("examples/anatomy/kidney_surfaces_mpm.yaml");
-  const auto size = surfaces.find("    element_size: 4 mm\n");
-  ASSERT_NE(size, std::string::npos);
-  surfaces.erase(size, std::string("    element_size: 4 mm\n").size());
+  // default, a layered one with inclusions, a Gmsh script, a plan, and a closed surface meshed
+  // at the default element size.
   const std::string dir = std::string(NEEDLESIM_SOURCE_DIR) + "/examples/";
   const std::vector<Scenario> scenarios{
       scenario::defaultScenario(), scenario::readFile(dir + "realtime2d/layered_target.yaml"),
-      scenario::readFile(dir + "realtime2d/imported_block.yaml"),
-      scenario::readText(surfaces, dir + "anatomy/kidney_surfaces_default_size.yaml")};
+      scenario::readFile(dir + "realtime2d/imported_block.yaml"), scenario::readFile(dir + "planning/gel_block.yaml"),
+      scenario::readText(cubeScenario(), "cube.yaml")};
   std::set<std::string> seen;
   for (const Scenario& sc : scenarios) {
     SCOPED_TRACE(sc.source);
@@ -472,17 +493,20 @@ TEST(DeclaredOnce, EveryFormulaDefaultIsRecordedAsTheValueUsed) {
     if (kNoSingleValue.count(row)) continue;
     EXPECT_TRUE(seen.count(row)) << row << " (default '" << f->default_text << "') is not recorded as a value";
   }
-  // The values used: 20 % of the geometry's depth; 1/20 of the kidney's bounding-box diagonal.
+  // The values used: 20 % of the geometry's depth; 1/20 of the cube's bounding-box diagonal.
   const Scenario& script = scenarios[2];
   const auto geo = nlohmann::json::parse(script.understood)["tissue"]["geometry"];
   EXPECT_EQ(siOf(geo["support_depth"]), 0.2 * (script.tissue.geometry->hi[0] - script.tissue.geometry->lo[0]));
   EXPECT_FALSE(geo.contains("element_size"));  // a script meshes at its own sizes
-  const auto kidney = nlohmann::json::parse(scenarios[3].understood)["tissue"]["geometry"];
-  EXPECT_GT(siOf(kidney["element_size"]), 1e-3);
-  EXPECT_LT(siOf(kidney["element_size"]), 0.05);
-  // Read back, the recorded value gives the same geometry.
-  const Scenario again = scenario::readText(scenarios[3].understood, dir + "anatomy/kidney_again.yaml");
-  EXPECT_EQ(again.tissue.geometry->mesh->elements(), scenarios[3].tissue.geometry->mesh->elements());
+  const Scenario& cube = scenarios[4];
+  const auto surface = nlohmann::json::parse(cube.understood)["tissue"]["geometry"];
+  EXPECT_NEAR(siOf(surface["element_size"]), 0.02 * std::sqrt(3.0) / 20, 1e-12);
+  EXPECT_NEAR(siOf(surface["support_depth"]), 0.2 * 0.02, 1e-12);
+  EXPECT_EQ(surface["surfaces"][0]["body"], "cube");
+  // Read back, the recorded values give the same geometry.
+  const Scenario again = scenario::readText(cube.understood, "cube_again.yaml");
+  EXPECT_EQ(again.tissue.geometry->mesh->elements(), cube.tissue.geometry->mesh->elements());
+  EXPECT_EQ(again.understood, cube.understood);
 }
 
 TEST(DeclaredOnce, AnEngineKeepsItsSettingsInTheModelsStoreWithoutAMember) {
