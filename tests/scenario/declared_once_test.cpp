@@ -11,14 +11,17 @@
 #include <fstream>
 #include <set>
 #include <string>
+#include <utility>
 
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/engines/run_scenario.hpp"
+#include "needlesim/scenario/mesh_file.hpp"
 #include "needlesim/scenario/model_section.hpp"
 #include "needlesim/scenario/problem_sections.hpp"
 #include "needlesim/scenario/reader.hpp"
 #include "needlesim/scenario/schema.hpp"
+#include "needlesim/scenario/study_section.hpp"
 
 using namespace needlesim;
 using scenario::FieldDoc;
@@ -60,6 +63,12 @@ void compare(const nlohmann::json& record, const std::string& type, const std::s
   for (const FieldDoc* f : scenario::fieldsOf(type)) {
     if (f->default_text.empty() || f->kind == Kind::Section || f->kind == Kind::List) continue;
     if (kNoSingleValue.count(type + "." + f->key)) continue;
+    if (type == "geometry" && f->key == "element_size" && record.contains("file") &&
+        scenario::isGmshMeshOrScript(record["file"].get<std::string>()))
+      continue;  // a mesh has its elements, a script its own sizes: no element size is used
+    if (type == "inclusion" && !record.contains("radius") &&
+        (f->key == "shape" || f->key == "lateral" || f->key == "elevation"))
+      continue;  // an inclusion that is a group of tissue.geometry has no shape or centre to give
     ASSERT_TRUE(record.contains(f->key)) << path << f->key << " has the default '" << f->default_text
                                          << "' in the schema but is not recorded";
     if ((f->kind != Kind::Quantity && f->kind != Kind::Number) || sc.given_at.count(path + f->key)) continue;
@@ -186,10 +195,9 @@ TEST(DeclaredOnce, TopLevelTissueLayersMaterialsInclusionsGeometryAndUnitsAreThe
   expectSchemaIsTable(scenario::offsetTable());
   expectSchemaIsTable(scenario::rotationTable());
   expectSchemaIsTable(scenario::unitsTable());
-  // Every section type of a scenario comes from a table (the studies' own file is no scenario).
+  // Every section type of a scenario, and of a study file, comes from a table.
   std::set<std::string> tables;
-  for (const auto& f : scenario::schema())
-    if (f.section != "study" && f.section != "parameter") tables.insert(f.section);
+  for (const auto& f : scenario::schema()) tables.insert(f.section);
   std::size_t rows = 0;
   for (const auto& type : tables) rows += scenario::fieldsOf(type).size();
   std::size_t declared = 0;
@@ -205,6 +213,7 @@ TEST(DeclaredOnce, TopLevelTissueLayersMaterialsInclusionsGeometryAndUnitsAreThe
   for (const char* kind : {"insert", "retract", "pause", "rotate"}) declared += scenario::segmentKindTable(kind).docs().size();
   for (const scenario::ModelSection* m : scenario::modelSections()) declared += 1 + m->docs().size();
   declared += scenario::planDocs().size();  // the plan, plan_avoid and plan_uncertainty tables (plan_section.cpp)
+  declared += scenario::studyFileTable().docs().size() + scenario::studyParameterTable().docs().size();
   EXPECT_EQ(declared, rows) << "a section's rows are written outside its table";
 }
 
@@ -410,4 +419,105 @@ model: {engine: explicit, explicit: {dimension: 2d}}
   const Scenario sc = scenario::readText(yaml, "around.yaml");
   EXPECT_EQ(sc.tissue.inclusions[0].friction_coefficient, 0.4);  // the gel's, not layer 0's
   EXPECT_EQ(nlohmann::json::parse(sc.understood)["tissue"]["inclusions"][0]["friction"], 0.4);
+}
+
+TEST(DeclaredOnce, TheStudyFileAndItsParametersAreTheirTables) {
+  expectSchemaIsTable(scenario::studyFileTable());
+  expectSchemaIsTable(scenario::studyParameterTable());
+  // The struct's defaults are the schema's (read by the same table).
+  const study::StudySpec spec;
+  EXPECT_EQ(std::to_string(spec.samples), scenario::field("study", "samples").default_text);
+  EXPECT_EQ(std::to_string(spec.seed), scenario::field("study", "seed").default_text);
+  EXPECT_EQ(std::to_string(spec.parallel), scenario::field("study", "parallel").default_text);
+  EXPECT_EQ(scenario::field("study", "method").default_text, "grid");
+  EXPECT_EQ(spec.method, study::Method::Grid);
+}
+
+namespace {
+// Rows whose default is a formula of other fields or of the data ("C_p", "grid_spacing / 2",
+// "20 % of the body's depth"): a number or quantity whose default text is no value.
+std::vector<const FieldDoc*> formulaDefaults() {
+  std::vector<const FieldDoc*> out;
+  for (const auto& f : scenario::schema()) {
+    if ((f.kind != Kind::Quantity && f.kind != Kind::Number) || f.default_text.empty()) continue;
+    try {
+      units::parse(f.default_text);
+    } catch (const std::invalid_argument&) {
+      out.push_back(&f);
+    }
+  }
+  return out;
+}
+}  // namespace
+
+// A scenario whose tissue is a 20 mm cube given as a closed surface, meshed at the default size.
+std::string cubeScenario() {
+  const auto dir = std::filesystem::temp_directory_path() / "needlesim_declared_once";
+  std::filesystem::create_directories(dir);
+  std::ofstream off(dir / "cube.off");
+  off << "OFF\n8 12 0\n";
+  for (int i = 0; i < 8; ++i) off << 20 * (i & 1) << " " << 20 * ((i >> 1) & 1) - 10 << " " << 20 * (i >> 2) - 10 << "\n";
+  // two outward triangles per face
+  for (const char* f : {"0 2 1", "1 2 3", "4 5 6", "5 7 6", "0 1 4", "1 5 4", "2 6 3", "3 6 7", "0 4 2", "2 4 6",
+                        "1 3 5", "3 7 5"})
+    off << "3 " << f << "\n";
+  return "tissue:\n  geometry: {surfaces: [{file: " + (dir / "cube.off").string() + R"(}], unit: mm}
+  layers:
+    - {name: cube, material: {law: neo-hookean, C10: 2 kPa, nu: 0.45}, friction: {coefficient: 0.2}}
+needle: {outer_diameter: 18 G, length: 100 mm}
+insertion:
+  profile:
+    - insert: {to: 10 mm, speed: 10 mm/s}
+model: {engine: mpm}
+)";
+}
+
+TEST(DeclaredOnce, EveryFormulaDefaultIsRecordedAsTheValueUsed) {
+  // Scenarios that reach every section with a formula default and leave it out: the built-in
+  // default, a layered one with inclusions, a Gmsh script, a plan, and a closed surface meshed
+  // at the default element size.
+  const std::string dir = std::string(NEEDLESIM_SOURCE_DIR) + "/examples/";
+  const std::vector<Scenario> scenarios{
+      scenario::defaultScenario(), scenario::readFile(dir + "realtime2d/layered_target.yaml"),
+      scenario::readFile(dir + "realtime2d/imported_block.yaml"), scenario::readFile(dir + "planning/gel_block.yaml"),
+      scenario::readText(cubeScenario(), "cube.yaml")};
+  std::set<std::string> seen;
+  for (const Scenario& sc : scenarios) {
+    SCOPED_TRACE(sc.source);
+    compare(nlohmann::json::parse(sc.understood), "scenario", "", sc, seen);
+  }
+  const auto formulas = formulaDefaults();
+  EXPECT_GE(formulas.size(), 12u);  // C_n, b_n, D_p, D_n, inner_diameter, support_depth, element_size, ...
+  for (const FieldDoc* f : formulas) {
+    const std::string row = f->section + "." + f->key;
+    if (kNoSingleValue.count(row)) continue;
+    EXPECT_TRUE(seen.count(row)) << row << " (default '" << f->default_text << "') is not recorded as a value";
+  }
+  // The values used: 20 % of the geometry's depth; 1/20 of the cube's bounding-box diagonal.
+  const Scenario& script = scenarios[2];
+  const auto geo = nlohmann::json::parse(script.understood)["tissue"]["geometry"];
+  EXPECT_EQ(siOf(geo["support_depth"]), 0.2 * (script.tissue.geometry->hi[0] - script.tissue.geometry->lo[0]));
+  EXPECT_FALSE(geo.contains("element_size"));  // a script meshes at its own sizes
+  const Scenario& cube = scenarios[4];
+  const auto surface = nlohmann::json::parse(cube.understood)["tissue"]["geometry"];
+  EXPECT_NEAR(siOf(surface["element_size"]), 0.02 * std::sqrt(3.0) / 20, 1e-12);
+  EXPECT_NEAR(siOf(surface["support_depth"]), 0.2 * 0.02, 1e-12);
+  EXPECT_EQ(surface["surfaces"][0]["body"], "cube");
+  // Read back, the recorded values give the same geometry.
+  const Scenario again = scenario::readText(cube.understood, "cube_again.yaml");
+  EXPECT_EQ(again.tissue.geometry->mesh->elements(), cube.tissue.geometry->mesh->elements());
+  EXPECT_EQ(again.understood, cube.understood);
+}
+
+TEST(DeclaredOnce, AnEngineKeepsItsSettingsInTheModelsStoreWithoutAMember) {
+  struct Settings {
+    double stiffness = 3.0;
+  };
+  Scenario sc;
+  EXPECT_EQ(std::as_const(sc).model.spec<Settings>().stiffness, 3.0);  // not read: the defaults
+  sc.model.spec<Settings>().stiffness = 5.0;
+  const Scenario copy = sc;
+  sc.model.spec<Settings>().stiffness = 7.0;
+  EXPECT_EQ(copy.model.spec<Settings>().stiffness, 5.0);  // a copy of the scenario holds its own
+  EXPECT_EQ(std::as_const(sc).model.spec<Settings>().stiffness, 7.0);
 }

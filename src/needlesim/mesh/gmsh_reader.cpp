@@ -373,7 +373,8 @@ std::vector<int> addSurfaceLoops(const std::vector<TriangleSurface>& surfaces) {
 
 }  // namespace
 
-VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize, const MeshBudget& budget) {
+VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize, const MeshBudget& budget,
+                        double* sizeUsed) {
   std::vector<TriangleSurface> surfaces;
   for (const auto& b : bodies) surfaces.push_back(readSurface(b.path, budget));
   for (std::size_t a = 0; a < surfaces.size(); ++a)
@@ -385,6 +386,7 @@ VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElemen
   const auto holes = directlyInside(surfaces);
   // Gmsh keeps a discrete surface's triangles: split them down to the element size first
   if (maxElementSize <= 0) maxElementSize = boxDiagonal(surfaces[0]) / 20;
+  if (sizeUsed) *sizeUsed = maxElementSize;
   checkSurfaceEstimate(bodies, surfaces, holes, maxElementSize, budget);
   constexpr std::size_t kMostTriangles = 2'000'000;
   for (std::size_t b = 0; b < surfaces.size(); ++b) {

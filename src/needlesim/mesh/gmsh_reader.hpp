@@ -33,7 +33,9 @@ struct SurfaceBody {
 
 // Meshes the bodies into one conforming tetrahedral mesh with Gmsh (elements of about
 // maxElementSize, file units): a body inside another is a hole of the outer one and a body of
-// its own. Group tags are 1, 2, ... in the order given.
-VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize, const MeshBudget& budget = {});
+// its own. Group tags are 1, 2, ... in the order given. maxElementSize 0: 1/20 of the first
+// surface's bounding-box diagonal; `sizeUsed`, when given, receives the size meshed with.
+VolumeMesh meshSurfaces(const std::vector<SurfaceBody>& bodies, double maxElementSize, const MeshBudget& budget = {},
+                        double* sizeUsed = nullptr);
 
 }  // namespace needlesim::mesh

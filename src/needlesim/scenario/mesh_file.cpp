@@ -21,7 +21,8 @@ bool isGmshMeshOrScript(const std::string& path) {
 }
 
 mesh::VolumeMesh readGeometryFiles(const std::vector<GeometryFile>& files, double elementSize,
-                                   const std::string& scenarioSource, const mesh::MeshBudget& budget) {
+                                   const std::string& scenarioSource, const mesh::MeshBudget& budget,
+                                   double* sizeUsed) {
   if (files.size() == 1 && files[0].body.empty() && isGmshMeshOrScript(files[0].path))
     return mesh::readGmsh(besideScenario(files[0].path, scenarioSource).string(), elementSize, budget);
   std::vector<mesh::SurfaceBody> bodies;
@@ -29,7 +30,7 @@ mesh::VolumeMesh readGeometryFiles(const std::vector<GeometryFile>& files, doubl
     const auto p = besideScenario(f.path, scenarioSource);
     bodies.push_back({p.string(), f.body.empty() ? p.stem().string() : f.body});
   }
-  return mesh::meshSurfaces(bodies, elementSize, budget);
+  return mesh::meshSurfaces(bodies, elementSize, budget, sizeUsed);
 }
 
 }  // namespace needlesim::scenario

@@ -24,9 +24,12 @@ std::filesystem::path besideScenario(const std::string& path, const std::string&
 // Whether a path names a Gmsh mesh or script (.msh, .geo) rather than a surface.
 bool isGmshMeshOrScript(const std::string& path);
 
-// The mesh of `files` in the files' own length unit; elementSize in that unit (0 = Gmsh's or the
-// script's own sizes). Throws InputError naming the file for a bad one.
+// The mesh of `files` in the files' own length unit; elementSize in that unit (0 = the script's own
+// sizes, or for surfaces 1/20 of the first one's bounding-box diagonal). `sizeUsed` receives the
+// element size surfaces were meshed with (left as it is for a mesh or a script). Throws
+// InputError naming the file for a bad one.
 mesh::VolumeMesh readGeometryFiles(const std::vector<GeometryFile>& files, double elementSize,
-                                   const std::string& scenarioSource, const mesh::MeshBudget& budget = {});
+                                   const std::string& scenarioSource, const mesh::MeshBudget& budget = {},
+                                   double* sizeUsed = nullptr);
 
 }  // namespace needlesim::scenario

@@ -1,9 +1,11 @@
 #pragma once
 // The typed scenario every engine receives: plain structs in SI units.
 // Engines never parse YAML; scenario/reader.cpp builds this from a file.
+#include <any>
 #include <map>
 #include <memory>
 #include <string>
+#include <typeindex>
 #include <vector>
 
 #include "needlesim/core/error.hpp"
@@ -13,7 +15,8 @@
 #include "needlesim/materials/material_spec.hpp"
 #include "needlesim/needle/needle_spec.hpp"
 #include "needlesim/scenario/plan_section.hpp"
-// Each engine's model.<engine> settings, declared beside the engine (engines/<engine>/<engine>_section.hpp).
+// The engines' model.<engine> settings that are members of ModelSpec, declared beside each engine
+// (engines/<engine>/<engine>_section.hpp); an engine may instead keep them in ModelSpec::spec<>().
 #include "needlesim/engines/explicit/explicit_section.hpp"
 #include "needlesim/engines/lumped/lumped_section.hpp"
 #include "needlesim/engines/mpm/mpm_section.hpp"
@@ -98,6 +101,24 @@ struct ModelSpec {
   Realtime3dModelSpec realtime3d;
   MpmModelSpec mpm;
   ExplicitModelSpec explicit_fe;  // `model.explicit` in a scenario
+
+  // The settings of an engine that is no member above, one per spec type: the engine's section
+  // (engines/<engine>/<engine>_section.cpp, registered in engines/registry.cpp) reads model.<engine>
+  // into spec<Spec>() and the engine reads them there; a scenario built in code without them
+  // reads the spec's defaults. A new engine thus needs no line here.
+  template <class Spec>
+  Spec& spec() {
+    std::any& held = engine_specs[std::type_index(typeid(Spec))];
+    if (!held.has_value()) held = Spec{};
+    return std::any_cast<Spec&>(held);
+  }
+  template <class Spec>
+  const Spec& spec() const {
+    static const Spec defaults{};
+    const auto it = engine_specs.find(std::type_index(typeid(Spec)));
+    return it == engine_specs.end() ? defaults : std::any_cast<const Spec&>(it->second);
+  }
+  std::map<std::type_index, std::any> engine_specs;  // spec<>()'s store
 };
 
 struct OutputSpec {

@@ -10,34 +10,13 @@
 #include "needlesim/materials/material_spec.hpp"
 #include "needlesim/scenario/model_section.hpp"
 #include "needlesim/scenario/problem_sections.hpp"
+#include "needlesim/scenario/study_section.hpp"
 
 namespace needlesim::scenario {
 namespace {
 
 namespace D = units::dim;
 
-FieldDoc q(std::string sec, std::string key, units::Dim d, std::string def, double lo, double hi,
-           bool lo_open, bool hi_open, std::string help, bool required = false) {
-  FieldDoc f;
-  f.section = std::move(sec);
-  f.key = std::move(key);
-  f.kind = d == D::None ? Kind::Number : Kind::Quantity;
-  f.dim = d;
-  f.default_text = std::move(def);
-  f.required = required;
-  f.lo = lo;
-  f.hi = hi;
-  f.lo_open = lo_open;
-  f.hi_open = hi_open;
-  f.help = std::move(help);
-  return f;
-}
-// A count: a whole number in [lo, hi].
-FieldDoc count(std::string sec, std::string key, std::string def, double lo, double hi, std::string help) {
-  FieldDoc f = q(std::move(sec), std::move(key), D::None, std::move(def), lo, hi, false, false, std::move(help));
-  f.whole = true;
-  return f;
-}
 FieldDoc other(std::string sec, std::string key, Kind k, std::string def, std::string help,
                bool required = false, std::string child = {}, std::vector<std::string> choices = {}) {
   FieldDoc f;
@@ -96,7 +75,7 @@ void needleInsertionModel(std::vector<FieldDoc>& s) {
   }
 }
 
-// The rows of the output and parameter studies.
+// The rows of the output, the plan and parameter studies.
 void outputAndStudy(std::vector<FieldDoc>& s) {
   auto add = [&](FieldDoc f) { s.push_back(std::move(f)); };
   // --- output (scenario/problem_sections.hpp)
@@ -106,24 +85,9 @@ void outputAndStudy(std::vector<FieldDoc>& s) {
   // --- the plan (scenario/plan_section.hpp)
   for (auto& f : planDocs()) add(std::move(f));
 
-  // --- parameter studies (`needlesim sweep STUDY.yaml`), not part of a scenario
-  add(other("study", "scenario", Kind::String, "", "base scenario file, relative to the study file", true));
-  add(other("study", "name", Kind::String, "study file name", "name of the study, used for its folder"));
-  add(other("study", "method", Kind::Choice, "grid",
-            "grid: every combination; list: the i-th values together; one-at-a-time: the base case and each "
-            "parameter changed by each percent; latin-hypercube: samples between min and max",
-            false, {}, {"grid", "list", "one-at-a-time", "latin-hypercube"}));
-  add(other("study", "vary", Kind::List, "", "the fields to vary", true, "parameter"));
-  // The upper bound of samples is study::kMaxCases.
-  add(count("study", "samples", "10", 1.0, 1e5, "number of latin-hypercube samples"));
-  add(count("study", "seed", "1", 0.0, 1e18, "random seed of the latin hypercube"));
-  add(count("study", "parallel", "0", 0.0, 1024.0, "cases run at once per process (0 = all cores)"));
-  add(other("study", "directory", Kind::String, "results/<name>", "study folder: one folder per case, study.csv, report.html"));
-  add(other("parameter", "field", Kind::String, "", "scenario field to vary, e.g. tissue.friction.C_p or insertion.profile[0].insert.speed", true));
-  add(other("parameter", "values", Kind::List, "", "grid / list: the values, with units (e.g. [2 mm/s, 5 mm/s])"));
-  add(other("parameter", "percent", Kind::List, "", "one-at-a-time: changes of the base value in percent (e.g. [-10, 10])"));
-  add(other("parameter", "min", Kind::String, "", "latin-hypercube: lower bound, with unit"));
-  add(other("parameter", "max", Kind::String, "", "latin-hypercube: upper bound, with unit"));
+  // --- parameter studies (`needlesim sweep STUDY.yaml`), not part of a scenario (scenario/study_section.hpp)
+  addTable(s, studyFileTable());
+  addTable(s, studyParameterTable());
 }
 
 std::vector<FieldDoc> build() {

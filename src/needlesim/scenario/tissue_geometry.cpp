@@ -42,7 +42,9 @@ void requireGeometryFile(const Section& at, const std::string& path, const std::
 }
 
 // The file or the surfaces of tissue.geometry, read in the file's units.
-mesh::VolumeMesh importFiles(Section& g, const std::string& source, double elementSizeInFileUnits, std::string& named) {
+// Surfaces meshed at the default size record that size (tissue.geometry.element_size).
+mesh::VolumeMesh importFiles(Section& g, const std::string& source, double elementSizeInFileUnits, std::string& named,
+                             double scale) {
   std::vector<GeometryFile> sources;
   const auto surfaces = g.list("surfaces");
   if (g.has("file") == !surfaces.empty())
@@ -54,6 +56,7 @@ mesh::VolumeMesh importFiles(Section& g, const std::string& source, double eleme
   for (std::size_t i = 0; i < surfaces.size(); ++i) {
     Section s = g.element(surfaces[i], "surfaces", i);
     sources.push_back({s.text("file"), s.text("body")});
+    if (sources.back().body.empty()) s.remember("body", std::filesystem::path(sources.back().path).stem().string());
     requireGeometryFile(s, sources.back().path, source);
   }
   for (std::size_t i = 0; i < surfaces.size(); ++i)
@@ -66,7 +69,10 @@ mesh::VolumeMesh importFiles(Section& g, const std::string& source, double eleme
   for (const auto& s : sources) named += (named.empty() ? "" : ", ") + s.path;
   const mesh::MeshBudget budget{g.number("max_elements"), g.number("max_mesh_time"),
                                 g.number("max_mesh_memory_mib") * 1024.0 * 1024.0};
-  return readGeometryFiles(sources, elementSizeInFileUnits, source, budget);
+  double used = 0.0;
+  mesh::VolumeMesh m = readGeometryFiles(sources, elementSizeInFileUnits, source, budget, &used);
+  if (!g.has("element_size") && used > 0.0) g.rememberNumber("element_size", used * scale);
+  return m;
 }
 
 // Rotation about x, then y, then z of the tissue frame (right hand).
@@ -125,7 +131,7 @@ std::shared_ptr<ImportedGeometry> placeGeometry(Section& g, const std::string& s
   const std::string unit = g.choice("unit");
   const double scale = metresPer(unit);
   const auto size = g.optNumber("element_size");
-  mesh::VolumeMesh m = importFiles(g, source, size ? *size / scale : 0.0, geo->file);
+  mesh::VolumeMesh m = importFiles(g, source, size ? *size / scale : 0.0, geo->file, scale);
   Section r = g.sub("rotate"), t = g.sub("translate");
   const double shift[3] = {t.number("x"), t.number("y"), t.number("z")};
   if (m.dim == 2 && (r.number("x") != 0.0 || r.number("y") != 0.0 || shift[2] != 0.0))
@@ -269,7 +275,9 @@ void mapRegions(ImportedGeometry& geometry, TissueSpec& T, Section& t) {
 
 void markSupport(ImportedGeometry& geometry, Section& g) {
   const auto& m = *geometry.mesh;
-  const double depth = g.optNumber("support_depth").value_or(0.2 * (geometry.hi[0] - geometry.lo[0]));
+  const auto given = g.optNumber("support_depth");
+  const double depth = given.value_or(0.2 * (geometry.hi[0] - geometry.lo[0]));
+  if (!given) g.rememberNumber("support_depth", depth);
   geometry.supported.assign(m.nodes(), 0);
   int facets = 0;
   for (const auto& f : mesh::boundaryFacets(m))

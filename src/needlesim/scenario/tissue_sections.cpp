@@ -416,7 +416,8 @@ ParamTable<ImportedGeometry> makeGeometry() {
       .section("translate", Kind::Section, "offset", false, "0 mm", "placement: shift after the rotation")
       .section("rotate", Kind::Section, "rotation", false, "0 deg",
                "placement: rotations about the tissue frame's x, then y, then z axis, before the shift")
-      .row(numberDoc("geometry", "element_size", D::Length, positive(), "1/20 of the bounding box diagonal",
+      .row(numberDoc("geometry", "element_size", D::Length, positive(),
+                     "surfaces: 1/20 of the first one's bounding-box diagonal; a script: its own sizes",
                      "size of the elements Gmsh makes from surfaces or a .geo script"))
       .row(numberDoc("geometry", "support_depth", D::Length, positive(), "20 % of the body's depth",
                      "the boundary facing away from the needle within this depth of the deepest point is held fixed"));

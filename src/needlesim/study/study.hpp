@@ -8,31 +8,11 @@
 #include <vector>
 
 #include "needlesim/core/units.hpp"
+#include "needlesim/scenario/study_section.hpp"
 
 namespace needlesim::study {
 
-enum class Method { Grid, OneAtATime, LatinHypercube, List };
-
-struct Parameter {
-  std::string field;                // path in the scenario, e.g. tissue.friction.C_p, insertion.profile[0].insert.speed
-  std::vector<std::string> values;  // Grid / List: values as a user writes them ("3 N/m")
-  std::vector<double> percent;      // OneAtATime: changes of the base value in percent
-  double min = 0.0, max = 0.0;      // LatinHypercube, SI
-  units::Dim dim{};                 // dimension of min/max
-  int line = 0, column = 0;         // where its field path is written in the study file
-};
-
-struct StudySpec {
-  std::string name;
-  std::filesystem::path file;           // the study file
-  std::filesystem::path scenario_file;  // base scenario (resolved relative to the study file)
-  Method method = Method::Grid;
-  std::vector<Parameter> parameters;
-  int samples = 0;          // LatinHypercube
-  std::uint64_t seed = 1;   // LatinHypercube
-  int parallel = 0;         // worker threads per process (0 = all cores)
-  std::string directory;    // study folder (default results/<name>)
-};
+// Method, Parameter, StudySpec and kMaxCases: the study file's fields (scenario/study_section.hpp).
 
 // One case: the field assignments (value texts with units) applied to the base scenario.
 struct Case {
@@ -40,9 +20,6 @@ struct Case {
   std::vector<std::pair<std::string, std::string>> assignments;
   std::vector<double> values_si;  // one per parameter, SI (NaN if not numeric)
 };
-
-// The most cases a study may have (grid products, one-at-a-time, samples).
-inline constexpr std::uint64_t kMaxCases = 100000;
 
 StudySpec readStudyFile(const std::filesystem::path& path);
 // True when the file is YAML with a top-level 'vary' list (a study, not a scenario).

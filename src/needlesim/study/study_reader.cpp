@@ -10,6 +10,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "needlesim/scenario/scenario.hpp"
 #include "needlesim/scenario/yaml_document.hpp"
 #include "needlesim/scenario/yaml_section.hpp"
 #include "needlesim/study/field_path.hpp"
@@ -23,15 +24,6 @@ using scenario::Section;
 namespace {
 
 const std::string kStudyFile = "a study file (see docs/studies.md)";
-
-std::vector<std::string> scalarList(Section& s, const std::string& key) {
-  std::vector<std::string> out;
-  for (const auto& n : s.list(key)) {
-    if (!n.IsScalar()) throw s.errorAt(n, s.fieldPath(key), "", "each entry must be a single value", "e.g. [2 mm/s, 5 mm/s]");
-    out.push_back(n.Scalar());
-  }
-  return out;
-}
 
 std::string entryProblem(const std::string& key, std::size_t index, const YAML::Node& list) {
   if (!list.IsSequence()) return fmt::format("'{}' is not a list in the base scenario, so it has no entry [{}]", key, index);
@@ -103,47 +95,6 @@ YAML::Node withValueAlone(const YAML::Node& at, const std::vector<PathStep>& ste
   return copyWith(at, st.key, std::nullopt, list);
 }
 
-// Cases the method makes, counted without making them (saturates above kMaxCases).
-std::uint64_t caseCount(const StudySpec& spec) {
-  const auto& P = spec.parameters;
-  switch (spec.method) {
-    case Method::Grid: {
-      std::uint64_t n = 1;
-      for (const auto& p : P) n = std::min<std::uint64_t>(n * p.values.size(), kMaxCases + 1);
-      return P.empty() ? 0 : n;
-    }
-    case Method::List:
-      return P.empty() ? 0 : P.front().values.size();
-    case Method::OneAtATime: {
-      std::uint64_t n = 1;
-      for (const auto& p : P) n += p.percent.size();
-      return n;
-    }
-    case Method::LatinHypercube:
-      return static_cast<std::uint64_t>(spec.samples);
-  }
-  return 0;
-}
-
-void checkCaseCount(const StudySpec& spec, Section& top, const YAML::Node& vary) {
-  std::uint64_t n = caseCount(spec);
-  if (n <= kMaxCases) return;
-  std::string count = spec.method == Method::Grid ? fmt::format("more than {} cases (the product of the numbers of values)", kMaxCases)
-                                                  : fmt::format("{} cases", n);
-  if (spec.method == Method::LatinHypercube)
-    throw top.error("samples", std::to_string(spec.samples), "gives more cases than a study may have",
-                    fmt::format("at most {} cases", kMaxCases));
-  throw top.errorAt(vary, "vary", "", "gives " + count,
-                    fmt::format("at most {} cases; split the study or use method latin-hypercube", kMaxCases));
-}
-
-Method methodOf(const std::string& m) {
-  if (m == "grid") return Method::Grid;
-  if (m == "list") return Method::List;
-  if (m == "one-at-a-time") return Method::OneAtATime;
-  return Method::LatinHypercube;
-}
-
 }  // namespace
 
 bool isStudyFile(const fs::path& path) {
@@ -169,79 +120,16 @@ StudySpec readStudyFile(const fs::path& path) {
   Section top(root, "study", "", file);
   StudySpec spec;
   spec.file = path;
-  std::string scen = top.text("scenario");
-  spec.scenario_file = fs::path(scen).is_absolute() ? fs::path(scen) : path.parent_path() / scen;
-  if (!fs::exists(spec.scenario_file))
-    throw top.error("scenario", scen, "names a file that does not exist (" + spec.scenario_file.string() + ")",
-                    "a scenario file path relative to the study file");
-  if (fs::is_directory(spec.scenario_file))
-    throw top.error("scenario", scen, "is a folder (" + spec.scenario_file.string() + "), give a scenario file",
-                    "a scenario file path relative to the study file");
-  spec.name = top.text("name");
-  if (spec.name.empty()) spec.name = path.stem().string();
-  spec.method = methodOf(top.choice("method"));
-  spec.samples = static_cast<int>(top.number("samples"));  // a count field: whole (schema)
-  spec.seed = static_cast<std::uint64_t>(top.number("seed"));
-  spec.parallel = static_cast<int>(top.number("parallel"));
-  spec.directory = top.text("directory");
-  auto vary = top.list("vary");
-  if (vary.empty())
-    throw top.error("vary", "", "is an empty list", "at least one field to vary, e.g. - {field: tissue.friction.C_p, values: [3 N/m]}");
-  for (std::size_t i = 0; i < vary.size(); ++i) {
-    Section p = top.element(vary[i], "vary", i);
-    Parameter par;
-    par.field = p.text("field");
-    SourceLocation at = p.location(p.raw("field"));
-    par.line = at.line;
-    par.column = at.column;
+  scenario::studyFileTable().read(top, spec, Scenario{});
+  for (std::size_t i = 0; i < spec.parameters.size(); ++i) {  // the grammar of each field path
+    const Parameter& par = spec.parameters[i];
     try {
       parseScenarioFieldPath(par.field);
     } catch (const FieldPathError& e) {
-      throw fieldPathInputError(e, at, p.fieldPath("field"), par.field);
+      throw fieldPathInputError(e, SourceLocation{path.string(), par.line, par.column}, fmt::format("vary[{}].field", i),
+                                par.field);
     }
-    par.values = scalarList(p, "values");
-    for (const auto& s : scalarList(p, "percent")) {
-      try {
-        par.percent.push_back(std::stod(s));
-      } catch (const std::exception&) {
-        throw p.error("percent", s, "is not a number", "plain numbers such as -10, 10");
-      }
-    }
-    std::string mn = p.text("min"), mx = p.text("max");
-    switch (spec.method) {
-      case Method::Grid:
-      case Method::List:
-        if (par.values.empty()) throw p.error("values", "", "is required for method grid or list", "a list of values with units");
-        break;
-      case Method::OneAtATime:
-        if (par.percent.empty()) throw p.error("percent", "", "is required for method one-at-a-time", "e.g. [-10, 10]");
-        break;
-      case Method::LatinHypercube: {
-        if (mn.empty() || mx.empty()) throw p.error(mn.empty() ? "min" : "max", "", "is required for latin-hypercube", "a value with its unit");
-        units::Quantity a, b;
-        try {
-          a = units::parse(mn);
-          b = units::parse(mx);
-        } catch (const std::invalid_argument& e) {
-          throw p.error("min", mn + " .. " + mx, std::string("is not a valid quantity: it ") + e.what(), "a value with its unit");
-        }
-        if (!(a.dim == b.dim)) throw p.error("max", mx, "has another unit than min", units::siName(a.dim));
-        if (!(b.value > a.value)) throw p.error("max", mx, "must be larger than min", "> " + mn);
-        par.min = a.value;
-        par.max = b.value;
-        par.dim = a.dim;
-        break;
-      }
-    }
-    spec.parameters.push_back(par);
   }
-  if (spec.method == Method::List) {
-    for (const auto& par : spec.parameters)
-      if (par.values.size() != spec.parameters.front().values.size())
-        throw top.errorAt(vary[0], "vary", par.field, "method list needs the same number of values for every field",
-                          fmt::format("{} values each", spec.parameters.front().values.size()));
-  }
-  checkCaseCount(spec, top, vary.front());
   return spec;
 }
 
