@@ -2,6 +2,7 @@
 // What an engine is: a function from a typed Scenario to results reported
 // through a ResultSink. Engines never parse YAML and never write files.
 #include <functional>
+#include <memory>
 #include <string>
 #include <vector>
 
@@ -17,6 +18,9 @@ struct ModelSection;
 }
 namespace io {
 class Checkpoint;
+}
+namespace engines {
+class SteppableSession;
 }
 
 struct RunOptions {
@@ -38,6 +42,8 @@ using EngineFn = std::function<void(const Scenario&, ResultSink&, const RunOptio
 // The engine's step guards and its estimate (engines/step_guard.hpp) without
 // running it: what `needlesim check` applies. Throws InputError as run would.
 using PreflightFn = std::function<StepEstimate(const Scenario&)>;
+// Opens a session a caller steps (engines/session.hpp): the C++ API, Python and `serve`.
+using SessionOpenFn = std::unique_ptr<engines::SteppableSession> (*)(const Scenario&);
 
 struct EngineInfo {
   std::string name;
@@ -56,6 +62,8 @@ struct EngineInfo {
   // The other fields of the needle-tissue interaction it uses (engineDependentFields()) and any
   // other engine's section it reads ("model.steering"); each other one the scenario gives gets a note.
   std::vector<std::string> uses = {};
+  // How a caller steps it (engines/session.hpp), or nullptr: it runs only as a whole.
+  SessionOpenFn open = nullptr;
   // Whether it uses `field` (as engineDependentFields() names it, or "model.<key>").
   bool usesField(const std::string& field) const;
 };

@@ -10,9 +10,12 @@
 #include "needlesim/mesh/volume_mesh.hpp"
 #include "needlesim/engines/explicit/explicit_engine.hpp"
 #include "needlesim/engines/lumped/lumped_engine.hpp"
+#include "needlesim/engines/lumped/lumped_session.hpp"
 #include "needlesim/engines/mpm/mpm_engine.hpp"
 #include "needlesim/engines/realtime2d/realtime2d_engine.hpp"
+#include "needlesim/engines/realtime2d/steppable_session.hpp"
 #include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
+#include "needlesim/engines/realtime3d/steppable_session.hpp"
 #include "needlesim/engines/steering/steering_engines.hpp"
 #include "needlesim/scenario/model_section.hpp"
 
@@ -63,18 +66,19 @@ const std::vector<std::string>& engineDependentFields() {
 }
 
 // One line per engine: name, summary, run, checkpoints, inclusions, preflight, imported geometry
-// dimensions, its model section, its friction law, the other fields it uses.
+// dimensions, its model section, its friction law, the other fields it uses, and how a caller steps it.
 const std::vector<EngineInfo>& engineRegistry() {
   using namespace engines;
   using enum FrictionLaw;
   static const std::vector<EngineInfo> list{
       {"lumped", "lumped insertion-force model (seed 003 section 3.2)", runLumped, false, false,
-       guarded<lumpedStepPlan>, {}, lumpedSection, Karnopp, kLumpedForces},
+       guarded<lumpedStepPlan>, {}, lumpedSection, Karnopp, kLumpedForces, openLumpedSession},
       {"realtime2d", "real-time 2D FE tissue with a needle beam (seed 003 sections 3.1-3.5)", runRealtime2d, false,
-       true, guarded<realtime2dStepPlan>, {2}, realtime2dSection, Karnopp, with(kLumpedForces, {"material.prony"})},
+       true, guarded<realtime2dStepPlan>, {2}, realtime2dSection, Karnopp, with(kLumpedForces, {"material.prony"}),
+       openRealtime2dSession},
       {"realtime3d", "real-time 3D FE tissue (tetrahedral block) with a needle beam bending in two planes",
        runRealtime3d, false, true, guarded<realtime3dStepPlan>, {}, realtime3dSection, Karnopp,
-       with(kLumpedForces, {"material.prony"})},
+       with(kLumpedForces, {"material.prony"}), openRealtime3dSession},
       {"kinematic", "bevel-tip kinematic steering model, 3D (Webster et al. 2006)", runKinematic, false, false,
        guarded<steeringStepPlan>, {}, steeringSection, Coulomb, kSteeringTissue},
       {"energy", "bevel-tip energy-based deflection model (seed 002 section 4)", runEnergy, false, false,

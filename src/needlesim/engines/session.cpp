@@ -1,4 +1,5 @@
-// The steppable session's guard and step, and the table of the engines that can be stepped.
+// The steppable session's guard and step; a session opens through its engine's registration
+// (engines/registry.cpp, EngineInfo::open).
 #include "needlesim/engines/session.hpp"
 
 #include <fmt/format.h>
@@ -9,28 +10,12 @@
 #include <string_view>
 
 #include "needlesim/core/error.hpp"
-#include "needlesim/engines/lumped/lumped_session.hpp"
-#include "needlesim/engines/realtime2d/steppable_session.hpp"
-#include "needlesim/engines/realtime3d/steppable_session.hpp"
+#include "needlesim/engines/engine.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
 
 namespace needlesim::engines {
 
 namespace {
-
-using SessionFactory = std::unique_ptr<SteppableSession> (*)(const Scenario&);
-
-struct SteppableEngine {
-  const char* name;
-  SessionFactory open;
-};
-
-// Every engine a caller can step, once.
-constexpr SteppableEngine kSteppable[] = {
-    {"lumped", &openLumpedSession},
-    {"realtime2d", &openRealtime2dSession},
-    {"realtime3d", &openRealtime3dSession},
-};
 
 const SourceLocation kSession{"<session>", 0, 0};
 constexpr double kQuarter = 0.5 * std::numbers::pi;
@@ -204,8 +189,8 @@ const Eigen::VectorXd& SteppableSession::displacement() const {
 void SteppableSession::needleShape(int /*points*/, Eigen::MatrixXd& out) const { out.resize(dimension(), 0); }
 
 std::unique_ptr<SteppableSession> openSession(const Scenario& sc) {
-  for (const SteppableEngine& e : kSteppable)
-    if (sc.model.engine == e.name) return e.open(sc);
+  for (const EngineInfo& e : engineRegistry())
+    if (e.open && sc.model.engine == e.name) return e.open(sc);
   throw InputError(sc.where("model.engine"), "model.engine", sc.model.engine,
                    "cannot be stepped by its caller (a Session, needlesim serve): run it with `needlesim run` "
                    "(Python: needlesim.run)",
@@ -213,10 +198,13 @@ std::unique_ptr<SteppableSession> openSession(const Scenario& sc) {
 }
 
 std::string steppableEngines() {
-  std::string names;
-  for (std::size_t i = 0; i < std::size(kSteppable); ++i)
-    names += (i == 0 ? "" : i + 1 == std::size(kSteppable) ? " or " : ", ") + std::string(kSteppable[i].name);
-  return names;
+  std::vector<std::string> names;
+  for (const EngineInfo& e : engineRegistry())
+    if (e.open) names.push_back(e.name);
+  std::string text;
+  for (std::size_t i = 0; i < names.size(); ++i)
+    text += (i == 0 ? "" : i + 1 == names.size() ? " or " : ", ") + names[i];
+  return text;
 }
 
 }  // namespace needlesim::engines

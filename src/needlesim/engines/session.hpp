@@ -1,8 +1,8 @@
 #pragma once
 // The steppable session: an engine stepped by its caller (the C++ API's Session, needlesim
 // serve and its haptic bridge through it, the Python Session) one commanded pose at a time.
-// Each steppable engine implements it once (its adapter in its own folder) and is listed once
-// in openSession's table (engines/session.cpp). Every step passes one guard, the same for every
+// Each steppable engine implements it once (its adapter in its own folder) and names its opener
+// in its one registration line (engines/registry.cpp, EngineInfo::open). Every step passes one guard, the same for every
 // caller: finite arguments, dt > 0, only the axes the engine takes, a pose within the tissue's
 // reach, and a tip that moves no more than the engine's step guard allows
 // (kMaxTravelPerStep x StepPlan::spacing, engines/step_guard.hpp), from the first step on.
@@ -149,7 +149,7 @@ class SteppableSession {
   std::optional<double> previous_;
 };
 
-// The session of the scenario's engine (one line per steppable engine in engines/session.cpp);
+// The session of the scenario's engine (its registration's EngineInfo::open);
 // InputError naming model.engine for an engine that cannot be stepped.
 std::unique_ptr<SteppableSession> openSession(const Scenario& sc);
 // "lumped, realtime2d or realtime3d".
