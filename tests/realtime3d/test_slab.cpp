@@ -31,7 +31,9 @@ Outcome run3d(int nx, int ny) {
   Session s(c);
   double d = -1e-3;
   while (d < 0.03) s.step(s.poseAtDepth(d += 3e-3 * c.dt), c.dt);
-  return {s.last().tip_deflection[0], s.last().axial_force, s.tissue().nodeDisplacement(s.tissue().path()[3].node).x()};
+  // the path point at the 2D path node's depth (3 node spacings in)
+  const std::size_t i = static_cast<std::size_t>(std::lround(3 * 0.08 / (nx - 1) / c.tissue.coupling_spacing));
+  return {s.last().tip_deflection[0], s.last().axial_force, s.tissue().pathDisplacement(i).x()};
 }
 }  // namespace
 
