@@ -255,7 +255,7 @@ class Realtime3dRun {
     const auto& b = cfg_.tissue.block;
     const auto& m = session_.mesh();
     const std::string mesh = cfg_.tissue.geometry ? fmt::format("the tet mesh of {} ({} nodes", cfg_.tissue.geometry->file, m.nodes())
-                                                  : fmt::format("a tetrahedral block of {} x {} x {} nodes (", b.nodes_depth, b.nodes_lateral, b.nodes_height);
+                                                  : fmt::format("a tetrahedral block ({} x {} x {} nodes", b.nodes_depth, b.nodes_lateral, b.nodes_height);
     sink_.note(fmt::format(
         "Real-time 3D FE model (seed 003 sections 3.1-3.5) on {}, {} tets, {} free DOFs, {} back-end); the shaft "
         "couples at {} points {:g} mm apart embedded in the tets; Newmark dt = {:g} ms, Rayleigh alpha = {:g} 1/s, "
