@@ -7,11 +7,16 @@
 // snapshot the physics thread copies every 16 steps, and the full displacement a viewer thread
 // rebuilds from it. The set-up benchmarks time building the session (one iteration each) at
 // 10,496 and 41 x 35 x 35 = 50,225 nodes; the 50,225-node block also has a step benchmark.
+// The prostate benchmarks time examples/anatomy/prostate_tumour_realtime3d.yaml's gland (Gmsh's
+// tets, read and meshed once outside the timing): its set-up, and a step with the needle 20 mm in
+// moving 20 -> 22 -> 20 mm at 3 mm/s.
 #include <benchmark/benchmark.h>
 
 #include <cmath>
 
+#include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
 #include "needlesim/engines/realtime3d/session.hpp"
+#include "needlesim/scenario/reader.hpp"
 
 using namespace needlesim::realtime3d;
 
@@ -83,8 +88,50 @@ void fieldFromSnapshot(benchmark::State& state) {
   }
   state.counters["dofs"] = static_cast<double>(u.size());
 }
+const SessionConfig& prostateConfig() {
+  static const SessionConfig c = needlesim::engines::realtime3dConfig(
+      needlesim::scenario::readFile(NEEDLESIM_EXAMPLES_DIR "anatomy/prostate_tumour_realtime3d.yaml"));
+  return c;
+}
+
+void prostateSetup(benchmark::State& state) {
+  Eigen::setNbThreads(1);
+  const SessionConfig& c = prostateConfig();
+  int nodes = 0, points = 0;
+  for (auto _ : state) {
+    const Session s(c);
+    nodes = s.mesh().nodes();
+    points = static_cast<int>(s.tissue().path().size());
+    benchmark::DoNotOptimize(nodes);
+  }
+  state.counters["nodes"] = nodes;
+  state.counters["path_points"] = points;
+}
+
+void prostateStep(benchmark::State& state) {
+  Eigen::setNbThreads(1);
+  const SessionConfig& c = prostateConfig();
+  Session s(c);
+  const double dt = 1e-3;
+  double depth = -0.5e-3;
+  while (depth < 0.02) s.step(s.poseAtDepth(depth += 10e-3 * dt), dt);
+  double dir = 1.0;
+  for (auto _ : state) {
+    depth += dir * 3e-3 * dt;
+    if (depth > 0.022 || depth < 0.02) dir = -dir;
+    benchmark::DoNotOptimize(s.step(s.poseAtDepth(depth), dt).axial_force);
+  }
+  state.counters["steps_per_s"] = benchmark::Counter(static_cast<double>(state.iterations()), benchmark::Counter::kIsRate);
+  state.counters["nodes"] = s.mesh().nodes();
+  state.counters["coupled"] = s.last().coupled;
+  state.counters["path_dofs"] = s.tissue().dynamics().pathDofs();
+}
 }  // namespace
 
+static void BM_Prostate_Setup(benchmark::State& st) { prostateSetup(st); }
+BENCHMARK(BM_Prostate_Setup)->Unit(benchmark::kMillisecond)->Iterations(1);
+static void BM_Prostate_Step(benchmark::State& st) { prostateStep(st); }
+BENCHMARK(BM_Prostate_Step)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 static void BM_Block10496_Reduced(benchmark::State& st) { run(st, 41, 16, Backend::Reduced); }
 BENCHMARK(BM_Block10496_Reduced)->Unit(benchmark::kMicrosecond)->MinTime(2.0);
 static void BM_Setup_Block10496(benchmark::State& st) { setup(st, 41, 16); }

@@ -36,7 +36,7 @@ Insertion insert(const SessionConfig& c, double depth, double hold = 0.0, double
   while (d < depth) s.step(s.poseAtDepth(d += 3e-3 * c.dt, 0, 0, 0, 0, roll), c.dt);
   for (double t = 0; t < hold; t += c.dt) s.step(s.poseAtDepth(d, 0, 0, 0, 0, roll), c.dt);
   return {s.last().tip_deflection, s.last().axial_force,
-          s.tissue().nodeDisplacement(s.tissue().path()[2].node).x()};
+          s.tissue().pathDisplacement(2).x()};
 }
 }  // namespace
 
@@ -81,12 +81,17 @@ TEST(Realtime3dSession, PathLoadSettlesToTheStaticSolve) {
     for (int n = 0; n < 400; ++n) { t.predict(); t.commit(f); }
     Eigen::VectorXd F = Eigen::VectorXd::Zero(3 * s.mesh().nodes());
     const Eigen::Vector3d dirs[3] = {Eigen::Vector3d::UnitX(), Eigen::Vector3d::UnitY(), Eigen::Vector3d::UnitZ()};
-    for (int k = 0; k < f.size(); ++k)
-      F.segment<3>(3 * s.tissue().path()[static_cast<std::size_t>(k / 3)].node) += f[k] * dirs[k % 3];
+    const auto& path = s.tissue().path();
+    for (int k = 0; k < f.size(); ++k) {  // each point's load spread over its nodes by its weights
+      const auto& p = path[static_cast<std::size_t>(k / 3)];
+      for (std::size_t a = 0; a < p.nodes.size(); ++a) F.segment<3>(3 * p.nodes[a]) += p.weights[a] * f[k] * dirs[k % 3];
+    }
     const Eigen::VectorXd u = t.staticSolve(F);
     for (int k = 0; k < f.size(); ++k) {
-      const int node = s.tissue().path()[static_cast<std::size_t>(k / 3)].node;
-      EXPECT_NEAR(t.pathU()[k], u[3 * node + k % 3], 1e-6 * u.cwiseAbs().maxCoeff()) << "backend " << int(b) << " k " << k;
+      const auto& p = path[static_cast<std::size_t>(k / 3)];
+      double uk = 0.0;
+      for (std::size_t a = 0; a < p.nodes.size(); ++a) uk += p.weights[a] * u[3 * p.nodes[a] + k % 3];
+      EXPECT_NEAR(t.pathU()[k], uk, 1e-6 * u.cwiseAbs().maxCoeff()) << "backend " << int(b) << " k " << k;
     }
   }
 }

@@ -384,7 +384,7 @@ ParamTable<TissueSpec> makeTissue() {
             readBlockOrGeometry)
       .section("geometry", Kind::Section, "geometry", false, "",
                "an imported tissue geometry instead of the block: a Gmsh mesh or script, or closed surfaces meshed by "
-               "Gmsh; its groups are the layers and inclusions, by name (engines explicit, mpm, realtime2d)")
+               "Gmsh; its groups are the layers and inclusions, by name (engines explicit, mpm, realtime2d, realtime3d)")
       .section("layers", Kind::List, "layer", false, "",
                "layers from the entry face inwards; omit for one layer and write the layer's fields "
                "(material, puncture, cutting, friction, interaction) directly under tissue",

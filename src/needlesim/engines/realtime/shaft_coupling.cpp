@@ -25,7 +25,7 @@ ShaftCoupling::ShaftCoupling(ShaftSettings s) : cfg_(std::move(s)) {
   status_.assign(P, FrictionStatus::Stick);
   offset_.assign(P * static_cast<std::size_t>(lat_), 0.0);
   lambda_.assign(P * static_cast<std::size_t>(lat_), 0.0);
-  sigma_.assign(P, 0.0); ell_.assign(P, 0.0); pos_.assign(P, 0.0);
+  sigma_.assign(P, 0.0); ell_.assign(P, 0.0); pos_.assign(P, 0.0); axial_prev_.assign(P, 0.0);
   idx_.assign(D, 0);
   order_.assign(P, 0);
   fK_.setZero(comps_ * P_); f_.setZero(comps_ * P_); y_.setZero(comps_ * P_);
@@ -101,8 +101,10 @@ int ShaftCoupling::solve(const TissueDynamics& t, const AxialMotion& mo, double 
     // (seen when a 3D block's shaft restarts after a pause) and end on an inconsistent set.
     if (!updateStatus(t, mo, 2 * it >= cfg_.max_iterations)) break;
   }
-  for (int i = 0; i < k_; ++i)
-    for (int j = 0; j < lat_; ++j) lambda_[static_cast<std::size_t>(i * lat_ + j)] = f_[comps_ * i + 1 + j];
+  for (int i = 0; i < P_; ++i) {
+    for (int j = 0; j < lat_ && i < k_; ++j) lambda_[static_cast<std::size_t>(i * lat_ + j)] = f_[comps_ * i + 1 + j];
+    axial_prev_[static_cast<std::size_t>(i)] = i < k_ ? shaftAxialLoad(i) : 0.0;
+  }
   return it + 1;
 }
 
@@ -155,18 +157,21 @@ int ShaftCoupling::assemble(const TissueDynamics& t, const AxialMotion& mo, doub
     for (int b = 0; b <= a; ++b) {
       const int ib = idx_[static_cast<std::size_t>(b)];
       double h = S(ia, ib);
+      if (a == b && !cfg_.interface_compliance.empty()) h += cfg_.interface_compliance[static_cast<std::size_t>(ia)];
       if (ca > 0 && ca == ib % comps_)  // needle flexibility between ties of one plane (eq 3.12)
         h += cantileverDeflection(sigma_[static_cast<std::size_t>(na)], sigma_[static_cast<std::size_t>(ib / comps_)], EI);
       H_(a, b) = h;
       H_(b, a) = h;
     }
     const auto p = static_cast<std::size_t>(na);
+    // axial: the interface keeps the stretch of the shaft's last load on the point
+    const double kept = ca == 0 && !cfg_.interface_compliance.empty() ? cfg_.interface_compliance[static_cast<std::size_t>(ia)] * axial_prev_[p] : 0.0;
     if (ca > 0) {  // lateral tie: u_j = needle lateral + offset
       const int j = ca - 1;
       rhs_[a] = rigidLateral(j, pos_[p]) + nl_.Q[j] * cantileverDeflection(sigma_[p], cfg_.length, EI) +
                 offset_[p * static_cast<std::size_t>(lat_) + static_cast<std::size_t>(j)] - y_[ia];
     } else if (status_[p] == FrictionStatus::Stick) {  // axial: moves with the needle
-      rhs_[a] = pu[ia] + mo.ds - y_[ia];
+      rhs_[a] = pu[ia] + mo.ds - y_[ia] + kept;
     } else {  // implicit slip: mu = r - cc u (eq 3.23 slip branches, Newmark velocity v = e + a1 u)
       const auto& fr = cfg_.friction[p];
       const bool posv = status_[p] == FrictionStatus::SlipPos;
@@ -174,7 +179,7 @@ int ShaftCoupling::assemble(const TissueDynamics& t, const AxialMotion& mo, doub
       const double r = ell_[p] * contact::karnoppSliding(fr, posv, mo.v_ax - e);
       const double cc = ell_[p] * contact::karnoppDamping(fr, posv) * c.a1;
       H_(a, a) += 1.0 / cc;
-      rhs_[a] = r / cc - y_[ia];
+      rhs_[a] = r / cc - y_[ia] + kept;
     }
   }
   return m;

@@ -42,6 +42,10 @@ struct ShaftSettings {
   std::vector<KarnoppFriction> friction;
   int max_iterations = 12;
   double entry_s = 0.0;           // m, where the axis enters the tissue (the first node's rubbed length starts there)
+  // m/N per path load (comps per point): a compliant interface between the shaft and the tissue point in series
+  // with each tie (lateral: on the whole load; axial stick and slip: on the change of the
+  // shaft's load since the last step, the interface keeping its stretch); empty = rigid ties.
+  std::vector<double> interface_compliance;
 };
 
 class ShaftCoupling {
@@ -86,7 +90,7 @@ class ShaftCoupling {
   int lat_ = 1, comps_ = 2, P_ = 0, k_ = 0;
   NeedleLine nl_;
   std::vector<FrictionStatus> status_;
-  std::vector<double> offset_, sigma_, ell_, pos_, lambda_;
+  std::vector<double> offset_, sigma_, ell_, pos_, lambda_, axial_prev_;
   std::vector<int> idx_, order_;
   Eigen::VectorXd fK_, f_, y_, rhs_, x_;
   Eigen::MatrixXd H_;

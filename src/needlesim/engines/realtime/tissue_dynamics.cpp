@@ -20,6 +20,11 @@ TissueDynamics::TissueDynamics(std::string engine, const DynamicsSettings& cfg, 
   M_ = restrictToFree(sys.M, map_);
   for (int node : sys.path_nodes)
     for (int d = 0; d < dim_; ++d) pdof_.push_back(map_.free_of_dof[static_cast<std::size_t>(dim_ * node + d)]);
+  pstart_ = sys.path_start;
+  pweight_ = sys.path_weights;
+  if (!pstart_.empty() && (pstart_.back() != static_cast<int>(sys.path_nodes.size()) || pweight_.size() != sys.path_nodes.size()))
+    throw SolverError(engine_ + ": the path points' entries do not match their nodes");
+  points_ = pstart_.empty() ? static_cast<int>(sys.path_nodes.size()) : static_cast<int>(pstart_.size()) - 1;
   makeIntegrator(dt);
   pu_.setZero(pathDofs()); pv_.setZero(pathDofs()); pa_.setZero(pathDofs()); u0P_.setZero(pathDofs());
   full_u_.setZero(sys.K.rows()); full_v_.setZero(sys.K.rows());
@@ -31,7 +36,7 @@ TissueDynamics& TissueDynamics::operator=(TissueDynamics&&) noexcept = default;
 
 void TissueDynamics::makeIntegrator(double dt) {
   const auto& cfg = cfg_;
-  PathMap pm{&pdof_, dim_, dirs_};
+  const PathMap pm = pathMap();
   materials::Prony prony{cfg.prony};
   prony.validate();
   Backend chosen = cfg.backend;
@@ -55,6 +60,10 @@ void TissueDynamics::makeIntegrator(double dt) {
   checkStable(dt);
   nm_ = NewmarkCoefficients(cfg.newmark, dt);
   impl_->prepare(nm_);
+}
+
+PathMap TissueDynamics::pathMap() const {
+  return pstart_.empty() ? PathMap{&pdof_, dim_, dirs_} : PathMap{&pdof_, dim_, dirs_, &pstart_, &pweight_};
 }
 
 Backend TissueDynamics::backend() const { return impl_->kind(); }
@@ -154,7 +163,7 @@ void TissueDynamics::setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v
   const Eigen::VectorXd rhs = -(C * vf + K_ * uf);
   const Eigen::VectorXd af = mf.solve(rhs);
   impl_->setState(uf, vf, af);
-  PathMap pm{&pdof_, dim_, dirs_};
+  const PathMap pm = pathMap();
   for (int k = 0; k < pathDofs(); ++k) {
     pu_[k] = pm.gather(uf, k); pv_[k] = pm.gather(vf, k); pa_[k] = pm.gather(af, k);
   }

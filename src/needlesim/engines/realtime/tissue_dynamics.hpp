@@ -23,6 +23,7 @@
 namespace needlesim::realtime {
 
 class TissueIntegrator;
+struct PathMap;
 
 // The state a full displacement field is rebuilt from (TissueDynamics::saveDisplacement):
 // the direct back-end's displacement on the free DOFs, the modal coordinates, and for the
@@ -49,14 +50,18 @@ struct DynamicsSettings {
   int reduced_max_modes = 400;
 };
 
-// The assembled tissue and its path: K, M over all dim * nodes DOFs, held DOFs, and per
-// path node its dim DOFs' ids; dirs (dim x comps) the directions of the path loads.
+// The assembled tissue and its path: K, M over all dim * nodes DOFs, held DOFs, the path
+// points (tissue_integrators.hpp PathMap): each a mesh node, or with path_start a weighted set
+// of mesh nodes (path_nodes[path_start[i] .. path_start[i+1]), weights path_weights);
+// dirs (dim x comps) the directions of the path loads.
 struct PathedSystem {
   Eigen::SparseMatrix<double> K, M;
   std::vector<bool> held;       // per DOF
   std::vector<int> path_nodes;  // mesh node ids
   int dim = 2;
   Eigen::MatrixXd dirs;
+  std::vector<int> path_start;        // empty: one node per path point
+  std::vector<double> path_weights;   // per entry of path_nodes (with path_start)
 };
 
 class TissueDynamics {
@@ -66,7 +71,7 @@ class TissueDynamics {
   TissueDynamics(TissueDynamics&&) noexcept;
   TissueDynamics& operator=(TissueDynamics&&) noexcept;
 
-  int pathDofs() const { return comps_ * static_cast<int>(pdof_.size()) / dim_; }
+  int pathDofs() const { return comps_ * points_; }
   Backend backend() const;
   double dt() const { return nm_.dt; }
   const NewmarkCoefficients& coefficients() const { return nm_; }
@@ -103,12 +108,15 @@ class TissueDynamics {
   void refreshDisplacement() const;
   void refreshVelocity() const;
   void scatterFree(const Eigen::VectorXd& free, Eigen::VectorXd& full) const;
+  PathMap pathMap() const;
   std::string engine_;
   DynamicsSettings cfg_;
   DofMap map_;
   Eigen::SparseMatrix<double> K_, M_;  // free DOFs
-  std::vector<int> pdof_;              // free DOF of each spatial component of each path node
-  int dim_ = 2, comps_ = 2;
+  std::vector<int> pdof_;              // free DOF of each spatial component of each path entry
+  std::vector<int> pstart_;            // path point -> its entries (empty: one each)
+  std::vector<double> pweight_;        // weight of each entry
+  int dim_ = 2, comps_ = 2, points_ = 0;
   Eigen::MatrixXd dirs_;
   NewmarkCoefficients nm_;
   std::unique_ptr<TissueIntegrator> impl_;

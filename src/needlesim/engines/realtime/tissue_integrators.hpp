@@ -13,33 +13,44 @@
 
 namespace needlesim::realtime {
 
-// The path loads' placement on the free DOFs: path node i has `dim` spatial DOFs
-// (dofs[dim i + d], -1 when held) and comps() load components, component c acting along
-// dirs.col(c) (axial first, then the lateral directions). Path load k = comps() i + c.
+// The path loads' placement on the free DOFs. Path point i spreads over entries
+// start[i] .. start[i+1] (without `start`: entry i alone), entry e a mesh node with `dim`
+// spatial DOFs (dofs[dim e + d], -1 when held) and weight weights[e] (without `weights`: 1):
+// a mesh node (realtime2d) or a point embedded in the elements (realtime3d, interpolation
+// weights). comps() load components per point, component c acting along dirs.col(c) (axial
+// first, then the lateral directions). Path load k = comps() i + c; its displacement is the
+// same weighted sum of the entries' displacements (the transpose of the load's spreading).
 struct PathMap {
   const std::vector<int>* dofs = nullptr;
   int dim = 2;
   Eigen::MatrixXd dirs;  // dim x comps
+  const std::vector<int>* start = nullptr;
+  const std::vector<double>* weights = nullptr;
   int comps() const { return static_cast<int>(dirs.cols()); }
-  int nodes() const { return static_cast<int>(dofs->size()) / dim; }
+  int nodes() const { return start ? static_cast<int>(start->size()) - 1 : static_cast<int>(dofs->size()) / dim; }
   int size() const { return comps() * nodes(); }
+  int first(int i) const { return start ? (*start)[static_cast<std::size_t>(i)] : i; }
+  int last(int i) const { return start ? (*start)[static_cast<std::size_t>(i + 1)] : i + 1; }
+  double weight(int e) const { return weights ? (*weights)[static_cast<std::size_t>(e)] : 1.0; }
   template <class Vec>
   double gather(const Vec& u, int k) const {
     const int i = k / comps(), c = k % comps();
     double s = 0.0;
-    for (int d = 0; d < dim; ++d) {
-      const int f = (*dofs)[static_cast<std::size_t>(dim * i + d)];
-      if (f >= 0) s += dirs(d, c) * u[f];
-    }
+    for (int e = first(i); e < last(i); ++e)
+      for (int d = 0; d < dim; ++d) {
+        const int f = (*dofs)[static_cast<std::size_t>(dim * e + d)];
+        if (f >= 0) s += weight(e) * dirs(d, c) * u[f];
+      }
     return s;
   }
   template <class Vec>
   void scatterAdd(Vec& u, int k, double f) const {
     const int i = k / comps(), c = k % comps();
-    for (int d = 0; d < dim; ++d) {
-      const int fd = (*dofs)[static_cast<std::size_t>(dim * i + d)];
-      if (fd >= 0) u[fd] += dirs(d, c) * f;
-    }
+    for (int e = first(i); e < last(i); ++e)
+      for (int d = 0; d < dim; ++d) {
+        const int fd = (*dofs)[static_cast<std::size_t>(dim * e + d)];
+        if (fd >= 0) u[fd] += weight(e) * dirs(d, c) * f;
+      }
   }
 };
 

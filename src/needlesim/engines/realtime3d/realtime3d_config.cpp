@@ -1,6 +1,6 @@
 // Scenario -> realtime3d Session configuration: per layer the element material, friction,
-// cutting and puncture at the path nodes; bonded inclusions as material spheres (or
-// cylinders across the height); refusals of what the engine does not model.
+// cutting and puncture at the path points; bonded inclusions as material spheres, or an
+// imported tet mesh (tissue.geometry) with its groups; refusals of what the engine does not model.
 #include <fmt/format.h>
 
 #include <cmath>
@@ -28,11 +28,36 @@ void addInclusions(const Scenario& sc, TissueConfig& t) {
   const Eigen::Vector3d shift = needle::cornerShift(sc.tissue);
   for (std::size_t i = 0; i < sc.tissue.inclusions.size(); ++i) {
     const auto& I = sc.tissue.inclusions[i];
+    if (I.shape == InclusionSpec::Shape::Mesh) {  // its elements carry it (ImportedGeometry::region)
+      t.regions.push_back({Eigen::Vector3d(I.x, I.y, I.z) + shift, I.radius, elasticOf(I.material)});
+      continue;
+    }
     if (I.shape != InclusionSpec::Shape::Sphere)
       refuseRealtime(sc, "realtime3d", fmt::format("tissue.inclusions[{}].shape", i),
                      "only spherical inclusions are modelled (material spheres of the tetrahedral block)", "sphere");
     t.regions.push_back({Eigen::Vector3d(I.x, I.y, I.z) + shift, I.radius, elasticOf(I.material)});
   }
+}
+
+// An imported geometry: tetrahedra, one layer (friction, cutting and puncture along the path
+// follow depth bands, not the mesh's groups), held where the geometry is supported, no markers.
+void checkGeometry(const Scenario& sc) {
+  const auto& g = sc.tissue.geometry;
+  if (!g) return;
+  if (g->mesh->dim != 3 || g->mesh->element != "tet4")
+    throw InputError(sc.where("tissue.geometry.file"), "tissue.geometry.file", g->file,
+                     fmt::format("realtime3d: the mesh is {}D of {} elements; realtime3d takes linear tetrahedra",
+                                 g->mesh->dim, g->mesh->element),
+                     "a 3D mesh of tet4 elements (a Gmsh .msh or .geo meshed with tetrahedra, or closed surfaces)");
+  if (sc.tissue.layers.size() > 1)
+    refuseRealtime(sc, "realtime3d", "tissue.layers",
+                   fmt::format("an imported mesh takes one layer (with inclusions); {} has {} layers, whose friction, "
+                               "cutting and puncture the engine would place by depth bands, not by the mesh's groups",
+                               g->file, sc.tissue.layers.size()),
+                   "one layer, or engine explicit (which follows the groups)");
+  if (!sc.model.realtime3d.markers.empty())
+    refuseRealtime(sc, "realtime3d", "model.realtime3d.markers",
+                   "markers are placed in the generated block, not in an imported mesh", "no markers with tissue.geometry");
 }
 
 TissueConfig tissueConfig(const Scenario& sc) {
@@ -52,6 +77,9 @@ TissueConfig tissueConfig(const Scenario& sc) {
   t.newmark.gamma = r.newmark_gamma;    // eqs 3.2-3.3
   t.newmark.beta = r.newmark_beta;
   t.hold_sides = r.hold_sides;
+  t.geometry = sc.tissue.geometry;
+  t.coupling_spacing = r.coupling_spacing;
+  t.coupling_radius = 0.5 * sc.needle.outer_diameter;
   if (r.relaxation) t.prony = sc.tissue.layers.front().material.prony;  // QLV, one series for the block
   t.backend = realtimeBackend(r.solver);
   t.reduced_max_modes = r.modes;
@@ -61,9 +89,7 @@ TissueConfig tissueConfig(const Scenario& sc) {
 }  // namespace
 
 SessionConfig realtime3dConfig(const Scenario& sc) {
-  if (sc.tissue.geometry)
-    refuseRealtime(sc, "realtime3d", "tissue.geometry", "an imported geometry is not meshed by realtime3d (it "
-                   "generates a graded tetrahedral block)", "tissue.block, or engine explicit or mpm");
+  checkGeometry(sc);
   checkRealtimeLayers(sc, "realtime3d", sc.model.realtime3d.relaxation);
   checkRealtimeInclusions(sc, "realtime3d");
   SessionConfig c;

@@ -99,7 +99,8 @@ struct Extremes {
 realtime::SimplexStrains tetStrains(const Session& s, bool pathOnly) {
   const auto& mesh = s.mesh();
   std::vector<char> onPath(static_cast<std::size_t>(mesh.nodes()), 0);
-  for (const auto& p : s.tissue().path()) onPath[static_cast<std::size_t>(p.node)] = 1;
+  for (const auto& p : s.tissue().path())
+    for (int n : p.nodes) onPath[static_cast<std::size_t>(n)] = 1;
   std::vector<int> tets;
   for (std::size_t e = 0; e + 4 <= mesh.conn.size(); e += 4) {
     bool keep = !pathOnly;
@@ -183,8 +184,9 @@ class Realtime3dRun {
   void announceSetUp() const {
     const auto& b = cfg_.tissue.block;
     if (!options_.progress || !Progress::stderrIsTerminal()) return;
-    fmt::print(stderr, "realtime3d: setting up {} x {} x {} nodes (assembly, factorisation, modes; Ctrl-C stops)\n",
-               b.nodes_depth, b.nodes_lateral, b.nodes_height);
+    fmt::print(stderr, "realtime3d: setting up {} (assembly, factorisation, modes; Ctrl-C stops)\n",
+               cfg_.tissue.geometry ? cfg_.tissue.geometry->file
+                                    : fmt::format("{} x {} x {} nodes", b.nodes_depth, b.nodes_lateral, b.nodes_height));
   }
 
   void addShape(double t) {
@@ -214,6 +216,9 @@ class Realtime3dRun {
                     o.out_of_plane_force, o.tip_deflection[1], o.tip_load[0], o.tip_load[1],
                     static_cast<double>(o.phase), static_cast<double>(o.coupled), static_cast<double>(o.sticking)});
     if (inclusions_.empty()) return;
+    Eigen::Matrix3Xd line;  // the tip and the needle's direction there, for the targets' miss distance
+    session_.needleShape(kShapePoints, line);
+    inclusions_.tip(line.col(kShapePoints - 1), line.col(kShapePoints - 1) - line.col(kShapePoints - 2));
     std::vector<Eigen::Vector3d> u;
     for (std::size_t i = 0; i < sc_.tissue.inclusions.size(); ++i) u.push_back(session_.tissue().regionDisplacement(i));
     inclusions_.add(t, f.depth, u);
@@ -249,12 +254,16 @@ class Realtime3dRun {
     sink_.note(fmt::format("Largest small strain in the tissue{}: {:.2g} (the linear model is held to {:g}; "
                            "realtime/linear_range.hpp).", " (the elements on the needle path, and all at the end)", range_.worstStrain(), realtime::kLinearStrainBound));
     const auto& b = cfg_.tissue.block;
+    const auto& m = session_.mesh();
+    const std::string mesh = cfg_.tissue.geometry ? fmt::format("the tet mesh of {} ({} nodes", cfg_.tissue.geometry->file, m.nodes())
+                                                  : fmt::format("a tetrahedral block ({} x {} x {} nodes", b.nodes_depth, b.nodes_lateral, b.nodes_height);
     sink_.note(fmt::format(
-        "Real-time 3D FE model (seed 003 sections 3.1-3.5 on a tetrahedral block): {} x {} x {} nodes, {} tets ({} "
-        "free DOFs, {} back-end), Newmark dt = {:g} ms, Rayleigh alpha = {:g} 1/s, beta = {:g} s; needle EI = {:.4g} "
-        "N m^2 bending in two planes. {} steps in {:.3g} s ({:.3g} steps/s; setup {:.3g} s). docs/models/realtime3d.md.",
-        b.nodes_depth, b.nodes_lateral, b.nodes_height, session_.mesh().elements(), session_.tissue().dynamics().freeDofs(),
-        realtimeBackendName(session_.tissue().dynamics().backend()), dt_ * 1e3, cfg_.tissue.rayleigh_alpha,
+        "Real-time 3D FE model (seed 003 sections 3.1-3.5) on {}, {} tets, {} free DOFs, {} back-end); the shaft "
+        "couples at {} points {:g} mm apart embedded in the tets; Newmark dt = {:g} ms, Rayleigh alpha = {:g} 1/s, "
+        "beta = {:g} s; needle EI = {:.4g} N m^2 bending in two planes. {} steps in {:.3g} s ({:.3g} steps/s; setup "
+        "{:.3g} s). docs/models/realtime3d.md.",
+        mesh, m.elements(), session_.tissue().dynamics().freeDofs(), realtimeBackendName(session_.tissue().dynamics().backend()),
+        session_.tissue().path().size(), cfg_.tissue.coupling_spacing * 1e3, dt_ * 1e3, cfg_.tissue.rayleigh_alpha,
         cfg_.tissue.rayleigh_beta, cfg_.needle.EI, cadence_.steps, run_s_, run_s_ > 0 ? cadence_.steps / run_s_ : 0.0, setup_s_));
     for (const auto& L : sc_.tissue.layers)
       if (L.material.law != "linear") {
@@ -284,15 +293,20 @@ class Realtime3dRun {
 
 }  // namespace
 
-// The needle couples to the tissue at the path nodes, one per depth plane of the grid:
-// a step must not carry the tip past them.
+// The needle couples to the tissue at the path points, coupling_spacing apart: a step must not
+// carry the tip past them.
 StepPlan realtime3dStepPlan(const Scenario& sc) {
   realtime3dConfig(sc);  // the engine's own refusals (layers, inclusions), for check as for run
   const auto& m = sc.model.realtime3d;
-  StepPlan p = realtimeStepPlan(sc, "realtime3d", m.nodes_depth);
-  // the block: its far face and four sides held (run_cost.hpp)
-  run_cost::costRealtime(p, m.solver, 3, double(m.nodes_depth) * m.nodes_lateral * m.nodes_height,
-                         3.0 * (m.nodes_depth - 1) * (m.nodes_lateral - 2) * (m.nodes_height - 2));
+  StepPlan p = fixedStepPlan(sc, "realtime3d");
+  p.spacing = m.coupling_spacing;
+  p.spacingName = "the spacing of the path points (model.realtime3d.coupling_spacing)";
+  // the tissue's nodes: the imported mesh's, else the block's (far face and four sides held) (run_cost.hpp)
+  const auto* imported = sc.tissue.geometry ? sc.tissue.geometry->mesh.get() : nullptr;
+  const double nodes = imported ? imported->nodes() : double(m.nodes_depth) * m.nodes_lateral * m.nodes_height;
+  const double freeDofs = imported ? 3.0 * imported->nodes()
+                                   : 3.0 * (m.nodes_depth - 1) * (m.nodes_lateral - 2) * (m.nodes_height - 2);
+  run_cost::costRealtime(p, m.solver, 3, nodes, freeDofs);
   return p;
 }
 

@@ -30,8 +30,12 @@ scenario::ParamTable<Spec> build() {
       .number(&Spec::newmark_gamma, "newmark_gamma", closed(0.5, 1.0),
               "Newmark gamma (delta of seed 003 eq 3.2); below 1/2 the scheme amplifies every mode")
       .number(&Spec::newmark_beta, "newmark_beta", openClosed(0.0, 1.0), "Newmark beta (seed 003 eq 3.3)")
+      .quantity(&Spec::coupling_spacing, "coupling_spacing", D::Length, "mm", closed(1e-4, 5e-2),
+                "spacing of the points along the needle path where the shaft couples to the tissue (embedded in the "
+                "tets, whatever the mesh); the step must not carry the tip past one")
       .choice(&Spec::hold_sides, "boundary", {{"held", true}, {"far-face", false}},
-              "held: all faces but the entry face fixed (seed 003 section 3.5); far-face: only the face opposite the entry")
+              "held: all faces but the entry face fixed (seed 003 section 3.5); far-face: only the face opposite the "
+              "entry (tissue.geometry: its supported side, tissue.geometry.support_depth, either way)")
       .word(&Spec::solver, "solver", {"auto", "direct", "modal", "reduced"},
             "direct: sparse LDLT; modal: all modes (exact); reduced: lowest modes plus residual flexibility "
             "(10k-node blocks at kHz rates); auto: modal up to 1500 free DOFs, else reduced")

@@ -18,6 +18,7 @@ struct Realtime3dModelSpec {
   int nodes_lateral = 16;        // nodes across the width (block.width)
   int nodes_height = 16;         // nodes across the height (block.height)
   double refinement = 8.0;       // coarsest / finest lateral element size (finest on the path)
+  double coupling_spacing = 1e-3;  // m, between the path points the shaft couples to
   bool lumped_mass = false;
   double rayleigh_alpha = 0.01;  // 1/s (seed 003 eq 3.8)
   double rayleigh_beta = 0.1;    // s

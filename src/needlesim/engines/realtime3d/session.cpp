@@ -17,6 +17,14 @@ Eigen::Vector3d cornerShiftOf(const SessionConfig& c) {
   block.height = c.tissue.block.height;
   return needle::cornerShift(block);
 }
+// The stretch of the reference axis in the tissue: from the entry face (or where the axis meets
+// the imported geometry) to the far face (or where it leaves the geometry the last time).
+double pathBegin(const SessionConfig& c) { return c.tissue.geometry ? c.tissue.geometry->entry_depth : 0.0; }
+double pathEnd(const SessionConfig& c) {
+  const Eigen::Vector3d t = c.frame.axial.normalized();
+  if (const auto& g = c.tissue.geometry) return exitAlongAxis(*g, c.frame.entry, t);
+  return (c.tissue.block.length - (c.frame.entry + cornerShiftOf(c)).x()) / t.x();
+}
 SessionConfig normalised(SessionConfig c) {
   // The refined line of the mesh runs through the entry point.
   const Eigen::Vector3d e = c.frame.entry + cornerShiftOf(c);
@@ -34,9 +42,10 @@ Session::Session(const SessionConfig& cfg_in)
       t0_(cfg_.frame.axial.normalized()),
       n0_(cfg_.frame.lateral.normalized()),
       b0_(t0_.cross(n0_)),
-      tissue_(cfg_.tissue, entry_ + shift_, t0_, n0_, cfg_.dt) {
+      tissue_(cfg_.tissue, entry_ + shift_, t0_, n0_, cfg_.dt, pathBegin(cfg_), pathEnd(cfg_)) {
   L_ = cfg_.needle.length;
-  s_exit_ = (tissue_.length() - (entry_ + shift_).x()) / t0_.x();
+  s_entry_ = pathBegin(cfg_);
+  s_exit_ = pathEnd(cfg_);
   for (const auto& p : tissue_.path()) path_s_.push_back(p.s);
   tip_ = realtime::TipForces(membranesOf(), path_s_, 3);
   shaft_ = realtime::ShaftCoupling(shaftSettings());
@@ -55,10 +64,11 @@ double Session::cuttingAt(double s_tip) const {
 }
 
 realtime::ShaftSettings Session::shaftSettings() const {
-  realtime::ShaftSettings s{"realtime3d", 2, cfg_.needle.EI, L_, path_s_, {}, cfg_.max_active_set_iterations};
-  for (const auto& p : tissue_.path())  // the layer holding the node (by its depth x)
-    s.friction.push_back(cfg_.layers.empty() ? cfg_.friction
-                                             : cfg_.layers[layerAt(tissue_.mesh().coord(p.node, 0), 1e-12)].friction);
+  realtime::ShaftSettings s{"realtime3d", 2, cfg_.needle.EI, L_, path_s_, {}, cfg_.max_active_set_iterations, s_entry_};
+  for (const auto& p : tissue_.path()) {  // the layer holding the point (by its depth x)
+    s.friction.push_back(cfg_.layers.empty() ? cfg_.friction : cfg_.layers[layerAt(p.X.x(), 1e-12)].friction);
+    for (int c = 0; c < 3; ++c) s.interface_compliance.push_back(p.compliance[c]);
+  }
   return s;
 }
 
@@ -69,7 +79,7 @@ std::vector<realtime::Membrane> Session::membranesOf() const {
     const auto& m = L < cfg_.tissue.layers.size() ? cfg_.tissue.layers[L].second : cfg_.tissue.material;
     return forces::StiffnessLaw{m.E, m.nu, cfg_.needle.bevel_angle, theta};
   };
-  std::vector<realtime::Membrane> out{{0.0, cfg_.puncture_force, lawOf(0), 0}};
+  std::vector<realtime::Membrane> out{{s_entry_, cfg_.puncture_force, lawOf(0), 0}};
   for (std::size_t L = 1; L < cfg_.layers.size(); ++L) {
     const double s = (cfg_.layers[L - 1].depth_end - (entry_ + shift_).x()) / t0_.x();
     if (!(s > 0.0) || !(s < s_exit_)) continue;
@@ -193,6 +203,7 @@ SessionConfig gelatinBlockConfig(int nodesDepth, int nodesLateral, Backend backe
   c.tissue.block.nodes_depth = nodesDepth;
   c.tissue.block.nodes_lateral = c.tissue.block.nodes_height = nodesLateral;
   c.tissue.backend = backend;
+  c.tissue.coupling_radius = 0.5 * 1.27e-3;  // 18 G
   return c;
 }
 

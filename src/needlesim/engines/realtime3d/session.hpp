@@ -1,7 +1,7 @@
 #pragma once
 // Real-time session of the 3D needle insertion model: the thesis model (seed 003 sections
 // 3.1-3.5) on a tetrahedral block (tissue.hpp) with the needle bending in two planes.
-// Per step the tissue predicts its path displacements (3 per path node: t, n, b), the
+// Per step the tissue predicts its path displacements (3 per path point: t, n, b), the
 // shared shaft coupling (engines/realtime/shaft_coupling.hpp: lateral ties in n and b,
 // axial stick or Karnopp slip, eq 3.23) is solved on the coupled nodes, and the tissue
 // commits the path loads. Tip forces (engines/realtime/tip_forces.hpp): pre-puncture
@@ -99,7 +99,7 @@ class Session {
   SessionConfig cfg_;
   Eigen::Vector3d shift_, entry_, t0_, n0_, b0_;
   Tissue tissue_;
-  double L_ = 0.0, s_exit_ = 0.0;
+  double L_ = 0.0, s_entry_ = 0.0, s_exit_ = 0.0;
   std::vector<double> path_s_;
   realtime::NeedleLine nl_;
   Eigen::Vector3d axis_ = Eigen::Vector3d::UnitX();

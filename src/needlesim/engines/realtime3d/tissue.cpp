@@ -9,6 +9,8 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/realtime/element_materials.hpp"
 #include "needlesim/engines/realtime2d/mesh.hpp"
+#include "needlesim/mesh/boundary.hpp"
+#include "needlesim/needle/insertion_frame.hpp"
 
 namespace needlesim::realtime3d {
 
@@ -22,27 +24,40 @@ void checkBlock(const BlockSpec& b) {
 }  // namespace
 
 Tissue::Tissue(const TissueConfig& cfg, const Eigen::Vector3d& entry, const Eigen::Vector3d& axis,
-               const Eigen::Vector3d& lateral, double dt)
+               const Eigen::Vector3d& lateral, double dt, double s_begin, double s_end)
     : cfg_(cfg) {
-  const auto& b = cfg_.block;
-  checkBlock(b);
-  for (int i = 0; i < b.nodes_depth; ++i) xs_.push_back(b.length * i / (b.nodes_depth - 1));
-  // Lateral grading as in realtime2d (finest on the path line, geometric towards the sides).
-  ys_ = realtime2d::gradedCoordinates(b.width, b.path_y, b.nodes_lateral, b.grading);
-  zs_ = realtime2d::gradedCoordinates(b.height, b.path_z, b.nodes_height, b.grading);
-  mesh_ = explicit_fe::structuredBlock(xs_, ys_, zs_, explicit_fe::ElementType::Tet4);
+  buildMesh();
   t_ = axis.normalized();
   n_ = (lateral - lateral.dot(t_) * t_).normalized();
   b_ = t_.cross(n_);
   assignMaterials();
   realtime::PathedSystem sys = assembleHeld();
-  pickPath(entry);
-  for (const auto& p : path_) sys.path_nodes.push_back(p.node);
+  embed(entry, s_begin, s_end, sys);
   sys.dim = 3;
   sys.dirs.resize(3, 3);
   sys.dirs << t_, n_, b_;
   dyn_ = std::make_unique<realtime::TissueDynamics>("realtime3d", cfg_, sys, dt);
   surface_ = boundaryTriangles(mesh_);
+}
+
+// The graded block, or the imported tets moved from the centred tissue frame to the block's corner.
+void Tissue::buildMesh() {
+  const auto& b = cfg_.block;
+  if (const auto& g = cfg_.geometry) {
+    if (g->mesh->dim != 3 || g->mesh->element != "tet4")
+      throw SolverError("realtime3d: an imported mesh must be 3D of tet4 elements, not " + g->mesh->element);
+    mesh_ = explicit_fe::fromImportedGeometry(*g);
+    const Eigen::Vector3d shift = needle::cornerShift(b);
+    for (std::size_t i = 0; i < mesh_.X.size(); ++i) mesh_.X[i] += shift[static_cast<Eigen::Index>(i % 3)];
+    return;
+  }
+  checkBlock(b);
+  std::vector<double> xs;
+  for (int i = 0; i < b.nodes_depth; ++i) xs.push_back(b.length * i / (b.nodes_depth - 1));
+  // Lateral grading as in realtime2d (finest on the path line, geometric towards the sides).
+  const auto ys = realtime2d::gradedCoordinates(b.width, b.path_y, b.nodes_lateral, b.grading);
+  const auto zs = realtime2d::gradedCoordinates(b.height, b.path_z, b.nodes_height, b.grading);
+  mesh_ = explicit_fe::structuredBlock(xs, ys, zs, explicit_fe::ElementType::Tet4);
 }
 
 // Element materials: by the layer of the element centre, then the regions holding it.
@@ -52,9 +67,18 @@ void Tissue::assignMaterials() {
   region_nodes_.assign(cfg_.regions.size(), {});
   std::vector<std::vector<bool>> in(cfg_.regions.size(), std::vector<bool>(static_cast<std::size_t>(mesh_.nodes()), false));
   std::vector<bool> hit;
+  const int layers = static_cast<int>(std::max<std::size_t>(1, cfg_.layers.size()));
   for (int e = 0; e < ne; ++e) {
-    elem_mat_[static_cast<std::size_t>(e)] =
-        realtime::materialAt(tetCentre(mesh_, e), cfg_.material, cfg_.layers, cfg_.regions, hit);
+    if (cfg_.geometry) {  // by the element's group: a layer, or an inclusion
+      const int r = cfg_.geometry->region.at(static_cast<std::size_t>(e));
+      hit.assign(cfg_.regions.size(), false);
+      if (r >= layers) hit.at(static_cast<std::size_t>(r - layers)) = true;
+      elem_mat_[static_cast<std::size_t>(e)] = r >= layers ? cfg_.regions[static_cast<std::size_t>(r - layers)].material
+                                               : cfg_.layers.empty() ? cfg_.material : cfg_.layers[static_cast<std::size_t>(r)].second;
+    } else {
+      elem_mat_[static_cast<std::size_t>(e)] =
+          realtime::materialAt(tetCentre(mesh_, e), cfg_.material, cfg_.layers, cfg_.regions, hit);
+    }
     for (std::size_t r = 0; r < hit.size(); ++r)
       for (int a = 0; a < 4 && hit[r]; ++a) in[r][static_cast<std::size_t>(mesh_.conn[static_cast<std::size_t>(4 * e + a)])] = true;
   }
@@ -71,6 +95,12 @@ realtime::PathedSystem Tissue::assembleHeld() {
   held_.assign(static_cast<std::size_t>(3 * N), false);
   const double tol = 1e-12;
   const auto& bl = cfg_.block;
+  if (const auto& g = cfg_.geometry) {  // the geometry's supported far side, as explicit and mpm hold it
+    for (int n = 0; n < N; ++n)
+      if (static_cast<std::size_t>(n) < g->supported.size() && g->supported[static_cast<std::size_t>(n)])
+        for (int c = 0; c < 3; ++c) held_[static_cast<std::size_t>(3 * n + c)] = true;
+    return {a.K, a.M, held_, {}, 3, {}, {}, {}};
+  }
   for (int n = 0; n < N; ++n) {
     const double x = mesh_.coord(n, 0), y = mesh_.coord(n, 1), z = mesh_.coord(n, 2);
     const bool side = y < tol || y > bl.width - tol || (!cfg_.hold_out_of_plane && (z < tol || z > bl.height - tol));
@@ -78,34 +108,31 @@ realtime::PathedSystem Tissue::assembleHeld() {
     for (int c = 0; c < 3; ++c)
       if (held || (c == 2 && cfg_.hold_out_of_plane)) held_[static_cast<std::size_t>(3 * n + c)] = true;
   }
-  return {a.K, a.M, held_, {}, 3, {}};
+  return {a.K, a.M, held_, {}, 3, {}, {}, {}};
 }
 
-// Path: per depth plane the grid node nearest to the reference axis line (the axis within
-// 45 deg of the depth direction), from the entry face on; fully held nodes excluded.
-void Tissue::pickPath(const Eigen::Vector3d& entry) {
+// Path: points embedded along the reference axis (the axis within 45 deg of the depth direction).
+void Tissue::embed(const Eigen::Vector3d& entry, double s_begin, double s_end, realtime::PathedSystem& sys) {
   if (!(t_.x() > std::sqrt(0.5) - 1e-12))
     throw SolverError("realtime3d: the needle axis must be within 45 degrees of the entry-face normal");
-  auto nearest = [](const std::vector<double>& c, double v) {
-    return static_cast<int>(std::min_element(c.begin(), c.end(), [&](double a, double b) {
-                              return std::abs(a - v) < std::abs(b - v);
-                            }) - c.begin());
-  };
-  const int nx = static_cast<int>(xs_.size()), ny = static_cast<int>(ys_.size());
-  for (int i = 0; i < nx; ++i) {
-    const double s = (xs_[static_cast<std::size_t>(i)] - entry.x()) / t_.x();
-    if (s < -1e-12) continue;
-    const Eigen::Vector3d p = entry + s * t_;
-    const int node = (nearest(zs_, p.z()) * ny + nearest(ys_, p.y())) * nx + i;
-    if (held_[static_cast<std::size_t>(3 * node)]) continue;
-    const Eigen::Vector3d X(mesh_.coord(node, 0), mesh_.coord(node, 1), mesh_.coord(node, 2));
-    path_.push_back({node, (X - entry).dot(t_)});
+  path_ = embedPath(mesh_, held_, elem_mat_, {entry, t_, n_, b_, s_begin, s_end, cfg_.coupling_spacing, cfg_.coupling_radius});
+  sys.path_start.push_back(0);
+  for (const auto& p : path_) {
+    sys.path_nodes.insert(sys.path_nodes.end(), p.nodes.begin(), p.nodes.end());
+    sys.path_weights.insert(sys.path_weights.end(), p.weights.begin(), p.weights.end());
+    sys.path_start.push_back(static_cast<int>(sys.path_nodes.size()));
   }
-  if (path_.empty()) throw SolverError("realtime3d: no mesh node lies on the needle path");
 }
 
 Eigen::Vector3d Tissue::nodeDisplacement(int node) const {
   return {dyn_->dofDisplacement(3 * node), dyn_->dofDisplacement(3 * node + 1), dyn_->dofDisplacement(3 * node + 2)};
+}
+
+Eigen::Vector3d Tissue::pathDisplacement(std::size_t i) const {
+  const PathPoint& p = path_.at(i);
+  Eigen::Vector3d u = Eigen::Vector3d::Zero();
+  for (std::size_t a = 0; a < p.nodes.size(); ++a) u += p.weights[a] * nodeDisplacement(p.nodes[a]);
+  return u;
 }
 
 Eigen::Vector3d Tissue::regionDisplacement(std::size_t region) const {
@@ -146,6 +173,17 @@ Eigen::Matrix3Xi boundaryTriangles(const TetMesh& mesh) {
   Eigen::Matrix3Xi T(3, static_cast<Eigen::Index>(out.size()));
   for (std::size_t i = 0; i < out.size(); ++i) T.col(static_cast<Eigen::Index>(i)) << out[i][0], out[i][1], out[i][2];
   return T;
+}
+
+double exitAlongAxis(const ImportedGeometry& g, const Eigen::Vector3d& entry, const Eigen::Vector3d& t) {
+  // From beyond the geometry back along the axis: the first crossing is the last exit.
+  const Eigen::Vector3d lo(g.lo[0], g.lo[1], g.lo[2]), hi(g.hi[0], g.hi[1], g.hi[2]);
+  const double far = (entry - lo).norm() + (entry - hi).norm() + 2.0 * (hi - lo).norm();
+  const Eigen::Vector3d from = entry + far * t;
+  const auto back = mesh::firstCrossing(*g.mesh, mesh::boundaryFacets(*g.mesh), {from.x(), from.y(), from.z()},
+                                        {-t.x(), -t.y(), -t.z()});
+  if (!back) throw SolverError("realtime3d: the needle axis does not cross the imported mesh");
+  return far - *back;
 }
 
 }  // namespace needlesim::realtime3d

@@ -1,11 +1,13 @@
 #pragma once
-// Tetrahedral tissue block of the realtime3d engine: a structured grid, graded laterally
-// towards the needle path line (refined there), each hexahedron split into six
-// tetrahedra (engines/explicit/mesh.hpp structuredBlock), linear elastic (fe.hpp), with the
-// shared real-time dynamics (engines/realtime/tissue_dynamics.hpp: Rayleigh damping, Newmark,
-// Prony relaxation, direct / modal / reduced back-ends). The path is the grid line of nodes
-// nearest to the needle's reference axis; each path node takes loads along t (axial),
-// n (lateral, in the insertion plane) and b (out of plane).
+// Tetrahedral tissue of the realtime3d engine: a structured grid, graded laterally towards
+// the needle path line (refined there), each hexahedron split into six tetrahedra
+// (engines/explicit/mesh.hpp structuredBlock), or an imported tet mesh (tissue.geometry,
+// its groups the layers and inclusions, held where the geometry is supported); linear elastic
+// (fe.hpp), with the shared real-time dynamics (engines/realtime/tissue_dynamics.hpp: Rayleigh
+// damping, Newmark, Prony relaxation, direct / modal / reduced back-ends). The path is a row of
+// points embedded in the tets along the needle's reference axis (embedded_path.hpp), at a fixed
+// spacing whatever the mesh; each takes loads along t (axial), n (lateral, in the insertion
+// plane) and b (out of plane).
 // Coordinates: x = depth from the entry face, y across the width, z across the height, from
 // the block's corner (x, y, z >= 0).
 #include <Eigen/Core>
@@ -14,7 +16,9 @@
 #include <vector>
 
 #include "needlesim/engines/realtime/tissue_dynamics.hpp"
+#include "needlesim/engines/realtime3d/embedded_path.hpp"
 #include "needlesim/engines/realtime3d/fe.hpp"
+#include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim::realtime3d {
 
@@ -47,25 +51,29 @@ struct TissueConfig : realtime::DynamicsSettings {
   bool hold_sides = true;
   // Plane strain slab (tests against realtime2d): hold the z displacement of every node.
   bool hold_out_of_plane = false;
-};
-
-struct PathNode {
-  int node = 0;    // mesh node id
-  double s = 0.0;  // m, reference position along the axis from the entry point
+  // An imported tet mesh (centred tissue frame) instead of the block: element materials by its
+  // groups (region < layers: layer, else regions[region - layers]), held where `supported`;
+  // the block's extents are its bounding box.
+  std::shared_ptr<const ImportedGeometry> geometry;
+  double coupling_spacing = 1e-3;  // m, between the path points
+  double coupling_radius = 0.0;    // m, the needle's outer radius (the surface the loads spread over)
 };
 
 class Tissue {
  public:
+  // The path from s_begin to s_end along the axis from `entry` (mesh coordinates).
   Tissue(const TissueConfig& cfg, const Eigen::Vector3d& entry, const Eigen::Vector3d& axis,
-         const Eigen::Vector3d& lateral, double dt);
+         const Eigen::Vector3d& lateral, double dt, double s_begin, double s_end);
   const TetMesh& mesh() const { return mesh_; }
-  const std::vector<PathNode>& path() const { return path_; }
+  const std::vector<PathPoint>& path() const { return path_; }
   const realtime::TissueDynamics& dynamics() const { return *dyn_; }
   realtime::TissueDynamics& dynamics() { return *dyn_; }
   Eigen::Vector3d nodeDisplacement(int node) const;
   Eigen::Vector3d regionDisplacement(std::size_t region) const;
   // The nodes of a material region's elements (indices of the mesh's nodes).
   const std::vector<int>& regionNodes(std::size_t region) const { return region_nodes_.at(region); }
+  // Displacement of path point i: its nodes' weighted sum (the tissue side of its ties).
+  Eigen::Vector3d pathDisplacement(std::size_t i) const;
   // Von Mises stress of every element from the current displacement.
   Eigen::VectorXd elementVonMises() const;
   // Boundary faces (triangles, outward node order) of the tet mesh, for viewers.
@@ -73,14 +81,14 @@ class Tissue {
   double length() const { return cfg_.block.length; }
 
  private:
+  void buildMesh();
   void assignMaterials();
   realtime::PathedSystem assembleHeld();
-  void pickPath(const Eigen::Vector3d& entry);
+  void embed(const Eigen::Vector3d& entry, double s_begin, double s_end, realtime::PathedSystem& sys);
   TissueConfig cfg_;
   TetMesh mesh_;
-  std::vector<double> xs_, ys_, zs_;
   Eigen::Vector3d t_, n_, b_;
-  std::vector<PathNode> path_;
+  std::vector<PathPoint> path_;
   std::vector<bool> held_;  // per DOF
   std::vector<ElasticMaterial> elem_mat_;
   std::vector<std::vector<int>> region_nodes_;
@@ -90,5 +98,9 @@ class Tissue {
 
 // Boundary triangles of a tet mesh (faces used by one element), oriented outwards.
 Eigen::Matrix3Xi boundaryTriangles(const TetMesh& mesh);
+
+// Where the axis from `entry` along unit `t` (centred tissue frame) leaves the imported
+// geometry for the last time, along the axis.
+double exitAlongAxis(const ImportedGeometry& geometry, const Eigen::Vector3d& entry, const Eigen::Vector3d& t);
 
 }  // namespace needlesim::realtime3d
