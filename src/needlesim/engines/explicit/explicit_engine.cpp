@@ -8,6 +8,7 @@
 
 #include "needlesim/core/progress.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/engines/explicit/bonded_tip.hpp"
 #include "needlesim/engines/explicit/explicit_run.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
 #include "needlesim/engines/run_cost.hpp"
@@ -130,6 +131,7 @@ StepPlan ExplicitRun::stepPlan() const {
 namespace needlesim::engines {
 
 StepPlan explicitStepPlan(const Scenario& sc) {
+  if (sc.model.explicit_fe.tip == "bonded") return explicit_fe::bondedTipStepPlan(sc);
   MemorySink discard;
   const BlockingCall setUp("explicit: setting up the mesh and the needle");
   return explicit_fe::ExplicitRun(sc, discard).stepPlan();
@@ -139,6 +141,7 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
 #ifdef _OPENMP
   if (sc.model.explicit_fe.threads > 0) omp_set_num_threads(sc.model.explicit_fe.threads);
 #endif
+  if (sc.model.explicit_fe.tip == "bonded") return explicit_fe::runBondedTip(sc, sink);
   std::optional<explicit_fe::ExplicitRun> run;
   {
     const BlockingCall setUp("explicit: setting up the mesh and the needle");

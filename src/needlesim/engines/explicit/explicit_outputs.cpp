@@ -16,11 +16,13 @@
 //   (needle_model: beam) tip_slope [rad]: the tip's slope towards lateral; beam_tip_deflection [m]: the
 //   beam's tip deflection along lateral under the last step's loads (the applied tip_deflection follows it)
 // energy.csv, contact.csv, seam.csv (with a seam): see the column lists below and docs/models/explicit.md.
+// markers.csv (model.explicit.markers): as the real-time engines' (engines/realtime/markers.hpp).
 #include <algorithm>
 #include <cmath>
 #include <fmt/format.h>
 
 #include "needlesim/engines/explicit/explicit_run.hpp"
+#include "needlesim/engines/explicit/marker_location.hpp"
 #include "needlesim/engines/explicit/pain_index.hpp"
 #include "needlesim/engines/explicit/path_needle.hpp"
 #include "needlesim/engines/explicit/sleeve_setup.hpp"
@@ -154,6 +156,8 @@ void ExplicitRun::record() {
   contact_.addRow({t, depth, area, contactOut_->meanPressure(), contactOut_->maxPressure()});
   if (!seam_.empty()) recordSeam(depth);
   recordInclusions(depth);
+  markers_.addRow(solver_->time());
+  markers_.trackExtremes();
 }
 
 void ExplicitRun::recordEnergies(double depth) {
@@ -186,6 +190,18 @@ void ExplicitRun::recordSeam(double depth) {
 }
 
 // Mean displacement of the nodes of each inclusion's elements (results/inclusion_motion.hpp).
+// Markers: x = depth from the entry face, y = lateral from the path line through the entry point, z =
+// from the insertion plane (2D: none); each the material point at that reference position.
+void ExplicitRun::placeMarkers() {
+  for (const auto& spec : ex_.markers) {
+    const Vector3d X = frame_.entry + Vector3d(spec.x, spec.y, dim_ == 3 ? spec.z : 0.0);
+    auto m = locateMarker(solver_->mesh(), X);
+    if (!m) throw SolverError(fmt::format("explicit: marker {} lies outside the tissue mesh", spec.name));
+    m->name = spec.name;
+    markers_.add(std::move(*m));
+  }
+}
+
 void ExplicitRun::recordInclusions(double depth) {
   if (inclusions_.empty()) return;
   const auto& u = solver_->displacement();
@@ -252,6 +268,9 @@ void ExplicitRun::finish(const std::string& status) {
   if (cohesive_) reportCohesive();
   reportNotes(status);
   inclusions_.report(sink_);
+  markers_.reportResults(sink_);
+  markers_.plot(sink_);
+  markers_.writeTable(sink_);
   sink_.table("forces", forces_->release());
   sink_.table("energy", energy_);
   sink_.table("contact", contact_);

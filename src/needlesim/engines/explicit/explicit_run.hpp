@@ -5,7 +5,7 @@
 //     shared insertion frame (needle/insertion_frame.hpp);
 //   step (explicit_engine.cpp): pose the needle from the motion profile, advance the solver;
 //   record and finish (explicit_outputs.cpp): forces.csv (results/forces_table.hpp), energy.csv,
-//     contact.csv, seam.csv, inclusions.csv, fields, and the summary results.
+//     contact.csv, seam.csv, inclusions.csv, markers.csv, fields, and the summary results.
 #include <memory>
 #include <string>
 #include <utility>
@@ -20,6 +20,7 @@
 #include "needlesim/engines/explicit/mesh_sleeve.hpp"
 #include "needlesim/engines/explicit/path_from_scenario.hpp"
 #include "needlesim/engines/explicit/solver.hpp"
+#include "needlesim/engines/realtime/markers.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
@@ -68,6 +69,7 @@ class ExplicitRun {
   void recordEnergies(double depth);
   void recordSeam(double depth);
   void recordInclusions(double depth);
+  void placeMarkers();
   void writeFields();
   void finish(const std::string& status);
   void reportForces();
@@ -115,6 +117,7 @@ class ExplicitRun {
   double peak_ = 0, peakTorque_ = 0, peakArea_ = 0, peakPressure_ = 0;
   double ratioMax_ = 0, balanceMax_ = 0, energyScale_ = 1e-300, needleBalanceMax_ = 0, needleWorkMax_ = 1e-300;
   double cohGcArea_ = 0.0;  // sum G_c x tributary length over the fully damaged pairs (J/m)
+  engines::RealtimeMarkers markers_;  // model.explicit.markers (marker_location.hpp)
 };
 
 }  // namespace needlesim::explicit_fe

@@ -4,6 +4,8 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+
 #include "needlesim/engines/explicit/cohesive_path_section.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/scenario/model_section.hpp"
@@ -108,7 +110,26 @@ void readElement(Section& s, Spec& x, const Scenario&) {
     throw s.error("element", x.element, "does not match the dimension", is2d ? "quad4 or tri3 for 2d" : "hex8 or tet4 for 3d");
 }
 
+// tip: bonded is seed 004's plane-strain reading of Fig 13a: a 2d quad4 block, a bevel along the face normal.
+void checkBondedTip(Section& s, const Spec& x, const Scenario& sc) {
+  if (x.tip != "bonded") return;
+  const auto refuse = [&](const std::string& why, const std::string& allowed) {
+    throw s.error("tip", "bonded", why, allowed);
+  };
+  if (x.dimension != 2 || x.element != "quad4") refuse("needs a 2d quad4 model", "dimension: 2d, element: quad4");
+  if (sc.needle.tip != TipType::Bevel) refuse("needs a bevel needle", "needle.tip: bevel");
+  if (std::abs(sc.insertion.entry_angle - 0.5 * M_PI) > 1e-9)
+    refuse("needs a needle along the entry face's normal", "insertion.entry_angle: 90 deg");
+  if (sc.tissue.geometry) refuse("needs a generated block", "tissue.block instead of tissue.geometry");
+  const double L = sc.needle.outer_diameter / std::tan(sc.needle.bevel_angle);
+  if (!(sc.tissue.length > L + x.element_size) || !(sc.tissue.width > sc.needle.outer_diameter + 2 * x.element_size))
+    refuse(fmt::format("needs a block that holds the tip ({:g} mm long, {:g} mm wide) with an element to spare",
+                       L * 1e3, sc.needle.outer_diameter * 1e3),
+           "a longer or wider tissue.block, or a coarser model.explicit.element_size");
+}
+
 void checkSizes(Section& s, Spec& x, const Scenario& sc) {
+  checkBondedTip(s, x, sc);
   if (x.max_element_size < x.element_size)
     throw s.error("max_element_size", fmt::format("{:g} mm", x.max_element_size * 1e3), "is smaller than element_size",
                   fmt::format(">= {:g} mm", x.element_size * 1e3));
@@ -166,6 +187,17 @@ scenario::ParamTable<Spec> build() {
       .derived(&Spec::field_interval, "field_interval", D::Time, nonNegative(), "run / 20",
                [](const Spec&, const Scenario& sc) { return MotionProfile(sc.insertion).duration() / 20.0; },
                "interval of the ParaView fields")
+      .word(&Spec::tip, "tip", {"contact", "bonded"},
+            "contact: the needle enters the tissue through its contact; bonded (2d quad4, bevel): seed 004 Fig 13a's "
+            "reading, the rigid tip bonded into a linear elastic block (the first layer's small-strain moduli) on a "
+            "uniform grid of element_size, moved by the profile's travel in one static solve; results P, Q, q_x, q_y "
+            "(docs/validation/cohesive.md \"Fig 13a with the tip bonded into the tissue\")")
+      .row(t.otherDoc("markers", Kind::List, "",
+                      "tissue points whose displacement is reported (markers.csv; x depth from the entry face, y "
+                      "lateral from the path line through the entry point, z from the insertion plane, ignored in "
+                      "2d), each followed from its reference position in the element that holds it",
+                      "marker3d"),
+           [](Section& s, Spec& r, const Scenario& sc) { r.markers = readRealtimeMarkers(s, sc, true); })
       .count(&Spec::threads, "threads", 0.0, 1024.0,
              "OpenMP threads (0 = all cores; more than the hardware threads are capped, with a warning)")
       .check(checkSizes);

@@ -5,6 +5,8 @@
 #include <string>
 #include <vector>
 
+#include "needlesim/engines/realtime2d/realtime2d_section.hpp"  // MarkerSpec, shared by the markers
+
 namespace needlesim {
 namespace scenario {
 struct ModelSection;
@@ -59,6 +61,8 @@ struct ExplicitModelSpec {
   ExplicitCohesiveSpec cohesive;     // cohesive law on the seam instead of node release (2D, 3D hex8)
   double field_interval = 0.0;       // s, ParaView fields (0 = 20 frames over the run)
   int threads = 0;                   // OpenMP threads (0 = all)
+  std::vector<MarkerSpec> markers;   // tissue points whose displacement is reported (marker_location.hpp)
+  std::string tip = "contact";       // contact: the needle cuts in; bonded: seed 004 Fig 13a (bonded_tip.hpp)
 };
 
 namespace engines {

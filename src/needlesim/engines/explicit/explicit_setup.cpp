@@ -76,7 +76,13 @@ ExplicitRun::ExplicitRun(const Scenario& sc, ResultSink& sink)
       shape_(needle::NeedleShape::fromSpec(sc.needle)),
       motion_(sc.insertion),
       dim_(sc.model.explicit_fe.dimension),
-      inclusions_(sc.tissue.inclusions, frame_) {
+      inclusions_(sc.tissue.inclusions, frame_),
+      markers_(sc.model.explicit_fe.dimension, [this](int node) {
+        const auto& u = solver_->displacement();
+        Vector3d d = Vector3d::Zero();
+        for (int i = 0; i < dim_; ++i) d[i] = u[static_cast<std::size_t>(node) * dim_ + i];
+        return d;
+      }) {
   checkInput();
   // 2D plane strain shows only the in-plane sides of the bevel
   bevelSide_ = dim_ == 2 ? Vector3d(frame_.bevelSign() * frame_.lateral) : frame_.bevelSide();
@@ -87,6 +93,7 @@ ExplicitRun::ExplicitRun(const Scenario& sc, ResultSink& sink)
   if (cohesive_) setupCohesive();
   fixDistalFace();
   setupNeedle();
+  placeMarkers();
   createOutputs();
 }
 

@@ -1,5 +1,5 @@
 #pragma once
-// Tissue markers of the real-time engines (realtime2d, realtime3d): points of the tissue
+// Tissue markers of the real-time engines (realtime2d, realtime3d; also the explicit engine): points of the tissue
 // followed through a run, like the glitter of seed 003 sections 4.1 and 5.4-5.6. Each engine
 // locates a marker in its own element (bilinear quad, linear tet) as up to four nodes and
 // their shape-function weights; this class interpolates the displacement u = sum N_a u_a
@@ -16,11 +16,12 @@
 
 namespace needlesim::engines {
 
-// A marker located in its element: the element's nodes and the shape functions at the point.
+// A marker located in its element: the element's nodes and the shape functions at the point
+// (up to eight: the explicit engine's hex8 shares this output).
 struct MarkerPoint {
   std::string name;
-  std::array<int, 4> nodes{};
-  std::array<double, 4> weights{};  // sum 1; unused corners weigh 0
+  std::array<int, 8> nodes{};
+  std::array<double, 8> weights{};  // sum 1; unused corners weigh 0
 };
 
 class RealtimeMarkers {
