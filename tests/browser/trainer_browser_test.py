@@ -10,6 +10,8 @@ Every run also checks the first view (the whole tissue in the picture, from the 
 gives) and the tilt and roll readout; a scenario with a target inclusion also the anatomy: the
 target drawn in its colour (pixels of a screenshot, Pillow) and the live miss distance, in mm,
 the distance from the tip to the target's centre before the insertion and nearer after it.
+An imported solid (an organ) must also be seen: its surface stands out from the background in
+the middle of its picture, not only the few creases of a smooth surface.
 Exit 77 (CTest: skipped) with a message where Chromium or python3-websocket is absent.
 
 usage: trainer_browser_test.py NEEDLESIM SCENARIO WORKDIR
@@ -158,7 +160,51 @@ def target_pixels(path):
     pixels = Image.open(path).convert('RGB').getdata()
     # magenta, however lit or seen through the tissue: red and blue alike, green far below both
     # (the |u| colour map, the background and the needle have none such)
-    return sum(1 for r, g, b in pixels if r > 90 and b > 80 and abs(r - b) < 0.4 * r and g < 0.45 * min(r, b))
+    return sum(1 for r, g, b in pixels if is_target(r, g, b))
+
+
+BACKGROUND_RGB = (0x14, 0x18, 0x1f)  # trainer.js scene.background
+
+
+def is_target(r, g, b):
+    return r > 90 and b > 80 and abs(r - b) < 0.4 * r and g < 0.45 * min(r, b)
+
+
+def gland_box(dt):
+    """The screen box (pixels) of an imported solid's surface vertices, or None for a block or a plane."""
+    return dt.eval('(() => { const o = trainer.info.outline;'
+                   ' if (o.kind !== "imported" || o.hi[2] - o.lo[2] < 0.05 * (o.hi[0] - o.lo[0])) return null;'
+                   ' const v = trainer.info.surface.vertices, r = trainer.renderer.domElement.getBoundingClientRect();'
+                   ' let x0 = 1e9, y0 = 1e9, x1 = -1e9, y1 = -1e9;'
+                   ' for (let i = 0; i < v.length; i += 3) {'
+                   '   const p = new THREE.Vector3(v[i], v[i + 1], v[i + 2]).multiplyScalar(1000).project(trainer.camera);'
+                   '   const x = r.left + (p.x + 1) / 2 * r.width, y = r.top + (1 - p.y) / 2 * r.height;'
+                   '   x0 = Math.min(x0, x); x1 = Math.max(x1, x); y0 = Math.min(y0, y); y1 = Math.max(y1, y); }'
+                   ' return [x0, y0, x1, y1]; })()')
+
+
+def check_gland_seen(dt, shot):
+    """An imported solid (an organ) is seen, not only its few creases: in the middle of its
+    picture (the inner 60 % of its screen box, where the needle outside it does not reach), its
+    surface stands out from the background on a good part of the pixels besides the target's."""
+    box = gland_box(dt)
+    if box is None:
+        return
+    from PIL import Image
+    image = Image.open(shot).convert('RGB')
+    x0, y0, x1, y1 = box
+    w, h = x1 - x0, y1 - y0
+    crop = image.crop((int(x0 + 0.2 * w), int(y0 + 0.2 * h), int(x1 - 0.2 * w), int(y1 - 0.2 * h)))
+    counted = seen = 0
+    for r, g, b in crop.getdata():
+        if is_target(r, g, b):
+            continue
+        counted += 1
+        # a plain dark tint of the background is not seeing the surface: 45 of 765 levels
+        seen += abs(r - BACKGROUND_RGB[0]) + abs(g - BACKGROUND_RGB[1]) + abs(b - BACKGROUND_RGB[2]) > 45
+    share = seen / max(counted, 1)
+    print(f'the imported solid stands out on {100 * share:.1f} % of the middle of its picture ({counted} pixels)')
+    assert share > 0.08, 'the imported surface is seen (see-through), not just the background'
 
 
 def check_target_before(dt, workdir):
@@ -178,6 +224,7 @@ def check_target_before(dt, workdir):
     pixels = target_pixels(shot)
     print(f'{pixels} pixels of the target colour')
     assert pixels > 400, 'the target shows in its colour inside the see-through tissue'
+    check_gland_seen(dt, shot)
     return miss
 
 

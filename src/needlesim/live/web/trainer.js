@@ -108,18 +108,26 @@
     return box;
   }
 
-  // The block as a box; an imported tissue by its own surface's edges (its creases and rims).
+  // The block as a box. An imported solid by its own surface as a see-through wire mesh that
+  // moves with it (a smooth organ has few creases to outline); an imported plane by its rims.
   function buildOutline(outline) {
     const lines = new THREE.LineBasicMaterial({ color: 0x8090a8 });
+    if (outline.kind === 'imported' && solid) {
+      const wire = new THREE.MeshBasicMaterial({ color: 0x8090a8, wireframe: true, transparent: true, opacity: 0.35, depthWrite: false });
+      trainer.outline = new THREE.Mesh(tissue.geometry, wire);
+      trainer.outline.renderOrder = 3;
+      scene.add(trainer.outline);
+      return;
+    }
     if (outline.kind === 'imported') {
-      scene.add(new THREE.LineSegments(new THREE.EdgesGeometry(tissue.geometry, 30), lines));
+      scene.add(trainer.outline = new THREE.LineSegments(new THREE.EdgesGeometry(tissue.geometry, 30), lines));
       return;
     }
     const box = outlineBox(outline), size = box.getSize(new THREE.Vector3());
     const edges = new THREE.LineSegments(new THREE.EdgesGeometry(new THREE.BoxBufferGeometry(1, 1, 1)), lines);
     edges.scale.copy(size);
     box.getCenter(edges.position);
-    scene.add(edges);
+    scene.add(trainer.outline = edges);
   }
 
   // The first view: the whole tissue (its bounding sphere) fills the narrower of the view's two
