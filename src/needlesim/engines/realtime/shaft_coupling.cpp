@@ -224,15 +224,21 @@ bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo,
 }
 
 // In-place Cholesky solve of the leading m x m block of H_ (its lower triangle) with rhs_ -> x_.
-// Left-looking by columns: column j takes the updates of columns 0 .. j-1 in turn as
-// contiguous axpys (vectorised, cache-friendly), and each entry subtracts its terms in the same
-// order as the dot-product form L_ij = (A_ij - sum_k L_ik L_jk) / L_jj.
+// Left-looking by columns: column j takes the updates of columns 0 .. j-1 in turn (four at a
+// time) as contiguous axpys (vectorised, cache-friendly), and each entry subtracts its terms in
+// the same order as the dot-product form L_ij = (A_ij - sum_k L_ik L_jk) / L_jj.
 bool ShaftCoupling::solveSmall(int m) {
   double* A = H_.data();
   const Eigen::Index ld = H_.outerStride();
   for (int j = 0; j < m; ++j) {
     double* cj = A + j * ld;
-    for (int k = 0; k < j; ++k) {
+    int k = 0;
+    for (; k + 4 <= j; k += 4) {  // four columns per pass over column j (its entries stay in registers)
+      const double *c0 = A + k * ld, *c1 = c0 + ld, *c2 = c1 + ld, *c3 = c2 + ld;
+      const double l0 = c0[j], l1 = c1[j], l2 = c2[j], l3 = c3[j];
+      for (int i = j; i < m; ++i) cj[i] = cj[i] - c0[i] * l0 - c1[i] * l1 - c2[i] * l2 - c3[i] * l3;
+    }
+    for (; k < j; ++k) {
       const double* ck = A + k * ld;
       const double ljk = ck[j];
       for (int i = j; i < m; ++i) cj[i] -= ck[i] * ljk;
