@@ -29,7 +29,7 @@ ShaftCoupling::ShaftCoupling(ShaftSettings s) : cfg_(std::move(s)) {
   idx_.assign(D, 0);
   order_.assign(P, 0);
   fK_.setZero(comps_ * P_); f_.setZero(comps_ * P_); y_.setZero(comps_ * P_);
-  rhs_.setZero(comps_ * P_); x_.setZero(comps_ * P_);
+  rhs_.setZero(comps_ * P_); x_.setZero(comps_ * P_); un_.setZero(comps_ * P_);
   H_.setZero(comps_ * P_, comps_ * P_);
 }
 
@@ -139,6 +139,27 @@ bool ShaftCoupling::axialUnknown(int i) const {
   return st == FrictionStatus::Stick || (slip && contact::karnoppDamping(fr, st == FrictionStatus::SlipPos) * l > 1e-12);
 }
 
+// The lower triangle of H_'s leading m x m block: S on the unknown slots, the interface
+// compliance on the diagonal, the needle flexibility between ties of one plane (eq 3.12).
+// Column by column, so it writes (and reads S) down contiguous columns; solveSmall reads
+// the lower triangle only.
+void ShaftCoupling::assembleMatrix(const Eigen::MatrixXd& S, int m) {
+  const double EI = cfg_.EI;
+  const bool soft = !cfg_.interface_compliance.empty();
+  for (int b = 0; b < m; ++b) {
+    const int ib = idx_[static_cast<std::size_t>(b)], cb = ib % comps_;
+    const double sb = sigma_[static_cast<std::size_t>(ib / comps_)];
+    double* col = &H_(0, b);
+    for (int a = b; a < m; ++a) {
+      const int ia = idx_[static_cast<std::size_t>(a)];
+      double h = S(ia, ib);
+      if (a == b && soft) h += cfg_.interface_compliance[static_cast<std::size_t>(ia)];
+      if (cb > 0 && cb == ia % comps_) h += cantileverDeflection(sigma_[static_cast<std::size_t>(ia / comps_)], sb, EI);
+      col[a] = h;
+    }
+  }
+}
+
 // The SPD system on the unknown slots (all lateral ties, axial stick and damped slip):
 // H_ = S + needle flexibility between ties of one bending plane (eq 3.12), rhs_ from the
 // constraints. Returns its size.
@@ -152,17 +173,9 @@ int ShaftCoupling::assemble(const TissueDynamics& t, const AxialMotion& mo, doub
     for (int j = 0; j < lat_; ++j) idx_[static_cast<std::size_t>(m++)] = comps_ * i + 1 + j;
     if (axialUnknown(i)) idx_[static_cast<std::size_t>(m++)] = comps_ * i;
   }
+  assembleMatrix(S, m);
   for (int a = 0; a < m; ++a) {
     const int ia = idx_[static_cast<std::size_t>(a)], na = ia / comps_, ca = ia % comps_;
-    for (int b = 0; b <= a; ++b) {
-      const int ib = idx_[static_cast<std::size_t>(b)];
-      double h = S(ia, ib);
-      if (a == b && !cfg_.interface_compliance.empty()) h += cfg_.interface_compliance[static_cast<std::size_t>(ia)];
-      if (ca > 0 && ca == ib % comps_)  // needle flexibility between ties of one plane (eq 3.12)
-        h += cantileverDeflection(sigma_[static_cast<std::size_t>(na)], sigma_[static_cast<std::size_t>(ib / comps_)], EI);
-      H_(a, b) = h;
-      H_(b, a) = h;
-    }
     const auto p = static_cast<std::size_t>(na);
     // axial: the interface keeps the stretch of the shaft's last load on the point
     const double kept = ca == 0 && !cfg_.interface_compliance.empty() ? cfg_.interface_compliance[static_cast<std::size_t>(ia)] * axial_prev_[p] : 0.0;
@@ -193,12 +206,13 @@ bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo,
   const Eigen::VectorXd& u0 = t.predictedPath();
   const Eigen::VectorXd &pu = t.pathU(), &pv = t.pathV(), &pa = t.pathA();
   bool changed = false;
+  un_ = u0;  // u0 + S f, a column of S at a time (each entry sums in the same order as row by row)
+  for (int l = 0; l < f_.size(); ++l)
+    if (f_[l] != 0.0) un_.noalias() += f_[l] * S.col(l);
   for (int i = 0; i < k_; ++i) {
     const auto p = static_cast<std::size_t>(i);
     const int ia = comps_ * i;
-    double un = u0[ia];
-    for (int l = 0; l < f_.size(); ++l)
-      if (f_[l] != 0.0) un += S(ia, l) * f_[l];
+    const double un = un_[ia];
     const double vn = c.velocity(pv[ia], pa[ia], c.acceleration(un, pu[ia], pv[ia], pa[ia]));
     // the shaft's load per length: the known tip loads on the node are not friction
     const double Fa = ell_[p] > 0.0 ? (f_[ia] - fK_[ia]) / ell_[p] : 0.0;
@@ -209,31 +223,43 @@ bool ShaftCoupling::updateStatus(const TissueDynamics& t, const AxialMotion& mo,
   return changed;
 }
 
-// In-place Cholesky solve of the leading m x m block of H_ with rhs_ -> x_.
+// In-place Cholesky solve of the leading m x m block of H_ (its lower triangle) with rhs_ -> x_.
+// Left-looking by columns: column j takes the updates of columns 0 .. j-1 in turn (four at a
+// time) as contiguous axpys (vectorised, cache-friendly), and each entry subtracts its terms in
+// the same order as the dot-product form L_ij = (A_ij - sum_k L_ik L_jk) / L_jj.
 bool ShaftCoupling::solveSmall(int m) {
   double* A = H_.data();
   const Eigen::Index ld = H_.outerStride();
   for (int j = 0; j < m; ++j) {
-    double d = A[j + j * ld];
-    for (int k = 0; k < j; ++k) d -= A[j + k * ld] * A[j + k * ld];
-    if (!(d > 0.0)) return false;
-    d = std::sqrt(d);
-    A[j + j * ld] = d;
-    for (int i = j + 1; i < m; ++i) {
-      double s = A[i + j * ld];
-      for (int k = 0; k < j; ++k) s -= A[i + k * ld] * A[j + k * ld];
-      A[i + j * ld] = s / d;
+    double* cj = A + j * ld;
+    int k = 0;
+    for (; k + 4 <= j; k += 4) {  // four columns per pass over column j (its entries stay in registers)
+      const double *c0 = A + k * ld, *c1 = c0 + ld, *c2 = c1 + ld, *c3 = c2 + ld;
+      const double l0 = c0[j], l1 = c1[j], l2 = c2[j], l3 = c3[j];
+      for (int i = j; i < m; ++i) cj[i] = cj[i] - c0[i] * l0 - c1[i] * l1 - c2[i] * l2 - c3[i] * l3;
     }
+    for (; k < j; ++k) {
+      const double* ck = A + k * ld;
+      const double ljk = ck[j];
+      for (int i = j; i < m; ++i) cj[i] -= ck[i] * ljk;
+    }
+    if (!(cj[j] > 0.0)) return false;
+    const double d = std::sqrt(cj[j]);
+    cj[j] = d;
+    for (int i = j + 1; i < m; ++i) cj[i] /= d;
   }
-  for (int i = 0; i < m; ++i) {  // L z = rhs
-    double s = rhs_[i];
-    for (int k = 0; k < i; ++k) s -= A[i + k * ld] * x_[k];
-    x_[i] = s / A[i + i * ld];
+  double* x = x_.data();
+  for (int i = 0; i < m; ++i) x[i] = rhs_[i];
+  for (int k = 0; k < m; ++k) {  // L z = rhs, by columns
+    const double* ck = A + k * ld;
+    x[k] /= ck[k];
+    for (int i = k + 1; i < m; ++i) x[i] -= ck[i] * x[k];
   }
   for (int i = m - 1; i >= 0; --i) {  // L^T x = z
-    double s = x_[i];
-    for (int k = i + 1; k < m; ++k) s -= A[k + i * ld] * x_[k];
-    x_[i] = s / A[i + i * ld];
+    const double* ci = A + i * ld;
+    double s = x[i];
+    for (int k = i + 1; k < m; ++k) s -= ci[k] * x[k];
+    x[i] = s / ci[i];
   }
   return true;
 }

@@ -83,6 +83,7 @@ class ShaftCoupling {
  private:
   void addKnownLoads(const TissueDynamics& t);
   int assemble(const TissueDynamics& t, const AxialMotion& mo, double dt);
+  void assembleMatrix(const Eigen::MatrixXd& S, int m);
   bool updateStatus(const TissueDynamics& t, const AxialMotion& mo, bool monotone);
   bool axialUnknown(int i) const;
   bool solveSmall(int m);
@@ -92,7 +93,7 @@ class ShaftCoupling {
   std::vector<FrictionStatus> status_;
   std::vector<double> offset_, sigma_, ell_, pos_, lambda_, axial_prev_;
   std::vector<int> idx_, order_;
-  Eigen::VectorXd fK_, f_, y_, rhs_, x_;
+  Eigen::VectorXd fK_, f_, y_, rhs_, x_, un_;
   Eigen::MatrixXd H_;
 };
 

@@ -27,6 +27,7 @@ TissueDynamics::TissueDynamics(std::string engine, const DynamicsSettings& cfg, 
   points_ = pstart_.empty() ? static_cast<int>(sys.path_nodes.size()) : static_cast<int>(pstart_.size()) - 1;
   makeIntegrator(dt);
   pu_.setZero(pathDofs()); pv_.setZero(pathDofs()); pa_.setZero(pathDofs()); u0P_.setZero(pathDofs());
+  uP_.setZero(pathDofs());
   full_u_.setZero(sys.K.rows()); full_v_.setZero(sys.K.rows());
 }
 
@@ -90,11 +91,13 @@ void TissueDynamics::predict() { impl_->predict(u0P_); }
 void TissueDynamics::commit(const Eigen::VectorXd& f) {
   impl_->commit(f);
   // Path state: u = u0 + S f exactly; v and a by eqs 3.2-3.3 on those DOFs.
+  // u0 + S f a column of S at a time (each entry sums in the same order as row by row).
   const auto& S = impl_->S();
+  uP_ = u0P_;
+  for (int l = 0; l < pathDofs(); ++l)
+    if (f[l] != 0.0) uP_.noalias() += f[l] * S.col(l);
   for (int k = 0; k < pathDofs(); ++k) {
-    double u = u0P_[k];
-    for (int l = 0; l < pathDofs(); ++l)
-      if (f[l] != 0.0) u += S(k, l) * f[l];
+    const double u = uP_[k];
     const double an = nm_.acceleration(u, pu_[k], pv_[k], pa_[k]);
     pv_[k] = nm_.velocity(pv_[k], pa_[k], an);
     pa_[k] = an;

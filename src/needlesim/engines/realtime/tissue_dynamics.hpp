@@ -120,7 +120,7 @@ class TissueDynamics {
   Eigen::MatrixXd dirs_;
   NewmarkCoefficients nm_;
   std::unique_ptr<TissueIntegrator> impl_;
-  Eigen::VectorXd pu_, pv_, pa_, u0P_;
+  Eigen::VectorXd pu_, pv_, pa_, u0P_, uP_;
   mutable Eigen::VectorXd full_u_, full_v_, fu_, fv_;
   mutable bool displacementStale_ = true, velocityStale_ = true;
   double dt_limit_ = 0.0;
