@@ -30,7 +30,7 @@ inline constexpr double kLumpedStep = 1.5e-6;
 // eigendecomposition, ~ DOFs^3, and steps in every mode, ~ DOFs; the reduced one sets up by a
 // sparse Cholesky and Lanczos, ~ nodes (2D) or nodes^1.22 (3D: 10.5k and 25k-node blocks), and
 // steps on the path nodes alone.
-inline constexpr double kModalSetupPerDof3 = 8.2e-10;
+inline constexpr double kModalSetupPerDof3 = 6.2e-10;  // re-measured at load 1-3 (2026-11-28)
 inline constexpr double kModalStepPerDof2d = 5.7e-8;
 inline constexpr double kModalStepPerDof3d = 1.33e-7;
 inline constexpr int kModalMaxDofs = 2600;  // realtime/tissue_dynamics.hpp modal_max_dofs
@@ -38,12 +38,17 @@ inline constexpr double kReducedSetupPerNode2d = 1.1e-4;
 inline constexpr double kReducedSetupPerNode3d = 4.3e-5;  // s, times nodes^kReducedSetupPower3d
 inline constexpr double kReducedSetupPower3d = 1.22;
 inline constexpr double kReducedStep2d = 2.0e-5;
+// 3D: the step with up to kCoupledPointsRef coupled points; beyond, the dense coupled system of
+// 3 unknowns per point grows the step as points^2 (docs/performance.md "Real-time 3D FE": 26 us
+// at 27 points, 139 us at 54 on the bench block; whole runs with 60 points 300-400 us a step).
 inline constexpr double kReducedStep3d = 6.0e-5;
+inline constexpr double kCoupledPointsRef = 27.0;
 inline constexpr double kDirectStepPerNode = 4.5e-7;  // the sparse LDLT solve, 4.5 ms at 10k nodes
 
 // A real-time engine's plan costed for `solver` (auto, direct, modal, reduced) on a mesh of
-// `nodes` with `freeDofs` free DOFs in `dim` dimensions.
-inline void costRealtime(StepPlan& p, const std::string& solver, int dim, double nodes, double freeDofs) {
+// `nodes` with `freeDofs` free DOFs in `dim` dimensions (3D: `coupledPoints` needle points at most).
+inline void costRealtime(StepPlan& p, const std::string& solver, int dim, double nodes, double freeDofs,
+                         double coupledPoints = 0.0) {
   const bool modal = solver == "modal" || (solver == "auto" && freeDofs <= kModalMaxDofs);
   if (modal) {
     p.setupSeconds = kModalSetupPerDof3 * freeDofs * freeDofs * freeDofs;
@@ -52,7 +57,10 @@ inline void costRealtime(StepPlan& p, const std::string& solver, int dim, double
   }
   p.setupSeconds = dim == 2 ? kReducedSetupPerNode2d * nodes
                             : kReducedSetupPerNode3d * std::pow(nodes, kReducedSetupPower3d);
-  p.secondsPerStep = solver == "direct" ? kDirectStepPerNode * nodes : dim == 2 ? kReducedStep2d : kReducedStep3d;
+  const double r = std::max(1.0, coupledPoints / kCoupledPointsRef);
+  p.secondsPerStep = solver == "direct" ? kDirectStepPerNode * nodes
+                     : dim == 2         ? kReducedStep2d
+                                        : kReducedStep3d * r * r;
 }
 
 // kinematic, energy, beam-foundation: one increment of the needle's path.

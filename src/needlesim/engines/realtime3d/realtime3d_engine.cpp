@@ -306,7 +306,9 @@ StepPlan realtime3dStepPlan(const Scenario& sc) {
   const double nodes = imported ? imported->nodes() : double(m.nodes_depth) * m.nodes_lateral * m.nodes_height;
   const double freeDofs = imported ? 3.0 * imported->nodes()
                                    : 3.0 * (m.nodes_depth - 1) * (m.nodes_lateral - 2) * (m.nodes_height - 2);
-  run_cost::costRealtime(p, m.solver, 3, nodes, freeDofs);
+  double deepest = 0.0;  // the most needle points coupled at once
+  for (const MotionSegment& seg : sc.insertion.segments) deepest = std::max(deepest, seg.to_depth);
+  run_cost::costRealtime(p, m.solver, 3, nodes, freeDofs, deepest / m.coupling_spacing);
   return p;
 }
 
