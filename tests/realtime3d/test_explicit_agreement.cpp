@@ -8,6 +8,7 @@
 
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/engines/realtime3d/session.hpp"
+#include "../support/tet_nodes.hpp"
 
 using namespace needlesim;
 
@@ -15,16 +16,7 @@ using namespace needlesim;
 // models: the explicit solver's finite-strain kinematics (St Venant-Kirchhoff; strains here are
 // below 1e-3, a relative effect of that order) and the residual motion of the dynamic relaxation
 // (0.3 s at a damping of 300/s). 0.5% of the largest displacement covers both (0.05% measured).
-namespace {
-int nearestNode(const needlesim::realtime3d::TetMesh& m, const Eigen::Vector3d& p) {
-  int best = 0;
-  for (int n = 1; n < m.nodes(); ++n)
-    if ((Eigen::Vector3d(m.coord(n, 0), m.coord(n, 1), m.coord(n, 2)) - p).norm() <
-        (Eigen::Vector3d(m.coord(best, 0), m.coord(best, 1), m.coord(best, 2)) - p).norm())
-      best = n;
-  return best;
-}
-}  // namespace
+using needlesim::testing::nearestNode;
 
 TEST(Realtime3dExplicit, StaticPathLoadAgreesWithExplicitDynamicRelaxation) {
   auto c = realtime3d::gelatinBlockConfig(9, 7, realtime3d::Backend::Direct);

@@ -13,6 +13,7 @@
 #include "needlesim/engines/realtime/markers.hpp"
 #include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "../support/tet_nodes.hpp"
 
 using namespace needlesim;
 using namespace needlesim::realtime3d;
@@ -101,16 +102,7 @@ std::string withMarkers(const std::string& markers) {
 }
 }  // namespace
 
-namespace {
-int nearestNode(const needlesim::realtime3d::TetMesh& m, const Eigen::Vector3d& p) {
-  int best = 0;
-  for (int n = 1; n < m.nodes(); ++n)
-    if ((Eigen::Vector3d(m.coord(n, 0), m.coord(n, 1), m.coord(n, 2)) - p).norm() <
-        (Eigen::Vector3d(m.coord(best, 0), m.coord(best, 1), m.coord(best, 2)) - p).norm())
-      best = n;
-  return best;
-}
-}  // namespace
+using needlesim::testing::nearestNode;
 
 // A marker on a mesh node reads that node's displacement (its shape function there is 1).
 TEST(Realtime3dMarkers, MarkerOnANodeReadsTheNode) {
