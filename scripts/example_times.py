@@ -65,7 +65,7 @@ def check_estimates(binary, root, examples, threads):
 
 def run_one(binary, root, example, threads, work):
     """Runs one example; its estimate text, CPU seconds (user + sys), wall seconds and summary."""
-    out = pathlib.Path(work) / pathlib.Path(example).with_suffix("").name
+    out = pathlib.Path(work) / str(pathlib.Path(example).with_suffix("")).replace("/", "_")  # mpm/ and realtime3d/ share names
     env = dict(os.environ, OMP_NUM_THREADS=str(threads), OPENBLAS_NUM_THREADS="1")
     t0 = time.monotonic()
     proc = subprocess.Popen([binary, "run", example, "--out", str(out)], cwd=root, env=env,
