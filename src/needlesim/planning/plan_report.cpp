@@ -235,8 +235,7 @@ void planNotes(const Scenario& sc, const PlanOutcome& o, ResultSink& sink) {
                           o.closed_loop->mean_retractions, o.closed_loop->mean_retracted_to * 1e3,
                           o.closed_loop->retracting_example.arcs.empty()
                               ? std::string()
-                              : "; closed_loop_retracting.csv holds the actions of the first: " +
-                                    actionsText(o.closed_loop->retracting_example)));
+                              : "; closed_loop_retracting.csv holds the actions of the first that does"));
 }
 
 }  // namespace
