@@ -37,6 +37,9 @@ void checkVerifyEngine(const std::string& engine) {
 Verification verifyPlan(const Scenario& sc, const PlanOutcome& o, const std::string& engine) {
   Scenario run = planAsScenario(sc, o.search.best.plan, o.problem.kappa);
   run.model.engine = engine;
+  // the needle follows the channel its tip cuts, turning at the plan's curvature
+  run.model.realtime3d.follow_tip = true;
+  run.model.realtime3d.curvature = o.problem.kappa;
   // realtime3d models spherical inclusions only: a cylinder (a vessel) is left out of the run
   std::erase_if(run.tissue.inclusions, [](const InclusionSpec& I) { return I.shape != InclusionSpec::Shape::Sphere; });
   const auto t0 = std::chrono::steady_clock::now();

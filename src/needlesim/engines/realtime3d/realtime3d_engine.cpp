@@ -133,9 +133,10 @@ class Realtime3dRun {
     for (long long k = 1; k <= cadence_.steps; ++k) {
       const double t = cadence_.timeOf(k);
       const MotionState m = motion_.at(t);
-      // The bevel's turn from the frame's orientation (axial_angle starts at bevel_orientation).
-      const BasePose pose =
-          session_.poseAtDepth(m.depth, 0.0, 0.0, m.plane_angle, 0.0, m.axial_angle - sc_.insertion.bevel_orientation);
+      // The bevel's turn from the frame's orientation (axial_angle starts at bevel_orientation),
+      // and the insert segments' spinning (duty cycling).
+      const double roll = m.axial_angle - sc_.insertion.bevel_orientation + motion_.spinAngle(t);
+      const BasePose pose = session_.poseAtDepth(m.depth, 0.0, 0.0, m.plane_angle, 0.0, roll);
       const StepResult& o = session_.step(pose, dt_);
       ext_.track(o);
       if (cadence_.sample(k)) record(t, m, o);
@@ -265,6 +266,11 @@ class Realtime3dRun {
         mesh, m.elements(), session_.tissue().dynamics().freeDofs(), realtimeBackendName(session_.tissue().dynamics().backend()),
         session_.tissue().path().size(), cfg_.tissue.coupling_spacing * 1e3, dt_ * 1e3, cfg_.tissue.rayleigh_alpha,
         cfg_.tissue.rayleigh_beta, cfg_.needle.EI, cadence_.steps, run_s_, run_s_ > 0 ? cadence_.steps / run_s_ : 0.0, setup_s_));
+    if (cfg_.tissue.follow_tip)
+      sink_.note(fmt::format("The path follows the channel the tip cuts (path: follow_tip): the tip turns towards the "
+                             "bevel at {:.4g} 1/m (kinematic bevel-tip model, Webster et al. 2006), each path point is "
+                             "embedded where the tip reaches it and holds the shaft there.",
+                             cfg_.tissue.channel_curvature));
     for (const auto& L : sc_.tissue.layers)
       if (L.material.law != "linear") {
         sink_.note("The tissue law is linearised: realtime3d uses its small-strain moduli (initial shear and bulk).");
