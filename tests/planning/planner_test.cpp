@@ -248,12 +248,14 @@ TEST(PlanExamples, VerifyTheSteeredGelPlanInRealtime3d) {
   const double steered = (end - end.dot(axis) * axis).norm();
   const double tol = sc.plan.uncertainty.curvature_sd * steered;
   const Verification v = verifyPlan(sc, o, "realtime3d");
-  std::printf("steered %.2f mm: executed miss %.3f mm, planned %.3f mm, tip gap %.3f mm, target motion %.3f mm, "
-              "tolerance %.3f mm, %.1f s\n", steered * 1e3, v.executed_miss * 1e3, v.planned_miss * 1e3, v.tip_gap * 1e3,
-              v.target_motion * 1e3, tol * 1e3, v.seconds);
+  std::printf("steered %.2f mm: executed miss %.3f mm, planned %.3f mm, tip gap %.3f mm (tissue %.3f, channel %.3f), "
+              "target motion %.3f mm, tolerance %.3f mm, %.1f s\n", steered * 1e3, v.executed_miss * 1e3,
+              v.planned_miss * 1e3, v.tip_gap * 1e3, v.tip_motion * 1e3, v.channel_gap * 1e3, v.target_motion * 1e3,
+              tol * 1e3, v.seconds);
   EXPECT_GT(steered, 10e-3);
   EXPECT_LE(v.tip_gap, tol);
   EXPECT_LE(std::abs(v.executed_miss - v.planned_miss), tol + v.target_motion);
+  EXPECT_LE(v.tip_gap, v.tip_motion + v.channel_gap + 1e-12);  // the gap's two parts
 }
 
 TEST(Planner, ChooseRiskTakesThePlanWithTheLowestObstacleTouchProbability) {

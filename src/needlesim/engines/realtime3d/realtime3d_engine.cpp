@@ -236,6 +236,12 @@ class Realtime3dRun {
     sink_.result("peak_force_depth", ext_.peakDepth, "m", "tip depth at the peak force");
     sink_.result("final_force", last.axial_force, "N", "axial force on the needle at the end");
     sink_.result("max_depth", ext_.maxDepth, "m", "deepest tip position along the reference axis");
+    if (cfg_.tissue.follow_tip) {
+      const Eigen::Vector3d u = session_.tipDisplacement();
+      for (int c = 0; c < 3; ++c)
+        sink_.result(std::string("tip_tissue_displacement_") + "xyz"[c], u[c], "m",
+                     "path follow_tip: the tissue's displacement at the tip at the end (the tip is the channel's end moved by it)");
+    }
     for (std::size_t i = 0; i < ext_.punctures.size(); ++i)
       sink_.result(i == 0 ? std::string("puncture_depth") : fmt::format("puncture_depth_{}", i + 1), ext_.punctures[i],
                    "m", i == 0 ? "tip depth at puncture (eq 3.16 threshold)" : "tip depth at a layer boundary's puncture");

@@ -92,12 +92,14 @@ class Session {
   const SessionConfig& config() const { return cfg_; }
   const Eigen::Vector3d& cornerShift() const { return shift_; }  // centred -> mesh coordinates
   double exitDepth() const { return s_exit_; }
+  // path follow_tip: the tissue's displacement at the channel's end (its last coupled point's);
+  // the tip is the channel's end (in the tissue's reference frame) moved by it.
+  Eigen::Vector3d tipDisplacement() const;
 
  private:
   using Motion = realtime::AxialMotion;
   Motion moveBase(const BasePose& pose, double dt);
   void cutChannel(const BasePose& pose, Motion& mo);
-  Eigen::Vector3d tipDisplacement() const;
   void reportLoads(double F1, double Fc, StepResult& o);
   std::vector<realtime::Membrane> membranesOf() const;
   realtime::ShaftSettings shaftSettings() const;
