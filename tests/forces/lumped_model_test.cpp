@@ -268,3 +268,19 @@ TEST(MotionProfile, SegmentsGiveDepthVelocityAndRotation) {
   EXPECT_NEAR(p.at(100.0).depth, 0.0, 1e-15);
   EXPECT_NEAR(p.at(100.0).axial_angle, std::numbers::pi, 1e-12);
 }
+
+// Duty cycling (engine kinematic's convention): per cycle one full turn at the spin rate, then the
+// rest of the cycle with the bevel fixed. Duty 0.4 at 2 pi rad/s: a turn in 1 s, a cycle of 2.5 s.
+TEST(MotionProfile, DutyCyclingSpinsOneTurnPerCycleThenHolds) {
+  InsertionSpec ins = straight(0.03, 3e-3);
+  ins.segments[0].duty_cycle = 0.4;
+  ins.segments[0].rate = 2.0 * std::numbers::pi;
+  const MotionProfile p(ins);
+  const double turn = 2.0 * std::numbers::pi;
+  EXPECT_NEAR(p.spinAngle(0.5), 0.5 * turn, 1e-12);   // spinning
+  EXPECT_NEAR(p.spinAngle(2.0), turn, 1e-12);         // held after the turn
+  EXPECT_NEAR(p.spinAngle(2.6), 1.1 * turn, 1e-12);   // the next cycle's turn
+  EXPECT_NEAR(p.at(2.0).axial_angle, 0.0, 1e-15);     // `at` leaves the spin out
+  ins.segments[0].duty_cycle = 0.0;                   // a spin throughout
+  EXPECT_NEAR(MotionProfile(ins).spinAngle(2.0), 2.0 * turn, 1e-12);
+}

@@ -40,7 +40,8 @@ std::string exampleText(const std::string& rel) {
 // they are alternatives rather than defaults (an element size instead of node counts), or the
 // run decides them (the scenario's name and results folder: the file's name, --out).
 const std::set<std::string> kNoSingleValue{"scenario.name", "output.directory", "steering.curvature",
-                                           "explicit_cohesive.fracture_energy", "realtime2d.element_size"};
+                                           "explicit_cohesive.fracture_energy", "realtime2d.element_size",
+                                           "realtime3d.curvature"};
 
 double siOf(const nlohmann::json& v) {
   return v.is_number() ? v.get<double>() : units::parse(v.get<std::string>()).value;

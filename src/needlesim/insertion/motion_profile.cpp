@@ -2,14 +2,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 namespace needlesim {
 
 MotionProfile::MotionProfile(const InsertionSpec& spec)
     : start_depth_(spec.start_depth), bevel0_(spec.bevel_orientation) {
-  double t = 0.0, d = spec.start_depth, ax = spec.bevel_orientation, pl = 0.0;
+  double t = 0.0, d = spec.start_depth, ax = spec.bevel_orientation, pl = 0.0, spun = 0.0;
   for (const auto& s : spec.segments) {
-    Piece p{t, t, d, 0.0, ax, 0.0, pl, 0.0, 0.0, 0.0};
+    Piece p{t, t, d, 0.0, ax, 0.0, pl, 0.0, 0.0, 0.0, spun};
     switch (s.kind) {
       case MotionSegment::Kind::Insert:
       case MotionSegment::Kind::Retract: {
@@ -34,6 +35,7 @@ MotionProfile::MotionProfile(const InsertionSpec& spec)
         break;
     }
     t = p.t1;
+    spun += spunIn(p, p.t1 - p.t0);
     pieces_.push_back(p);
   }
   end_time_ = t;
@@ -67,6 +69,21 @@ MotionState MotionProfile::at(double t) const {
   m.plane_rate = p.plane_rate;
   m.plane_angle = p.plane0 + p.plane_rate * dt;
   return m;
+}
+
+double MotionProfile::spunIn(const Piece& p, double tau) {
+  if (!(p.spin_rate > 0.0) || !(tau > 0.0)) return 0.0;
+  if (!(p.duty > 0.0)) return p.spin_rate * tau;
+  const double turn = 2.0 * std::numbers::pi / p.spin_rate, cycle = turn / p.duty;
+  const double k = std::floor(tau / cycle);
+  return 2.0 * std::numbers::pi * k + p.spin_rate * std::min(tau - k * cycle, turn);
+}
+
+double MotionProfile::spinAngle(double t) const {
+  if (pieces_.empty() || t <= 0.0) return 0.0;
+  auto it = std::upper_bound(pieces_.begin(), pieces_.end(), t, [](double tt, const Piece& p) { return tt < p.t0; });
+  const Piece& p = *(it - 1);
+  return p.spin0 + spunIn(p, std::min(t, p.t1) - p.t0);
 }
 
 }  // namespace needlesim

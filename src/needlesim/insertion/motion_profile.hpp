@@ -30,11 +30,18 @@ class MotionProfile {
   double duration() const { return end_time_; }
   // Piecewise-constant velocity; at a segment boundary the later segment wins.
   MotionState at(double t) const;
+  // rad, the bevel's turn by the insert segments' spinning up to time t (not in `at`): a spin at
+  // `spin_rate` throughout, or duty cycling (a fraction duty_cycle of the time spinning): per
+  // cycle one full turn at spin_rate, then the rest of the cycle with the bevel fixed, as engine
+  // kinematic does (Minhas et al. 2007).
+  double spinAngle(double t) const;
 
  private:
   struct Piece {
     double t0, t1, d0, v, axial0, axial_rate, plane0, plane_rate, spin_rate, duty;
+    double spin0 = 0.0;  // rad, spun before the piece
   };
+  static double spunIn(const Piece& p, double tau);
   std::vector<Piece> pieces_;
   double end_time_ = 0.0;
   double start_depth_ = 0.0;

@@ -15,6 +15,9 @@ struct Verification {
   double executed_miss = 0.0;  // m, engine's tip to the target where the tissue moved it
   double tip_gap = 0.0;        // m, engine's tip to the planned tip: the steering models' difference
   double target_motion = 0.0;  // m, displacement of the target: the tissue's deformation
+  // The tip gap in two (an engine whose tip follows its channel, realtime3d path follow_tip):
+  double tip_motion = 0.0;     // m, the tissue's displacement at the tip (deformation)
+  double channel_gap = 0.0;    // m, the channel's end (the tip less that displacement) to the planned tip
   double seconds = 0.0;        // wall time of the engine's run
 };
 

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/needle/beam_element.hpp"
@@ -24,6 +25,7 @@ ShaftCoupling::ShaftCoupling(ShaftSettings s) : cfg_(std::move(s)) {
   const auto P = static_cast<std::size_t>(P_), D = static_cast<std::size_t>(comps_ * P_);
   status_.assign(P, FrictionStatus::Stick);
   offset_.assign(P * static_cast<std::size_t>(lat_), 0.0);
+  channel_.assign(P * static_cast<std::size_t>(lat_), std::numeric_limits<double>::quiet_NaN());
   lambda_.assign(P * static_cast<std::size_t>(lat_), 0.0);
   sigma_.assign(P, 0.0); ell_.assign(P, 0.0); pos_.assign(P, 0.0); axial_prev_.assign(P, 0.0);
   idx_.assign(D, 0);
@@ -53,8 +55,10 @@ void ShaftCoupling::couple(bool entered, double reach, const Eigen::VectorXd& pu
     while (k < P_ && cfg_.path_s[static_cast<std::size_t>(k)] + pu[comps_ * k] <= reach + (k < k_ ? kReleaseGap : 0.0)) ++k;
   for (int i = k_; i < k; ++i) {
     const double p = cfg_.path_s[static_cast<std::size_t>(i)] + pu[comps_ * i];
-    for (int j = 0; j < lat_; ++j)
-      offset_[static_cast<std::size_t>(i * lat_ + j)] = pu[comps_ * i + 1 + j] - lateralAt(j, p);
+    for (int j = 0; j < lat_; ++j) {
+      const auto ij = static_cast<std::size_t>(i * lat_ + j);
+      offset_[ij] = std::isnan(channel_[ij]) ? pu[comps_ * i + 1 + j] - lateralAt(j, p) : -channel_[ij];
+    }
     status_[static_cast<std::size_t>(i)] = FrictionStatus::Stick;
   }
   for (int i = k; i < k_; ++i)

@@ -60,6 +60,10 @@ class ShaftCoupling {
   // Couples the path prefix whose current axial position is within `reach` (none when
   // !entered); a newly coupled node is tied at its current gap, released ones let go.
   void couple(bool entered, double reach, const Eigen::VectorXd& pu);
+  // Node i lies on a channel `lateral` (along lateral j) off the reference axis (realtime3d's
+  // path that follows the tip): once coupled it holds the needle there, moved with the tissue,
+  // instead of tying at its gap.
+  void setChannel(int i, int j, double lateral) { channel_[static_cast<std::size_t>(i * lat_ + j)] = lateral; }
   void measure(double s_tip, double s_exit, const Eigen::VectorXd& pu);
   int solve(const TissueDynamics& t, const AxialMotion& mo, double dt);  // active-set iterations
 
@@ -91,7 +95,7 @@ class ShaftCoupling {
   int lat_ = 1, comps_ = 2, P_ = 0, k_ = 0;
   NeedleLine nl_;
   std::vector<FrictionStatus> status_;
-  std::vector<double> offset_, sigma_, ell_, pos_, lambda_, axial_prev_;
+  std::vector<double> offset_, channel_, sigma_, ell_, pos_, lambda_, axial_prev_;
   std::vector<int> idx_, order_;
   Eigen::VectorXd fK_, f_, y_, rhs_, x_, un_;
   Eigen::MatrixXd H_;

@@ -69,6 +69,30 @@ PathMap TissueDynamics::pathMap() const {
 
 Backend TissueDynamics::backend() const { return impl_->kind(); }
 
+void TissueDynamics::movePathPoint(int i, const std::vector<int>& nodes, const std::vector<double>& weights) {
+  if (pstart_.empty() || i < 0 || i >= points_ || nodes.size() != weights.size() || nodes.empty())
+    throw SolverError(engine_ + ": a path point can be moved only onto weighted mesh nodes");
+  const auto b = static_cast<std::ptrdiff_t>(pstart_[static_cast<std::size_t>(i)]);
+  const auto e = static_cast<std::ptrdiff_t>(pstart_[static_cast<std::size_t>(i) + 1]);
+  std::vector<int> dofs;
+  for (int node : nodes)
+    for (int d = 0; d < dim_; ++d) dofs.push_back(map_.free_of_dof[static_cast<std::size_t>(dim_ * node + d)]);
+  pdof_.erase(pdof_.begin() + dim_ * b, pdof_.begin() + dim_ * e);
+  pdof_.insert(pdof_.begin() + dim_ * b, dofs.begin(), dofs.end());
+  pweight_.erase(pweight_.begin() + b, pweight_.begin() + e);
+  pweight_.insert(pweight_.begin() + b, weights.begin(), weights.end());
+  const int shift = static_cast<int>(nodes.size()) - static_cast<int>(e - b);
+  for (std::size_t j = static_cast<std::size_t>(i) + 1; j < pstart_.size(); ++j) pstart_[j] += shift;
+  impl_->movePathPoint(i);
+  Eigen::VectorXd uf, vf;
+  impl_->fullDisplacement(uf);
+  impl_->fullVelocity(vf);
+  const PathMap pm = pathMap();
+  for (int k = comps_ * i; k < comps_ * (i + 1); ++k) {
+    pu_[k] = pm.gather(uf, k); pv_[k] = pm.gather(vf, k); pa_[k] = 0.0;
+  }
+}
+
 void TissueDynamics::checkStable(double dt) const {
   if (dt > dt_limit_)
     throw SolverError(fmt::format(

@@ -96,6 +96,10 @@ class TissueDynamics {
   double kineticEnergy() const;
   double strainEnergy() const;
   void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v);
+  // Moves path point i (of weighted entries, path_start) onto other mesh nodes before it takes
+  // any load: its path flexibility from the existing factorisation or basis (a few solves), its
+  // path state from the current fields (the acceleration there taken as zero: a slow insertion).
+  void movePathPoint(int i, const std::vector<int>& nodes, const std::vector<double>& weights);
   double highestFrequency() const;
   Eigen::VectorXd staticSolve(const Eigen::VectorXd& f) const;
   int freeDofs() const { return map_.freeCount(); }

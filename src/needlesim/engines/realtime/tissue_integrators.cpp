@@ -98,6 +98,16 @@ class DirectIntegrator final : public TissueIntegrator {
     a_.swap(an_);
     u_.swap(u0_);
   }
+  void movePathPoint(int i) override {
+    Eigen::VectorXd g(K_.rows());
+    for (int k = map_.comps() * i; k < map_.comps() * (i + 1); ++k) {
+      g.setZero();
+      map_.scatterAdd(g, k, 1.0);
+      Z_.col(k) = ldlt_.solve(g);
+    }
+    for (int k = map_.comps() * i; k < map_.comps() * (i + 1); ++k)
+      for (int l = 0; l < map_.size(); ++l) S_(k, l) = S_(l, k) = map_.gather(Z_.col(k), l);
+  }
   void fullDisplacement(Eigen::VectorXd& u) const override { u = u_; }
   void fullVelocity(Eigen::VectorXd& v) const override { v = v_; }
   void saveDisplacement(DisplacementState& state) const override { state.coordinates = u_; }
@@ -174,6 +184,14 @@ class ModalIntegrator final : public TissueIntegrator {
     for (int i = 0; i < ps_.terms(); ++i) h_[i] = ps_.decay[i] * h_[i] + ps_.phi[i] * (q0_ - q_);
     qdd_.swap(g_);
     q_.swap(q0_);
+  }
+  void movePathPoint(int i) override {
+    for (int k = map_.comps() * i; k < map_.comps() * (i + 1); ++k)
+      for (Eigen::Index m = 0; m < Phi_.cols(); ++m) PhiP_(k, m) = map_.gather(Phi_.col(m), k);
+    for (int k = map_.comps() * i; k < map_.comps() * (i + 1); ++k) {
+      S_.col(k) = PhiP_ * invA_.cwiseProduct(PhiP_.row(k).transpose());
+      S_.row(k) = S_.col(k).transpose();
+    }
   }
   void fullDisplacement(Eigen::VectorXd& u) const override { u.noalias() = Phi_ * q_; }
   void fullVelocity(Eigen::VectorXd& v) const override { v.noalias() = Phi_ * qd_; }
@@ -295,6 +313,28 @@ class ReducedIntegrator final : public TissueIntegrator {
     for (int i = 0; i < ps_.terms(); ++i) Hr_[i] = ps_.decay[i] * Hr_[i] + ps_.phi[i] * (t_ - gres_);
     if (beta_ > 0.0) gdot_ = (f - ps_.F * t_ - histr_) / beta_;
     gres_.swap(t_);
+    resid_dirty_ = true;
+  }
+  // The point's rows of Phi_P, its static flexibility columns (one solve per load) and its rows
+  // and columns of R and S; its filtered loads are zero (it took none), so the field is unchanged.
+  void movePathPoint(int i) override {
+    const int c = map_.comps(), k0 = c * i;
+    Eigen::MatrixXd G = Eigen::MatrixXd::Zero(K_.rows(), c);
+    for (int k = k0; k < k0 + c; ++k) {
+      for (Eigen::Index m = 0; m < Phi_.cols(); ++m) PhiP_(k, m) = map_.gather(Phi_.col(m), k);
+      Eigen::Ref<Eigen::VectorXd> g = G.col(k - k0);
+      map_.scatterAdd(g, k, 1.0);
+    }
+    Zs_.middleCols(k0, c) = kf_.solve(G);
+    for (int k = k0; k < k0 + c; ++k) {
+      for (int l = 0; l < map_.size(); ++l) R_(l, k) = map_.gather(Zs_.col(k), l);
+      R_.col(k).noalias() -= PhiP_ * w2_.cwiseInverse().cwiseProduct(PhiP_.row(k).transpose());
+      R_.row(k) = R_.col(k).transpose();
+    }
+    for (int k = k0; k < k0 + c; ++k) {
+      S_.col(k) = PhiP_ * invA_.cwiseProduct(PhiP_.row(k).transpose()) + cf1_ * R_.col(k);
+      S_.row(k) = S_.col(k).transpose();
+    }
     resid_dirty_ = true;
   }
   void fullDisplacement(Eigen::VectorXd& u) const override { fieldOf(q_, gres_, u); }

@@ -71,6 +71,9 @@ class TissueIntegrator {
   virtual void displacementOf(const DisplacementState& state, Eigen::VectorXd& u) const = 0;
   virtual void setState(const Eigen::VectorXd& u, const Eigen::VectorXd& v, const Eigen::VectorXd& a) = 0;
   virtual double freeDisplacement(int k) const = 0;  // one free DOF of u
+  // Path point i's entries changed in the map (it was moved before it took any load): its
+  // rows and columns of the path flexibility, from the existing factorisation or basis.
+  virtual void movePathPoint(int i) = 0;
 };
 
 std::unique_ptr<TissueIntegrator> makeDirectIntegrator(const Eigen::SparseMatrix<double>& K,

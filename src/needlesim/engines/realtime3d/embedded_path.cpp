@@ -94,7 +94,27 @@ bool embedPoint(const TetMesh& mesh, const NearAxis& near, const std::vector<Ela
   return true;
 }
 
+// Whether some of the point's weight lies on free nodes (their x DOF).
+bool movable(const std::vector<bool>& held, const PathPoint& pt) {
+  double free = 0.0;
+  for (std::size_t a = 0; a < pt.nodes.size(); ++a)
+    if (!held[static_cast<std::size_t>(3 * pt.nodes[a])]) free += pt.weights[a];
+  return free > 1e-6;
+}
+
 }  // namespace
+
+bool embedPointAt(const TetMesh& mesh, const std::vector<bool>& held, const std::vector<ElasticMaterial>& materials,
+                  const EmbeddingSpec& sp, PathPoint& pt) {
+  const NearAxis near(mesh, sp);
+  PathPoint at;
+  at.s = pt.s;
+  at.X = sp.entry;
+  if (!(sp.s_end > sp.s_begin) || !embedPoint(mesh, near, materials, sp, sp.s_begin, sp.s_end, at) || !movable(held, at))
+    return false;
+  pt = std::move(at);
+  return true;
+}
 
 std::vector<PathPoint> embedPath(const TetMesh& mesh, const std::vector<bool>& held,
                                  const std::vector<ElasticMaterial>& materials, const EmbeddingSpec& sp) {
@@ -108,10 +128,7 @@ std::vector<PathPoint> embedPath(const TetMesh& mesh, const std::vector<bool>& h
     const double lo = std::max(sp.s_begin, pt.s - 0.5 * sp.spacing), hi = std::min(sp.s_end, pt.s + 0.5 * sp.spacing);
     pt.X = sp.entry + pt.s * sp.t;
     if (!(hi > lo) || !embedPoint(mesh, near, materials, sp, lo, hi, pt)) continue;
-    double free = 0.0;
-    for (std::size_t a = 0; a < pt.nodes.size(); ++a)
-      if (!held[static_cast<std::size_t>(3 * pt.nodes[a])]) free += pt.weights[a];
-    if (free > 1e-6) out.push_back(std::move(pt));
+    if (movable(held, pt)) out.push_back(std::move(pt));
   }
   if (out.empty()) throw SolverError("realtime3d: no point of the needle path lies in the tissue mesh");
   return out;

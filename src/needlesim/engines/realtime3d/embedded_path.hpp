@@ -44,4 +44,10 @@ struct EmbeddingSpec {
 std::vector<PathPoint> embedPath(const TetMesh& mesh, const std::vector<bool>& held,
                                  const std::vector<ElasticMaterial>& materials, const EmbeddingSpec& spec);
 
+// One point embedded at spec.entry (s = 0), spreading over its needle surface from s_begin to
+// s_end along spec.t (a channel's heading), into pt (nodes, weights, X, compliance; pt.s kept).
+// False when it lies outside the mesh or on held nodes only.
+bool embedPointAt(const TetMesh& mesh, const std::vector<bool>& held, const std::vector<ElasticMaterial>& materials,
+                  const EmbeddingSpec& spec, PathPoint& pt);
+
 }  // namespace needlesim::realtime3d

@@ -9,6 +9,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/realtime/scenario_config.hpp"
 #include "needlesim/engines/realtime3d/realtime3d_engine.hpp"
+#include "needlesim/engines/steering/steering_engines.hpp"
 #include "needlesim/materials/material_spec.hpp"
 
 namespace needlesim::engines {
@@ -60,6 +61,16 @@ void checkGeometry(const Scenario& sc) {
                    "markers are placed in the generated block, not in an imported mesh", "no markers with tissue.geometry");
 }
 
+// The channel's curvature of path follow_tip: given, else engine kinematic's (model.steering.curvature,
+// else the beam-on-foundation steady curvature of the tip loads, seed 002 section 4); 0 for a symmetric tip.
+double channelCurvature(const Scenario& sc) {
+  const auto& r = sc.model.realtime3d;
+  if (!r.follow_tip || sc.needle.tip != TipType::Bevel) return 0.0;  // a symmetric tip cuts straight on
+  if (r.curvature >= 0.0) return r.curvature;
+  if (sc.model.steering.curvature >= 0.0) return sc.model.steering.curvature;
+  return std::abs(steeringInputs(sc).kappa_bof);
+}
+
 TissueConfig tissueConfig(const Scenario& sc) {
   const auto& r = sc.model.realtime3d;
   TissueConfig t;
@@ -83,6 +94,8 @@ TissueConfig tissueConfig(const Scenario& sc) {
   if (r.relaxation) t.prony = sc.tissue.layers.front().material.prony;  // QLV, one series for the block
   t.backend = realtimeBackend(r.solver);
   t.reduced_max_modes = r.modes;
+  t.follow_tip = r.follow_tip;
+  t.channel_curvature = channelCurvature(sc);
   return t;
 }
 

@@ -133,9 +133,10 @@ class Realtime3dRun {
     for (long long k = 1; k <= cadence_.steps; ++k) {
       const double t = cadence_.timeOf(k);
       const MotionState m = motion_.at(t);
-      // The bevel's turn from the frame's orientation (axial_angle starts at bevel_orientation).
-      const BasePose pose =
-          session_.poseAtDepth(m.depth, 0.0, 0.0, m.plane_angle, 0.0, m.axial_angle - sc_.insertion.bevel_orientation);
+      // The bevel's turn from the frame's orientation (axial_angle starts at bevel_orientation),
+      // and the insert segments' spinning (duty cycling).
+      const double roll = m.axial_angle - sc_.insertion.bevel_orientation + motion_.spinAngle(t);
+      const BasePose pose = session_.poseAtDepth(m.depth, 0.0, 0.0, m.plane_angle, 0.0, roll);
       const StepResult& o = session_.step(pose, dt_);
       ext_.track(o);
       if (cadence_.sample(k)) record(t, m, o);
@@ -235,6 +236,12 @@ class Realtime3dRun {
     sink_.result("peak_force_depth", ext_.peakDepth, "m", "tip depth at the peak force");
     sink_.result("final_force", last.axial_force, "N", "axial force on the needle at the end");
     sink_.result("max_depth", ext_.maxDepth, "m", "deepest tip position along the reference axis");
+    if (cfg_.tissue.follow_tip) {
+      const Eigen::Vector3d u = session_.tipDisplacement();
+      for (int c = 0; c < 3; ++c)
+        sink_.result(std::string("tip_tissue_displacement_") + "xyz"[c], u[c], "m",
+                     "path follow_tip: the tissue's displacement at the tip at the end (the tip is the channel's end moved by it)");
+    }
     for (std::size_t i = 0; i < ext_.punctures.size(); ++i)
       sink_.result(i == 0 ? std::string("puncture_depth") : fmt::format("puncture_depth_{}", i + 1), ext_.punctures[i],
                    "m", i == 0 ? "tip depth at puncture (eq 3.16 threshold)" : "tip depth at a layer boundary's puncture");
@@ -265,6 +272,11 @@ class Realtime3dRun {
         mesh, m.elements(), session_.tissue().dynamics().freeDofs(), realtimeBackendName(session_.tissue().dynamics().backend()),
         session_.tissue().path().size(), cfg_.tissue.coupling_spacing * 1e3, dt_ * 1e3, cfg_.tissue.rayleigh_alpha,
         cfg_.tissue.rayleigh_beta, cfg_.needle.EI, cadence_.steps, run_s_, run_s_ > 0 ? cadence_.steps / run_s_ : 0.0, setup_s_));
+    if (cfg_.tissue.follow_tip)
+      sink_.note(fmt::format("The path follows the channel the tip cuts (path: follow_tip): the tip turns towards the "
+                             "bevel at {:.4g} 1/m (kinematic bevel-tip model, Webster et al. 2006), each path point is "
+                             "embedded where the tip reaches it and holds the shaft there.",
+                             cfg_.tissue.channel_curvature));
     for (const auto& L : sc_.tissue.layers)
       if (L.material.law != "linear") {
         sink_.note("The tissue law is linearised: realtime3d uses its small-strain moduli (initial shear and bulk).");

@@ -47,6 +47,15 @@ scenario::ParamTable<Spec> build() {
                 "interval of the tissue field output for ParaView (0 = none)")
       .choice(&Spec::relaxation, "relaxation", {{"prony", true}, {"off", false}},
               "prony: the material's Prony terms relax the whole tissue stiffness (QLV); off: elastic")
+      .choice(&Spec::follow_tip, "path", {{"straight", false}, {"follow_tip", true}},
+              "straight: the path points lie on the reference axis; follow_tip: each is placed where the tip "
+              "reaches its depth, on the channel the tip cuts turning towards the bevel at `curvature` (kinematic "
+              "bevel-tip model, Webster et al. 2006), and holds the shaft there")
+      .row(numberDoc("realtime3d", "curvature", units::Dim{-1, 0, 0, 0}, nonNegative(),
+                     "model.steering.curvature, else from the tip loads",
+                     "path follow_tip: curvature of the channel with the bevel fixed; omitted = as engine kinematic "
+                     "(model.steering.curvature, else the beam-on-foundation steady curvature (M + Q/lambda)/EI)"),
+           [](Section& s, Spec& r, const Scenario&) { r.curvature = s.optNumber("curvature").value_or(-1.0); })
       .row(t.otherDoc("markers", Kind::List, "", "tissue points whose displacement is reported", "marker3d"),
            [](Section& s, Spec& r, const Scenario& sc) { r.markers = readRealtimeMarkers(s, sc, true); });
   return t;

@@ -30,6 +30,8 @@ struct Realtime3dModelSpec {
   double tip_load_ratio = -1.0;  // transverse bevel load / cutting force; < 0 = cot(bevel angle)
   double field_interval = 0.5;   // s, tissue field output interval (0 = none)
   bool relaxation = true;        // Prony terms of the material relax the tissue (QLV)
+  bool follow_tip = false;       // path: follow_tip (the channel the tip cuts) or straight (the reference axis)
+  double curvature = -1.0;       // 1/m, follow_tip: the channel's curvature; < 0 = as engine kinematic
   std::vector<MarkerSpec> markers;
 };
 

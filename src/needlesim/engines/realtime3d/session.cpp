@@ -128,9 +128,51 @@ Session::Motion Session::moveBase(const BasePose& pose, double dt) {
   return {ds, ds / dt, nl_.sB + L_ * c};
 }
 
+// follow_tip: outside the tissue the tip is the straight needle's; inside it advances by the
+// inserted length along its heading, which turns towards -bevelSide(roll) at the channel
+// curvature (kinematic bevel-tip model, Webster et al. 2006: d heading / d length = kappa d_perp).
+// The path points whose depth the tip reaches (one spacing ahead, so before they couple) are
+// placed on the line of its heading and embedded there; one outside the mesh stays on the axis.
+void Session::cutChannel(const BasePose& pose, Motion& mo) {
+  const double arc = mo.ds / nl_.cosphi;
+  if (!cutting_) {
+    cut_ = pose.base + L_ * axis_;
+    heading_ = axis_;
+    cutting_ = cut_.dot(t0_) - entry_.dot(t0_) > s_entry_;
+  } else if (arc > 0.0) {
+    Eigen::Vector3d d = -cfg_.frame.bevelSide(pose.roll);
+    d -= d.dot(heading_) * heading_;
+    cut_ += arc * heading_;
+    if (d.norm() > 0.0) heading_ = (heading_ + cfg_.tissue.channel_curvature * arc * d.normalized()).normalized();
+  } else {
+    cut_ += arc * heading_;  // drawn back: along the channel's last heading
+  }
+  const double ax = (cut_ - entry_).dot(t0_), hx = heading_.dot(t0_);
+  mo.s_tip = ax;
+  const double ahead = cfg_.tissue.coupling_spacing;
+  while (placed_ < static_cast<int>(path_s_.size()) && path_s_[static_cast<std::size_t>(placed_)] <= ax + ahead) {
+    const Eigen::Vector3d p = cut_ + (path_s_[static_cast<std::size_t>(placed_)] - ax) / hx * heading_ - entry_;
+    // embedded where it lies (the reference position: the channel is cut in the tissue's frame)
+    if (tissue_.movePathPoint(static_cast<std::size_t>(placed_), p + entry_ + shift_, heading_)) {
+      shaft_.setChannel(placed_, 0, p.dot(n0_));
+      shaft_.setChannel(placed_, 1, p.dot(b0_));
+    }
+    ++placed_;
+  }
+}
+
+// follow_tip: the tissue's displacement at the channel's end (its last coupled point's).
+Eigen::Vector3d Session::tipDisplacement() const {
+  const int k = shaft_.coupled();
+  if (k == 0) return Eigen::Vector3d::Zero();
+  const auto& pu = tissue_.dynamics().pathU();
+  return pu[3 * (k - 1)] * t0_ + pu[3 * (k - 1) + 1] * n0_ + pu[3 * (k - 1) + 2] * b0_;
+}
+
 const StepResult& Session::step(const BasePose& pose, double dt) {
   tissue_.dynamics().setTimeStep(dt);
-  const Motion mo = moveBase(pose, dt);
+  Motion mo = moveBase(pose, dt);
+  if (cfg_.tissue.follow_tip) cutChannel(pose, mo);
   StepResult& o = out_;
   o = StepResult{};
   time_ += dt;
@@ -188,7 +230,7 @@ void Session::reportLoads(double F1, double Fc, StepResult& o) {
   o.out_of_plane_force = F.dot(b0_);
   o.tip_load = {nl_.Q[0], nl_.Q[1]};
   o.tip_deflection = needleDeflection(L_);
-  o.tip_position = at(s_tip);
+  o.tip_position = cfg_.tissue.follow_tip ? Eigen::Vector3d(cut_ + tipDisplacement()) : at(s_tip);
   o.coupled = k;
 }
 

@@ -8,6 +8,12 @@
 // stiffness per layer boundary (eq 3.16), cutting (eq 3.24), and the bevel's transverse load
 // Q = ratio F_cut towards -bevelSide(roll) (seed 002 tip loads, needle/insertion_frame.hpp),
 // which turns with the needle's roll, so a bevel flip steers the needle in 3D.
+// With tissue.follow_tip the path follows the channel the tip cuts: the tip advances along its
+// heading, which turns towards the bevel (-bevelSide) at the kinematic bevel-tip curvature
+// (Webster et al. 2006, seed 002 sections 1 and 5.1) in the tissue's reference frame; each path
+// point is placed on that channel when the tip reaches its depth and holds the shaft there,
+// moved with the tissue (ShaftCoupling::setChannel). The tip is the channel's end, moved with
+// the tissue.
 // step() allocates nothing while dt stays the same, and is deterministic.
 #include <Eigen/Core>
 #include <vector>
@@ -86,10 +92,14 @@ class Session {
   const SessionConfig& config() const { return cfg_; }
   const Eigen::Vector3d& cornerShift() const { return shift_; }  // centred -> mesh coordinates
   double exitDepth() const { return s_exit_; }
+  // path follow_tip: the tissue's displacement at the channel's end (its last coupled point's);
+  // the tip is the channel's end (in the tissue's reference frame) moved by it.
+  Eigen::Vector3d tipDisplacement() const;
 
  private:
   using Motion = realtime::AxialMotion;
   Motion moveBase(const BasePose& pose, double dt);
+  void cutChannel(const BasePose& pose, Motion& mo);
   void reportLoads(double F1, double Fc, StepResult& o);
   std::vector<realtime::Membrane> membranesOf() const;
   realtime::ShaftSettings shaftSettings() const;
@@ -105,6 +115,10 @@ class Session {
   Eigen::Vector3d axis_ = Eigen::Vector3d::UnitX();
   double sB_prev_ = 0.0, time_ = 0.0;
   bool started_ = false;
+  // follow_tip: the channel's end and heading (reference frame), the points placed on it so far
+  Eigen::Vector3d cut_ = Eigen::Vector3d::Zero(), heading_ = Eigen::Vector3d::UnitX();
+  bool cutting_ = false;
+  int placed_ = 0;
   realtime::TipForces tip_;
   realtime::ShaftCoupling shaft_;
   StepResult out_;

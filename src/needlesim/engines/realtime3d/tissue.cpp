@@ -135,6 +135,17 @@ Eigen::Vector3d Tissue::pathDisplacement(std::size_t i) const {
   return u;
 }
 
+bool Tissue::movePathPoint(std::size_t i, const Eigen::Vector3d& X, const Eigen::Vector3d& heading) {
+  PathPoint& p = path_.at(i);
+  Eigen::Vector3d n = n_ - n_.dot(heading) * heading;
+  n.normalize();
+  const double half = 0.5 * cfg_.coupling_spacing;
+  const EmbeddingSpec sp{X, heading, n, heading.cross(n), -half, half, cfg_.coupling_spacing, cfg_.coupling_radius};
+  if (!embedPointAt(mesh_, held_, elem_mat_, sp, p)) return false;
+  dyn_->movePathPoint(static_cast<int>(i), p.nodes, p.weights);
+  return true;
+}
+
 Eigen::Vector3d Tissue::regionDisplacement(std::size_t region) const {
   Eigen::Vector3d u = Eigen::Vector3d::Zero();
   const auto& nodes = region_nodes_.at(region);

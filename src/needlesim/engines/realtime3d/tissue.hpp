@@ -57,6 +57,11 @@ struct TissueConfig : realtime::DynamicsSettings {
   std::shared_ptr<const ImportedGeometry> geometry;
   double coupling_spacing = 1e-3;  // m, between the path points
   double coupling_radius = 0.0;    // m, the needle's outer radius (the surface the loads spread over)
+  // Where the path points lie: on the straight reference axis, or (follow_tip) on the channel
+  // the tip cuts, each placed when the tip reaches its depth (session.hpp), the tip turning
+  // towards the bevel at `channel_curvature` (1/m) per length inserted.
+  bool follow_tip = false;
+  double channel_curvature = 0.0;
 };
 
 class Tissue {
@@ -74,6 +79,10 @@ class Tissue {
   const std::vector<int>& regionNodes(std::size_t region) const { return region_nodes_.at(region); }
   // Displacement of path point i: its nodes' weighted sum (the tissue side of its ties).
   Eigen::Vector3d pathDisplacement(std::size_t i) const;
+  // Moves path point i, before it takes any load, to X (mesh coordinates) on a channel heading
+  // along unit `heading`: embedded in the tets there (embedPointAt). False (and unmoved) when X
+  // lies outside the mesh.
+  bool movePathPoint(std::size_t i, const Eigen::Vector3d& X, const Eigen::Vector3d& heading);
   // Von Mises stress of every element from the current displacement.
   Eigen::VectorXd elementVonMises() const;
   // Boundary faces (triangles, outward node order) of the tet mesh, for viewers.
