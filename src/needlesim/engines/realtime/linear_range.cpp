@@ -1,4 +1,4 @@
-// Strains and volume ratios of the real-time engines' tissue (linear_range.hpp).
+// Strains, rotations and volume ratios of the real-time engines' tissue (linear_range.hpp).
 #include "needlesim/engines/realtime/linear_range.hpp"
 
 #include <fmt/format.h>
@@ -11,8 +11,22 @@ namespace needlesim::realtime {
 SimplexStrains::SimplexStrains(int dim, std::vector<double> X, std::vector<int> simplices)
     : dim_(dim), X_(std::move(X)), simplices_(std::move(simplices)) {}
 
+// In 2D R = [c -s; s c] with tan(theta) = (F10 - F01) / (F00 + F11) (F = R U, U symmetric).
+double rotationAngle(const Eigen::Matrix2d& F) { return std::abs(std::atan2(F(1, 0) - F(0, 1), F(0, 0) + F(1, 1))); }
+
+// R = F U^-1 with U^-1 = V diag(1 / sqrt(lambda)) V^T from the eigenpairs of C = F^T F (the closed-form
+// solver the strain uses; no SVD); the angle from sin and cos: |axial(R)| and (tr R - 1) / 2.
+double rotationAngle(const Eigen::Matrix3d& F) {
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> es;
+  es.computeDirect(F.transpose() * F);
+  const Eigen::Vector3d inv = es.eigenvalues().cwiseMax(1e-300).cwiseSqrt().cwiseInverse();
+  const Eigen::Matrix3d R = F * es.eigenvectors() * inv.asDiagonal() * es.eigenvectors().transpose();
+  const Eigen::Vector3d axial(R(2, 1) - R(1, 2), R(0, 2) - R(2, 0), R(1, 0) - R(0, 1));
+  return std::atan2(0.5 * axial.norm(), 0.5 * (R.trace() - 1.0));
+}
+
 namespace {
-// grad u = dU dX^-1 of one simplex (edges from its first corner), its J and largest |strain|.
+// grad u = dU dX^-1 of one simplex (edges from its first corner), its J, largest |strain| and rotation.
 template <int D>
 void addSimplex(const double* X, const Eigen::VectorXd& u, const int* s, Deformation& d) {
   Eigen::Matrix<double, D, D> dX, dU;
@@ -24,6 +38,7 @@ void addSimplex(const double* X, const Eigen::VectorXd& u, const int* s, Deforma
   const Eigen::Matrix<double, D, D> G = dU * dX.inverse();
   const double J = (Eigen::Matrix<double, D, D>::Identity() + G).determinant();
   if (!(J > 0.0)) ++d.inverted;
+  else d.max_rotation = std::max(d.max_rotation, rotationAngle(Eigen::Matrix<double, D, D>(Eigen::Matrix<double, D, D>::Identity() + G)));
   const Eigen::Matrix<double, D, D> eps = 0.5 * (G + G.transpose());
   Eigen::SelfAdjointEigenSolver<Eigen::Matrix<double, D, D>> es;
   es.computeDirect(eps, Eigen::EigenvaluesOnly);
@@ -55,16 +70,31 @@ std::vector<int> quadCornerTriangles(const std::vector<std::array<int, 4>>& quad
 
 bool LinearRangeWarning::check(const Deformation& d, double depth, ResultSink& sink) {
   worst_ = std::max(worst_, d.max_strain);
-  if (warned_ || (d.inverted == 0 && !(d.max_strain > kLinearStrainBound))) return warned_;
+  worstRotation_ = std::max(worstRotation_, d.max_rotation);
+  const bool strained = d.max_strain > kLinearStrainBound, rotated = d.max_rotation > kLinearRotationBound;
+  if (warned_ || (d.inverted == 0 && !strained && !rotated)) return warned_;
   warned_ = true;
   const std::string inverted =
-      d.inverted > 0 ? fmt::format("{} element{} inverted (det J <= 0) and ", d.inverted, d.inverted == 1 ? " is" : "s are") : "";
+      d.inverted > 0 ? fmt::format("{} element{} inverted (det J <= 0); ", d.inverted, d.inverted == 1 ? " is" : "s are") : "";
   sink.warning(fmt::format(
-      "{}: the linear tissue model no longer holds at tip depth {:.3g} mm: {}the largest strain is {:.2g}, beyond "
-      "the {:g} the small-strain model is held to; its forces and displacements there are outside the model "
-      "(a stiffer or thicker tissue, a slower insertion, or the explicit engine's finite strains).",
-      engine_, depth * 1e3, inverted, d.max_strain, kLinearStrainBound));
+      "{}: the linear tissue model no longer holds at tip depth {:.3g} mm: {}the largest strain is {:.2g}{} and the "
+      "largest element rotation {:.2g} rad{}; the small-strain model is held to a strain of {:g} and a rotation of "
+      "{:g} rad, and its forces and displacements there are outside the model (a stiffer or thicker tissue, a "
+      "slower insertion or a smaller lateral motion, or the explicit engine's finite strains; "
+      "docs/models/realtime3d.md \"When linear elasticity holds\").",
+      engine_, depth * 1e3, inverted, d.max_strain, strained ? " (beyond the bound)" : "", d.max_rotation,
+      rotated ? " (beyond the bound)" : "", kLinearStrainBound, kLinearRotationBound));
   return true;
+}
+
+void reportLinearRange(const LinearRangeWarning& range, const std::string& where, ResultSink& sink) {
+  sink.result("max_tissue_strain", range.worstStrain(), "1",
+              "largest |principal small strain| of the tissue's elements" + where + " (linear range check)");
+  sink.result("max_tissue_rotation", range.worstRotation(), "rad",
+              "largest rotation of the tissue's elements" + where + " (polar decomposition of I + grad u)");
+  sink.note(fmt::format("Largest small strain in the tissue{}: {:.2g}, largest element rotation {:.2g} rad (the linear "
+                        "model is held to {:g} and {:g} rad; realtime/linear_range.hpp).",
+                        where, range.worstStrain(), range.worstRotation(), kLinearStrainBound, kLinearRotationBound));
 }
 
 }  // namespace needlesim::realtime
