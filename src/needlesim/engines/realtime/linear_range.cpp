@@ -77,8 +77,8 @@ bool LinearRangeWarning::check(const Deformation& d, double depth, ResultSink& s
   const std::string inverted =
       d.inverted > 0 ? fmt::format("{} element{} inverted (det J <= 0); ", d.inverted, d.inverted == 1 ? " is" : "s are") : "";
   sink.warning(fmt::format(
-      "{}: the linear tissue model no longer holds at tip depth {:.3g} mm: {}the largest strain is {:.2g}{} and the "
-      "largest element rotation {:.2g} rad{}; the small-strain model is held to a strain of {:g} and a rotation of "
+      "{}: the linear tissue model no longer holds at tip depth {:.3g} mm: {}the largest strain is {:.3g}{} and the "
+      "largest element rotation {:.3g} rad{}; the small-strain model is held to a strain of {:g} and a rotation of "
       "{:g} rad, and its forces and displacements there are outside the model (a stiffer or thicker tissue, a "
       "slower insertion or a smaller lateral motion, or the explicit engine's finite strains; "
       "docs/models/realtime3d.md \"When linear elasticity holds\").",
