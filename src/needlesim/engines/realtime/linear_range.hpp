@@ -8,6 +8,7 @@
 #include <Eigen/Core>
 #include <array>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "needlesim/engines/engine.hpp"
@@ -36,15 +37,15 @@ class SimplexStrains {
  public:
   SimplexStrains() = default;
   // dim 2 or 3; X: reference coordinates, dim per node; simplices: dim + 1 node ids each.
-  SimplexStrains(int dim, std::vector<double> X, std::vector<int> simplices);
+  SimplexStrains(int dim, const std::vector<double>& X, std::vector<int> simplices);
   // u: displacement, dim per node.
   Deformation measure(const Eigen::VectorXd& u) const;
   bool empty() const { return simplices_.empty(); }
 
  private:
   int dim_ = 2;
-  std::vector<double> X_;
   std::vector<int> simplices_;
+  std::vector<double> inverseEdges_;  // dX^-1 of each simplex (edges from its first corner), dim x dim
 };
 
 // The rotation angle (rad, in [0, pi]) of R in the polar decomposition F = R U of a 2 x 2 or 3 x 3
