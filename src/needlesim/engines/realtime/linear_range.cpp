@@ -5,6 +5,7 @@
 
 #include <Eigen/Dense>
 #include <cmath>
+#include <numbers>
 
 namespace needlesim::realtime {
 
@@ -61,11 +62,11 @@ std::pair<double, double> rotationBounds(const Eigen::Matrix<double, D, D>& G) {
   const double w = W.norm() / std::sqrt(2.0);
   const double off = E.norm() + std::sqrt(2.0) * (w - std::sin(w) + 1.0 - std::cos(w));
   const double phi = 2.0 * std::asin(std::min(1.0, off / std::sqrt(2.0)));
-  return {std::max(0.0, w - phi), w + phi};
+  return {w <= std::numbers::pi ? std::max(0.0, w - phi) : 0.0, w + phi};  // exp(W) turns by w up to pi
 }
 
-// grad u = dU dX^-1 of one simplex (edges from its first corner, dX^-1 given), its J and largest |strain|;
-// the rotation's bounds in `lower` and the returned upper one (-1: inverted, no rotation).
+// grad u = dU dX^-1 of one simplex (edges from its first corner, dX^-1 given) in G, its J and largest
+// |strain| into d, d.max_rotation raised to the rotation's lower bound; returns the upper one (-1: inverted).
 template <int D>
 double addSimplex(const double* inverseEdges, const Eigen::VectorXd& u, const int* s, Deformation& d,
                   Eigen::Matrix<double, D, D>& G) {
