@@ -281,8 +281,7 @@ class Realtime2dRun {
   }
 
   void writeNotes() {
-    sink_.note(fmt::format("Largest small strain in the tissue{}: {:.2g} (the linear model is held to {:g}; "
-                           "realtime/linear_range.hpp).", "", range_.worstStrain(), realtime::kLinearStrainBound));
+    realtime::reportLinearRange(range_, "", sink_);
     const auto& r = sc_.model.realtime2d;
     const Mesh& mesh = session_.mesh();
     sink_.note(fmt::format(

@@ -258,8 +258,7 @@ class Realtime3dRun {
   }
 
   void writeNotes() {
-    sink_.note(fmt::format("Largest small strain in the tissue{}: {:.2g} (the linear model is held to {:g}; "
-                           "realtime/linear_range.hpp).", " (the elements on the needle path, and all at the end)", range_.worstStrain(), realtime::kLinearStrainBound));
+    realtime::reportLinearRange(range_, " (the elements on the needle path, and all at the end)", sink_);
     const auto& b = cfg_.tissue.block;
     const auto& m = session_.mesh();
     const std::string mesh = cfg_.tissue.geometry ? fmt::format("the tet mesh of {} ({} nodes", cfg_.tissue.geometry->file, m.nodes())
