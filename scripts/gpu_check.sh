@@ -77,7 +77,7 @@ section "bench_mpm on the GPU"
 
 section "CLI: quick example (CPU, then GPU) and the local model with grid contact (GPU, then CPU)"
 mk() {  # mk <example> <device> <out.yaml>: the example with model.mpm.device, grid contact, 4 CPU threads
-  sed -e "s/^  mpm:$/  mpm:\n    device: $2\n    threads: 4\n    parting: none/" -e '/^    contact: cfemp/d' -e '/^    cfemp_element_size:/d' \
+  sed -e "s/^  mpm:$/  mpm:\n    device: $2\n    threads: 4\n    parting: none\n    contact: grid/" -e '/^    contact: cfemp/d' -e '/^    cfemp_element_size:/d' \
       -e '/^    threads: /d' "$1" > "$3"
 }
 {

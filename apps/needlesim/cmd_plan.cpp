@@ -47,6 +47,9 @@ void printOutcome(const planning::PlanFolder& f, const Scenario& sc) {
     fmt::print("targeting error (closed loop): p50 {}, p95 {}\n",
                results::shownText(f.outcome.closed_loop->p50, "m", sc.output.units, "{:.3g}"),
                results::shownText(f.outcome.closed_loop->p95, "m", sc.output.units, "{:.3g}"));
+  if (f.outcome.closed_loop && f.outcome.problem.max_retractions > 0)
+    fmt::print("closed loop retractions: {:.3g} % of the insertions retract, {:.3g} per insertion\n",
+               100 * f.outcome.closed_loop->retracting_share, f.outcome.closed_loop->mean_retractions);
   if (!f.verified.empty()) fmt::print("{}\n", f.verified);
   fmt::print("results: {}/\n", f.folder.string());
 }

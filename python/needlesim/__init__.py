@@ -21,6 +21,7 @@ import tempfile
 
 from needlesim._core import (
     ArgumentTypeError,
+    Inclusion,
     InputError,
     LumpedForceModel,
     MotionSample,
@@ -46,6 +47,7 @@ __all__ = [
     "ArgumentTypeError",
     "FieldSeries",
     "FieldStep",
+    "Inclusion",
     "InputError",
     "LumpedForceModel",
     "MotionSample",

@@ -1,7 +1,7 @@
 // needlesim._core.Session: an engine stepped by the caller (a haptic loop, a planner), through
 // its steppable session (engines/session.hpp: lumped, realtime2d, realtime3d), with the same
 // guard and messages as the C++ API and needlesim serve; the tissue mesh and the needle shape
-// exist for the FE engines.
+// exist for the FE engines, the inclusions (results/inclusion_view.hpp) for every engine.
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -18,6 +18,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/session.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
+#include "needlesim/results/inclusion_view.hpp"
 
 namespace py = pybind11;
 
@@ -43,6 +44,26 @@ struct SessionStep {
   std::optional<double> force_out_of_plane, tip_deflection_z;  // realtime3d: N, m along the frame's outOfPlane
 };
 
+// A tissue.inclusions entry as the C++ API gives it to a viewer (api::Inclusion), and where it is
+// at the session's current step (results::inclusionAtStep, as the trainer's readout).
+struct SessionInclusion {
+  std::string name, shape;             // shape: sphere, cylinder or mesh
+  std::array<double, 3> centre{};      // m, reference centre, tissue frame
+  double radius = 0.0;                 // m
+  bool target = false;
+  std::vector<int> region;             // the mesh nodes of its material (none for lumped)
+  std::array<double, 3> displaced_centre{};  // m, centre + the mean displacement of region
+  std::optional<double> miss, miss_from_axis;  // m, targets of a stepped FE session
+};
+
+// x y z per column of a dim x n block (z = 0 for 2D).
+std::vector<double> threeD(const double* data, Eigen::Index dim, Eigen::Index n) {
+  std::vector<double> out(3 * static_cast<std::size_t>(n), 0.0);
+  for (Eigen::Index i = 0; i < n; ++i)
+    for (Eigen::Index c = 0; c < dim; ++c) out[static_cast<std::size_t>(3 * i + c)] = data[dim * i + c];
+  return out;
+}
+
 // needle_shape's point count: 2 to a million (a bound on the memory it takes).
 void checkShapePoints(int count) {
   if (count < 2 || count > 1000000)
@@ -63,7 +84,8 @@ py::array_t<T> pointsOf(const T* data, std::size_t size, py::ssize_t k) {
 // what every other caller's refuses, with the same messages.
 class PySession {
  public:
-  explicit PySession(const PyScenario& s) : name_(s.scenario.name), session_(engines::openSession(s.scenario)) {}
+  explicit PySession(const PyScenario& s)
+      : name_(s.scenario.name), inclusions_(s.scenario.tissue.inclusions), session_(engines::openSession(s.scenario)) {}
 
   SessionStep step(double depth, std::optional<double> dt, std::optional<double> velocity, double rotation, double roll,
                    double lateral, double tilt) {
@@ -121,6 +143,7 @@ class PySession {
     s.needleShape(count, shape);
     return pointsOf(shape.data(), static_cast<std::size_t>(shape.size()), shape.rows());
   }
+  std::vector<SessionInclusion> inclusions() const;
 
  private:
   const engines::SteppableSession& meshed(const std::string& what) const {
@@ -131,8 +154,40 @@ class PySession {
   }
 
   std::string name_;
+  std::vector<InclusionSpec> inclusions_;
   std::unique_ptr<engines::SteppableSession> session_;
 };
+
+// The FE engines' displacement and, once stepped, needle centre line (41 points, as the C++
+// API's needleCentreLine) in 3D; lumped: none of either.
+std::vector<SessionInclusion> PySession::inclusions() const {
+  std::vector<std::vector<int>> nodes = session_->inclusionNodes();
+  nodes.resize(inclusions_.size());
+  std::vector<double> u, needle;
+  if (session_->hasMesh()) {
+    const Eigen::VectorXd& d = session_->displacement();
+    const int dim = session_->dimension();
+    u = threeD(d.data(), dim, d.size() / dim);
+    if (session_->depth()) {
+      Eigen::MatrixXd shape;
+      session_->needleShape(41, shape);
+      needle = threeD(shape.data(), shape.rows(), shape.cols());
+    }
+  }
+  std::vector<SessionInclusion> out;
+  for (std::size_t i = 0; i < inclusions_.size(); ++i) {
+    const InclusionSpec& I = inclusions_[i];
+    const results::InclusionAtStep at = results::inclusionAtStep({I.x, I.y, I.z}, I.target, nodes[i], u, needle);
+    SessionInclusion v{I.name, results::inclusionShapeName(I.shape), {I.x, I.y, I.z}, I.radius, I.target,
+                       std::move(nodes[i]), {at.centre.x(), at.centre.y(), at.centre.z()}, std::nullopt, std::nullopt};
+    if (at.miss) {
+      v.miss = at.miss->distance;
+      v.miss_from_axis = at.miss->fromAxis;
+    }
+    out.push_back(std::move(v));
+  }
+  return out;
+}
 
 std::string sessionRepr(const PySession& s) {
   return fmt::format("<Session {} '{}': t={:.6g} s, {}>", s.engine(), s.name(), s.time(),
@@ -199,7 +254,27 @@ void bindSessions(py::module_& m) {
       .def_property_readonly("cells", &PySession::cells, "quadrilaterals (realtime3d: tetrahedra), m x 4 node indices")
       .def_property_readonly("surface", &PySession::surface, "realtime3d: boundary triangles of the tissue, k x 3 node indices")
       .def("needle_shape", &PySession::needleShape, py::arg("count") = 41,
-           "the needle's centre line from base to tip, count x 2 (realtime3d: count x 3) [m]");
+           "the needle's centre line from base to tip, count x 2 (realtime3d: count x 3) [m]")
+      .def_property_readonly("inclusions", &PySession::inclusions,
+                             "tissue.inclusions as a viewer shows them, at the current step: a list of Inclusion");
+
+  auto point3 = [](const std::array<double, 3>& p) { return py::array_t<double>(3, p.data()); };
+  py::class_<SessionInclusion>(m, "Inclusion",
+                               "A tissue.inclusions entry (centres in the tissue frame [m]) and where it is at the "
+                               "session's step (docs/python.md)")
+      .def_readonly("name", &SessionInclusion::name)
+      .def_readonly("shape", &SessionInclusion::shape)
+      .def_property_readonly("centre", [point3](const SessionInclusion& I) { return point3(I.centre); })
+      .def_readonly("radius", &SessionInclusion::radius)
+      .def_readonly("target", &SessionInclusion::target)
+      .def_property_readonly("region", [](const SessionInclusion& I) { return py::array_t<int>(static_cast<py::ssize_t>(I.region.size()), I.region.data()); })
+      .def_property_readonly("displaced_centre", [point3](const SessionInclusion& I) { return point3(I.displaced_centre); })
+      .def_readonly("miss", &SessionInclusion::miss)
+      .def_readonly("miss_from_axis", &SessionInclusion::miss_from_axis)
+      .def("__repr__", [](const SessionInclusion& I) {
+        return fmt::format("<Inclusion {} '{}'{}: radius={:.6g} mm{}>", I.shape, I.name, I.target ? " (target)" : "",
+                           1e3 * I.radius, I.miss ? fmt::format(" miss={:.6g} mm", 1e3 * *I.miss) : std::string());
+      });
 
   py::class_<MotionSample>(m, "MotionSample")
       .def_readonly("time", &MotionSample::time)

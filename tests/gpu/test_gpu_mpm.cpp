@@ -98,7 +98,7 @@ std::string quickExample(bool cuda) {
   const std::string key = "  mpm:\n";
   const auto at = s.find(key);
   EXPECT_NE(at, std::string::npos);
-  s.insert(at + key.size(), std::string("    device: ") + (cuda ? "cuda" : "cpu") + "\n    field_interval: 0 s\n");
+  s.insert(at + key.size(), std::string("    device: ") + (cuda ? "cuda" : "cpu") + "\n    contact: grid\n    field_interval: 0 s\n");
   const auto fi = s.find("    field_interval: 0.25 s\n");
   if (fi != std::string::npos) s.erase(fi, std::string("    field_interval: 0.25 s\n").size());
   return s;

@@ -100,13 +100,16 @@ double result(const nlohmann::json& summary, const std::string& key) {
 }
 
 // Uninterrupted vs interrupted after 2/3 of the steps (checkpoint at 1/3) and
-// resumed; `inclusions`: a tissue.inclusions list added to the scenario.
+// resumed; `inclusions`: a tissue.inclusions list added to the scenario (with the grid contact,
+// which sliding inclusions and per-region needle friction need).
 void resumedRunIsIdentical(int threads, const std::string& depth, const std::string& inclusions = "") {
   Dir dir("resume_" + std::to_string(threads) + (inclusions.empty() ? "" : "_inclusions"));
   const fs::path file = dir.path / "quick.yaml";
   std::string text = quickScenario(threads, depth);
-  if (!inclusions.empty())
+  if (!inclusions.empty()) {
     text = replaced(text, "  friction: {coefficient: 0.255}\n", "  friction: {coefficient: 0.255}\n  inclusions:\n" + inclusions);
+    text = replaced(text, "    threads: ", "    contact: grid\n    threads: ");
+  }
   spit(file, text);
   const Scenario sc = scenario::readFile(file);
   RunOptions plain;

@@ -104,7 +104,7 @@ TEST(DeviceScenario, RefusesCfempAndFbarOnTheGpu) {
 TEST(DeviceScenario, RefusesWithoutThePlugin) {
   setenv("NEEDLESIM_MPM_CUDA_PLUGIN", "/nonexistent/libneedlesim_mpm_cuda.so", 1);
   try {
-    mpm_test::runText(mpm_test::smallScenario("    device: cuda\n"));
+    mpm_test::runText(mpm_test::smallScenario("    device: cuda\n    contact: grid\n"));
     FAIL() << "ran";
   } catch (const InputError& e) {
     const std::string m = e.what();

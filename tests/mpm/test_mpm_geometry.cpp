@@ -97,7 +97,7 @@ TEST(MpmGeometry, SphereVolumeFromItsPoints) {
 }
 
 // A group named like an inclusion gets the points of its elements, with the inclusion's material
-// (and body 1 when it slides); the run reports its shift.
+// (and body 1 when it slides: the grid contact, which a second body needs); the run reports its shift.
 TEST(MpmGeometry, GroupInclusionGetsItsPoints) {
   const std::string lump = script(
       "lump.geo",
@@ -108,7 +108,8 @@ TEST(MpmGeometry, GroupInclusionGetsItsPoints) {
   const std::string inc =
       "    - {name: lump, target: true, interface: sliding, interface_friction: 0.1, material: "
       "{law: fung, mu: 50 kPa, gamma: 1.0, nu: 0.45, density: 1000 kg/m^3}}\n";
-  const Scenario sc = scenario::readText(geometryScenario(lump, inc), "lump.yaml");
+  const std::string yaml = replaced(geometryScenario(lump, inc), "    threads: 1\n", "    threads: 1\n    contact: grid\n");
+  const Scenario sc = scenario::readText(yaml, "lump.yaml");
   std::vector<std::vector<std::size_t>> members;
   const auto s = points(sc, &members);
   ASSERT_EQ(members.size(), 1u);
@@ -120,7 +121,7 @@ TEST(MpmGeometry, GroupInclusionGetsItsPoints) {
   }
   EXPECT_EQ(s->size(), 768u);  // the box still holds every lattice point
 
-  const MemorySink r = runText(geometryScenario(lump, inc));
+  const MemorySink r = runText(yaml);
   ASSERT_TRUE(r.results.count("lump_shift_axial"));
   EXPECT_GT(r.results.at("lump_shift_axial").value, 0.0);  // pushed ahead of the tip
 }

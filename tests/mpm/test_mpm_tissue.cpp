@@ -16,10 +16,14 @@ namespace {
 
 const std::string kFung = "{law: fung, mu: 10 kPa, gamma: 1.0, nu: 0.45, density: 1000 kg/m^3}";
 
+// The grid contact (eqs 14-21): a needle coefficient per region and sliding inclusions (the default
+// CFEMP contact has one coefficient and refuses a second body).
+const std::string kGrid = "    contact: grid\n";
+
 // The small block as two layers of one material, 4 mm and 2 mm thick, with
 // needle friction mu0 and mu1; the conical needle goes 3 mm deep.
 std::string twoLayers(const std::string& mu0, const std::string& mu1) {
-  return replaced(smallScenario("", "conical"),
+  return replaced(smallScenario(kGrid, "conical"),
                   "  material: {law: fung, mu: 10 kPa, gamma: 1.0, nu: 0.45, density: 1000 kg/m^3}\n"
                   "  friction: {coefficient: 0.255}\n",
                   "  layers:\n"
@@ -34,7 +38,7 @@ std::vector<double> forceColumn(const MemorySink& out, const std::string& name) 
 // An 8 x 8 x 6 mm Fung block (3,072 points) with the inclusions given; a
 // conical 1 mm needle from 0.5 mm outside to 3 mm deep.
 std::string blockWith(const std::string& inclusions) {
-  std::string s = replaced(smallScenario("", "conical"), "length: 6 mm, width: 4 mm, height: 4 mm",
+  std::string s = replaced(smallScenario(kGrid, "conical"), "length: 6 mm, width: 4 mm, height: 4 mm",
                            "length: 8 mm, width: 8 mm, height: 6 mm");
   return replaced(s, "  friction: {coefficient: 0.255}\n",
                   "  friction: {coefficient: 0.255}\n  inclusions:\n" + inclusions);
@@ -48,8 +52,8 @@ const std::string kStiff = "{law: fung, mu: 50 kPa, gamma: 1.0, nu: 0.45, densit
 // it: a needle that stays in layer 0 (3 mm of its 4 mm) gives, bit for bit,
 // the forces of a one-layer block with layer 0's coefficient, whatever layer 1's.
 TEST(MpmTissue, NeedleFrictionOfTheLayerItTouches) {
-  const MemorySink frictionless = runText(replaced(smallScenario("", "conical"), "coefficient: 0.255", "coefficient: 0"));
-  const MemorySink frictional = runText(replaced(smallScenario("", "conical"), "coefficient: 0.255", "coefficient: 0.5"));
+  const MemorySink frictionless = runText(replaced(smallScenario(kGrid, "conical"), "coefficient: 0.255", "coefficient: 0"));
+  const MemorySink frictional = runText(replaced(smallScenario(kGrid, "conical"), "coefficient: 0.255", "coefficient: 0.5"));
   const MemorySink layered0 = runText(twoLayers("0", "0.5"));
   const MemorySink layered5 = runText(twoLayers("0.5", "0"));
   for (const char* c : {"force_total", "force_shaft", "force_lateral"}) {
@@ -116,10 +120,10 @@ TEST(MpmTissue, Refusals) {
     }
   };
   // CFEMP has one needle coefficient; and it is not verified with a second body.
-  refused(replaced(twoLayers("0", "0.5"), "threads: 1\n", "threads: 1\n    contact: cfemp\n"),
+  refused(replaced(twoLayers("0", "0.5"), kGrid, "    contact: cfemp\n"),
           "tissue.layers[1].friction.coefficient");
   refused(replaced(blockWith("    - {depth: 3 mm, radius: 1.5 mm, material: " + kStiff + ", interface: sliding}\n"),
-                   "threads: 1\n", "threads: 1\n    contact: cfemp\n"),
+                   kGrid, "    contact: cfemp\n"),
           "tissue.inclusions[0].interface");
   // Sliding inclusions are one body: one interface coefficient.
   refused(blockWith("    - {depth: 2 mm, radius: 1 mm, material: " + kStiff + ", interface: sliding, interface_friction: 0.1}\n"

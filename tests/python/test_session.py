@@ -181,3 +181,54 @@ def test_tilt_is_refused_by_the_2d_engines(coarse):
     session = needlesim.Session(coarse)
     with pytest.raises(needlesim.InputError, match="tilt"):
         session.step(0.0, tilt=0.1)
+
+
+def test_realtime3d_session_inclusions_are_the_engines(example):
+    """Session.inclusions on the tumour target: the scenario's entry and the nodes of its material
+    (as the C++ API gives a viewer); after the profile, the displaced centre is the centre plus the
+    mean displacement of those nodes, and the miss from the end of the needle's centre line is the
+    engine run's tumour_miss_distance and tumour_miss_from_axis."""
+    # A quicker run: the direct back-end (no modes to find on this small block), 5 ms steps.
+    scenario = example("realtime3d/tumour_target.yaml").with_values(
+        {"model.realtime3d.solver": "direct", "model.time_step": "5 ms"})
+    session = needlesim.Session(scenario)
+    (tumour,) = session.inclusions
+    assert isinstance(tumour, needlesim.Inclusion)
+    assert (tumour.name, tumour.shape, tumour.target) == ("tumour", "sphere", True)
+    np.testing.assert_allclose(tumour.centre, [0.025, 0.002, 0.0], atol=1e-12)
+    assert tumour.radius == pytest.approx(0.006, rel=1e-12)
+    # Its material: the nodes of the elements whose centre lies in the sphere, each within the
+    # radius and one element diameter of the centre.
+    cells = session.cells
+    points = session.points
+    diameter = max(np.linalg.norm(points[c[i]] - points[c[j]]) for c in cells for i in range(4) for j in range(i))
+    assert len(tumour.region) > 0
+    assert np.linalg.norm(points[tumour.region] - tumour.centre, axis=1).max() <= tumour.radius + diameter
+    np.testing.assert_array_equal(tumour.displaced_centre, tumour.centre)
+    assert tumour.miss is None and tumour.miss_from_axis is None  # not stepped: no needle yet
+
+    step_through_profile(scenario, session)
+    (tumour,) = session.inclusions
+    moved = tumour.centre + session.displacement[tumour.region].mean(axis=0)
+    np.testing.assert_allclose(tumour.displaced_centre, moved, atol=1e-15)
+    assert np.linalg.norm(moved - tumour.centre) > 1e-5  # the needle pushes the tumour by tens of um
+    shape = session.needle_shape(41)
+    tip, axis = shape[-1], (shape[-1] - shape[-2]) / np.linalg.norm(shape[-1] - shape[-2])
+    d = moved - tip
+    assert tumour.miss == pytest.approx(np.linalg.norm(d), rel=1e-12)
+    assert tumour.miss_from_axis == pytest.approx(np.linalg.norm(d - d.dot(axis) * axis), rel=1e-12)
+    run = needlesim.run(scenario)
+    assert tumour.miss == pytest.approx(run.results["tumour_miss_distance"].value, rel=1e-9)
+    assert tumour.miss_from_axis == pytest.approx(run.results["tumour_miss_from_axis"].value, rel=1e-9)
+    assert "miss=" in repr(tumour) and "'tumour' (target)" in repr(tumour)
+
+
+def test_lumped_session_inclusions_have_no_region(example):
+    """The lumped model has no mesh: the inclusion as the scenario gives it, not moved, no miss."""
+    scenario = example("realtime2d/layered_target.yaml").with_values({"model.engine": "lumped"})
+    session = needlesim.Session(scenario)
+    session.step(-0.5e-3)
+    (vessel,) = session.inclusions
+    assert (vessel.name, vessel.shape) == ("target", "cylinder")
+    assert len(vessel.region) == 0 and vessel.miss is None
+    np.testing.assert_array_equal(vessel.displaced_centre, vessel.centre)

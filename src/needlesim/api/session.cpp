@@ -7,6 +7,7 @@
 #include "needlesim/api/scenario_impl.hpp"
 #include "needlesim/api/translate.hpp"
 #include "needlesim/engines/session.hpp"
+#include "needlesim/results/inclusion_view.hpp"
 
 namespace needlesim::api {
 
@@ -124,18 +125,6 @@ Surface Session::surface() const {
   });
 }
 
-namespace {
-
-const char* shapeName(InclusionSpec::Shape shape) {
-  switch (shape) {
-    case InclusionSpec::Shape::Cylinder: return "cylinder";
-    case InclusionSpec::Shape::Mesh: return "mesh";
-    default: return "sphere";
-  }
-}
-
-}  // namespace
-
 std::vector<Inclusion> Session::inclusions() const {
   return detail::translated([&] {
     const std::vector<InclusionSpec>& specs = detail::ScenarioAccess::typed(impl_->scenario).tissue.inclusions;
@@ -144,7 +133,7 @@ std::vector<Inclusion> Session::inclusions() const {
     std::vector<Inclusion> out;
     for (std::size_t i = 0; i < specs.size(); ++i) {
       const InclusionSpec& I = specs[i];
-      out.push_back({I.name, shapeName(I.shape), I.x, I.y, I.z, I.radius, I.target, std::move(nodes[i])});
+      out.push_back({I.name, results::inclusionShapeName(I.shape), I.x, I.y, I.z, I.radius, I.target, std::move(nodes[i])});
     }
     return out;
   });

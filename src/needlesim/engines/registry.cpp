@@ -85,7 +85,7 @@ const std::vector<EngineInfo>& engineRegistry() {
        guarded<energyStepPlan>, {}, steeringSection, Coulomb, kSteeringTissue},
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)",
        runBeamFoundation, false, false, guarded<steeringStepPlan>, {}, steeringSection, Coulomb, kSteeringTissue},
-      {"mpm", "3D material point method with a rigid needle, grid contact and friction (seed 000)", runMpm, true, true,
+      {"mpm", "3D material point method with a rigid needle, its surface contact (CFEMP) and friction (seed 000)", runMpm, true, true,
        guarded<mpmStepPlan>, {3}, mpmSection, Coulomb, {"inclusions.interface_friction"}},
       {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", runExplicit,
        false, true, guarded<explicitStepPlan>, {2, 3}, explicitSection, Coulomb,

@@ -1,7 +1,7 @@
 #pragma once
 // What the trainer shows of the inclusions at a viewer frame: where each one's material has
 // moved (the mean displacement of its region, as inclusions.csv) and, for a target, how far the
-// needle misses it (results/target_miss.hpp), the tip and axis being the end of the frame's
+// needle misses it (results/inclusion_view.hpp), the tip and axis being the end of the frame's
 // needle centre line, of the same step as the field.
 #include <array>
 #include <optional>

@@ -10,6 +10,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/steering/steering_engines.hpp"
 #include "needlesim/needle/insertion_frame.hpp"
+#include "needlesim/planning/channel.hpp"
 #include "needlesim/scenario/scenario.hpp"
 
 namespace needlesim::planning {
@@ -49,8 +50,12 @@ double Obstacle::distance(const Vec3& p) const {
 
 double Plan::length() const {
   double s = 0.0;
-  for (const Arc& a : arcs) s += a.length;
+  for (const Arc& a : arcs) s += a.length - a.retract;
   return s;
+}
+
+int Plan::retractions() const {
+  return static_cast<int>(std::count_if(arcs.begin(), arcs.end(), [](const Arc& a) { return a.retract > 0.0; }));
 }
 
 int Plan::rotations() const {
@@ -79,6 +84,7 @@ PlanProblem planProblem(const Scenario& sc) {
   pb.angle_lo = std::max(1e-3, sc.insertion.entry_angle - p.max_entry_angle);
   pb.angle_hi = std::min(pi - 1e-3, sc.insertion.entry_angle + p.max_entry_angle);
   pb.max_rotations = p.max_rotations;
+  pb.max_retractions = p.max_retractions;
   pb.max_depth = p.max_depth;
   pb.lo = Vec3(0.0, -half, -sc.tissue.height / 2);
   pb.hi = Vec3(sc.tissue.length, half, sc.tissue.height / 2);
@@ -99,7 +105,7 @@ Pose entryPose(const PlanProblem& pb, double offset, double angle, double roll) 
   g.R.col(1) = f.lateral;
   g.R.col(2) = f.axial;
   g.R = g.R * rotZ(roll);
-  g.p = f.entry;
+  g.p = f.entry + Vec3(0.0, 0.0, pb.entry_elevation);
   return g;
 }
 
@@ -118,21 +124,29 @@ double rollTowards(const Pose& pose, const Vec3& b) {
   return std::atan2(local.x(), -local.y());
 }
 
+Pose traceArc(Pose g, const Arc& a, double spacing, std::vector<Vec3>& out, double curvature_scale) {
+  if (a.rotate != 0.0) g.R = g.R * rotZ(a.rotate);
+  if (a.length <= 0) return g;
+  const int n = std::max(1, static_cast<int>(std::ceil(a.length / spacing - 1e-9)));
+  const Pose step = steering::twistExp(Vec3(a.curvature * curvature_scale, 0.0, 0.0), a.length / n);
+  for (int i = 0; i < n; ++i) {
+    g.p += g.R * step.p;
+    g.R = g.R * step.R;
+    out.push_back(g.p);
+  }
+  return g;
+}
+
 Pose tracePath(const Pose& start, const std::vector<Arc>& arcs, double spacing, std::vector<Vec3>& out,
                double curvature_scale) {
-  Pose g = start;
-  out.push_back(g.p);
-  for (const Arc& a : arcs) {
-    if (a.rotate != 0.0) g.R = g.R * rotZ(a.rotate);
-    if (a.length <= 0) continue;
-    const int n = std::max(1, static_cast<int>(std::ceil(a.length / spacing - 1e-9)));
-    const Pose step = steering::twistExp(Vec3(a.curvature * curvature_scale, 0.0, 0.0), a.length / n);
-    for (int i = 0; i < n; ++i) {
-      g.p += g.R * step.p;
-      g.R = g.R * step.R;
-      out.push_back(g.p);
-    }
+  out.push_back(start.p);
+  if (std::any_of(arcs.begin(), arcs.end(), [](const Arc& a) { return a.retract > 0.0; })) {
+    Channel channel(start, curvature_scale);
+    for (const Arc& a : arcs) channel.follow(a, spacing, &out);
+    return channel.tip();
   }
+  Pose g = start;
+  for (const Arc& a : arcs) g = traceArc(g, a, spacing, out, curvature_scale);
   return g;
 }
 

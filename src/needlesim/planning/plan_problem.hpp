@@ -32,12 +32,14 @@ struct Obstacle {
   double distance(const Vec3& p) const;
 };
 
-// One piece of a plan: turn the bevel by `rotate` about the needle axis, then insert `length`
-// with the tip curving at `curvature` (the needle's own, or less when duty-cycled).
+// One piece of a plan: pull the tip back `retract` along its channel (closed loop only), turn
+// the bevel by `rotate` about the needle axis, then insert `length` with the tip curving at
+// `curvature` (the needle's own, or less when duty-cycled).
 struct Arc {
   double rotate = 0.0;     // rad
   double length = 0.0;     // m
   double curvature = 0.0;  // 1/m
+  double retract = 0.0;    // m
 };
 
 struct Plan {
@@ -45,7 +47,9 @@ struct Plan {
   double entry_angle = 0.0;   // rad, insertion.entry_angle
   double roll = 0.0;          // rad, insertion.bevel_orientation
   std::vector<Arc> arcs;
+  // The tip's final depth along its path (the arcs' lengths less the retractions).
   double length() const;
+  int retractions() const;
   // Axial rotations during the insertion (the roll before entry is none).
   int rotations() const;
 };
@@ -61,6 +65,8 @@ struct PlanProblem {
   double offset_lo = 0.0, offset_hi = 0.0;  // m, entry offsets searched
   double angle_lo = 0.0, angle_hi = 0.0;    // rad, entry angles searched
   int max_rotations = 0;
+  int max_retractions = 0;                  // closed loop: retractions allowed per insertion
+  double entry_elevation = 0.0;             // m, entry point across the height (0: the insertion plane)
   double max_depth = 0.0;                   // m, longest tip path
   Vec3 lo = Vec3::Zero(), hi = Vec3::Zero();  // the tissue's box
   double sample_spacing = 5e-4;
@@ -75,7 +81,7 @@ struct PlanProblem {
 PlanProblem planProblem(const Scenario& sc);
 
 // The tip pose at the entry point for an entry offset, angle and bevel roll (the kinematic
-// engine's frame: model x = -outOfPlane, y = lateral, z = axial).
+// engine's frame: model x = -outOfPlane, y = lateral, z = axial), at pb.entry_elevation.
 Pose entryPose(const PlanProblem& pb, double offset, double angle, double roll);
 
 // The pose after one arc, exactly (one SE(3) exponential), with its curvature scaled.
@@ -84,8 +90,12 @@ Pose arcEnd(const Pose& from, const Arc& arc, double curvature_scale = 1.0);
 // The axial rotation that turns the bevel of `pose` towards the unit vector `b` (b normal to the axis).
 double rollTowards(const Pose& pose, const Vec3& b);
 
+// The rotation and insertion of one arc from `start` (its retraction left to the caller),
+// appending the tip every `spacing` or closer (not the start); returns the end pose.
+Pose traceArc(Pose start, const Arc& arc, double spacing, std::vector<Vec3>& out, double curvature_scale = 1.0);
+
 // Samples the tip path of `arcs` from `start` every `spacing` or closer, appending to `out`
-// (the start first); returns the end pose.
+// (the start first; a retraction adds no points); returns the end pose.
 Pose tracePath(const Pose& start, const std::vector<Arc>& arcs, double spacing, std::vector<Vec3>& out,
                double curvature_scale = 1.0);
 

@@ -17,15 +17,17 @@ namespace {
 constexpr double pi = std::numbers::pi;
 constexpr double kDeg = 180.0 / pi;
 
-// plan.csv: one row per arc, with the rotation before it and the depths it spans.
+// plan.csv: one row per arc, with the retraction and the rotation before it and the depths it
+// spans (a retraction pulls the tip back from the previous row's insert_to to insert_from).
 io::Table planTable(const PlanProblem& pb, const Plan& plan) {
-  io::Table t({{"arc", "1"}, {"rotate_before", "rad"}, {"insert_from", "m"}, {"insert_to", "m"},
-               {"curvature", "1/m"}, {"duty_cycle", "1"}});
+  io::Table t({{"arc", "1"}, {"retract_before", "m"}, {"rotate_before", "rad"}, {"insert_from", "m"},
+               {"insert_to", "m"}, {"curvature", "1/m"}, {"duty_cycle", "1"}});
   double s = 0.0;
   for (std::size_t i = 0; i < plan.arcs.size(); ++i) {
     const Arc& a = plan.arcs[i];
     const double duty = pb.kappa > 0 ? std::max(0.0, 1.0 - a.curvature / pb.kappa) : 0.0;
-    t.addRow({static_cast<double>(i + 1), i == 0 ? plan.roll : a.rotate, s, s + a.length, a.curvature, duty});
+    s -= a.retract;
+    t.addRow({static_cast<double>(i + 1), a.retract, i == 0 ? plan.roll : a.rotate, s, s + a.length, a.curvature, duty});
     s += a.length;
   }
   return t;
@@ -49,13 +51,15 @@ io::Table pathTable(const PlanProblem& pb, const std::vector<Vec3>& points) {
 }
 
 io::Table errorTable(const PlanOutcome& o) {
-  const bool closed = o.closed_loop.has_value();
+  const bool closed = o.closed_loop.has_value(), retracts = closed && o.problem.max_retractions > 0;
   std::vector<io::Column> cols{{"sample", "1"}, {"error_open_loop", "m"}, {"touch_open_loop", "1"}};
   if (closed) cols.insert(cols.end(), {{"error_closed_loop", "m"}, {"touch_closed_loop", "1"}});
+  if (retracts) cols.insert(cols.end(), {{"retractions_closed_loop", "1"}, {"retracted_to_closed_loop", "m"}});
   io::Table t(cols);
   for (std::size_t i = 0; i < o.open_loop->errors.size(); ++i) {
     std::vector<double> row{static_cast<double>(i + 1), o.open_loop->errors[i], double(o.open_loop->touched[i])};
     if (closed) row.insert(row.end(), {o.closed_loop->errors[i], double(o.closed_loop->touched[i])});
+    if (retracts) row.insert(row.end(), {double(o.closed_loop->retractions[i]), o.closed_loop->retracted_to[i]});
     t.addRow(row);
   }
   return t;
@@ -180,6 +184,13 @@ void errorResults(const PlanOutcome& o, ResultSink& sink) {
                 "closed loop: probability of touching an obstacle");
     sink.result("closed_loop_rotations", o.closed_loop->mean_rotations, "1", "closed loop: mean axial rotations");
   }
+  if (o.closed_loop && o.problem.max_retractions > 0) {
+    sink.result("closed_loop_retractions", o.closed_loop->mean_retractions, "1", "closed loop: mean retractions per insertion");
+    sink.result("closed_loop_retracting_share", o.closed_loop->retracting_share, "1",
+                "closed loop: share of the insertions that retract");
+    sink.result("closed_loop_retracted_to", o.closed_loop->mean_retracted_to, "m",
+                "closed loop: mean depth a retraction pulls the tip back to");
+  }
 }
 
 std::string actionsText(const Plan& plan) {
@@ -188,6 +199,8 @@ std::string actionsText(const Plan& plan) {
   double s = 0.0;
   for (std::size_t i = 0; i < plan.arcs.size(); ++i) {
     const Arc& a = plan.arcs[i];
+    if (a.retract > 0) text += fmt::format("; retract to {:.4g} mm", (s - a.retract) * 1e3);
+    s -= a.retract;
     if (i > 0) text += fmt::format("; at {:.4g} mm rotate {:.4g} deg", s * 1e3, a.rotate * kDeg);
     s += a.length;
     text += fmt::format("; insert to {:.4g} mm (curvature {:.4g} 1/m)", s * 1e3, a.curvature);
@@ -216,6 +229,13 @@ void planNotes(const Scenario& sc, const PlanOutcome& o, ResultSink& sink) {
                                                       "noise, the last arc replanned", sc.plan.uncertainty.measure_every * 1e3,
                                                       sc.plan.uncertainty.measurement_noise * 1e3)
                                         : ""));
+  if (o.closed_loop && o.problem.max_retractions > 0)
+    sink.note(fmt::format("Closed loop with up to {} retraction(s): {:.3g} % of the insertions retract ({:.3g} per insertion, "
+                          "to {:.4g} mm on average){}.", o.problem.max_retractions, 100 * o.closed_loop->retracting_share,
+                          o.closed_loop->mean_retractions, o.closed_loop->mean_retracted_to * 1e3,
+                          o.closed_loop->retracting_example.arcs.empty()
+                              ? std::string()
+                              : "; closed_loop_retracting.csv holds the actions of the first that does"));
 }
 
 }  // namespace
@@ -225,6 +245,8 @@ void reportPlan(const Scenario& sc, const PlanOutcome& o, ResultSink& sink) {
   sink.table("plan", planTable(pb, o.search.best.plan));
   sink.table("path", pathTable(pb, o.search.best.points));
   if (o.open_loop) sink.table("error_distribution", errorTable(o));
+  if (o.closed_loop && !o.closed_loop->retracting_example.arcs.empty())
+    sink.table("closed_loop_retracting", planTable(pb, o.closed_loop->retracting_example));
   planResults(o, sink);
   errorResults(o, sink);
   planNotes(sc, o, sink);

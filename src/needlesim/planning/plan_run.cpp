@@ -1,6 +1,9 @@
 // Plan a scenario, predict its error, write its results folder (plan_run.hpp).
 #include "needlesim/planning/plan_run.hpp"
 
+#include <fmt/format.h>
+
+#include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <numbers>
@@ -29,12 +32,31 @@ void chooseByRisk(const Scenario& sc, PlanOutcome& o) {
   o.chosen_by = "risk";
 }
 
+// An infeasible target off the insertion plane that an entry at its elevation would reach: the
+// reason says so, and that a scenario's insertion cannot state that entry (docs/planning.md,
+// Assumptions).
+void explainOutOfPlane(PlanOutcome& o) {
+  const PlanProblem& pb = o.problem;
+  if (o.search.feasible || std::abs(pb.target.z()) <= pb.tolerance) return;
+  PlanProblem raised = pb;
+  raised.entry_elevation = std::clamp(pb.target.z(), pb.lo.z(), pb.hi.z());
+  raised.max_paths = std::min(pb.max_paths, 20000L);
+  const SearchResult r = searchPlan(raised);
+  if (!r.feasible) return;
+  o.search.reason += fmt::format(
+      "; an entry {:.3g} mm out of the insertion plane (at the target's elevation) would reach it (planned miss {:.3g} mm), "
+      "but the scenario's insertion places the entry point and direction in the insertion plane (insertion.entry_offset "
+      "across the width, insertion.entry_angle in the plane; docs/planning.md, Assumptions)",
+      raised.entry_elevation * 1e3, r.best.miss * 1e3);
+}
+
 }  // namespace
 
 PlanOutcome planScenario(const Scenario& sc) {
   PlanOutcome o;
   o.problem = planProblem(sc);
   o.search = searchPlan(o.problem);
+  explainOutOfPlane(o);
   o.chosen_by = "clearance";
   const PlanUncertaintySpec& u = sc.plan.uncertainty;
   if (o.search.feasible && sc.plan.choose == "risk") chooseByRisk(sc, o);
@@ -63,6 +85,14 @@ Scenario planAsScenario(const Scenario& sc, const Plan& plan, double kappa) {
   constexpr double kRate = std::numbers::pi;  // rad/s of the axial rotations
   for (std::size_t i = 0; i < plan.arcs.size(); ++i) {
     const Arc& a = plan.arcs[i];
+    if (a.retract > 0.0) {  // back along the channel, at the insertion speed
+      MotionSegment r;
+      r.kind = MotionSegment::Kind::Retract;
+      r.speed = speed;
+      depth -= a.retract;
+      r.to_depth = depth;
+      in.segments.push_back(r);
+    }
     if (i > 0 && a.rotate != 0.0) {
       MotionSegment r;
       r.kind = MotionSegment::Kind::Rotate;

@@ -33,8 +33,8 @@ PlanOutcome planScenario(const Scenario& sc);
 void reportPlan(const Scenario& sc, const PlanOutcome& outcome, ResultSink& sink);
 
 // The scenario with its insertion replaced by the plan: entry offset and angle, the bevel's
-// roll, one insert per arc (duty-cycled where the arc's curvature is below the needle's) and an
-// axial rotation before each arc after the first. Any engine runs it (--verify, the tests).
+// roll, one insert per arc (duty-cycled where the arc's curvature is below the needle's), a
+// retraction before an arc that has one and an axial rotation before each arc after the first. Any engine runs it (--verify, the tests).
 Scenario planAsScenario(const Scenario& sc, const Plan& plan, double kappa);
 
 struct PlanFolder {

@@ -16,18 +16,18 @@ TipEstimator::TipEstimator(const Pose& nominal, const std::array<double, 7>& sd,
 
 double TipEstimator::curvatureScale() const { return std::exp(theta_[6]); }
 
-Pose TipEstimator::replay(const Params& th, std::vector<Vec3>* predicted) const {
+Channel TipEstimator::replay(const Params& th, std::vector<Vec3>* predicted) const {
   Pose g = nominal_;
   g.p += Vec3(th[0], th[1], th[2]);
   const Vec3 w(th[3], th[4], th[5]);
   if (w.norm() > 0) g.R = Eigen::AngleAxisd(w.norm(), w.normalized()).toRotationMatrix() * g.R;
-  const double scale = std::exp(th[6]);
+  Channel channel(g, std::exp(th[6]));
   std::size_t m = 0;
   for (std::size_t i = 0; i <= arcs_.size(); ++i) {
-    while (predicted && m < at_.size() && at_[m] == i) predicted->push_back(g.p), ++m;
-    if (i < arcs_.size()) g = arcEnd(g, arcs_[i], scale);
+    while (predicted && m < at_.size() && at_[m] == i) predicted->push_back(channel.tip().p), ++m;
+    if (i < arcs_.size()) channel.follow(arcs_[i]);
   }
-  return g;
+  return channel;
 }
 
 // Measurement residuals over the noise, then the prior's: each parameter over its spread.

@@ -2,11 +2,11 @@
 // The closed loop's estimate of the needle's state from noisy tip measurements: a maximum a
 // posteriori fit (Gauss-Newton) of the entry pose error (3 translations, 3 rotations) and the
 // curvature's scale to every tip position measured so far, the kinematic model replaying the
-// arcs executed; the prior is the scenario's stated spread of each.
+// arcs executed (retractions along the channel included); the prior is the scenario's stated spread of each.
 #include <array>
 #include <vector>
 
-#include "needlesim/planning/plan_problem.hpp"
+#include "needlesim/planning/channel.hpp"
 
 namespace needlesim::planning {
 
@@ -19,7 +19,10 @@ class TipEstimator {
   // A measured tip position after the arcs executed so far; the estimate is updated.
   void measured(const Vec3& tip);
   // The estimated tip pose now, and the estimated curvature scale.
-  Pose pose() const { return replay(theta_, nullptr); }
+  Pose pose() const { return replay(theta_, nullptr).tip(); }
+  // The estimated tip pose were it pulled back to `depth` along its channel.
+  Pose poseAt(double depth) const { return replay(theta_, nullptr).at(depth); }
+  double depth() const { return replay(theta_, nullptr).depth(); }
   double curvatureScale() const;
 
  private:
@@ -31,7 +34,7 @@ class TipEstimator {
   std::vector<Arc> arcs_;
   std::vector<std::size_t> at_;  // arcs executed before each measurement
   std::vector<Vec3> tips_;
-  Pose replay(const Params& th, std::vector<Vec3>* predicted) const;
+  Channel replay(const Params& th, std::vector<Vec3>* predicted) const;
   std::vector<double> residuals(const Params& th) const;
 };
 

@@ -2,7 +2,8 @@
 // The targeting error of a plan under the scenario's stated spreads, by Monte Carlo over the
 // kinematic model (docs/planning.md): open loop (the plan executed as it is) and closed loop
 // (a noisy tip and target measurement every measure_every of insertion, the last arc replanned
-// from it).
+// from it, the tip pulled back along its channel and steered anew where the target is out of
+// its reach).
 #include <vector>
 
 #include "needlesim/planning/plan_problem.hpp"
@@ -16,6 +17,13 @@ struct ErrorDistribution {
   double p50 = 0.0, p95 = 0.0;  // m
   double touch_probability = 0.0;
   double mean_rotations = 0.0;  // axial rotations per insertion (closed loop: with the corrections)
+  // closed loop with plan.max_retractions > 0: per sample, the retractions and the depth the
+  // first pulled the tip back to (0 without); their mean, the share of samples retracting, the
+  // mean depth retracted to, and the actions executed by the first sample that retracted
+  std::vector<int> retractions;
+  std::vector<double> retracted_to;
+  double mean_retractions = 0.0, retracting_share = 0.0, mean_retracted_to = 0.0;
+  Plan retracting_example;
 };
 
 // One drawn execution: the curvature factor, the entry error and the target's displacement.

@@ -91,6 +91,9 @@ ParamTable<PlanSpec> makePlan() {
               "share of the needle's curvature the plan keeps in hand for corrections: its arcs curve at (1 - this) "
               "times the curvature (duty-cycled)")
       .count(&P::max_rotations, "max_rotations", 0.0, 8.0, "most axial rotations of the bevel during the insertion")
+      .count(&P::max_retractions, "max_retractions", 0.0, 8.0,
+             "closed loop: most retractions per insertion; where the estimated tip can no longer reach the target "
+             "within the tolerance, it is pulled back along its channel to where it can, turned and re-inserted")
       .derived(&P::max_depth, "max_depth", D::Length, positive(), "the needle's length",
                [](const P&, const Scenario& sc) { return sc.needle.length; }, "longest insertion (tip path length)")
       .quantity(&P::sample_spacing, "sample_spacing", D::Length, "mm", openClosed(0.0, 0.01),

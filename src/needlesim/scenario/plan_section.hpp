@@ -42,6 +42,7 @@ struct PlanSpec {
   bool duty_cycling = false;      // the last arc may be duty-cycled to a lower curvature
   double curvature_reserve = 0.0; // share of the curvature kept in hand: arcs planned at (1 - it) kappa
   int max_rotations = 2;          // axial rotations of the bevel during the insertion
+  int max_retractions = 0;        // closed loop: retractions along the channel per insertion
   double max_depth = 0.0;         // m, longest insertion (0 = the needle's length)
   double sample_spacing = 5e-4;   // m, spacing of the path points checked against the obstacles
   int max_paths = 200000;         // search budget: candidate paths evaluated

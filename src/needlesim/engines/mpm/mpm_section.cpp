@@ -103,8 +103,10 @@ scenario::ParamTable<Spec> build() {
               "cell-averaged det F; docs/models/mpm.md)")
       .choice(&Spec::musl, "update", {{"usl", false}, {"musl", true}}, "update-stress-last or modified USL (momentum remap)")
       .choice(&Spec::cfemp, "contact", {{"grid", false}, {"cfemp", true}},
-              "needle-tissue contact: grid (multi-field grid contact, seed 000 eqs 14-21) or cfemp (particle-to-surface "
-              "contact with the triangulated needle surface, eqs 22-24)")
+              "needle-tissue contact: cfemp (particle-to-surface contact with the triangulated needle surface, seed 000 "
+              "eqs 22-24; with the parting cut it agrees with explicit 3D, docs/validation/agreement.md) or grid "
+              "(multi-field grid contact, eqs 14-21: it acts up to a cell into the tissue, a needle about a cell wider; "
+              "the one the GPU path (device: cuda) and sliding inclusions run)")
       .quantity(&Spec::cfemp_element_size, "cfemp_element_size", D::Length, "mm", nonNegative(),
                 "d_e of the CFEMP gap rule g < (d_e + d_p)/2 (seed 000 eq 22); 0 = contact when the particle's own half "
                 "spacing reaches the exact needle surface")

@@ -44,7 +44,7 @@ struct MpmModelSpec {
   bool bspline = true;               // quadratic B-spline (false: linear hat, the paper's)
   bool musl = true;                  // modified update-stress-last (false: USL)
   bool fbar = false;                 // anti-locking: F-bar with the cell-averaged det F
-  bool cfemp = false;                // needle contact: CFEMP particle-to-surface (eqs 22-24); false: grid (eqs 14-21)
+  bool cfemp = true;                 // needle contact: CFEMP particle-to-surface (eqs 22-24); false: grid (eqs 14-21)
   double cfemp_element_size = 0.0;   // m, d_e of the eq 22 gap rule (0: the exact surface, gap d_p/2)
   // The tissue parts along the needle's cut: "tip" (from the entry to where the tip reaches the cut's
   // plane), "path" (pre-cut from the entry to the insertion's deepest point) or "none" (one velocity field).

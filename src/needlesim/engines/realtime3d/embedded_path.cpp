@@ -59,15 +59,20 @@ double elementSize(const TetMesh& mesh, int e) {
 // The interface of a stretch `length` of shaft (embedded_path.hpp): kInterfaceStiffness E per length.
 double interfaceCompliance(const ElasticMaterial& m, double length) { return 1.0 / (kInterfaceStiffness * m.E * length); }
 
+// Most quadrature points along the axis and around, each: h/2 apart down to elements of 1/32 of
+// a point's stretch of shaft and pi R / 16 (R / 5) around.
+constexpr int kMostSamples = 64;
+
 // One point: the quadrature over its patch of the needle's surface (n_s midpoints along the
-// axis x n_q around), at most half the local element size apart; false when outside the mesh.
+// axis x n_q around), at most half the local element size apart (sparser points than elements
+// would act as point loads, whose displacement grows as 1/h); false when outside the mesh.
 bool embedPoint(const TetMesh& mesh, const NearAxis& near, const std::vector<ElasticMaterial>& materials,
                 const EmbeddingSpec& sp, double lo, double hi, PathPoint& pt) {
   const TetPoint centre = near.locate(pt.X);
   if (centre.element < 0) return false;
   const double h = elementSize(mesh, centre.element);
-  const int ns = std::clamp(static_cast<int>(std::ceil(2.0 * (hi - lo) / h)), 1, 8);
-  const int nq = sp.radius > 0.0 ? std::clamp(static_cast<int>(std::ceil(4.0 * std::numbers::pi * sp.radius / h)), 4, 16) : 1;
+  const int ns = std::clamp(static_cast<int>(std::ceil(2.0 * (hi - lo) / h)), 1, kMostSamples);
+  const int nq = sp.radius > 0.0 ? std::clamp(static_cast<int>(std::ceil(4.0 * std::numbers::pi * sp.radius / h)), 4, kMostSamples) : 1;
   std::map<int, double> w;
   int found = 0;
   for (int i = 0; i < ns; ++i)

@@ -78,7 +78,7 @@ std::vector<std::string> MpmSolver::deviceUnsupported() const {
   std::vector<std::string> out;
   if (cfg_.bodies > 1) out.emplace_back("a sliding inclusion (two deformable bodies in pair contact)");
   if (std::any_of(rigids_.begin(), rigids_.end(), [](const RigidBody& r) { return r.surfaceContact; }))
-    out.emplace_back("model.mpm.contact: cfemp (CFEMP particle-to-surface contact)");
+    out.emplace_back("model.mpm.contact: cfemp, the default (CFEMP particle-to-surface contact; the GPU path runs contact: grid)");
   if (cfg_.fbar) out.emplace_back("model.mpm.anti_locking: fbar");
   if (std::any_of(rigids_.begin(), rigids_.end(), [](const RigidBody& r) {
         return r.kind == RigidBody::Kind::Needle && r.tip == RigidBody::Tip::Bevel && r.parting;

@@ -17,7 +17,8 @@ void attachRequestedDevice(mpm::MpmSolver& solver, const Scenario& sc) {
     std::string list;
     for (const auto& s : missing) list += (list.empty() ? "" : "; ") + s;
     throw InputError(sc.where(field), field, "cuda", "mpm: the GPU path does not implement: " + list,
-                     "cpu, or a scenario without these");
+                     "cpu, or a scenario without these (the needle contact the GPU path runs: model.mpm.contact: grid with "
+                     "parting: none)");
   }
   const mpm::PluginLoad plugin = mpm::loadCudaPlugin();
   if (!plugin.backend)
