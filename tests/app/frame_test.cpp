@@ -32,9 +32,10 @@ using namespace needlesim;
 namespace {
 
 // 12 x 10 x 6 mm soft gel, a 2 mm 45 deg needle pushed 4 mm in: seconds in every engine. explicit
-// without its pre-cut slit and mpm with its grid contact (analytic, mirror-symmetric needle): a cut
-// through the axis (explicit's pre_cut, mpm's parting with the CFEMP contact, its default) turns a
-// bevel's lateral force towards the bevel side (docs/validation/agreement.md "Open").
+// without its pre-cut slit (with it: PrecutSlit3d.BevelPushesTheNeedleAwayFromItsFace) and mpm with
+// its grid contact (analytic, mirror-symmetric needle): a cut through the axis (mpm's parting with the
+// CFEMP contact, its default) turns a bevel's lateral force towards the bevel side
+// (docs/validation/agreement.md "Open").
 std::string scenario(std::string engine, const std::string& insertion, const std::string& tip,
                      const std::string& to = "4 mm") {
   std::string explicitModel = "dimension: 2d, element: quad4, element_size: 0.5 mm";

@@ -267,18 +267,29 @@ TEST(Cohesive3dInsertion, BevelOpensSeamThroughAxisAndDissipationMatchesGcTimesC
   }
 }
 
-// The 3D bevel's lip rule (cohesive_wedge.cpp, seam through the axis) as a potential: at a fixed node, each lip's
-// gap is continuous along the axis (no jump where the hold begins, s = w / tan(beta), for a lip dragged below the
-// plane), and the needle's work per unit lateral force, sum of gap x axial reaction over the advance, is the
-// change of gap^2 / 2: the contact energy of a lip changes only by the work the needle does on it. Sampled over
-// lips above, on and below the axis plane, across the chord, from ahead of the chisel's reach to behind the heel.
-TEST(Cohesive3dWedge, BevelLipGapsAreContinuousAndTheNeedleReactionIsTheirSlope) {
+namespace {
+
+using LipRule = bool (*)(const needle::NeedleShape&, const needle::NeedlePose&, const Eigen::Vector3d&, int,
+                         needle::NeedleHit&, double&);
+
+// A 45 deg bevel of radius 1 mm, tip at the origin, axis x, bevel side y (b along z).
+needle::NeedleShape bevel45() {
   needle::NeedleShape sh;
   sh.radius = 1e-3;
   sh.length = 0.03;
   sh.tipAngle = 45.0 * M_PI / 180.0;
   sh.tip = TipType::Bevel;
-  const needle::NeedlePose pose;  // tip at the origin, axis x, bevel side y: b along z
+  return sh;
+}
+
+// A 3D bevel's lip rule as a potential: at a fixed node, each lip's gap is continuous along the axis, and the
+// needle's work per unit lateral force, sum of gap x axial reaction over the advance, is the change of gap^2 / 2:
+// the contact energy of a lip changes only by the work the needle does on it. Sampled over lips above, on and
+// below the axis plane and the sharp point's plane, across the chord, from ahead of the chisel's reach to behind
+// the heel.
+void expectLipRuleIsAPotential(LipRule rule, const char* name) {
+  const needle::NeedleShape sh = bevel45();
+  const needle::NeedlePose pose;
   const double R = sh.radius, h = 1e-7, slopeMax = std::max(std::tan(sh.tipAngle), std::tan(needle::kLipRampAngle));
   struct Gap {
     double g = 0.0, slope = 0.0;
@@ -286,13 +297,13 @@ TEST(Cohesive3dWedge, BevelLipGapsAreContinuousAndTheNeedleReactionIsTheirSlope)
   auto gapAt = [&](double s, double a, double b, int side) {
     needle::NeedleHit hit;
     double slope = 0.0;
-    const bool in = bevelWedge3D(sh, pose, Eigen::Vector3d(s, a, b), side, hit, slope);
+    const bool in = rule(sh, pose, Eigen::Vector3d(s, a, b), side, hit, slope);
     return in ? Gap{hit.depth, slope} : Gap{};
   };
   double worstJump = 0.0, worstWork = 0.0;
   for (int side : {-1, 1})
     for (double b : {0.0, 0.3 * R, 0.7 * R, 0.95 * R, 0.999 * R})
-      for (double a : {-1.2 * R, -0.5 * R, -0.1 * R, 0.0, 0.1 * R, 0.5 * R, 1.2 * R}) {
+      for (double a : {-1.2 * R, -R, -0.5 * R, -0.1 * R, 0.0, 0.1 * R, 0.5 * R, 1.2 * R}) {
         // the tip advances by h per sample: the node's axial station s from the tip falls from 4 mm to -4 mm
         double work = 0.0, prev = gapAt(4e-3, a, b, side).g;
         for (double s = 4e-3 - h; s > -4e-3; s -= h) {
@@ -304,9 +315,47 @@ TEST(Cohesive3dWedge, BevelLipGapsAreContinuousAndTheNeedleReactionIsTheirSlope)
         const double g0 = gapAt(4e-3, a, b, side).g, g1 = prev;
         worstWork = std::max(worstWork, std::abs(work - 0.5 * (g1 * g1 - g0 * g0)));
       }
-  std::printf("3D bevel lip gaps: largest step beyond the slope %.3g m, largest work defect %.3g m^2 (R^2 = %.3g)\n",
+  std::printf("%s lip gaps: largest step beyond the slope %.3g m, largest work defect %.3g m^2 (R^2 = %.3g)\n", name,
               worstJump, worstWork, R * R);
-  EXPECT_LT(worstJump, 1e-12);
+  EXPECT_LT(worstJump, 1e-12) << name;
   // the midpoint sum's error: ~ gap x (change of slope) x h at each kink of the gap (face, hold, outline)
-  EXPECT_LT(worstWork, 8 * R * slopeMax * h);
+  EXPECT_LT(worstWork, 8 * R * slopeMax * h) << name;
+}
+
+}  // namespace
+
+// The seam through the axis (the cohesive seam): no jump where the hold begins, s = w / tan(beta), for a lip
+// dragged below the plane.
+TEST(Cohesive3dWedge, BevelLipGapsAreContinuousAndTheNeedleReactionIsTheirSlope) {
+  expectLipRuleIsAPotential(&bevelWedge3D, "3D bevel, seam through the axis");
+}
+
+// The node-release slit through the sharp point: no jump at the point, where the face takes over from the ramp
+// ahead of it.
+TEST(Cohesive3dWedge, SlitLipGapsAreContinuousAndTheNeedleReactionIsTheirSlope) {
+  expectLipRuleIsAPotential(&bevelSlitWedge3D, "3D bevel, slit through the sharp point");
+}
+
+// The slit through the sharp point opens where the bevel cuts: behind the heel a lip node on the slit's plane
+// (a = -R) at b across it is pushed, on the bevel side, to the upper outline sqrt(R^2 - b^2) (a full 2R on the
+// sharp point's line) and, on the wall side, not at all (the lower outline -sqrt(R^2 - b^2) lies above it); under
+// the face the bevel-side lip sits on the face continued across the chord, -R - s tan(alpha).
+TEST(Cohesive3dWedge, SlitOpensTheBevelSideLipByTheWholeNeedleAndLeavesTheWallSide) {
+  const needle::NeedleShape sh = bevel45();
+  const needle::NeedlePose pose;
+  const double R = sh.radius, heel = -2.0 * R / std::tan(sh.tipAngle);
+  for (double b : {0.0, 0.4 * R, 0.9 * R}) {
+    const double w = std::sqrt(R * R - b * b);
+    needle::NeedleHit hit;
+    double slope = 0.0;
+    ASSERT_TRUE(bevelSlitWedge3D(sh, pose, Eigen::Vector3d(heel - 1e-3, -R, b), 1, hit, slope)) << b;
+    EXPECT_NEAR(hit.depth, R + w, 1e-12 * R) << b;
+    EXPECT_NEAR(hit.normal.y(), 1.0, 1e-12);
+    EXPECT_EQ(slope, 0.0);
+    EXPECT_FALSE(bevelSlitWedge3D(sh, pose, Eigen::Vector3d(heel - 1e-3, -R, b), -1, hit, slope)) << b;
+    // under the face, a quarter of the way to the heel: lifted by a quarter of 2R, reaction tan(alpha)
+    ASSERT_TRUE(bevelSlitWedge3D(sh, pose, Eigen::Vector3d(0.25 * heel, -R, b), 1, hit, slope)) << b;
+    EXPECT_NEAR(hit.depth, 0.5 * R, 1e-12 * R) << b;
+    EXPECT_NEAR(slope, std::tan(sh.tipAngle), 1e-12);
+  }
 }

@@ -57,7 +57,7 @@ MemorySink runReducedWithDefaults(const std::string& faces) {
 // the far face fixed as in the example. Bound: the tip's cutting load p pi R^2 plus Coulomb
 // friction at the slit pressure on the shaft in the tissue, mu p pi D per length over the depth,
 // 105 mN at 7 mm; explicit 3D, whose lips carry a polygon inside the needle's circle, gives
-// 48.7 mN. The defaults (CFEMP, parting tip): 90.2 mN. One velocity field across the path
+// 46.2 mN. The defaults (CFEMP, parting tip): 90.2 mN. One velocity field across the path
 // (parting: none) ploughs: 195 mN with CFEMP, 270 mN with the grid contact; the grid contact with
 // the parting, which acts up to a cell into the tissue, 236 mN.
 TEST(MpmDefaults, AxialForceStaysWithinTheSlitFrictionBound) {

@@ -94,6 +94,29 @@ LipBound bevelLipFloor3D(double s, double w, double R, double ta, double tb) {
   return {w, 0.0, false};
 }
 
+// Bevel-side lip of the slit through the sharp point: at or above the wall-side chisel mirrored about the slit's
+// plane ahead of the point, -R - s tan(beta), then the bevel face continued across the chord, -R - s tan(alpha),
+// up to the upper outline w.
+LipBound bevelLipFloorPointSlit3D(double s, double w, double R, double ta, double tb) {
+  if (s > 0.0) return {-R - s * tb, tb, true};
+  const double face = -R - s * ta;
+  if (face < w) return {face, ta, true};
+  return {w, 0.0, false};
+}
+
+// The lip's hit from its bound (a along bevelSide from the axis) and slope; false where the lip is clear of it.
+bool lipHit(const needle::NeedlePose& pose, const LipBound& bound, double a, int side, needle::NeedleHit& hit,
+            double& axialPerLateral) {
+  const double gap = side > 0 ? bound.a - a : a - bound.a;
+  if (!(gap > 0.0)) return false;
+  hit.inside = true;
+  hit.depth = gap;
+  hit.normal = (side > 0 ? 1.0 : -1.0) * pose.bevelSide;
+  hit.face = bound.tip ? needle::NeedleFace::Tip : needle::NeedleFace::OuterWall;
+  axialPerLateral = bound.slope;
+  return true;
+}
+
 }  // namespace
 
 bool bevelWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
@@ -106,20 +129,28 @@ bool bevelWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose,
   // the opened slit: from the lower outline (reached by the wall-side chisel ahead of the point) up to the
   // axis plane, and above it the needle where it rises over the plane (the bevel face, then the upper outline)
   const LipBound bound = side > 0 ? bevelLipFloor3D(s, w, R, ta, tb) : wallLipCeiling3D(s, w, tb);
-  const double gap = side > 0 ? bound.a - a : a - bound.a;
-  if (!(gap > 0.0)) return false;
-  hit.inside = true;
-  hit.depth = gap;
-  hit.normal = (side > 0 ? 1.0 : -1.0) * pose.bevelSide;
-  hit.face = bound.tip ? needle::NeedleFace::Tip : needle::NeedleFace::OuterWall;
-  axialPerLateral = bound.slope;
-  return true;
+  return lipHit(pose, bound, a, side, hit, axialPerLateral);
+}
+
+bool bevelSlitWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                      needle::NeedleHit& hit, double& axialPerLateral) {
+  if (sh.tip != TipType::Bevel || side == 0) return false;
+  const Eigen::Vector3d q = x - pose.tip, third = pose.axis.cross(pose.bevelSide);
+  const double s = q.dot(pose.axis), a = q.dot(pose.bevelSide), b = q.dot(third), R = sh.radius;
+  if (s < -sh.length || std::abs(b) >= R) return false;
+  const double w = std::sqrt(R * R - b * b), ta = std::tan(sh.tipAngle), tb = std::tan(needle::kLipRampAngle);
+  // the slit opened where the bevel cuts: the bevel-side lip lifted from the plane through the sharp point by the
+  // face to the upper outline; the wall-side lip below the lower outline, which it meets only if it rises
+  const LipBound bound = side > 0 ? bevelLipFloorPointSlit3D(s, w, R, ta, tb) : wallLipCeiling3D(s, w, tb);
+  return lipHit(pose, bound, a, side, hit, axialPerLateral);
 }
 
 bool lipWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
-              bool planar, needle::NeedleHit& hit, double& axialPerLateral) {
-  if (planar) return bevelWedge2D(sh, pose, x, side, hit, axialPerLateral);
-  if (sh.tip == TipType::Bevel) return bevelWedge3D(sh, pose, x, side, hit, axialPerLateral);
+              LipSeam seam, needle::NeedleHit& hit, double& axialPerLateral) {
+  if (seam == LipSeam::Planar) return bevelWedge2D(sh, pose, x, side, hit, axialPerLateral);
+  if (sh.tip == TipType::Bevel)
+    return seam == LipSeam::ThroughPoint ? bevelSlitWedge3D(sh, pose, x, side, hit, axialPerLateral)
+                                         : bevelWedge3D(sh, pose, x, side, hit, axialPerLateral);
   return coneWedge(sh, pose, x, side, hit, axialPerLateral);
 }
 

@@ -5,6 +5,8 @@
 // the seam normal (side x bevelSide) to the needle surface, instead of along the
 // surface normal (whose axial part would shove the closed pair ahead of the
 // apex). The 2D bevel rule lives in solver.cpp; this is its 3D cone analogue.
+// The same lip rules hold the lips of explicit 3D's node-release slit, the
+// G_c -> 0 limit of the cohesive zone (seed 001 section 3.3, seed 004 eq 14).
 #include <Eigen/Core>
 
 #include "needlesim/needle/surface_mesh.hpp"
@@ -46,8 +48,27 @@ bool bevelWedge2D(const needle::NeedleShape& shape, const needle::NeedlePose& po
 bool bevelWedge3D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                   needle::NeedleHit& hit, double& axialPerLateral);
 
-// The rule for this tip and dimension (2D bevel, 3D bevel, 3D cone); false for other tips.
+// 3D bevel, node-release slit through the sharp point (the plane a = -R normal to bevelSide, |b| < R: the cut
+// where the bevel makes it, docs/models/explicit.md "Pre-cut slit (3D)"), w = sqrt(R^2 - b^2) as above:
+//  side < 0 (wall lip): as bevelWedge3D, the chisel across the chord, then the lower outline -w; a lip on the
+//    plane (a = -R <= -w) stays put;
+//  side > 0 (bevel lip), gap = floor - a: the bevel face continued across the chord lifts the lip from the
+//    plane, floor = min(w, -R - s tan(alpha)) behind the point (reaction tan(alpha) on the face), then the
+//    upper outline w; ahead of the point floor = -R - s tan(beta) (reaction tan(beta)), which meets only a lip
+//    dragged below the plane by its tied partner and is continuous with the face at the point.
+// So the bevel-side lip opens by R + w (2R on the sharp point's line) and the wall-side lip not at all.
+// x: as for bevelWedge3D.
+bool bevelSlitWedge3D(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x,
+                      int side, needle::NeedleHit& hit, double& axialPerLateral);
+
+// Where the seam whose lips the needle wedges lies: the 2D cut line through the leading point, the 3D plane
+// through the needle axis (the cohesive seam), or the 3D node-release slit through the leading point (the
+// bevel's sharp point; a cone's apex, on the axis).
+enum class LipSeam { Planar, ThroughAxis, ThroughPoint };
+
+// The rule for this tip and seam (2D bevel, 3D bevel through the axis or the point, 3D cone); false for
+// other tips.
 bool lipWedge(const needle::NeedleShape& shape, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
-              bool planar, needle::NeedleHit& hit, double& axialPerLateral);
+              LipSeam seam, needle::NeedleHit& hit, double& axialPerLateral);
 
 }  // namespace needlesim::explicit_fe

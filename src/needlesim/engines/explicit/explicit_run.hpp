@@ -90,8 +90,9 @@ class ExplicitRun {
   Eigen::Vector3d bevelSide_ = Eigen::Vector3d::UnitY();  // at the start (2D: +-lateral)
   // seam: node release (pre_cut) or cohesive, through the bevel's sharp point (or the axis)
   bool seamOn_ = false, sleeve_ = false, cohesive_ = false;
-  // 3D node-release seam of a generated block: through the axis, as wide as the needle (chooseSeam)
-  bool axisSeam_ = false;
+  // 3D node-release seam of a generated block: a slit through the leading point as wide as the needle,
+  // whose lips take the lip wedge (chooseSeam)
+  bool slit3d_ = false;
   bool touched_ = false;  // the needle touched a tissue node (requireContact)
   double seamY_ = 0.0, sleeveRadius_ = 0.0;
   // mesh and its seam pairs (original, copy); thickness_: slab thickness of a 2D model

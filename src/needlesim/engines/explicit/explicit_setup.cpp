@@ -44,26 +44,37 @@ Vector3d nodePoint(const Mesh& m, int n) {
   return p;
 }
 
-// Grid lines across the slit (3D axis seam): the core [-half, half] of a graded list replaced by uniform
-// pieces with lines on the slit's fronts +-R, the slit itself split into ceil(2R / h) equal elements (never
-// coarser than h), so the lip nodes sit at the same fractions of the needle's width on every mesh of a
-// given count and their distance to the fronts falls steadily with h.
-// (R = 0: the plane of the slit, a line at the centre c with equal elements either side.)
-std::vector<double> slitCoordinates(const std::vector<double>& graded, double half, double R, double h,
-                                    double c = 0.0) {
+// The grid lines of a graded list whose core [c - half, c + half] is replaced by uniform pieces: counts[k] equal
+// elements between lines[k] and lines[k + 1].
+std::vector<double> uniformCore(const std::vector<double>& graded, double c, double half,
+                                const std::vector<double>& lines, const std::vector<int>& counts) {
   std::vector<double> z;
   for (double v : graded)
     if (v < c - half - 1e-12 || v > c + half + 1e-12) z.push_back(v);
-  auto piece = [&](double a, double b, int n) {
-    for (int i = 0; i <= n; ++i) z.push_back(c + a + (b - a) * i / n);
-  };
-  const int outer = std::max(1, static_cast<int>(std::lround((half - R) / h)));
-  piece(-half, -R, outer);
-  if (R > 0) piece(-R, R, std::max(1, static_cast<int>(std::ceil(2.0 * R / h - 1e-9))));
-  piece(R, half, outer);
+  for (std::size_t k = 0; k < counts.size(); ++k)
+    for (int i = 0; i <= counts[k]; ++i) z.push_back(lines[k] + (lines[k + 1] - lines[k]) * i / counts[k]);
   std::sort(z.begin(), z.end());
   z.erase(std::unique(z.begin(), z.end(), [](double a, double b) { return std::abs(a - b) < 1e-12; }), z.end());
   return z;
+}
+
+// Elements of at most h over a length (at least one).
+int piecesOfAtMost(double length, double h) { return std::max(1, static_cast<int>(std::ceil(length / h - 1e-9))); }
+
+// Grid lines across the slit (3D): the core [-half, half] of a graded list in uniform pieces with lines on the
+// slit's fronts +-R, the slit itself split into ceil(2R / h) equal elements (never coarser than h), so the lip
+// nodes sit at the same fractions of the needle's width on every mesh of a given count and their distance to
+// the fronts falls steadily with h.
+std::vector<double> slitCoordinates(const std::vector<double>& graded, double half, double R, double h) {
+  const int outer = std::max(1, static_cast<int>(std::lround((half - R) / h)));
+  return uniformCore(graded, 0.0, half, {-half, -R, R, half}, {outer, piecesOfAtMost(2.0 * R, h), outer});
+}
+
+// Grid lines normal to the slit (3D): the core [c - half, c + half] in uniform pieces of at most h either side of
+// the slit's plane y, which runs through the bevel's sharp point.
+std::vector<double> slitPlaneCoordinates(const std::vector<double>& graded, double c, double half, double y, double h) {
+  return uniformCore(graded, c, half, {c - half, y, c + half},
+                     {piecesOfAtMost(y - (c - half), h), piecesOfAtMost(c + half - y, h)});
 }
 
 }  // namespace
@@ -112,11 +123,11 @@ void ExplicitRun::checkInput() const {
 }
 
 // The pre-cut seam runs through the leading point of the tip (the bevel's sharp point, at -R bevelSide)
-// in 2D and through an imported 3D mesh. In a generated 3D block it is a slit through the needle axis,
-// exactly as wide as the needle (|z| < R, its fronts on grid lines at z = +-R whatever the element
-// size), whose lips the needle wedges open to its outline on either side (cohesive_wedge.hpp): the
-// displaced lip shape is the needle's at every node, so the load converges with the mesh instead of
-// depending on which nodes happen to lie inside the needle (docs/models/explicit.md "Pre-cut slit").
+// in 2D and 3D. In a generated 3D block it is a slit exactly as wide as the needle (|z| < R, its fronts
+// on grid lines at z = +-R whatever the element size), whose lips the needle wedges open to its outline
+// (cohesive_wedge.hpp bevelSlitWedge3D: the bevel face lifts the bevel-side lip, the wall-side lip stays):
+// the displaced lip shape is the needle's at every node, so the load converges with the mesh instead of
+// depending on which nodes happen to lie inside the needle (docs/models/explicit.md "Pre-cut slit (3D)").
 void ExplicitRun::chooseSeam() {
   const double th = sc_.insertion.entry_angle, phi = sc_.insertion.bevel_orientation;
   const bool aligned = std::abs(th - 0.5 * M_PI) < 1e-9 && std::abs(std::sin(phi)) < 1e-9;
@@ -126,8 +137,8 @@ void ExplicitRun::chooseSeam() {
   sleeve_ = cohesive_ && ex_.cohesive.seam == "sleeve";
   // 3D bevel with the cohesive zone: through the needle axis instead (docs/models/cohesive.md "3D bevel"),
   // a plane through the point is tangent to the shaft and the needle would indent the tissue beside it.
-  axisSeam_ = seamOn_ && dim_ == 3 && !cohesive_ && !sc_.tissue.geometry;
-  const bool seamThroughAxis = (dim_ == 3 && cohesive_) || axisSeam_;
+  slit3d_ = seamOn_ && dim_ == 3 && !cohesive_ && !sc_.tissue.geometry;
+  const bool seamThroughAxis = dim_ == 3 && cohesive_;
   seamY_ = sc_.insertion.entry_offset -
            (sc_.needle.tip == TipType::Bevel && !seamThroughAxis ? shape_.radius * bevelSide_.y() : 0.0);
 }
@@ -155,10 +166,10 @@ void ExplicitRun::buildMesh() {
 // are first moved onto the seam (snapOntoSeam), the 3D strip as wide as the needle and the
 // largest element edge that crosses the seam plane near the axis.
 void ExplicitRun::cutSeam() {
-  double halfWidth = axisSeam_ ? shape_.radius : dim_ == 3 ? shape_.radius + 1.01 * ex_.element_size : 0.0;
+  double halfWidth = slit3d_ ? shape_.radius : dim_ == 3 ? shape_.radius + 1.01 * ex_.element_size : 0.0;
   if (!sc_.tissue.geometry) {
     seam_ = splitSeam(mesh_, seamY_, 0.0, dmax_, halfWidth);
-    if (axisSeam_) requireNodesOnSlit();
+    if (slit3d_) requireNodesOnSlit();
     return;
   }
   if (dim_ == 3) halfWidth = shape_.radius + 1.01 * largestEdgeAcross(mesh_, seamY_, 2 * shape_.radius);
@@ -171,7 +182,7 @@ void ExplicitRun::cutSeam() {
                          seamY_ * 1e3, seam_.size(), moved, off));
 }
 
-// The slit through the axis must hold lip nodes inside the needle's section, else the needle would pass
+// The slit must hold lip nodes inside the needle's section, else the needle would pass
 // between the nodes and feel no tissue.
 void ExplicitRun::requireNodesOnSlit() const {
   for (auto [a, b] : seam_)
@@ -193,10 +204,11 @@ void ExplicitRun::buildBlock() {
   // along the path: the core size down to just past the deepest tip position, then graded
   auto xs = gradedCoordinates(0.0, t.length, 0.0, std::max(dmax_, h), h, H, ex_.grading);
   auto ys = gradedCoordinates(-0.5 * t.width, 0.5 * t.width, y0 - half, y0 + half, h, H, ex_.grading);
-  if (axisSeam_ && y0 - half > -0.5 * t.width && y0 + half < 0.5 * t.width)  // the slit plane: equal elements either side
-    ys = slitCoordinates(ys, half, 0.0, h, y0);
+  // the slit's plane through the sharp point, the core uniform either side of it
+  if (slit3d_ && y0 - half > -0.5 * t.width && y0 + half < 0.5 * t.width && std::abs(seamY_ - y0) < half)
+    ys = slitPlaneCoordinates(ys, y0, half, seamY_, h);
   else if (seamOn_)
-    snapCoordinate(ys, seamY_);  // (3D slit: the seam plane through the axis)
+    snapCoordinate(ys, seamY_);
   const ElementType type = elementTypeFromName(ex_.element.empty() ? (dim_ == 2 ? "quad4" : "hex8") : ex_.element);
   if (elementDim(type) != dim_)
     throw InputError(sc_.where("model.explicit.element"), "model.explicit.element", elementName(type),
@@ -206,9 +218,9 @@ void ExplicitRun::buildBlock() {
     mesh_ = structuredBlock(xs, ys, type);
   } else {
     auto zs = gradedCoordinates(-0.5 * t.height, 0.5 * t.height, -half, half, h, H, ex_.grading);
-    if (axisSeam_ && half > shape_.radius && half < 0.5 * t.height)  // the slit's fronts on the needle's outline
+    if (slit3d_ && half > shape_.radius && half < 0.5 * t.height)  // the slit's fronts on the needle's outline
       zs = slitCoordinates(zs, half, shape_.radius, h);
-    else if (axisSeam_)
+    else if (slit3d_)
       for (double z : {-shape_.radius, shape_.radius}) snapCoordinate(zs, z);
     mesh_ = structuredBlock(xs, ys, zs, type);
   }
@@ -297,18 +309,15 @@ void ExplicitRun::setupSeam() {
   if (cohesive_ && !sleeve_ && sc_.tissue.geometry) requireSeamOnPlane();
   // splitSeam gives the copies to the +y lip; the bevel faces +y when bevelSide.y > 0
   const int copySide = sleeve_ || bevelSide_.y() >= 0 ? 1 : -1;  // sleeve: core side -1, outer side +1
-  // the axis slit's lips take the lip wedge; a pair is released where the wedge (the virtual chisel ahead of
-  // a bevel's point, slope kLipRampAngle) first reaches it, at w / tan(beta) ahead, w its half chord
-  if (axisSeam_) solver_->setWedgeLips(true);
-  const double R = shape_.radius, tb = std::tan(needle::kLipRampAngle);
+  // the slit's lips take the lip wedge, which first reaches a pair at the leading point, where it is released
+  if (slit3d_) solver_->setWedgeLips(true);
   for (auto [a, b] : seam_) {
     const double z = mesh_.coord(a, 2);
-    const double lead = axisSeam_ && sc_.needle.tip == TipType::Bevel ? std::sqrt(std::max(R * R - z * z, 0.0)) / tb : 0.0;
-    if (!cohesive_) solver_->addTie(a, b, lead);
+    if (!cohesive_) solver_->addTie(a, b);
     // 3D: the lip sides disambiguate the nearest exit only on the sharp point's line (z = 0); off
     // it the tube's lower wall is the natural exit of the upper lip, which the side rule forbids
     // (node-release seam only: the cohesive wedge needs every lip's side, cohesive_wedge.hpp)
-    if (dim_ == 3 && !cohesive_ && !axisSeam_ && std::abs(z) > 0.5 * ex_.element_size) continue;
+    if (dim_ == 3 && !cohesive_ && !slit3d_ && std::abs(z) > 0.5 * ex_.element_size) continue;
     solver_->setContactSide(a, -copySide);
     solver_->setContactSide(b, copySide);
   }

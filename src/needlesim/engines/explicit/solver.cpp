@@ -330,11 +330,10 @@ int ExplicitSolver::addGroup() {
   return static_cast<int>(groupVelocity_.size()) - 1;
 }
 void ExplicitSolver::addDof(int group, int node, int comp) { dofGroup_[static_cast<std::size_t>(node) * dim_ + comp] = group; }
-void ExplicitSolver::addTie(int a, int b, double lead) {
+void ExplicitSolver::addTie(int a, int b) {
   tieA_.push_back(a);
   tieB_.push_back(b);
   tieOn_.push_back(1);
-  tieLead_.push_back(lead);
   ftie_.assign(u_.size(), 0.0);
 }
 void ExplicitSolver::setContactSide(int node, int side) {
@@ -550,18 +549,19 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
   // only, each to its own side, by the lateral gap to the needle's face (the axial push of the
   // inclined faces would shove the closed pair ahead of the point); the needle takes the axial
   // reaction that makes its work match: one gap function per lip (cohesive_wedge.hpp: 2D bevel,
-  // 3D bevel with the seam through the axis, 3D cone) at the node's reference axial station.
+  // 3D bevel with the seam through the axis or the slit through the sharp point, 3D cone) at the node's
+  // reference axial station.
   // (bevel, 2D and 3D: also once fully damaged: a lip dragged across the axis plane by its partner (3D), or
   // a wall-side lip released above the point's line by the chisel (2D), would otherwise meet the lip side
   // rule of queryNeedle with a jump in depth: 2D cut with G_c = 2 J/m^2, h = 0.125 mm: needle balance 8.4 %
   // with the switch to queryNeedle at d = 1, 0.26 % without)
-  // (a node-release seam through the axis, setWedgeLips: every lip node, tied or released)
+  // (the node-release slit of a 3D block, setWedgeLips: every lip node, tied or released)
   const bool lip = (!cohPairOf_.empty() && cohPairOf_[n] >= 0 &&
                     (coh_.front().state(cohPairOf_[n]).damage < 1.0 || nd.shape.tip == TipType::Bevel)) ||
                    (wedgeLips_ && !planar && !contactSide_.empty() && contactSide_[n] != 0);
   if (lip && !contactSide_.empty() && contactSide_[n] != 0 &&
       (nd.shape.tip == TipType::Bevel || nd.shape.tip == TipType::Conical)) {
-    // the gap at the node's reference axial station; for the 3D bevel's seam through the axis also at its
+    // the gap at the node's reference axial station; for a 3D bevel's seam or slit also at its
     // reference coordinate along the seam, which sets the half chord sqrt(R^2 - b^2): the gap then varies
     // with the current position only across the seam, where the lip is pushed, so the push k gap is the
     // gradient of the penalty potential 1/2 k gap^2 (Wriggers, Computational Contact Mechanics, 2006) and
@@ -575,7 +575,7 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
                         d == 3 ? mesh_.X[static_cast<std::size_t>(n) * d + 2] : 0.0);
     bool in = sleeveRadius_ > 0
                         ? sleeveWedge(nd.shape, pose, xw, contactSide_[n], sleeveRadius_, wh, wedgeAxial, &xRef)
-                        : lipWedge(nd.shape, pose, xw, contactSide_[n], planar, wh, wedgeAxial);
+                        : lipWedge(nd.shape, pose, xw, contactSide_[n], lipSeam(), wh, wedgeAxial);
     if (in && wedgeLips_ && cohPairOf_.empty()) in = lessStartOverlap(n, xRef, wh);
     hit = in ? wh : needle::NeedleHit{};
   } else if (lip && hit.inside && hit.face == needle::NeedleFace::Tip && nd.shape.tip == TipType::Bevel) {
@@ -589,8 +589,9 @@ needle::NeedleHit ExplicitSolver::needleHit(int n, const Vector3d& x, const need
   return hit;
 }
 
-// A node-release lip that the wedge already overlapped at the start (the needle starting within the chisel's
-// reach, R / tan(kLipRampAngle), of the entry face) is opened over the first reach of travel instead of at once:
+// A node-release lip that the wedge already overlapped at the start (a needle that starts with its tip in the
+// tissue: the bevel face over the lips behind the point) is opened over the first reach of travel, the chisel's
+// reach R / tan(kLipRampAngle), instead of at once:
 // its gap less its gap at the start times the share of that reach still to travel (the opening rate at most
 // doubles; LS-DYNA's tracked initial penetrations do the same for contact surfaces that start overlapped).
 // False when no gap is left.
@@ -601,7 +602,7 @@ bool ExplicitSolver::lessStartOverlap(int n, const Vector3d& xRef, needle::Needl
   if (!(left > 0.0)) return true;
   needle::NeedleHit h0;
   double slope0 = 0.0;
-  if (!lipWedge(nd.shape, pose0_, xRef, contactSide_[n], false, h0, slope0)) return true;
+  if (!lipWedge(nd.shape, pose0_, xRef, contactSide_[n], lipSeam(), h0, slope0)) return true;
   hit.depth -= h0.depth * left;
   return hit.depth > 0.0;
 }
@@ -821,7 +822,7 @@ void ExplicitSolver::tieForces(double alpha) {
       if (!tieOn_[t]) continue;
       Vector3d x = Vector3d::Zero();
       for (int i = 0; i < d; ++i) x[i] = mesh_.X[static_cast<std::size_t>(tieA_[t]) * d + i] + u_[static_cast<std::size_t>(tieA_[t]) * d + i];
-      if ((x - lead).dot(nd.pose.axis) < releaseDistance_ + tieLead_[t]) tieOn_[t] = 0;
+      if ((x - lead).dot(nd.pose.axis) < releaseDistance_) tieOn_[t] = 0;
     }
   }
   std::fill(ftie_.begin(), ftie_.end(), 0.0);

@@ -25,6 +25,7 @@
 #include <vector>
 
 #include "needlesim/engines/explicit/cohesive.hpp"
+#include "needlesim/engines/explicit/cohesive_wedge.hpp"
 #include "needlesim/engines/explicit/mesh.hpp"
 #include "needlesim/engines/explicit/needle_motion.hpp"
 #include "needlesim/materials/hyperelastic.hpp"
@@ -140,12 +141,11 @@ class ExplicitSolver {
   void setExternalForce(int node, int component, double f) { fext_[node * dim_ + component] = f; }
 
   // Tie two coincident nodes (a pre-cut seam) until the needle's leading point
-  // comes within `releaseDistance` + `lead` of them along the axis (node release; lead: how far
-  // ahead of the point the needle's wedge first reaches the pair, setWedgeLips).
-  void addTie(int a, int b, double lead = 0.0);
-  // Node-release seam through the needle axis (3D): its lips (nodes with a contact side) meet the
-  // needle through the lip wedge of cohesive_wedge.hpp, each pushed across the seam to the needle's
-  // outline on its own side, instead of through queryNeedle's nearest exit.
+  // comes within `releaseDistance` of them along the axis (node release).
+  void addTie(int a, int b);
+  // Node-release slit through the needle's leading point (3D): its lips (nodes with a contact side) meet
+  // the needle through the lip wedge of cohesive_wedge.hpp (LipSeam::ThroughPoint), each pushed across the
+  // slit to the needle's outline on its own side, instead of through queryNeedle's nearest exit.
   void setWedgeLips(bool on) { wedgeLips_ = on; }
   // Which lip of a cut through the bevel's sharp point a node lies on (+1 the bevel
   // side, -1 the wall side; needle::queryNeedle's `side`): set on seam nodes.
@@ -271,6 +271,12 @@ class ExplicitSolver {
                            const Eigen::Vector3d& vb, double mu = 0.0);
   void normalContactCorrection(double dt, double dtAvg);
   bool lessStartOverlap(int node, const Eigen::Vector3d& xRef, needle::NeedleHit& hit) const;
+  // The seam whose lips the needle wedges: the 2D cut line, the 3D node-release slit through the leading
+  // point (setWedgeLips) or the 3D cohesive seam through the axis.
+  LipSeam lipSeam() const {
+    if (dim_ == 2) return LipSeam::Planar;
+    return wedgeLips_ && cohPairOf_.empty() ? LipSeam::ThroughPoint : LipSeam::ThroughAxis;
+  }
   void gatherForces();
   // tri3/tet4 average nodal pressure: replaces each element's pressure by the mean of its nodes'
   // volume-averaged pressures (nodal_pressure.cpp)
@@ -333,7 +339,6 @@ class ExplicitSolver {
   // seam ties
   std::vector<int> tieA_, tieB_;
   std::vector<char> tieOn_;
-  std::vector<double> tieLead_;  // per tie: extra release distance ahead of the leading point
   bool wedgeLips_ = false;       // setWedgeLips
   needle::NeedlePose pose0_;     // the needle's pose at setNeedle (lessStartOverlap)
   std::vector<double> ftie_;

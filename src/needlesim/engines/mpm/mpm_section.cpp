@@ -112,7 +112,7 @@ scenario::ParamTable<Spec> build() {
                 "spacing reaches the exact needle surface")
       .word(&Spec::parting, "parting", {"tip", "path", "none"},
             "the tissue parts along the needle's cut, the strip of the plane through the axis normal to the bevel side "
-            "as wide as the needle (explicit 3D's slit): no material point reaches a grid node across it, so the two "
+            "as wide as the needle: no material point reaches a grid node across it, so the two "
             "lips move apart instead of being dragged as one field (docs/models/mpm.md \"Parting contact\"). tip: "
             "cut from the entry to where the tip reaches the plane, as it advances; path: pre-cut from the entry to "
             "the insertion's deepest point; none: one velocity field across the path. Bevel tips only: a cone or a flat "

@@ -1,7 +1,8 @@
 // The needle's cut in the material point method: the tissue parts along the
 // strip of the plane through the needle axis normal to the bevel side that the
 // needle has passed (from its base to where the tip reaches the plane, as wide
-// as the needle; explicit 3D's pre-cut slit). A point does not reach the support nodes whose segment to it
+// as the needle; explicit 3D's pre-cut slit, as wide, runs through the sharp point).
+// A point does not reach the support nodes whose segment to it
 // crosses the strip, and its weights over the nodes it reaches are
 // renormalised (the visibility criterion of meshfree crack models, Belytschko
 // et al. 1995, in the per-node field form of CRAMP, Nairn 2003): the two lips
@@ -41,13 +42,12 @@ namespace {
 constexpr double kMinVisibleWeight = 0.25;
 
 // The cut of a needle at its current position: the strip of the plane
-// through the axis normal to the bevel side (explicit 3D's slit, the plane of
-// the bevel's cutting edges at the sharp point), as wide as the needle,
+// through the axis normal to the bevel side, as wide as the needle,
 // {x : (x - c).n = 0, |(x - c).t| = |b| <= R, -length <= (x - c).e <= front(b)},
 // c the axis point level with the tip moved cutAhead along the axis. A bevel
 // parts the tissue where its face first reaches the plane, front(b) =
-// sqrt(R^2 - b^2) / tan(alpha) ahead of the sharp point's plane (as explicit
-// 3D releases its slit); other tips at their tip plane.
+// sqrt(R^2 - b^2) / tan(alpha) ahead of the sharp point's plane; other tips
+// at their tip plane.
 struct CutStrip {
   Vec3 c, e, t, n;
   double halfWidth, length, cotBevel, onPlane;
