@@ -8,6 +8,7 @@
 
 #include "needlesim/engines/explicit/solver.hpp"
 #include "needlesim/engines/realtime3d/session.hpp"
+#include "../support/explicit_relaxation.hpp"
 #include "../support/tet_nodes.hpp"
 
 using namespace needlesim;
@@ -34,20 +35,10 @@ TEST(Realtime3dExplicit, StaticPathLoadAgreesWithExplicitDynamicRelaxation) {
   ms.law = "linear";
   ms.params = {{"E", c.tissue.material.E}, {"nu", c.tissue.material.nu}};
   ms.density = c.tissue.material.density;
-  explicit_fe::SolverOptions o;
-  o.damping = 300.0;  // about twice the block's lowest frequency: near-critical dynamic relaxation
-  o.nodalPressure = false;  // plain constant-strain tets, as realtime3d (its anti-locking pressure is a different element)
-  explicit_fe::ExplicitSolver ex(mesh, {explicit_fe::Material::fromSpec(ms)}, o);
-  const int held = ex.addGroup();
-  const auto& b = c.tissue.block;
-  for (int n = 0; n < mesh.nodes(); ++n) {
-    const double x = mesh.coord(n, 0), y = mesh.coord(n, 1), z = mesh.coord(n, 2);
-    if (x > b.length - 1e-12 || y < 1e-12 || y > b.width - 1e-12 || z < 1e-12 || z > b.height - 1e-12)
-      for (int i = 0; i < 3; ++i) ex.addDof(held, n, i);
-  }
-  for (int i = 0; i < 3; ++i) ex.setExternalForce(node, i, load[i]);
-  ex.advanceTo(0.3);
-  const auto& ue = ex.displacement();
+  auto ex = needlesim::testing::relaxingExplicitBlock(mesh, c.tissue.block, ms);
+  for (int i = 0; i < 3; ++i) ex->setExternalForce(node, i, load[i]);
+  ex->advanceTo(0.3);
+  const auto& ue = ex->displacement();
   const double umax = u.cwiseAbs().maxCoeff();
   double worst = 0.0;
   for (int k = 0; k < u.size(); ++k) worst = std::max(worst, std::abs(u[k] - ue[static_cast<std::size_t>(k)]));

@@ -14,6 +14,7 @@
 #include "needlesim/engines/realtime/linear_range.hpp"
 #include "needlesim/engines/realtime3d/session.hpp"
 #include "needlesim/scenario/reader.hpp"
+#include "../support/explicit_relaxation.hpp"
 #include "../support/tet_nodes.hpp"
 
 using namespace needlesim;
@@ -62,27 +63,17 @@ LateralLoadCase lateralLoad(double total, bool finiteToo = true) {
   const double mu = c.tissue.material.E / (2.0 * (1.0 + c.tissue.material.nu));
   ms.params = {{"C10", 0.5 * mu}, {"nu", c.tissue.material.nu}};  // the same small-strain moduli
   ms.density = c.tissue.material.density;
-  explicit_fe::SolverOptions o;
-  o.damping = 300.0;  // about twice the block's lowest frequency: near-critical dynamic relaxation
-  o.nodalPressure = false;  // plain constant-strain tets, as realtime3d
-  explicit_fe::ExplicitSolver ex(mesh, {explicit_fe::Material::fromSpec(ms)}, o);
-  const int held = ex.addGroup();
-  const auto& b = c.tissue.block;
-  for (int n = 0; n < mesh.nodes(); ++n) {
-    const double x = mesh.coord(n, 0), y = mesh.coord(n, 1), z = mesh.coord(n, 2);
-    if (x > b.length - 1e-12 || y < 1e-12 || y > b.width - 1e-12 || z < 1e-12 || z > b.height - 1e-12)
-      for (int i = 0; i < 3; ++i) ex.addDof(held, n, i);
-  }
-  for (int n : loaded) ex.setExternalForce(n, 1, each);
-  ex.advanceTo(0.4);
+  auto ex = needlesim::testing::relaxingExplicitBlock(mesh, c.tissue.block, ms);
+  for (int n : loaded) ex->setExternalForce(n, 1, each);
+  ex->advanceTo(0.4);
 
   for (int n : loaded) {
     r.linear += u[3 * n + 1] / static_cast<double>(loaded.size());
-    r.finite += ex.displacement()[static_cast<std::size_t>(3 * n + 1)] / static_cast<double>(loaded.size());
+    r.finite += ex->displacement()[static_cast<std::size_t>(3 * n + 1)] / static_cast<double>(loaded.size());
   }
   for (int n = 0; n < mesh.nodes(); ++n) {
     Eigen::Vector3d ue, ul = u.segment<3>(3 * n);
-    for (int i = 0; i < 3; ++i) ue[i] = ex.displacement()[static_cast<std::size_t>(3 * n + i)];
+    for (int i = 0; i < 3; ++i) ue[i] = ex->displacement()[static_cast<std::size_t>(3 * n + i)];
     r.worstNode = std::max(r.worstNode, (ul - ue).norm());
     r.largest = std::max(r.largest, ue.norm());
   }

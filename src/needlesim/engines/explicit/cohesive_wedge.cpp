@@ -117,32 +117,34 @@ bool lipHit(const needle::NeedlePose& pose, const LipBound& bound, double a, int
   return true;
 }
 
-}  // namespace
-
-bool bevelWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
-                  needle::NeedleHit& hit, double& axialPerLateral) {
+// The lip hit of a 3D slit whose bevel-side lip lies on `bevelFloor` (s, w, R, tan(tip), tan(ramp)); the
+// wall-side lip below the lower outline in both slits.
+bool slitWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                 LipBound (*bevelFloor)(double, double, double, double, double), needle::NeedleHit& hit,
+                 double& axialPerLateral) {
   if (sh.tip != TipType::Bevel || side == 0) return false;
   const Eigen::Vector3d q = x - pose.tip, third = pose.axis.cross(pose.bevelSide);
   const double s = q.dot(pose.axis), a = q.dot(pose.bevelSide), b = q.dot(third), R = sh.radius;
   if (s < -sh.length || std::abs(b) >= R) return false;
   const double w = std::sqrt(R * R - b * b), ta = std::tan(sh.tipAngle), tb = std::tan(needle::kLipRampAngle);
-  // the opened slit: from the lower outline (reached by the wall-side chisel ahead of the point) up to the
-  // axis plane, and above it the needle where it rises over the plane (the bevel face, then the upper outline)
-  const LipBound bound = side > 0 ? bevelLipFloor3D(s, w, R, ta, tb) : wallLipCeiling3D(s, w, tb);
+  const LipBound bound = side > 0 ? bevelFloor(s, w, R, ta, tb) : wallLipCeiling3D(s, w, tb);
   return lipHit(pose, bound, a, side, hit, axialPerLateral);
 }
 
+}  // namespace
+
+// The seam through the axis: from the lower outline (reached by the wall-side chisel ahead of the point) up to
+// the axis plane, and above it the needle where it rises over the plane (the bevel face, then the upper outline).
+bool bevelWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
+                  needle::NeedleHit& hit, double& axialPerLateral) {
+  return slitWedge3D(sh, pose, x, side, bevelLipFloor3D, hit, axialPerLateral);
+}
+
+// The slit opened where the bevel cuts: the bevel-side lip lifted from the plane through the sharp point by the
+// face to the upper outline; the wall-side lip below the lower outline, which it meets only if it rises.
 bool bevelSlitWedge3D(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
                       needle::NeedleHit& hit, double& axialPerLateral) {
-  if (sh.tip != TipType::Bevel || side == 0) return false;
-  const Eigen::Vector3d q = x - pose.tip, third = pose.axis.cross(pose.bevelSide);
-  const double s = q.dot(pose.axis), a = q.dot(pose.bevelSide), b = q.dot(third), R = sh.radius;
-  if (s < -sh.length || std::abs(b) >= R) return false;
-  const double w = std::sqrt(R * R - b * b), ta = std::tan(sh.tipAngle), tb = std::tan(needle::kLipRampAngle);
-  // the slit opened where the bevel cuts: the bevel-side lip lifted from the plane through the sharp point by the
-  // face to the upper outline; the wall-side lip below the lower outline, which it meets only if it rises
-  const LipBound bound = side > 0 ? bevelLipFloorPointSlit3D(s, w, R, ta, tb) : wallLipCeiling3D(s, w, tb);
-  return lipHit(pose, bound, a, side, hit, axialPerLateral);
+  return slitWedge3D(sh, pose, x, side, bevelLipFloorPointSlit3D, hit, axialPerLateral);
 }
 
 bool lipWedge(const needle::NeedleShape& sh, const needle::NeedlePose& pose, const Eigen::Vector3d& x, int side,
