@@ -118,9 +118,9 @@ scenario::ParamTable<Spec> build() {
             "the insertion's deepest point; none: one velocity field across the path. Bevel tips only: a cone or a flat "
             "tip has no cutting edge and pushes the tissue aside")
       .word(&Spec::cut, "cut", {"axis", "edges"},
-            "where the parting cut runs (bevel tips, contact: cfemp): axis, the strip through the axis normal to the "
-            "bevel side, which opens each lip by half the needle (the axial force agrees with explicit 3D, a bevel's "
-            "lateral force is not resolved); edges, the lower half of the needle's surface, which the bevel's "
+            "where the parting cut of a bevel runs: axis, the strip through the axis normal to the bevel side, which "
+            "opens each lip by half the needle (the axial force agrees with explicit 3D, a bevel's lateral force is "
+            "not resolved); edges (contact: cfemp), the lower half of the needle's surface, which the bevel's "
             "cutting edges sweep from the sharp point: the face lifts what lies inside the needle's outline and the "
             "tissue below it stays, so the bevel pushes the needle away from its face (docs/models/mpm.md \"Parting "
             "contact\")")
