@@ -4,12 +4,14 @@
 // (docs/validation/agreement.md "Inputs" and "explicit 3D vs mpm on the reduced reference").
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <numbers>
 #include <sstream>
 #include <string>
 
+#include "needlesim/core/error.hpp"
 #include "needlesim/engines/memory_sink.hpp"
 #include "needlesim/scenario/reader.hpp"
 
@@ -31,8 +33,10 @@ void eraseLine(std::string& s, const std::string& line) {
 }
 
 // examples/agreement/reduced.yaml on a 1 mm grid (0.5 mm points), one thread, without the
-// model.mpm keys of the needle contact and the parting; `faces` replaces its face conditions.
-MemorySink runReducedWithDefaults(const std::string& faces) {
+// model.mpm keys of the needle contact and the parting; `faces` replaces its face conditions,
+// `tip` its bevel.
+MemorySink runReducedWithDefaults(const std::string& faces, const std::string& tip = "bevel",
+                                  const std::string& extra = "") {
   std::ifstream in(std::string(NEEDLESIM_SOURCE_DIR) + "/examples/agreement/reduced.yaml");
   std::stringstream text;
   text << in.rdbuf();
@@ -42,10 +46,14 @@ MemorySink runReducedWithDefaults(const std::string& faces) {
                            "    parting: none\n", "    grid_spacing: 0.5 mm\n", "    particle_spacing: 0.25 mm\n",
                            "    faces: {exit: fixed}\n"})
     eraseLine(s, line);
+  const auto bevel = s.find("  tip: bevel\n");
+  EXPECT_NE(bevel, std::string::npos);
+  s.replace(bevel, 12, "  tip: " + tip + "\n");
   const std::string key = "  mpm:\n";
   const auto at = s.find(key);
   EXPECT_NE(at, std::string::npos);
-  s.insert(at + key.size(), "    grid_spacing: 1 mm\n    particle_spacing: 0.5 mm\n    threads: 1\n    faces: " + faces + "\n");
+  s.insert(at + key.size(),
+           "    grid_spacing: 1 mm\n    particle_spacing: 0.5 mm\n    threads: 1\n    faces: " + faces + "\n" + extra);
   Scenario sc = scenario::readText(s, "reduced_defaults.yaml");
   sc.output.html = false;
   return runInMemory(sc);
@@ -98,4 +106,32 @@ TEST(MpmDefaults, MarkerBesideThePathStaysWithinTheElasticDragBound) {
   const double ux = out.tables.at("markers").column("beside_path_ux").back();
   EXPECT_GT(ux, 0.0) << "friction drags the marker forward";
   EXPECT_LT(ux, bound) << "marker carried along: u_x = " << ux * 1e3 << " mm, elastic bound " << bound * 1e3 << " mm";
+}
+
+// The default cut runs through the axis (needle_cut.cpp): it opens both lips by half the needle,
+// where a bevel's sharp point leaves one in place, so the bevel's lateral force is the small
+// difference of the two lips' pushes: -39 / +19 / +4 / +14 mN on the reference at 1 / 0.75 / 0.6 /
+// 0.5 mm grids against explicit 3D's -42 mN (docs/validation/agreement.md). A run with a bevel
+// says so; a cone, which the cut does not act on, does not, nor a bevel cutting along its edges
+// (model.mpm.cut: edges, held against explicit 3D by OneFrame.BevelPushesEveryNeedleToTheSameSide
+// and MpmParting.LongAgreesWithExplicit3dOnTheReducedReference).
+TEST(MpmDefaults, ABevelsLateralForceIsWarnedAsNotResolvedByTheCutThroughTheAxis) {
+  auto warned = [](const MemorySink& out) {
+    return std::any_of(out.warnings.begin(), out.warnings.end(),
+                       [](const std::string& w) { return w.find("sideways push") != std::string::npos; });
+  };
+  EXPECT_TRUE(warned(runReducedWithDefaults("{exit: fixed}")));
+  EXPECT_FALSE(warned(runReducedWithDefaults("{exit: fixed}", "conical")));
+  EXPECT_FALSE(warned(runReducedWithDefaults("{exit: fixed}", "bevel", "    cut: edges\n")));
+}
+
+// The cut along the edges lifts what the needle's outline holds through the CFEMP contact's floor
+// of the face: the grid contact has none, and the run is refused before it starts.
+TEST(MpmDefaults, TheCutAlongTheEdgesNeedsTheCfempContact) {
+  try {
+    runReducedWithDefaults("{exit: fixed}", "bevel", "    cut: edges\n    contact: grid\n");
+    FAIL() << "cut: edges with the grid contact ran";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("model.mpm.cut"), std::string::npos) << e.what();
+  }
 }

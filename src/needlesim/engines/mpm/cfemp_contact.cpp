@@ -163,6 +163,13 @@ void MpmSolver::findSurfacePairs(std::size_t r) {
   for (std::size_t p = 0; p < size(); ++p) {
     const Vec3 q(P_[p].x[0] - c0.x(), P_[p].x[1] - c0.y(), P_[p].x[2] - c0.z());
     const Vec3 xl(q.dot(e), q.dot(ys), q.dot(zs));
+    double floorGap = 0.0;
+    Vec3 fl;
+    bool onFace = false;
+    if (bevelLipFloor(r, xl, floorGap, fl, onFace)) {  // a bevel cutting along its edges lifts what its outline holds
+      if (floorGap < limit) pairs_.push_back({p, Vec3(fl.x() * e + fl.y() * ys + fl.z() * zs), onFace});
+      continue;
+    }
     const NeedleSurface::Hit hit = Sf.nearest(xl, rb.radius);
     if (hit.facet < 0 || !(hit.gap < limit)) continue;
     const Vec3& nl = Sf.n[static_cast<std::size_t>(hit.facet)];
@@ -237,7 +244,8 @@ void MpmSolver::surfaceContact(bool first) {
       Vec3 dp = -mp * vn * pr.n;  // eq 23 times dt (m_c -> infinity)
       const Vec3 rt = rel - vn * pr.n;
       const double st = rt.norm();
-      if (st > 0) dp -= contact::coulombScale(st, -rb.friction * vn) * mp * rt;  // Coulomb, as eqs 19-21
+      const double mu = pr.tip ? rb.tipFriction : rb.friction;
+      if (st > 0) dp -= contact::coulombScale(st, -mu * vn) * mp * rt;  // Coulomb, as eqs 19-21
       for (int a = 0; a < nn; ++a) {
         const double m = G.rec[NR * node[a] + kM];
         if (!(m > 0)) continue;

@@ -86,6 +86,14 @@ void checkCfempFriction(const Scenario& sc, double mu) {
                     fmt::format("{:g}, or model.mpm.contact: grid", mu));
 }
 
+// The cut along the bevel's edges lifts what lies inside the needle's outline onto its face: a
+// rule of the CFEMP contact, which resolves the needle's surface at the points.
+void checkCut(const Scenario& sc) {
+  if (sc.model.mpm.cut != "edges" || sc.model.mpm.cfemp) return;
+  throw refusal(sc, "model.mpm.cut", "edges", "the cut along the bevel's edges needs the CFEMP contact",
+                "cut: axis, or model.mpm.contact: cfemp");
+}
+
 MpmConfig solverConfig(const Scenario& sc) {
   const MpmModelSpec& m = sc.model.mpm;
   MpmConfig c;
@@ -143,8 +151,10 @@ RigidBody rigidNeedle(const Scenario& sc, const Vec3& axis) {
   n.friction = sc.tissue.layers.front().friction.coefficient;
   n.length = sc.needle.length;
   n.surfaceContact = sc.model.mpm.cfemp;            // eqs 22-24
+  n.tipFriction = sc.model.mpm.tip_friction;
   n.elementSize = sc.model.mpm.cfemp_element_size;  // d_e of eq 22
   n.parting = sc.model.mpm.parting != "none";      // needle_cut.cpp
+  n.cutAlongEdges = sc.model.mpm.cut == "edges";
   return n;
 }
 
@@ -163,6 +173,7 @@ MpmSetup mpmSetup(const Scenario& sc) {
   configureGeometry(sc, s);
   s.needle = rigidNeedle(sc, s.frame.axial);
   checkCfempFriction(sc, s.needle.friction);
+  checkCut(sc);
   if (sc.model.mpm.parting == "path") s.cutDepth = sc.maxDepth();
   placeNeedle(s.needle, s, 0.0, s.frame.bevelSide(), 0.0);
   return s;

@@ -54,6 +54,7 @@ class MpmRun {
   void emitMarkers(bool stopped);
   void emitEnergy();
   void runNotes(double seconds);
+  void warnUnresolvedLateralForce();
 
   std::chrono::steady_clock::time_point wall0_ = std::chrono::steady_clock::now();
   const Scenario& sc_;

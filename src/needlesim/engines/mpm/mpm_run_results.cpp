@@ -151,11 +151,27 @@ void MpmRun::runNotes(double seconds) {
     sink_.note(fmt::format("Sliding inclusions are a second body in penalty contact with the tissue (Coulomb {:g}, "
                            "penalty_contact.hpp).",
                            c.friction));
+  warnUnresolvedLateralForce();
   for (const auto& seg : sc_.insertion.segments)
     if (seg.kind == MotionSegment::Kind::Rotate && !seg.axial) {
       sink_.warning("In-plane base rotations are not modelled by mpm: the needle only translates along its axis.");
       break;
     }
+}
+
+// A bevel with the parting cut through the axis (model.mpm.cut: axis): the strip opens both lips
+// by half the needle, where the bevel's sharp point leaves the wall-side lip in place and the face
+// lifts the other by the whole needle. The wall pressure, and so the axial force, follows the total
+// opening and agrees with explicit 3D; the lateral force is the small difference of the two lips'
+// pushes and its sign changes with the grid (docs/validation/agreement.md "explicit 3D vs mpm").
+void MpmRun::warnUnresolvedLateralForce() {
+  const MpmModelSpec& m = sc_.model.mpm;
+  if (sc_.needle.tip != TipType::Bevel || m.parting == "none" || m.cut != "axis") return;
+  sink_.warning(
+      "mpm's cut runs through the needle's axis (model.mpm.cut: axis): the axial force agrees with explicit 3D; the "
+      "bevel's sideways push (force_lateral, and the tissue it moves across the needle) is not resolved, its sign "
+      "changes with the grid; cut: edges, which cuts where the bevel's edges pass, gives it (docs/validation/"
+      "agreement.md \"explicit 3D vs mpm\").");
 }
 
 }  // namespace needlesim::engines

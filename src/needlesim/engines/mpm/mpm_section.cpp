@@ -117,6 +117,20 @@ scenario::ParamTable<Spec> build() {
             "cut from the entry to where the tip reaches the plane, as it advances; path: pre-cut from the entry to "
             "the insertion's deepest point; none: one velocity field across the path. Bevel tips only: a cone or a flat "
             "tip has no cutting edge and pushes the tissue aside")
+      .word(&Spec::cut, "cut", {"axis", "edges"},
+            "where the parting cut of a bevel runs: axis, the strip through the axis normal to the bevel side, which "
+            "opens each lip by half the needle (the axial force agrees with explicit 3D, a bevel's lateral force is "
+            "not resolved); edges (contact: cfemp), the lower half of the needle's surface, which the bevel's "
+            "cutting edges sweep from the sharp point: the face lifts what lies inside the needle's outline and the "
+            "tissue below it stays, so the bevel pushes the needle away from its face (docs/models/mpm.md \"Parting "
+            "contact\")")
+      .derived(&Spec::tip_friction, "tip_friction", D::None, nonNegative(), "tissue friction.coefficient",
+               [](const Spec&, const Scenario& sc) {
+                 return sc.tissue.layers.empty() ? 0.0 : sc.tissue.layers.front().friction.coefficient;
+               },
+               "CFEMP: Coulomb coefficient on the tip's surface (the bevel face, the cone), the shaft's being the "
+               "tissue's friction.coefficient (seed 000: one coefficient, the default; seed 001 and explicit 3D's "
+               "tip_friction: a frictionless tip, 0)")
       .number(&Spec::flip, "flip", closed(0.0, 1.0), "FLIP fraction of the particle velocity update (1 = seed 000 eq 4, 0 = PIC)")
       .number(&Spec::time_step_factor, "time_step_factor", openClosed(0.0, 1.0),
               "k_t of seed 000 eq 26 (time step = k_t times the eq 25 limit)")

@@ -49,6 +49,10 @@ struct MpmModelSpec {
   // The tissue parts along the needle's cut: "tip" (from the entry to where the tip reaches the cut's
   // plane), "path" (pre-cut from the entry to the insertion's deepest point) or "none" (one velocity field).
   std::string parting = "tip";
+  // Where the cut runs: "axis" (the strip through the axis, each lip opened by half the needle) or
+  // "edges" (the lower half of the needle's surface, which the bevel's cutting edges sweep).
+  std::string cut = "axis";
+  double tip_friction = 0.0;         // CFEMP: Coulomb coefficient on the tip's surface (default: the tissue's)
   double flip = 1.0;                 // FLIP fraction (1 = eq 4)
   double time_step_factor = 0.4;     // k_t, eq 26
   double mass_scaling = 1.0;         // factor on the particle masses (eq 28 discussion)

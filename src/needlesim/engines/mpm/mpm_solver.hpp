@@ -183,6 +183,7 @@ class MpmSolver {
   GridSums cutGridSums(std::size_t p, std::size_t off, bool usl) const;           // g2pFinal
   int cutSurfaceWeights(std::size_t p, std::size_t* node, double* w) const;       // surfaceContact
   bool wallLipNormal(std::size_t r, const Vec3& x, Vec3& n) const;                // rigidContactAt, findSurfacePairs
+  bool bevelLipFloor(std::size_t r, const Vec3& xl, double& gap, Vec3& nl, bool& onFace) const;  // findSurfacePairs
   void zeroGrid(int t, int T);
   void stress(std::size_t p, const Mat3& F, double& energy, double& wave);
   void fbarStress(double& ei, double& vmax);  // fbar.cpp

@@ -1,9 +1,10 @@
 // The needle's cut in the material point method: the tissue parts along the
 // strip of the plane through the needle axis normal to the bevel side that the
 // needle has passed (from its base to where the tip reaches the plane, as wide
-// as the needle; explicit 3D's pre-cut slit, as wide, runs through the sharp point).
-// A point does not reach the support nodes whose segment to it
-// crosses the strip, and its weights over the nodes it reaches are
+// as the needle; explicit 3D's pre-cut slit, as wide, runs through the sharp point),
+// or (model.mpm.cut: edges) along the lower half of the needle's surface that
+// the bevel's cutting edges have swept. A point does not reach the support
+// nodes whose segment to it crosses the cut, and its weights over the nodes it reaches are
 // renormalised (the visibility criterion of meshfree crack models, Belytschko
 // et al. 1995, in the per-node field form of CRAMP, Nairn 2003): the two lips
 // scatter to and gather from separate nodes, so the grid velocity field is
@@ -48,15 +49,47 @@ constexpr double kMinVisibleWeight = 0.25;
 // parts the tissue where its face first reaches the plane, front(b) =
 // sqrt(R^2 - b^2) / tan(alpha) ahead of the sharp point's plane; other tips
 // at their tip plane.
+//
+// Along the edges: the face's outline is the needle's surface, so its edges
+// cut the tissue along the lower half of that surface {r = R, a <= 0} (r, a, b
+// from the axis, a along the bevel side) behind the face, a <= -R - s tan(alpha)
+// (s from the sharp point's plane). What lies inside the outline is lifted by
+// the face onto the needle (MpmSolver::bevelLipFloor), the tissue below stays,
+// and the lift 2 sqrt(R^2 - b^2) vanishes where the cut meets the uncut tissue
+// beside the needle, where the strip's lip would be torn by R.
 struct CutStrip {
   Vec3 c, e, t, n;
   double halfWidth, length, cotBevel, onPlane;
+  bool edges;
+  double tanBevel;
   explicit CutStrip(const RigidBody& rb)
       : c(rb.axisPoint() + rb.cutAhead * rb.axis), e(rb.axis), n(rb.bevelSide), halfWidth(rb.radius),
         length(rb.length + rb.cutAhead),
-        cotBevel(rb.tip == RigidBody::Tip::Bevel ? 1.0 / std::tan(rb.tipAngle) : 0.0), onPlane(1e-9 * rb.radius) {
+        cotBevel(rb.tip == RigidBody::Tip::Bevel ? 1.0 / std::tan(rb.tipAngle) : 0.0), onPlane(1e-9 * rb.radius),
+        edges(rb.cutAlongEdges), tanBevel(std::tan(rb.tipAngle)) {
     t = e.cross(n);
     t.normalize();
+  }
+  // Whether a point (rel to c) lies within a support's reach of the cut.
+  bool near(const Vec3& rel, double reach) const {
+    const double dp = rel.dot(n), s = rel.dot(e), b = rel.dot(t);
+    if (edges) return std::hypot(dp, b) <= halfWidth + reach && s <= reach && s >= -length - reach;
+    return std::abs(dp) <= reach && s <= reach + front(0.0) && s >= -length - reach && std::abs(b) <= halfWidth + reach;
+  }
+  // Whether the segment from x to y crosses the lower half of the needle's
+  // surface behind the face: the roots of r(t) = R on it.
+  bool crossesEdges(const Vec3& x, const Vec3& y) const {
+    const Vec3 q = x - c, d = y - x;
+    const double qa = q.dot(n), qb = q.dot(t), da = d.dot(n), db = d.dot(t), R = halfWidth;
+    const double A = da * da + db * db, B = qa * da + qb * db, C = qa * qa + qb * qb - R * R;
+    const double disc = B * B - A * C;
+    if (!(A > 0) || disc < 0) return false;
+    for (const double sign : {-1.0, 1.0}) {
+      const double u = (-B + sign * std::sqrt(disc)) / A;
+      const double a = qa + u * da, s = q.dot(e) + u * d.dot(e);  // s from the sharp point's plane
+      if (u >= 0 && u <= 1 && a <= 0 && s >= -length && s * tanBevel <= -R - a) return true;
+    }
+    return false;
   }
   double front(double b) const { return cotBevel * std::sqrt(std::max(0.0, halfWidth * halfWidth - b * b)); }
   // The bevel side of the plane, a point on it (to rounding) included: a needle turned by
@@ -64,6 +97,7 @@ struct CutStrip {
   bool bevelSide(double d) const { return d >= -onPlane; }
   // Whether the segment from the point x (side value dp) to the node y crosses the strip.
   bool crosses(const Vec3& x, double dp, const Vec3& y) const {
+    if (edges) return crossesEdges(x, y);
     const double dn = (y - c).dot(n);
     if (bevelSide(dp) == bevelSide(dn)) return false;
     const Vec3 at = x + (dp / (dp - dn)) * (y - x);
@@ -98,10 +132,9 @@ void MpmSolver::planCut() {
 #pragma omp parallel for schedule(static) num_threads(nthreads_)
   for (std::size_t p = 0; p < np; ++p) {
     const Vec3 x = position(p), rel = x - cut.c;
-    const double dp = rel.dot(cut.n), s = rel.dot(cut.e);
+    const double dp = rel.dot(cut.n);
     std::uint32_t mask = 0;
-    if (std::abs(dp) <= reach && s <= reach + cut.front(0.0) && s >= -cut.length - reach &&
-        std::abs(rel.dot(cut.t)) <= cut.halfWidth + reach) {
+    if (cut.near(rel, reach)) {
       double w[3][3], dw[3][3];
       int base[3];
       for (int d = 0; d < 3; ++d) {
@@ -234,12 +267,48 @@ void MpmSolver::gatherCutPoint(std::size_t p, std::size_t off, bool usl, double*
 // ramp a = -R + s tan 30 deg (needle::kLipRampAngle), whose outward normal
 // sin(30) e - cos(30) bevelSide replaces the bevel face's. The face's own
 // normal would push that lip across the needle's path, to the bevel side, and
-// drive it ahead of the tip. Returns whether n was replaced.
+// drive it ahead of the tip. With the cut along the edges the tissue outside
+// the needle's outline below the axis plane meets the face's edge, which runs
+// along the outline: it gets the outline's normal, radial from the axis.
+// Returns whether n was replaced.
 bool MpmSolver::wallLipNormal(std::size_t r, const Vec3& x, Vec3& n) const {
   if (static_cast<int>(r) != cutRigid_) return false;
   const RigidBody& rb = rigids_[r];
-  if (rb.tip != RigidBody::Tip::Bevel || (x - rb.axisPoint()).dot(rb.bevelSide) >= -1e-9 * rb.radius) return false;
+  const Vec3 q = x - rb.axisPoint();
+  const double a = q.dot(rb.bevelSide);
+  if (rb.tip != RigidBody::Tip::Bevel || a >= -1e-9 * rb.radius) return false;
+  if (rb.cutAlongEdges) {
+    const Vec3 radial = q - q.dot(rb.axis) * rb.axis;
+    if (radial.norm() < rb.radius) return false;
+    n = radial.normalized();
+    return true;
+  }
   n = std::sin(needle::kLipRampAngle) * rb.axis - std::cos(needle::kLipRampAngle) * rb.bevelSide;
+  return true;
+}
+
+// A bevel cutting along its edges (rigid r), seen from a point inside the
+// needle's outline (|b| < R, a >= -sqrt(R^2 - b^2)) behind the sharp point: the
+// face lifts it, as explicit 3D's face lifts its slit's lip
+// (engines/explicit/cohesive_wedge.cpp): its floor is the face's plane
+// a = -R - s tan(alpha) up to the upper outline a = sqrt(R^2 - b^2). The
+// needle's own nearest facet would push the points beside the lower outline
+// down, across the cut. xl: the point in NeedleSurface's frame (s along the
+// axis from the sharp point's plane, a along bevelSide from the axis, b).
+// Above the axis plane behind the face the needle's own surface is the floor
+// and this returns false, as for points outside the outline or ahead of the
+// sharp point. gap: signed (negative below the floor); nl: the floor's outward
+// normal in that frame; onFace: the face (tip) or the outline.
+bool MpmSolver::bevelLipFloor(std::size_t r, const Vec3& xl, double& gap, Vec3& nl, bool& onFace) const {
+  if (static_cast<int>(r) != cutRigid_ || !rigids_[r].cutAlongEdges) return false;
+  const RigidBody& rb = rigids_[r];
+  const double R = rb.radius, s = xl.x(), a = xl.y(), b = xl.z();
+  if (rb.tip != RigidBody::Tip::Bevel || std::abs(b) >= R || s > 0.0 || s < -rb.length) return false;
+  const double w = std::sqrt(R * R - b * b), face = -R - s * std::tan(rb.tipAngle);
+  onFace = face < w;
+  if (a < -w || (!onFace && a >= 0.0)) return false;
+  gap = a - std::min(face, w);
+  nl = onFace ? Vec3(std::sin(rb.tipAngle), std::cos(rb.tipAngle), 0.0) : Vec3(0.0, 1.0, 0.0);
   return true;
 }
 

@@ -22,6 +22,7 @@ struct RigidBody {
   double tipAngle = 0.35;       // rad: cone half-angle / bevel angle to the axis
   Vec3 velocity = Vec3::Zero(); // m/s
   double friction = 0.0;        // Coulomb coefficient against the tissue (eq 20)
+  double tipFriction = 0.0;     // CFEMP: on the tip's surface
   bool surfaceContact = false;  // needle: CFEMP particle-to-surface contact (eqs 22-24) instead of grid contact
   double length = 0.04;         // needle: length tip to base, m (CFEMP surface)
   double elementSize = 0.0;     // CFEMP: d_e of the gap rule g < (d_e + d_p)/2 (eq 22), m
@@ -29,6 +30,9 @@ struct RigidBody {
   // reaches a node across the strip of the plane through the axis normal to
   // bevelSide, as wide as the needle, that it has passed: the lips move apart.
   bool parting = false;
+  // parting: the cut runs along the lower half of the needle's surface behind the bevel's face
+  // (the path of its cutting edges) instead of the strip through the axis.
+  bool cutAlongEdges = false;
   double cutAhead = 0.0;        // parting: the cut reaches this far ahead of the tip plane (a pre-cut path), m
   // Signed distance (negative inside), the outward unit normal at the nearest
   // face, and which part is nearest (0 shaft or plane, 1 tip).
