@@ -3,6 +3,7 @@
 // the budget, and the zero-force warning.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -140,6 +141,26 @@ TEST(StepGuard, EveryExampleEngineEstimatesItsTime) {
   const StepEstimate gland = preflight(scenario::readFile(std::string(NEEDLESIM_SOURCE_DIR) +
                                                           "/examples/anatomy/prostate_tumour_mpm.yaml"));
   EXPECT_EQ(gland.updatesPerStep, 44223.0);  // as the run reports (results: particles)
+}
+
+// The bonded tip (model.explicit.tip: bonded, one static solve) is costed as every 2D explicit run,
+// by its elements (the 24 x 24 mm block in 0.2 mm quads, less the squares inside the tip), and its
+// run announces the estimate as the others do.
+TEST(StepGuard, TheBondedTipEstimatesItsTimeAndAnnouncesIt) {
+  const std::string f = "cohesive/seed004_fig13a_bonded_tip.yaml";
+  const Scenario sc = scenario::readText(exampleText(f), f);
+  const StepEstimate e = preflight(sc);
+  EXPECT_EQ(e.steps, 1.0);
+  EXPECT_GT(e.updatesPerStep, 14000.0);
+  EXPECT_LE(e.updatesPerStep, 120.0 * 120.0);
+  ASSERT_TRUE(std::isfinite(e.seconds));
+  EXPECT_DOUBLE_EQ(e.seconds, run_cost::kRunSeconds + e.updatesPerStep * (run_cost::kExplicitSetupPerElement +
+                                                                          run_cost::kExplicitPlaneElement));
+  const MemorySink run = runInMemory(sc);
+  const auto announced = std::count_if(run.notes.begin(), run.notes.end(), [&](const std::string& n) {
+    return n.find("Estimated before the run: " + e.text()) != std::string::npos;
+  });
+  EXPECT_EQ(announced, 1) << e.text();
 }
 
 TEST(StepGuard, ZeroForceWithTheTipInsideIsAWarning) {
