@@ -3,6 +3,7 @@
 // the budget, and the zero-force warning.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <fstream>
 #include <sstream>
@@ -11,6 +12,7 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/engine.hpp"
 #include "needlesim/engines/memory_sink.hpp"
+#include "needlesim/engines/mpm/mpm_engine.hpp"
 #include "needlesim/engines/run_cost.hpp"
 #include "needlesim/engines/step_guard.hpp"
 #include "needlesim/scenario/reader.hpp"
@@ -128,6 +130,10 @@ TEST(StepGuard, EstimateSecondsFromThePlansCosts) {
   p.threads = 3;
   EXPECT_DOUBLE_EQ(guardSteps(sc, p).seconds,
                    run_cost::kRunSeconds + 2.0 + steps * 1.5 * (1e-4 + 100 * 1e-6) / (1.0 + 2 * run_cost::kParallelEfficiency));
+  p.serialSecondsPerStep = 3e-5;  // one thread's part, whatever the threads
+  EXPECT_DOUBLE_EQ(guardSteps(sc, p).seconds,
+                   run_cost::kRunSeconds + 2.0 +
+                       steps * 1.5 * ((1e-4 + 100 * 1e-6) / (1.0 + 2 * run_cost::kParallelEfficiency) + 3e-5));
 }
 
 // Every engine's plan gives a time; mpm counts the points its filling rule keeps (the imported
@@ -140,6 +146,51 @@ TEST(StepGuard, EveryExampleEngineEstimatesItsTime) {
   const StepEstimate gland = preflight(scenario::readFile(std::string(NEEDLESIM_SOURCE_DIR) +
                                                           "/examples/anatomy/prostate_tumour_mpm.yaml"));
   EXPECT_EQ(gland.updatesPerStep, 44223.0);  // as the run reports (results: particles)
+}
+
+// mpm's steps grow by its needle contact (run_cost.hpp): with CFEMP the lips the bevel parts hardly
+// stiffen in a wide block (organ_block_1m took 1341 steps for its first step's 1086), more where the
+// shaft's drag compresses a narrow one, and most with grid contact, which acts a cell into the
+// tissue. The contact's own work per step: the cut's strip tests shared by the threads, CFEMP's
+// pair search on one.
+TEST(StepGuard, MpmCostsItsNeedleContact) {
+  const std::string f = "mpm/organ_block_1m.yaml";
+  const auto plan = [&](const std::string& from, const std::string& to) {
+    return engines::mpmStepPlan(edited(f, from, to));
+  };
+  const std::string contact = "field_interval: 0 s";
+  const StepPlan cfemp = plan(contact, contact);
+  const StepPlan grid = plan(contact, contact + "\n    contact: grid");
+  const StepPlan narrow = plan("width: 50 mm, height: 50 mm", "width: 10 mm, height: 10 mm");
+  const StepPlan whole = plan(contact, contact + "\n    parting: none");
+  EXPECT_LT(cfemp.stepGrowth, 1.5 * 1341.0 / 1086.0);
+  EXPECT_GT(cfemp.stepGrowth, 1341.0 / 1086.0 / 1.5);
+  EXPECT_GT(narrow.stepGrowth, 1.1 * cfemp.stepGrowth);
+  EXPECT_GT(grid.stepGrowth, 1.5 * cfemp.stepGrowth);
+  EXPECT_GT(cfemp.serialSecondsPerStep, 0.0);  // CFEMP's pair search
+  EXPECT_EQ(grid.serialSecondsPerStep, 0.0);
+  EXPECT_GT(cfemp.secondsPerStep, 0.0);  // the cut's strip
+  EXPECT_EQ(whole.secondsPerStep, 0.0);
+}
+
+// The bonded tip (model.explicit.tip: bonded, one static solve) is costed as every 2D explicit run,
+// by its elements (the 24 x 24 mm block in 0.2 mm quads, less the squares inside the tip), and its
+// run announces the estimate as the others do.
+TEST(StepGuard, TheBondedTipEstimatesItsTimeAndAnnouncesIt) {
+  const std::string f = "cohesive/seed004_fig13a_bonded_tip.yaml";
+  const Scenario sc = scenario::readText(exampleText(f), f);
+  const StepEstimate e = preflight(sc);
+  EXPECT_EQ(e.steps, 1.0);
+  EXPECT_GT(e.updatesPerStep, 14000.0);
+  EXPECT_LE(e.updatesPerStep, 120.0 * 120.0);
+  ASSERT_TRUE(std::isfinite(e.seconds));
+  EXPECT_DOUBLE_EQ(e.seconds, run_cost::kRunSeconds + e.updatesPerStep * (run_cost::kExplicitSetupPerElement +
+                                                                          run_cost::kExplicitPlaneElement));
+  const MemorySink run = runInMemory(sc);
+  const auto announced = std::count_if(run.notes.begin(), run.notes.end(), [&](const std::string& n) {
+    return n.find("Estimated before the run: " + e.text()) != std::string::npos;
+  });
+  EXPECT_EQ(announced, 1) << e.text();
 }
 
 TEST(StepGuard, ZeroForceWithTheTipInsideIsAWarning) {

@@ -67,7 +67,8 @@ inline void costRealtime(StepPlan& p, const std::string& solver, int dim, double
 inline constexpr double kSteeringStep = 2.0e-5;
 
 // explicit: one element's internal force per step, by element (plane quad4/tri3, hex8, tet4),
-// and the set-up (mesh, masses, cohesive surfaces) per element.
+// and the set-up (mesh, masses, cohesive surfaces; the bonded tip's assembly and factorisation) per
+// element.
 inline constexpr double kExplicitPlaneElement = 1.6e-7;
 inline constexpr double kExplicitHex8Element = 3.1e-7;
 inline constexpr double kExplicitTet4Element = 1.25e-7;
@@ -76,18 +77,41 @@ inline constexpr double kExplicitSetupPerElement = 1.0e-5;
 // mpm: one material point per step (scatter, grid update, gather, stress) and its set-up and
 // field output. Eq 26's step shrinks as the tissue the needle compresses stiffens: a run takes
 // kMpmGrowth times the first step's count, plus, for a strain-stiffening (Fung) tissue,
-// k x (travel / h) x (diameter / h) (h the grid spacing): k = kMpmGrowthPloughing where the
+// k x (travel / h) x (d_c / h) (h the grid spacing, d_c the needle's diameter plus CFEMP's
+// model.mpm.cfemp_element_size, eq 22's reach), k by contact kind: kMpmGrowthPloughing where the
 // needle pushes the tissue aside (a conical tip, or parting: none), kMpmGrowthParting where a
-// bevel parts it along its cut. A sliding inclusion's pair contact (shorter steps, and the pair
-// search each step) costs kMpmSliding times more. Measured: neo-Hookean tissues 1.06-1.26 times
-// the first step's count, Fung 1.1-5.7 (seed000_fracture_onset, conical, 16 mm at 0.8 mm); the
-// sliding tumour of tumour_target (the one example with a sliding interface): 2.9 times the
-// first step's count at 1.5 times the cost per point-step of the others.
-inline constexpr double kMpmPoint = 1.2e-7;
+// bevel parts it along its cut with grid contact, and with CFEMP, whose parted lips hardly
+// stiffen in a wide block, kMpmGrowthCfempParting + kMpmGrowthCfempDrag x the block's drag strain
+// mu_f pi d_c travel / (width x height) (the shaft's friction compresses a narrow block). A
+// sliding inclusion's pair contact (shorter steps, and the pair search each step) costs
+// kMpmSliding times more. Measured: neo-Hookean tissues 1.02-1.10 times the first step's count;
+// Fung, ploughing 2.0-5.7 (k 0.19-0.20: quick_needle_block, global_model, seed000_fracture_onset);
+// grid-contact parting k 0.04 (organ_block_1m shortened, grid contact); CFEMP parting k 0.0026 at
+// drag strain 0.010 (organ_block_1m, 1341 steps for 1086), 0.0028 at 0.065 (the same, 30 x 20 x 20
+// mm), 0.011-0.013 at 0.26 (50 and 30 x 10 x 10 mm) and 0.017 at 0.26 (local_model); the sliding
+// tumour of tumour_target (the one example with a sliding interface): 2.9 times the first step's
+// count at 1.5 times the cost per point-step of the others.
+inline constexpr double kMpmPoint = 1.05e-7;
 inline constexpr double kMpmSetupPerPoint = 2.0e-6;
 inline constexpr double kMpmGrowth = 1.15;
 inline constexpr double kMpmGrowthPloughing = 0.2;
 inline constexpr double kMpmGrowthParting = 0.04;
+inline constexpr double kMpmGrowthCfempParting = 0.0022;
+inline constexpr double kMpmGrowthCfempDrag = 0.045;
 inline constexpr double kMpmSliding = 2.2;
+// mpm's needle contact per step, beyond kMpmPoint (the passes and grid contact), from `perf
+// record` on one thread of organ_block_1m (1e6 points: the scans 6 % each of the step), of it in a
+// 50 x 10 x 10 mm block and of local_model (the facet tests 15-20 %, the strip 3-4 %): the parting
+// cut (needle_cut.cpp) tests every point against the cut's strip (kMpmCutScan) and, for the points
+// within a support's reach of it, each support node's segment, and gives them renormalised
+// supports in the passes (kMpmCutStripPoint); CFEMP (cfemp_contact.cpp, serial) puts every point in
+// the needle frame and its bucket (kMpmCfempScan) and tests the points in the needle's buckets
+// against each facet there (kMpmFacetTest per point and facet), along the needle's mean length in
+// the tissue. kMpmPoint is the rest of those steps (105-115 ns a point-step) and of
+// global_model's (grid contact).
+inline constexpr double kMpmCutScan = 8.0e-9;
+inline constexpr double kMpmCutStripPoint = 7.0e-8;
+inline constexpr double kMpmCfempScan = 1.0e-8;
+inline constexpr double kMpmFacetTest = 8.0e-9;
 
 }  // namespace needlesim::run_cost

@@ -153,7 +153,7 @@ StepEstimate estimate(const Scenario& sc, const StepPlan& plan) {
   const double perStep = plan.secondsPerStep + plan.updatesPerStep * plan.secondsPerUpdate;
   if (perStep > 0.0)
     e.seconds = run_cost::kRunSeconds + plan.setupSeconds +
-                e.steps * plan.stepGrowth * perStep / run_cost::speedUp(plan.threads);
+                e.steps * plan.stepGrowth * (perStep / run_cost::speedUp(plan.threads) + plan.serialSecondsPerStep);
   return e;
 }
 

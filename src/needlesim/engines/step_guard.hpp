@@ -40,11 +40,13 @@ struct StepPlan {
   double steps = 0.0;
   // Cost for a time estimate (the constants: engines/run_cost.hpp): updates (points,
   // elements, nodes) per step; CPU seconds of one update and of the rest of a step on one
-  // thread; the set-up before the first step; the threads that share the steps.
+  // thread (shared by the threads, or serial); the set-up before the first step; the threads
+  // that share the steps.
   double updatesPerStep = 0.0;
   std::string updates;           // "points", "elements"
   double secondsPerUpdate = 0.0;
   double secondsPerStep = 0.0;
+  double serialSecondsPerStep = 0.0;  // the part of a step one thread does whatever the threads
   double setupSeconds = 0.0;
   int threads = 1;
   // Adaptive steps: the steps the time assumes per step of the first step's count (the step

@@ -13,6 +13,7 @@
 
 #include "needlesim/core/error.hpp"
 #include "needlesim/engines/realtime2d/fe.hpp"
+#include "needlesim/engines/run_cost.hpp"
 #include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/io/table.hpp"
 #include "needlesim/materials/material_spec.hpp"
@@ -194,6 +195,12 @@ StepPlan bondedTipStepPlan(const Scenario& sc) {
   p.spacing = sc.model.explicit_fe.element_size;
   p.spacingName = "the grid spacing (model.explicit.element_size)";
   p.fewerSteps = "nothing: one static solve";
+  // The cost of every 2D explicit run (run_cost.hpp): the set-up per element (here the assembly
+  // and the sparse factorisation) and one step of every element.
+  p.updatesPerStep = static_cast<double>(tissueElements(tipGrid(inputFrom(sc))).size());
+  p.updates = "elements";
+  p.secondsPerUpdate = run_cost::kExplicitPlaneElement;
+  p.setupSeconds = run_cost::kExplicitSetupPerElement * p.updatesPerStep;
   return p;
 }
 

@@ -37,7 +37,7 @@ BondedTipForces solveBondedTip(const BondedTipInput& in);
 // layer, the profile's travel and model.explicit.element_size; results P, Q, q_x, q_y (times the slab
 // thickness, the needle diameter, as every 2D explicit result) and a one-row table bonded_tip.
 void runBondedTip(const Scenario& sc, ResultSink& sink);
-// The run's step plan: one static solve.
+// The run's step plan: one static solve, costed as every 2D explicit run by its elements (run_cost.hpp).
 StepPlan bondedTipStepPlan(const Scenario& sc);
 
 }  // namespace needlesim::explicit_fe

@@ -141,7 +141,10 @@ void runExplicit(const Scenario& sc, ResultSink& sink, const RunOptions& options
 #ifdef _OPENMP
   if (sc.model.explicit_fe.threads > 0) omp_set_num_threads(sc.model.explicit_fe.threads);
 #endif
-  if (sc.model.explicit_fe.tip == "bonded") return explicit_fe::runBondedTip(sc, sink);
+  if (sc.model.explicit_fe.tip == "bonded") {
+    guardAndAnnounce(sc, explicit_fe::bondedTipStepPlan(sc), sink, options);
+    return explicit_fe::runBondedTip(sc, sink);
+  }
   std::optional<explicit_fe::ExplicitRun> run;
   {
     const BlockingCall setUp("explicit: setting up the mesh and the needle");

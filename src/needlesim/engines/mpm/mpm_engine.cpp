@@ -7,14 +7,19 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
+#include <tuple>
+#include <utility>
 
 #ifdef _OPENMP
 #include <omp.h>
 #endif
 
 #include "needlesim/core/error.hpp"
+#include "needlesim/engines/mpm/cfemp_contact.hpp"
 #include "needlesim/engines/mpm/geometry_fill.hpp"
 #include "needlesim/engines/run_cost.hpp"
+#include "needlesim/insertion/motion_profile.hpp"
 #include "needlesim/mesh/volume_mesh.hpp"
 #include "needlesim/tissue/regions.hpp"
 
@@ -198,23 +203,72 @@ double materialPoints(const Scenario& sc, const MpmSetup& s) {
   return n;
 }
 
+// The drag strain of the block (run_cost.hpp): the shaft's friction over the block's cross-section,
+// mu_f pi d_c travel / (width x height), d_c the needle's contact diameter.
+double dragStrain(const Scenario& sc, double contactDiameter, double travel) {
+  const TissueSpec& t = sc.tissue;
+  const double mu = t.layers.front().friction.coefficient;
+  return mu * std::numbers::pi * contactDiameter * travel / (t.width * t.height);
+}
+
 // The steps a run takes per step of the first step's count (run_cost.hpp): a strain-stiffening
-// tissue the needle compresses shortens eq 26's step; a sliding inclusion's pair contact shortens
-// it and adds its pair search.
+// tissue the needle compresses shortens eq 26's step, by contact kind (grid contact ploughing or
+// parting, CFEMP parting growing with the block's drag strain); a sliding inclusion's pair contact
+// shortens it and adds its pair search.
 double mpmStepGrowth(const Scenario& sc, const MpmSetup& s) {
   using namespace run_cost;
   double growth = kMpmGrowth;
   const bool stiffens = std::any_of(s.materials.begin(), s.materials.end(),
                                     [](const MpmMaterial& m) { return m.law.kind == materials::LawKind::Fung; });
   if (stiffens) {
-    const bool parts = sc.needle.tip == TipType::Bevel && sc.model.mpm.parting != "none";
-    const double h = s.config.h;
-    const double cells = std::max(0.0, sc.maxDepth() - sc.insertion.start_depth) / h * sc.needle.outer_diameter / h;
-    growth += (parts ? kMpmGrowthParting : kMpmGrowthPloughing) * cells;
+    const MpmModelSpec& m = sc.model.mpm;
+    const bool parts = sc.needle.tip == TipType::Bevel && m.parting != "none";
+    const double h = s.config.h, travel = std::max(0.0, sc.maxDepth() - sc.insertion.start_depth);
+    const double d = sc.needle.outer_diameter + (m.cfemp ? m.cfemp_element_size : 0.0);  // eq 22's contact reach
+    const double cells = travel / h * d / h;
+    const double k = !parts   ? kMpmGrowthPloughing
+                     : m.cfemp ? kMpmGrowthCfempParting + kMpmGrowthCfempDrag * dragStrain(sc, d, travel)
+                               : kMpmGrowthParting;
+    growth += k * cells;
   }
   const auto& inc = sc.tissue.inclusions;
   if (std::any_of(inc.begin(), inc.end(), [](const InclusionSpec& i) { return i.sliding; })) growth *= kMpmSliding;
   return growth;
+}
+
+// The needle's length in the tissue averaged over the motion (the steps are about even in time).
+double meanInsertedLength(const Scenario& sc) {
+  const MotionProfile motion(sc.insertion);
+  constexpr int kSamples = 256;
+  double sum = 0.0;
+  for (int i = 0; i < kSamples; ++i) sum += std::max(0.0, motion.at((i + 0.5) / kSamples * motion.duration()).depth);
+  return sum / kSamples;
+}
+
+// The needle contact's CPU seconds per step on one thread, averaged over the run (run_cost.hpp), as
+// {parallel, serial}: the cut's strip test of every point (planCut) and the crossing tests and
+// renormalised supports of the points in reach of the strip; CFEMP's serial pair search, a bucket
+// test of every point and the facet tests of the points in the needle surface's buckets
+// (NeedleSurface::nearest) along the length in the tissue.
+std::pair<double, double> mpmContactSeconds(const Scenario& sc, const MpmSetup& s, double points) {
+  using namespace run_cost;
+  const MpmModelSpec& m = sc.model.mpm;
+  const RigidBody& n = s.needle;
+  const double dp = m.particle_spacing, h = s.config.h, inserted = meanInsertedLength(sc);
+  double parallel = 0.0, serial = 0.0;
+  if (n.tip == RigidBody::Tip::Bevel && n.parting) {  // needle_cut.cpp
+    const double reach = (s.config.shape == Shape::Linear ? 1.0 : 1.5) * std::sqrt(3.0) * h;
+    const double strip = 2 * reach * 2 * (n.radius + reach) * (inserted + 2 * reach) / (dp * dp * dp);
+    parallel += kMpmCutScan * points + kMpmCutStripPoint * std::min(points, strip);
+  }
+  if (n.surfaceContact) {  // cfemp_contact.cpp
+    NeedleSurface surface;
+    surface.build(n, dp, 0.5 * dp, h);
+    const double perLength = static_cast<double>(surface.items.size()) / surface.dim[0] * surface.cell * surface.cell /
+                             (dp * dp * dp);  // facet tests per metre of needle in the tissue
+    serial += kMpmCfempScan * points + kMpmFacetTest * perLength * inserted;
+  }
+  return {parallel, serial};
 }
 
 // The threads of the point loops (mpm_solver.cpp): model.mpm.threads, else OpenMP's default.
@@ -256,6 +310,7 @@ StepPlan mpmStepPlan(const Scenario& sc) {
   p.updates = "points";
   if (!m.cuda) {  // run_cost.hpp holds the CPU's costs; a GPU run gets the step count alone
     p.secondsPerUpdate = run_cost::kMpmPoint;
+    std::tie(p.secondsPerStep, p.serialSecondsPerStep) = mpmContactSeconds(sc, s, p.updatesPerStep);
     p.setupSeconds = run_cost::kMpmSetupPerPoint * p.updatesPerStep;
     p.stepGrowth = mpmStepGrowth(sc, s);
     p.threads = mpmThreads(s);
