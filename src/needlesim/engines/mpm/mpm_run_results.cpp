@@ -170,7 +170,7 @@ void MpmRun::warnUnresolvedLateralForce() {
   sink_.warning(
       "mpm's cut runs through the needle's axis (model.mpm.cut: axis): the axial force agrees with explicit 3D; the "
       "bevel's sideways push (force_lateral, and the tissue it moves across the needle) is not resolved, its sign "
-      "changes with the grid; cut: edges, which cuts where the bevel's edges pass, gives it (docs/validation/"
+      "changes with the grid; cut: edges, which cuts where the bevel's edges pass, gives its sign (docs/validation/"
       "agreement.md \"explicit 3D vs mpm\").");
 }
 
