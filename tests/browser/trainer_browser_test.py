@@ -261,9 +261,9 @@ def check_plot(dt):
     events = dt.eval('document.getElementById("events").textContent')
     deepest = max(range(len(s)), key=lambda i: s[i][1])
     inserting = [x for x in s[:deepest] if x[6] >= 2]
-    # retraction while the needle is still in the tissue (phase >= 2): on a loaded machine the held
-    # button can take the needle out, where there is no friction to reverse
-    retracting = [x for x in s[deepest + 1:] if s[deepest][1] - x[1] > 1e-3 and x[6] >= 2]
+    # retraction while the tip is still 2 mm deep in the tissue (phase >= 2): on a loaded machine the
+    # held button can take the needle out, where there is no friction to reverse (the phase stays 3)
+    retracting = [x for x in s[deepest + 1:] if s[deepest][1] - x[1] > 1e-3 and x[6] >= 2 and x[1] > 2e-3]
     if os.environ.get('TRAINER_TEST_DUMP'):
         json.dump(s, open(os.environ['TRAINER_TEST_DUMP'], 'w'))
     print(f'{len(s)} samples, {chart_points} chart points; peak axial {max(x[2] for x in s):.3f} N; events: {events!r}')
