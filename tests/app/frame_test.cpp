@@ -128,6 +128,11 @@ TEST(OneFrame, BevelPushesEveryNeedleToTheSameSide) {
     // mirror images of one another in a block symmetric about the path; realtime3d's tets are all
     // split one way (docs/models/realtime3d.md), so its mesh is not mirror-symmetric: signs only
     if (std::string(engine) != "realtime3d") EXPECT_NEAR(f0, -f180, 0.05 * std::abs(f0)) << engine;
+    if (std::string(engine) == "mpmedges") {  // a frictionless 45 deg face pushes along its normal: |lateral| = axial
+      const double tip = lateMean(zero, "force_tip");
+      EXPECT_NEAR(lateMean(zero, "force_tip_lateral"), -tip, 0.01 * tip);
+      EXPECT_NEAR(lateMean(half, "force_tip_lateral"), lateMean(half, "force_tip"), 0.01 * tip);
+    }
     if (hasColumn(zero, "forces", "tip_deflection")) {  // a flexible needle
       EXPECT_LT(zero.tables.at("forces").column("tip_deflection").back(), 0.0) << engine;
       EXPECT_GT(half.tables.at("forces").column("tip_deflection").back(), 0.0) << engine;

@@ -34,7 +34,7 @@ std::vector<std::vector<std::size_t>> populate(MpmSolver& solver, const Scenario
 
 std::vector<io::Column> engineForceColumns() {
   return {{"force_tip", "N"},   {"force_shaft", "N"}, {"contact_nodes", "1"}, {"time_step", "s"},
-          {"sharp_x", "m"},     {"sharp_y", "m"},     {"sharp_z", "m"}};
+          {"sharp_x", "m"},     {"sharp_y", "m"},     {"sharp_z", "m"},       {"force_tip_lateral", "N"}};
 }
 
 // energy.csv; with a sliding inclusion also the energy stored in the two bodies' pair contact.
@@ -142,7 +142,7 @@ void MpmRun::startFresh() {
   f.tip_x = tip.x();
   f.tip_y = tip.y();
   f.tip_z = tip.z();
-  forces_.add(f, {0.0, 0.0, 0.0, 0.0, sharp.x(), sharp.y(), sharp.z()});
+  forces_.add(f, {0.0, 0.0, 0.0, 0.0, sharp.x(), sharp.y(), sharp.z(), 0.0});
   std::vector<double> zero(energy_.columns().size(), 0.0);
   zero[1] = ms_.depth;
   energy_.addRow(zero);
@@ -178,7 +178,7 @@ void MpmRun::recordRow(double t, const mpm::StepReport& rep) {
   const results::NeedleForces f{t,         ms_.depth, ms_.velocity, sum_.lastForce, setup_.frame.lateralOf(F),
                                 tip.x(),   tip.y(),   tip.z()};
   forces_.add(f, {sum_.lastTip, sum_.lastShaft, static_cast<double>(imp_.contactNodes), rep.dt, sharp.x(), sharp.y(),
-                  sharp.z()});
+                  sharp.z(), setup_.frame.lateralOf(Ftip)});
   std::vector<double> e{t, ms_.depth, rep.kinetic, rep.internal, rep.internal > 0 ? rep.kinetic / rep.internal : 0.0};
   if (setup_.config.bodies > 1) e.push_back(rep.contact);
   energy_.addRow(e);
