@@ -228,6 +228,22 @@ TEST(GeoSandbox, ATooSmallElementSizeIsRefusedWithTheEstimateBeforeMeshing) {
   fs::remove_all(dir);
 }
 
+// A point at 1e400 (the fuzzer's mutant): Gmsh would fill the child's memory with elements of the
+// script's own size; the bounds are checked before meshing.
+TEST(GeoSandbox, AScriptReachingAnInfiniteCoordinateIsRefusedBeforeMeshing) {
+  const auto dir = freshDir("infinite");
+  std::ofstream(dir / "scripts" / "far.geo")
+      << "Point(1) = {0, 1e400, 0, 2}; Point(2) = {10, 0, 0, 2}; Point(3) = {10, 10, 0, 2}; Point(4) = {0, 10, 0, 2};\n"
+         "Line(1) = {1, 2}; Line(2) = {2, 3}; Line(3) = {3, 4}; Line(4) = {4, 1};\n"
+         "Curve Loop(1) = {1, 2, 3, 4}; Plane Surface(1) = {1};\nPhysical Surface(\"gel\", 5) = {1};\n";
+  const auto start = std::chrono::steady_clock::now();
+  const std::string why = refusal([&] { mesh::readGmsh((dir / "scripts" / "far.geo").string(), 0.0); });
+  EXPECT_NE(why.find("its geometry reaches (0, 0, 0) to (10, inf, 0)"), std::string::npos) << why;
+  EXPECT_NE(why.find("finite coordinates"), std::string::npos) << why;
+  EXPECT_LT(std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(), 5.0);
+  fs::remove_all(dir);
+}
+
 TEST(GeoSandbox, AStopRequestEndsMeshingWithinASecond) {
   const auto dir = freshDir("stop");
   std::ofstream(dir / "scripts" / "loop.geo") << "x = 0;\nFor i In {1:2000000000}\n  x += i;\nEndFor\n";

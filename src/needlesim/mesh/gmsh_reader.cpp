@@ -262,6 +262,19 @@ void checkEstimate(const std::string& path, const MeshBudget& budget) {
     refuseElementCount(path, "would make about", n, dim, h, budget);
 }
 
+// Before meshing a script: its geometry lies at finite coordinates (a point at 1e400 would have
+// Gmsh fill memory up to the child's cap with elements of the script's own size).
+void checkFiniteBounds(const std::string& path) {
+  double b[6] = {0, 0, 0, 0, 0, 0};
+  gmsh::model::getBoundingBox(-1, -1, b[0], b[1], b[2], b[3], b[4], b[5]);
+  for (double v : b)
+    if (!std::isfinite(v) || std::abs(v) > 1e15)
+      throw geometryError(path,
+                          fmt::format("its geometry reaches ({:g}, {:g}, {:g}) to ({:g}, {:g}, {:g}) (file units)", b[0],
+                                      b[1], b[2], b[3], b[4], b[5]),
+                          "a script whose points lie at finite coordinates (below 1e15 in the file's units)");
+}
+
 // Runs in the sandboxed child: the file opened, a script meshed, the mesh checked.
 VolumeMesh openAndMesh(const std::string& path, const std::string& file, double maxElementSize, const MeshBudget& budget) {
   GmshSession session;
@@ -269,6 +282,7 @@ VolumeMesh openAndMesh(const std::string& path, const std::string& file, double 
   if (isScript(path)) {
     if (maxElementSize > 0) gmsh::option::setNumber("Mesh.MeshSizeMax", maxElementSize);
     gmsh::option::setNumber("General.NumThreads", 1);
+    checkFiniteBounds(path);
     checkEstimate(path, budget);
     gmshCall(path, "mesh the script", "a script whose geometry Gmsh can mesh", [&] {
       gmsh::model::mesh::generate(gmsh::model::getDimension());
