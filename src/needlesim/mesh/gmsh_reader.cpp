@@ -15,6 +15,7 @@
 #include "needlesim/mesh/geo_script_check.hpp"
 #include "needlesim/mesh/isolated_reader.hpp"
 #include "needlesim/mesh/msh_check.hpp"
+#include "needlesim/mesh/surface_checks.hpp"
 #include "needlesim/mesh/surface_formats.hpp"
 #include "needlesim/mesh/vtp_reader.hpp"
 
@@ -267,12 +268,12 @@ void checkEstimate(const std::string& path, const MeshBudget& budget) {
 void checkFiniteBounds(const std::string& path) {
   double b[6] = {0, 0, 0, 0, 0, 0};
   gmsh::model::getBoundingBox(-1, -1, b[0], b[1], b[2], b[3], b[4], b[5]);
-  for (double v : b)
-    if (!std::isfinite(v) || std::abs(v) > 1e15)
-      throw geometryError(path,
-                          fmt::format("its geometry reaches ({:g}, {:g}, {:g}) to ({:g}, {:g}, {:g}) (file units)", b[0],
-                                      b[1], b[2], b[3], b[4], b[5]),
-                          "a script whose points lie at finite coordinates (below 1e15 in the file's units)");
+  if (!isPlausibleVertex(b) || !isPlausibleVertex(b + 3))  // the limit every mesh's nodes are held to
+    throw geometryError(path,
+                        fmt::format("its geometry reaches ({:g}, {:g}, {:g}) to ({:g}, {:g}, {:g}) (file units)", b[0],
+                                    b[1], b[2], b[3], b[4], b[5]),
+                        fmt::format("a script whose points lie at finite coordinates (at most {:g} in size, file units)",
+                                    kLargestCoordinate));
 }
 
 // Runs in the sandboxed child: the file opened, a script meshed, the mesh checked.

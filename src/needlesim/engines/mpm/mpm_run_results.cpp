@@ -58,8 +58,8 @@ void MpmRun::emitEnergy() {
     }
   sink_.result("max_ke_ie", maxRatio, "1",
                "largest kinetic / internal energy while the internal energy is >= 1 % of its maximum (eq 28; "
-               "on a CFEMP insertion the points' noise can hold it at 0.1-0.25 at any mass scaling: halving it and "
-               "comparing the forces checks that the run is quasi-static)");
+               "on a CFEMP insertion the points' noise can hold it at 0.1-0.25 at any mass scaling; the check that "
+               "a run is quasi-static is to halve the mass scaling and compare the forces)");
   const auto time = energy_.column("time");
   io::Plot both{"Kinetic and internal energy", "time [s]", "energy [J]", {}};
   both.series.push_back({"kinetic", time, ke, false, false});
