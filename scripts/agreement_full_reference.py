@@ -6,7 +6,7 @@ on a 0.5 mm grid with 0.25 mm points, the file's mass scaling 1e3, a 6-cell marg
 block) and compares the axial force averaged with the tip 4-6, 9-11, 14-16 and 18-20 mm deep (the
 lattices make a single row rise and fall by about 10 %). Exit 1 when a window's mpm mean differs
 from explicit's by more than --tolerance percent (default 25, the held pair's tolerance derived in
-agreement.md "Tolerance of the held pair"). About 15 min on two free cores.
+agreement.md "Tolerance of the held pair"). About 12 min on two free cores.
 
   scripts/agreement_full_reference.py --binary build/release/apps/needlesim/needlesim --workdir /tmp/afr
   scripts/agreement_full_reference.py --compare results/explicit results/mpm   # folders already run
