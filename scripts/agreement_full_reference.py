@@ -47,7 +47,10 @@ def scenarios(reference):
 
 def window_means(folder):
     """Mean axial force (mN) over the insertion rows with the tip within each window."""
-    forces = read_table(Path(folder) / "forces.csv")
+    path = Path(folder) / "forces.csv"
+    if not path.is_file():
+        raise SystemExit(f"{folder}: no forces.csv (a needlesim results folder is expected)")
+    forces = read_table(path)
     depth = [d * 1e3 for d in forces.get("depth", [])]
     total = [f * 1e3 for f in forces.get("force_total", [])]
     rows = insertion_phase(depth)
