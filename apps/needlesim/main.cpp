@@ -14,9 +14,7 @@
 #include "needlesim/needlesim.hpp"
 
 int main(int argc, char** argv) {
-  // Two threads that spin while waiting collapse when the other core is busy (seen
-  // on 2-core machines): let idle OpenMP threads sleep unless the user chose otherwise.
-  setenv("OMP_WAIT_POLICY", "passive", 0);
+  needlesim::app::chooseOpenMpWait(argv);  // OpenMP's idle threads spin briefly, then sleep
   CLI::App app{"needlesim: needle insertion into soft tissue — forces, deflection, steering, deformation, fracture"};
   app.set_version_flag("--version", fmt::format("needlesim {} ({})", needlesim::kVersion, needlesim::kGitRevision));
   app.require_subcommand(1);

@@ -19,6 +19,11 @@ import functools
 import os
 import tempfile
 
+# OpenMP's idle threads spin briefly, then sleep: libgomp reads this when the extension loads
+# (the CLI does the same, apps/needlesim/openmp_wait.cpp says why). A caller's own choice is kept.
+if "OMP_WAIT_POLICY" not in os.environ and "GOMP_SPINCOUNT" not in os.environ:
+    os.environ["GOMP_SPINCOUNT"] = "1000"
+
 from needlesim._core import (
     ArgumentTypeError,
     Inclusion,

@@ -87,3 +87,17 @@ def test_open_results_refuses_a_folder_without_summary(tmp_path):
 def test_run_refuses_what_is_not_a_scenario():
     with pytest.raises(needlesim.ArgumentTypeError, match="scenario must be a needlesim.Scenario"):
         needlesim.run("examples/gelatin_18G_3mms.yaml")
+
+
+@pytest.mark.parametrize("env_set, expected", [({}, "GOMP_SPINCOUNT=1000"),
+                                               ({"OMP_WAIT_POLICY": "active"}, "OMP_WAIT_POLICY=active")])
+def test_the_package_shortens_openmps_spin_unless_the_caller_chose(tmp_path, env_set, expected):
+    """libgomp reads its wait settings when the extension loads: the package sets GOMP_SPINCOUNT
+    first (apps/needlesim/openmp_wait.cpp says why), keeps a caller's own, and summary.json says which."""
+    import json, os, subprocess, sys
+    from conftest import SOURCE_DIR
+    env = {k: v for k, v in os.environ.items() if k not in ("OMP_WAIT_POLICY", "GOMP_SPINCOUNT")} | env_set
+    code = "import sys, needlesim; needlesim.run(needlesim.load(sys.argv[1]), out=sys.argv[2])"
+    subprocess.run([sys.executable, "-c", code, str(SOURCE_DIR / "examples" / "gelatin_18G_3mms.yaml"),
+                    str(tmp_path / "run")], env=env, check=True, capture_output=True)
+    assert json.loads((tmp_path / "run" / "summary.json").read_text())["needlesim"]["openmp_wait"] == expected
