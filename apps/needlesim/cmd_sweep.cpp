@@ -44,6 +44,7 @@ void registerSweepCommand(CLI::App& app) {
   cmd->add_option("-j,--parallel", a->parallel, "cases at once per process (default: study.parallel, else all cores)");
   cmd->add_flag("-q,--quiet", a->quiet, "no progress on the terminal");
   cmd->callback([a] {
+    chooseOpenMpWait();  // a sweep's cases may run OpenMP engines side by side (openmp_wait.cpp)
     study::StudySpec spec = study::readStudyFile(a->file);
     if (a->parallel >= 0) spec.parallel = a->parallel;
     study::SweepOptions opt;

@@ -11,7 +11,8 @@ void registerSchemaCommand(CLI::App& app);
 void registerSweepCommand(CLI::App& app);
 void registerPlanCommand(CLI::App& app);  // cmd_plan.cpp
 void registerServeCommand(CLI::App& app);  // serve and replay (cmd_serve.cpp)
-void chooseOpenMpWait(char** argv);         // may start the program again (openmp_wait.cpp)
+void keepProgramArgs(char** argv);  // for chooseOpenMpWait
+void chooseOpenMpWait();            // may start the program again (openmp_wait.cpp)
 }  // namespace needlesim::app
 
 // Defined in cmd_fit.cpp (tissue characterisation).

@@ -14,7 +14,7 @@
 #include "needlesim/needlesim.hpp"
 
 int main(int argc, char** argv) {
-  needlesim::app::chooseOpenMpWait(argv);  // OpenMP's idle threads spin briefly, then sleep
+  needlesim::app::keepProgramArgs(argv);  // run and sweep may start again (openmp_wait.cpp)
   CLI::App app{"needlesim: needle insertion into soft tissue — forces, deflection, steering, deformation, fracture"};
   app.set_version_flag("--version", fmt::format("needlesim {} ({})", needlesim::kVersion, needlesim::kGitRevision));
   app.require_subcommand(1);

@@ -11,20 +11,29 @@
 //
 // libgomp parses its environment in its own constructor, before main(), and the C library resets
 // the environment after the program's .preinit_array: the only way to choose is to set the
-// variable and start the program again (once: the variable is then set). A user's own
+// variable and start the program again (once: the variable is then set). Starting again costs
+// about 0.1 s of CPU (the shared libraries load twice), so only the commands that run an OpenMP
+// engine (explicit, mpm) or a sweep do it, before they touch any file. A user's own
 // OMP_WAIT_POLICY or GOMP_SPINCOUNT is kept; summary.json records which ran.
-#include "commands.hpp"
-
 #include <unistd.h>
 
 #include <cstdlib>
 
+#include "commands.hpp"
+
 namespace needlesim::app {
 
-void chooseOpenMpWait(char** argv) {
+namespace {
+char** programArgs = nullptr;
+}
+
+void keepProgramArgs(char** argv) { programArgs = argv; }
+
+void chooseOpenMpWait() {
+  if (programArgs == nullptr) return;
   if (std::getenv("OMP_WAIT_POLICY") != nullptr || std::getenv("GOMP_SPINCOUNT") != nullptr) return;
   if (setenv("GOMP_SPINCOUNT", "1000", 0) != 0) return;
-  execv("/proc/self/exe", argv);  // returns only when it fails: then run on with libgomp's default
+  execv("/proc/self/exe", programArgs);  // returns only when it fails: then run on with libgomp's default
 }
 
 }  // namespace needlesim::app
