@@ -120,9 +120,12 @@ std::pair<fs::path, fs::path> resolveTarget(const RunArgs& args, const Scenario&
 }
 
 void runCommand(const RunArgs& args) {
+  if (!args.file.empty()) {  // before the scenario, its meshes or any output is touched
+    const EngineInfo* named = findEngine(scenario::engineNamedIn(args.file));
+    if (named && named->openmp) chooseOpenMpWait();
+  }
   installStopHandlers();  // Ctrl-C while the scenario's geometry is read and meshed stops it too
   Scenario sc = args.file.empty() ? scenario::defaultScenario() : scenario::readFile(args.file);
-  if (sc.model.engine == "explicit" || sc.model.engine == "mpm") chooseOpenMpWait();  // before any file
   const auto [targetPath, ckFolder] = resolveTarget(args, sc);
   // One writer per folder: held until the results are in place (a second run into it is refused).
   const bool byOut = !args.out.empty(), byDirectory = !byOut && !sc.output.directory.empty();

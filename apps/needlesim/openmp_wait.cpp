@@ -13,7 +13,8 @@
 // the environment after the program's .preinit_array: the only way to choose is to set the
 // variable and start the program again (once: the variable is then set). Starting again costs
 // about 0.1 s of CPU (the shared libraries load twice), so only the commands that run an OpenMP
-// engine (explicit, mpm) or a sweep do it, before they touch any file. A user's own
+// engine (EngineInfo::openmp: explicit, mpm) or a sweep do it, having read no more than the
+// scenario's model.engine (scenario::engineNamedIn), before its meshes or any output. A user's own
 // OMP_WAIT_POLICY or GOMP_SPINCOUNT is kept; summary.json records which ran.
 #include <unistd.h>
 

@@ -175,14 +175,17 @@ TEST(Cli, OpenMpEnginesRunWithAShortSpinUnlessTheCallerChose) {
   const std::string bin = std::string(NEEDLESIM_BINARY);
   const auto waitOf = [&](const std::string& env, const std::string& file, const std::string& name) {
     fs::path out = scratch(name);
-    auto r = runShell("env -u GOMP_SPINCOUNT -u OMP_WAIT_POLICY " + env + " " + bin + " run " + example(file) +
-                      " --quiet --out " + out.string());
+    auto r = runShell("env -u GOMP_SPINCOUNT -u OMP_WAIT_POLICY " + env + " " + bin + " run " +
+                      (file.ends_with(".json") ? file : example(file)) + " --quiet --out " + out.string());
     EXPECT_EQ(r.code, 0) << r.out;
     return nlohmann::json::parse(std::ifstream(out / "summary.json"))["needlesim"]["openmp_wait"].get<std::string>();
   };
   EXPECT_EQ(waitOf("", "mpm/quick_needle_block.yaml", "omp_mpm"), "GOMP_SPINCOUNT=1000");
   EXPECT_EQ(waitOf("", "gelatin_18G_3mms.yaml", "omp_lumped").rfind("libgomp's default", 0), 0u);
   EXPECT_EQ(waitOf("OMP_WAIT_POLICY=passive", "mpm/quick_needle_block.yaml", "omp_kept"), "OMP_WAIT_POLICY=passive");
+  // a run from a results folder's summary.json: the engine it records
+  const fs::path record = scratch("omp_record").parent_path() / "omp_mpm" / "summary.json";
+  EXPECT_EQ(waitOf("", record.string(), "omp_record"), "GOMP_SPINCOUNT=1000");
 }
 
 // summary.json holds the whole scenario as understood: running the summary itself

@@ -5,7 +5,9 @@
 #include <gtest/gtest.h>
 
 #include <fcntl.h>
+#include <sched.h>
 #include <sys/socket.h>
+#include <sys/wait.h>
 #include <unistd.h>
 
 #include <cerrno>
@@ -209,6 +211,57 @@ TEST(GeoSandbox, AnEndlessScriptIsStoppedAtTheTimeBudget) {
   EXPECT_NE(why.find("max_mesh_time (2 s)"), std::string::npos) << why;
   EXPECT_LT(took, 10.0);
   fs::remove_all(dir);
+}
+
+namespace {
+
+// Readers that close their pipe at once and end within a few ms of the time budget (the moment
+// swept in 0.25 ms steps across the parent's polling interval, 1 ms), beside a bystander process:
+// 0 while the bystander lives. Run as PID 1 of a private PID namespace, so that a kill(-1, SIGKILL)
+// (a signal to every process this user may reach) can only reach the bystander.
+int bystanderSurvivesReadersEndingAtTheDeadline() {
+  const pid_t bystander = ::fork();
+  if (bystander == 0) {
+    for (;;) ::pause();
+  }
+  const mesh::MeshBudget budget{2e6, 0.05, 4096.0 * 1048576};
+  for (int step = 0; step < 48; ++step) {
+    const auto end = std::chrono::steady_clock::now() + std::chrono::microseconds(40000 + 250 * step);
+    try {
+      mesh::runIsolated("late.geo", budget, [end] {
+        ::close(3);  // the reply pipe (isolated_reader.cpp): the parent sees its end now, the exit later
+        std::this_thread::sleep_until(end);
+        return std::string();
+      });
+    } catch (const InputError&) {  // the time budget, or no result: either is right at the deadline
+    }
+  }
+  int status = 0;
+  const bool alive = ::waitpid(bystander, &status, WNOHANG) == 0;
+  ::kill(bystander, SIGKILL);
+  return alive ? 0 : 1;
+}
+
+}  // namespace
+
+// A reader that ends as its time budget runs out is reaped before the parent's deadline check; the
+// parent must not then signal the pid it no longer holds (-1: every process of the user; a CI run
+// lost all its processes that way).
+TEST(GeoSandbox, AReaderEndingAtItsDeadlineSignalsNoOtherProcess) {
+  const pid_t helper = ::fork();
+  if (helper == 0) {
+    if (::unshare(CLONE_NEWPID) != 0 && ::unshare(CLONE_NEWUSER | CLONE_NEWPID) != 0) ::_exit(77);
+    const pid_t init = ::fork();  // PID 1 of the new namespace
+    if (init == 0) ::_exit(bystanderSurvivesReadersEndingAtTheDeadline());
+    int status = 0;
+    ::waitpid(init, &status, 0);
+    ::_exit(WIFEXITED(status) ? WEXITSTATUS(status) : 2);
+  }
+  int status = 0;
+  ASSERT_EQ(::waitpid(helper, &status, 0), helper);
+  ASSERT_TRUE(WIFEXITED(status));
+  if (WEXITSTATUS(status) == 77) GTEST_SKIP() << "no private PID namespace here (unshare refused)";
+  EXPECT_EQ(WEXITSTATUS(status), 0) << "a reader's parent killed a process that was not its reader";
 }
 
 TEST(GeoSandbox, ATooSmallElementSizeIsRefusedWithTheEstimateBeforeMeshing) {

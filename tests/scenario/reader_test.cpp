@@ -2,6 +2,8 @@
 // of bad input checking that the message names file, line, field and what is allowed.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -246,4 +248,26 @@ TEST(ScenarioReader, EveryQuantityUnitReadsBack) {
       EXPECT_TRUE(q.dim == f.dim) << f.section << "." << f.key << ": " << units::siName(f.dim);
       EXPECT_DOUBLE_EQ(q.value, 0.1) << f.section << "." << f.key;
     }
+}
+
+// The engine a file names, read before the scenario as a whole (the run command's OpenMP choice).
+TEST(ScenarioReader, TheEngineNamedIsReadFromTheYamlAlone) {
+  const auto dir = std::filesystem::temp_directory_path() / ("needlesim_engine_named_" + std::to_string(::getpid()));
+  std::filesystem::create_directories(dir);
+  const auto write = [&](const std::string& name, const std::string& text) {
+    std::ofstream(dir / name) << text;
+    return dir / name;
+  };
+  EXPECT_EQ(scenario::engineNamedIn(write("mpm.yaml", kBase + "model: {engine: mpm}\n")), "mpm");
+  EXPECT_EQ(scenario::engineNamedIn(write("none.yaml", kBase)), "lumped");
+  // a mesh it names is not read: a missing one does not matter here
+  EXPECT_EQ(scenario::engineNamedIn(write("mesh.yaml", "tissue:\n  geometry: {file: missing.msh, unit: mm}\n"
+                                                       "model: {engine: explicit}\n")),
+            "explicit");
+  EXPECT_EQ(scenario::engineNamedIn(write("summary.json", R"({"scenario": {"model": {"engine": "explicit"}}, "results": {}})")),
+            "explicit");
+  EXPECT_EQ(scenario::engineNamedIn(write("list.yaml", kBase + "model: {engine: [mpm]}\n")), "");
+  EXPECT_EQ(scenario::engineNamedIn(write("broken.yaml", "model: {engine: mpm\n")), "");
+  EXPECT_EQ(scenario::engineNamedIn(dir / "absent.yaml"), "");
+  std::filesystem::remove_all(dir);
 }

@@ -64,6 +64,8 @@ struct EngineInfo {
   std::vector<std::string> uses = {};
   // How a caller steps it (engines/session.hpp), or nullptr: it runs only as a whole.
   SessionOpenFn open = nullptr;
+  // Whether its steps run on OpenMP threads (the run command chooses how they wait: apps/needlesim/openmp_wait.cpp).
+  bool openmp = false;
   // Whether it uses `field` (as engineDependentFields() names it, or "model.<key>").
   bool usesField(const std::string& field) const;
 };

@@ -66,7 +66,8 @@ const std::vector<std::string>& engineDependentFields() {
 }
 
 // One line per engine: name, summary, run, checkpoints, inclusions, preflight, imported geometry
-// dimensions, its model section, its friction law, the other fields it uses, and how a caller steps it.
+// dimensions, its model section, its friction law, the other fields it uses, how a caller steps it, and
+// whether it runs on OpenMP threads.
 const std::vector<EngineInfo>& engineRegistry() {
   using namespace engines;
   using enum FrictionLaw;
@@ -86,11 +87,12 @@ const std::vector<EngineInfo>& engineRegistry() {
       {"beam-foundation", "bevel-tip needle as a beam on an elastic foundation (seed 002 future work)",
        runBeamFoundation, false, false, guarded<steeringStepPlan>, {}, steeringSection, Coulomb, kSteeringTissue},
       {"mpm", "3D material point method with a rigid needle, its surface contact (CFEMP) and friction (seed 000)", runMpm, true, true,
-       guarded<mpmStepPlan>, {3}, mpmSection, Coulomb, {"inclusions.interface_friction"}},
+       guarded<mpmStepPlan>, {3}, mpmSection, Coulomb, {"inclusions.interface_friction"}, nullptr, true},
       {"explicit", "explicit large-deformation FE with needle contact and friction (seeds 001, 004)", runExplicit,
        false, true, guarded<explicitStepPlan>, {2, 3}, explicitSection, Coulomb,
        {"interaction.toughness", "inclusions.toughness", "material.prony", "model.steering",
-        "interaction.K_T"}},  // the last two: cohesive.path steering
+        "interaction.K_T"},  // the last two: cohesive.path steering
+       nullptr, true},
   };
   return list;
 }

@@ -314,7 +314,11 @@ class Child {
     pid_ = -1;
     return true;
   }
-  void kill() { ::kill(pid_, SIGKILL); }
+  // Only a child not yet reaped: once waitpid has taken it, pid_ is -1, and kill(-1) would reach
+  // every process this user may signal.
+  void kill() {
+    if (pid_ > 0) ::kill(pid_, SIGKILL);
+  }
 
  private:
   pid_t pid_;
@@ -404,7 +408,7 @@ std::string runIsolated(const std::string& file, const MeshBudget& budget, const
       child.kill();
       throwIfStopRequested("reading " + file);
     }
-    if (std::chrono::steady_clock::now() > deadline) {
+    if (!ended && std::chrono::steady_clock::now() > deadline) {
       child.kill();
       throw timeBudgetError(file, budget);
     }

@@ -176,6 +176,18 @@ Scenario readFile(const std::filesystem::path& path) {
   return readText(readYamlFile(path, kScenarioFile), path.string());
 }
 
+std::string engineNamedIn(const std::filesystem::path& path) {
+  try {
+    YAML::Node root = loadYamlDocument(readYamlFile(path, kScenarioFile), path.string(), kScenarioFile);
+    if (root.IsMap() && root["scenario"] && root["scenario"].IsMap() && root["results"]) root = root["scenario"];
+    if (!root.IsMap() || !root["model"] || !root["model"].IsMap() || !root["model"]["engine"]) return ModelSpec{}.engine;
+    const YAML::Node engine = root["model"]["engine"];
+    return engine.IsScalar() ? engine.Scalar() : std::string();
+  } catch (const std::exception&) {
+    return {};
+  }
+}
+
 Scenario defaultScenario() {
   return readText(embedded::kDefaultScenario, "<built-in default: examples/gelatin_18G_3mms.yaml>");
 }
