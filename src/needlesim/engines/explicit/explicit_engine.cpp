@@ -69,6 +69,8 @@ void ExplicitRun::run(const RunOptions& options) {
         record();
         nextOut += outDt;
         progress.update(solver_->time() / T);
+      } else if (stopRequested()) {
+        progress.update(solver_->time() / T);  // a stop is seen at the next step, not the next output row
       }
       if (solver_->time() >= nextField * (1 - 1e-9)) {
         writeFields();

@@ -114,7 +114,8 @@ class Realtime2dRun {
       if (sample) record(t, m, o);
       if (sample) range_.check(strains_.measure(session_.displacement()), o.depth, sink_);
       if (cadence_.field(k)) writeFields(t);
-      if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
+      if ((k & 1023) == 0 || stopRequested())  // a stop is seen at the next step, however long the steps
+        progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
     }
     progress.finish();
     if (cadence_.fieldEvery == 0) addShape(motion_.duration());  // the final needle shape is always reported

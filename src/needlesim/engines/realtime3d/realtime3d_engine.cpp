@@ -142,7 +142,8 @@ class Realtime3dRun {
       if (cadence_.sample(k)) record(t, m, o);
       if (cadence_.sample(k)) range_.check(pathStrains_.measure(session_.displacement()), o.depth, sink_);
       if (fields_ && cadence_.field(k)) fields_->write(t);
-      if ((k & 1023) == 0) progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
+      if ((k & 1023) == 0 || stopRequested())  // a stop is seen at the next step, however long the steps
+        progress.update(static_cast<double>(k) / static_cast<double>(cadence_.steps));
     }
     progress.finish();
     run_s_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - run0).count();
