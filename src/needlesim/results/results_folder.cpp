@@ -17,8 +17,8 @@
 #include "needlesim/core/error.hpp"
 #include "needlesim/core/progress.hpp"
 #include "needlesim/core/version.hpp"
-#include "needlesim/results/display_units.hpp"
 #include "needlesim/io/atomic_file.hpp"
+#include "needlesim/results/display_units.hpp"
 
 namespace needlesim::io {
 namespace fs = std::filesystem;

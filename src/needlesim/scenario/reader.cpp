@@ -148,6 +148,13 @@ const ParamTable<Scenario>& scenarioTable() {
   return t;
 }
 
+namespace {
+// A results folder's summary.json holds the scenario as understood under "scenario" (docs/results.md).
+bool isResultsRecord(const YAML::Node& root) {
+  return root.IsMap() && root["scenario"] && root["scenario"].IsMap() && root["results"];
+}
+}  // namespace
+
 Scenario readText(std::string_view yaml, const std::string& source_name) {
   auto file = std::make_shared<const std::string>(source_name);
   // A summary.json (JSON, a '{' first) holds the scenario under "scenario": its keys are checked
@@ -158,8 +165,7 @@ Scenario readText(std::string_view yaml, const std::string& source_name) {
   if (!root || root.IsNull())
     throw InputError(SourceLocation{source_name, 0, 0}, "", "", "is empty",
                      "a scenario with tissue, needle and insertion sections");
-  // A results folder's summary.json: its "scenario" is the scenario as understood (docs/results.md).
-  const bool record = root.IsMap() && root["scenario"] && root["scenario"].IsMap() && root["results"];
+  const bool record = isResultsRecord(root);
   if (record) root = root["scenario"];
   try {
     Scenario sc = readRoot(root, source_name, file);
@@ -179,7 +185,7 @@ Scenario readFile(const std::filesystem::path& path) {
 std::string engineNamedIn(const std::filesystem::path& path) {
   try {
     YAML::Node root = loadYamlDocument(readYamlFile(path, kScenarioFile), path.string(), kScenarioFile);
-    if (root.IsMap() && root["scenario"] && root["scenario"].IsMap() && root["results"]) root = root["scenario"];
+    if (isResultsRecord(root)) root = root["scenario"];
     if (!root.IsMap() || !root["model"] || !root["model"].IsMap() || !root["model"]["engine"]) return ModelSpec{}.engine;
     const YAML::Node engine = root["model"]["engine"];
     return engine.IsScalar() ? engine.Scalar() : std::string();
