@@ -4,8 +4,9 @@
 // threads' speed-up. Measured with scripts/example_times.py (one thread; CPU time = user + sys
 // of the whole `needlesim run`, results folder included) on the shipped examples, then fitted
 // per engine, never per example; docs/performance.md "Run-time estimates" gives the table, the
-// command and the machine. Every example lands within a factor 1.5 (the test
-// Estimates.QuickExamplesWithinAFactor1p5 and its long variant).
+// command and the machine. On that machine every example lands within a factor 1.5 (the tests
+// Estimates.*WithinAFactor1p5, label `timing`); on any machine each quick example within a factor
+// 2 of the machine's median (Estimates.QuickExamplesWithinAFactor2OfTheMachine, in `make test`).
 #include <algorithm>
 #include <cmath>
 #include <string>
