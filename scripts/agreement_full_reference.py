@@ -25,11 +25,11 @@ WINDOWS_MM = (5.0, 10.0, 15.0, 19.0)  # centres; each window is +-1 mm
 HALF_WIDTH_MM = 1.0
 
 
-def variant(text, replacements):
-    """reference.yaml with each (old, new) replaced; each old must occur exactly once."""
+def variant(text, replacements, name="reference.yaml"):
+    """The scenario `name` with each (old, new) replaced; each old must occur exactly once."""
     for old, new in replacements:
         if text.count(old) != 1:
-            raise SystemExit(f"reference.yaml: expected '{old}' once, found it {text.count(old)} times")
+            raise SystemExit(f"{name}: expected '{old}' once, found it {text.count(old)} times")
         text = text.replace(old, new)
     return text
 
@@ -45,8 +45,10 @@ def scenarios(reference):
     return {"explicit": explicit, "mpm": mpm}
 
 
-def window_means(folder):
-    """Mean axial force (mN) over the insertion rows with the tip within each window."""
+def window_means(folder, windows=None):
+    """Mean axial force (mN) over the insertion rows with the tip within each (lo, hi) window (mm;
+    default WINDOWS_MM +- HALF_WIDTH_MM)."""
+    windows = windows or [(c - HALF_WIDTH_MM, c + HALF_WIDTH_MM) for c in WINDOWS_MM]
     path = Path(folder) / "forces.csv"
     if not path.is_file():
         raise SystemExit(f"{folder}: no forces.csv (a needlesim results folder is expected)")
@@ -55,10 +57,10 @@ def window_means(folder):
     total = [f * 1e3 for f in forces.get("force_total", [])]
     rows = insertion_phase(depth)
     means = []
-    for c in WINDOWS_MM:
-        inside = [total[i] for i in rows if abs(depth[i] - c) <= HALF_WIDTH_MM]
+    for lo, hi in windows:
+        inside = [total[i] for i in rows if lo <= depth[i] <= hi]
         if not inside:
-            raise SystemExit(f"{folder}: no forces.csv row with the tip {c - 1:g}-{c + 1:g} mm deep")
+            raise SystemExit(f"{folder}: no forces.csv row with the tip {lo:g}-{hi:g} mm deep")
         means.append(sum(inside) / len(inside))
     return means
 
@@ -77,17 +79,28 @@ def compare(explicit_folder, mpm_folder, tolerance):
     return ok
 
 
-def run_both(binary, reference, workdir):
+def run_scenarios(binary, texts, workdir, prefix):
+    """Runs each {name: scenario text} as workdir/<prefix>_<name>.yaml; {name: results folder}."""
     workdir.mkdir(parents=True, exist_ok=True)
     folders = {}
-    for engine, text in scenarios(reference).items():
-        scenario = workdir / f"reference_{engine}.yaml"
+    for name, text in texts.items():
+        scenario, out = workdir / f"{prefix}_{name}.yaml", workdir / f"results_{name}"
         scenario.write_text(text)
-        out = workdir / f"results_{engine}"
-        print(f"running {engine}: {binary} run {scenario} -o {out}", flush=True)
+        print(f"running {name}: {binary} run {scenario} -o {out}", flush=True)
         subprocess.run([str(binary), "run", "--quiet", "--overwrite", str(scenario), "-o", str(out)], check=True)
-        folders[engine] = out
+        folders[name] = out
     return folders
+
+
+def arguments(doc, scenario_option, scenario_file):
+    """The options both agreement scripts take: --binary, the scenario, --workdir, --self-test."""
+    here = Path(__file__).resolve().parent.parent
+    ap = argparse.ArgumentParser(description=doc, formatter_class=argparse.RawDescriptionHelpFormatter)
+    ap.add_argument("--binary", default=here / "build/release/apps/needlesim/needlesim", type=Path)
+    ap.add_argument(scenario_option, default=here / "examples/agreement" / scenario_file, type=Path)
+    ap.add_argument("--workdir", type=Path, help="where the scenarios and results go (default: a fresh temporary folder)")
+    ap.add_argument("--self-test", action="store_true")
+    return ap
 
 
 def write_forces(folder, slope_mn_per_mm):
@@ -114,14 +127,9 @@ def self_test():
 
 
 def main():
-    here = Path(__file__).resolve().parent.parent
-    ap = argparse.ArgumentParser(description=__doc__, formatter_class=argparse.RawDescriptionHelpFormatter)
-    ap.add_argument("--binary", default=here / "build/release/apps/needlesim/needlesim", type=Path)
-    ap.add_argument("--reference", default=here / "examples/agreement/reference.yaml", type=Path)
-    ap.add_argument("--workdir", type=Path, help="where the scenarios and results go (default: a fresh temporary folder)")
+    ap = arguments(__doc__, "--reference", "reference.yaml")
     ap.add_argument("--compare", nargs=2, metavar=("EXPLICIT", "MPM"), help="results folders already run")
     ap.add_argument("--tolerance", type=float, default=25.0, help="percent (default 25)")
-    ap.add_argument("--self-test", action="store_true")
     a = ap.parse_args()
     if a.self_test:
         self_test()
@@ -129,7 +137,7 @@ def main():
     if a.compare:
         return 0 if compare(a.compare[0], a.compare[1], a.tolerance) else 1
     workdir = a.workdir or Path(tempfile.mkdtemp(prefix="agreement_full_reference_"))
-    folders = run_both(a.binary, a.reference, workdir)
+    folders = run_scenarios(a.binary, scenarios(a.reference), workdir, "reference")
     return 0 if compare(folders["explicit"], folders["mpm"], a.tolerance) else 1
 
 
