@@ -1,6 +1,7 @@
 #include "needlesim/core/progress.hpp"
 
 #include <fmt/format.h>
+#include <pthread.h>
 #include <unistd.h>
 
 #include <algorithm>
@@ -19,13 +20,34 @@ namespace {
 std::atomic<int> gStopSignal{0};
 static_assert(std::atomic<int>::is_always_lock_free, "the stop flag is set from a signal handler");
 
-extern "C" void onStopSignal(int signal) {
-  if (gStopSignal.load() == signal) {  // asked twice: stop now, as without the handler
-    std::signal(signal, SIG_DFL);
-    std::raise(signal);
+// A stop signal: the first sets the flag, a second of the same signal ends the process as
+// without a handler (default action, raised in this thread with the signal unblocked).
+void takeStopSignal(int signal) {
+  if (gStopSignal.load() != signal) {
+    gStopSignal.store(signal);
     return;
   }
-  gStopSignal.store(signal);
+  std::signal(signal, SIG_DFL);
+  sigset_t one;
+  sigemptyset(&one);
+  sigaddset(&one, signal);
+  pthread_sigmask(SIG_UNBLOCK, &one, nullptr);
+  std::raise(signal);
+}
+
+// The handler, for a thread that does not block the stop signals (one started before
+// installStopHandlers; needlesim's commands start none).
+extern "C" void onStopSignal(int signal) { takeStopSignal(signal); }
+
+// The stop signals' own thread: every other thread blocks them, so they wait here whatever
+// handler a library installs for a while. METIS (CHOLMOD's ordering) traps SIGTERM and SIGABRT
+// during each of its calls and restores the previous handler after it: a stop request that
+// arrived then was swallowed, and the run went on to its end.
+void waitForStopSignals(sigset_t set) {
+  for (;;) {
+    int signal = 0;
+    if (sigwait(&set, &signal) == 0) takeStopSignal(signal);
+  }
 }
 }  // namespace
 
@@ -74,11 +96,19 @@ void watchBlockingCalls() {
 }  // namespace
 
 void installStopHandlers() {
-  struct sigaction sa {};
-  sa.sa_handler = onStopSignal;
-  sigemptyset(&sa.sa_mask);
-  sa.sa_flags = SA_RESTART;  // system calls (file writes) go on
-  for (int s : {SIGINT, SIGTERM}) sigaction(s, &sa, nullptr);
+  static std::once_flag installed;
+  std::call_once(installed, [] {
+    sigset_t set;
+    sigemptyset(&set);
+    for (int s : {SIGINT, SIGTERM}) sigaddset(&set, s);
+    pthread_sigmask(SIG_BLOCK, &set, nullptr);  // this thread and every thread it starts from now on
+    struct sigaction sa {};
+    sa.sa_handler = onStopSignal;
+    sigemptyset(&sa.sa_mask);
+    sa.sa_flags = SA_RESTART;  // system calls (file writes) go on
+    for (int s : {SIGINT, SIGTERM}) sigaction(s, &sa, nullptr);
+    std::thread(waitForStopSignals, set).detach();
+  });
 }
 
 BlockingCall::BlockingCall(const std::string& what) {

@@ -24,7 +24,10 @@ class RunInterrupted : public Error {
 
 // Stop requests. installStopHandlers() makes SIGINT and SIGTERM set a flag
 // (a second one of the same signal ends the process at once, as without the
-// handler); engines' loops, set-up included, see it through Progress::update
+// handler): it blocks them in the calling thread and the threads it starts
+// later, and one thread of its own takes them (sigwait), so a library's
+// passing handler cannot swallow them. Call it before starting threads.
+// Engines' loops, set-up included, see the flag through Progress::update
 // or throwIfStopRequested (or ask stopRequested() where they write a
 // checkpoint first).
 void installStopHandlers();
