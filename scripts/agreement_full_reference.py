@@ -19,7 +19,7 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from agreement_table import insertion_phase, read_table  # noqa: E402
+import agreement_table  # noqa: E402
 
 WINDOWS_MM = (5.0, 10.0, 15.0, 19.0)  # centres; each window is +-1 mm
 HALF_WIDTH_MM = 1.0
@@ -48,21 +48,7 @@ def scenarios(reference):
 def window_means(folder, windows=None):
     """Mean axial force (mN) over the insertion rows with the tip within each (lo, hi) window (mm;
     default WINDOWS_MM +- HALF_WIDTH_MM)."""
-    windows = windows or [(c - HALF_WIDTH_MM, c + HALF_WIDTH_MM) for c in WINDOWS_MM]
-    path = Path(folder) / "forces.csv"
-    if not path.is_file():
-        raise SystemExit(f"{folder}: no forces.csv (a needlesim results folder is expected)")
-    forces = read_table(path)
-    depth = [d * 1e3 for d in forces.get("depth", [])]
-    total = [f * 1e3 for f in forces.get("force_total", [])]
-    rows = insertion_phase(depth)
-    means = []
-    for lo, hi in windows:
-        inside = [total[i] for i in rows if lo <= depth[i] <= hi]
-        if not inside:
-            raise SystemExit(f"{folder}: no forces.csv row with the tip {lo:g}-{hi:g} mm deep")
-        means.append(sum(inside) / len(inside))
-    return means
+    return agreement_table.window_means(folder, windows or [(c - HALF_WIDTH_MM, c + HALF_WIDTH_MM) for c in WINDOWS_MM])
 
 
 def compare(explicit_folder, mpm_folder, tolerance):

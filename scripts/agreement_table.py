@@ -23,8 +23,15 @@ extrapolation of the other sign than the values, is marked pre-asymptotic, its e
 credible.
 --order does the same arithmetic on numbers given as h:f (values measured elsewhere).
 
+Windows: --windows LO:HI,... prints each folder's mean axial force, tip and shaft force and lateral
+force with the tip within each window (mm; the lattices make a single row rise and fall by ~10 %).
+With --placements the folders are one mesh with the path at different places in the lattice
+(insertion.entry_offset): it adds their mean, its standard error s / sqrt(n) and the spread
+(max - min) / mean of the axial force, the lattice's scatter that a single placement carries.
+
   scripts/agreement_table.py --convergence results/rt2_16 results/rt2_31 results/rt2_61
   scripts/agreement_table.py --order 1:258.5 0.75:230.5 0.6:195.4 0.5:170.3
+  scripts/agreement_table.py --windows 2:4,4:6,6:8 --placements results/m_0 results/m_1 results/m_2
   scripts/agreement_table.py --self-test     # the order/extrapolation arithmetic on synthetic sequences
 """
 import argparse
@@ -58,6 +65,52 @@ def insertion_phase(depth):
         return []
     deepest = max(range(len(depth)), key=lambda i: depth[i])
     return list(range(deepest + 1))
+
+
+def window_means(folder, windows, column="force_total"):
+    """Mean of a forces.csv column (mN) over the insertion rows with the tip within each (lo, hi)
+    window (mm)."""
+    path = Path(folder) / "forces.csv"
+    if not path.is_file():
+        raise SystemExit(f"{folder}: no forces.csv (a needlesim results folder is expected)")
+    forces = read_table(path)
+    depth = [d * 1e3 for d in forces.get("depth", [])]
+    values = [f * 1e3 for f in forces.get(column, [])]
+    if len(values) != len(depth):
+        raise SystemExit(f"{folder}: forces.csv has no column {column}")
+    means = []
+    for lo, hi in windows:
+        inside = [values[i] for i in insertion_phase(depth) if lo <= depth[i] <= hi]
+        if not inside:
+            raise SystemExit(f"{folder}: no forces.csv row with the tip {lo:g}-{hi:g} mm deep")
+        means.append(sum(inside) / len(inside))
+    return means
+
+
+def mean_and_error(values):
+    """(mean, standard error s / sqrt(n), spread (max - min) / |mean|) of two values or more."""
+    n = len(values)
+    mean = sum(values) / n
+    s = math.sqrt(sum((v - mean) ** 2 for v in values) / (n - 1))
+    return mean, s / math.sqrt(n), (max(values) - min(values)) / abs(mean)
+
+
+def window_table(folders, windows, placements):
+    """Markdown rows of each folder's window means; with placements, their mean, error and spread."""
+    span = " / ".join(f"{lo:g}-{hi:g}" for lo, hi in windows)
+    lines = [f"| folder | axial force (mN), the tip {span} mm deep | tip force | shaft force | lateral force |",
+             "|---|---|---|---|---|"]
+    columns = ("force_total", "force_tip", "force_shaft", "force_lateral")
+    rows = [[window_means(f, windows, c) for c in columns] for f in folders]
+    for f, r in zip(folders, rows):
+        lines.append(f"| {f} | " + " | ".join(" / ".join(f"{v:.1f}" for v in col) for col in r) + " |")
+    if placements and len(folders) > 1:
+        stats = [[mean_and_error([r[c][w] for r in rows]) for w in range(len(windows))] for c in range(len(columns))]
+        cells = [" / ".join(f"{m:.1f} +- {e:.1f}" for m, e, _ in col) for col in stats]
+        lines.append(f"| mean of {len(folders)} placements +- standard error | " + " | ".join(cells) + " |")
+        lines.append("| spread of the axial force (max - min) / mean | "
+                     + " / ".join(f"{100 * sp:.1f} %" for _, _, sp in stats[0]) + " | | | |")
+    return "\n".join(lines)
 
 
 def at_depth(depth, values, d, idx):
@@ -251,9 +304,29 @@ def self_test():
     checks.append(("an extrapolation of the other sign is marked", "not credible" in observed_order([0.75, 0.6, 0.5], [230.5, 195.4, 170.3])[2]))
     checks.append(("a sequence whose differences grow has no order", observed_order([2, 1, 0.5], [1.0, 2.0, 4.0])[2].startswith("p <= 0")))
     checks.append(("a constant sequence is its own limit", observed_order([2, 1, 0.5], [7.0, 7.0, 7.0 + 1e-14])[2] == "constant"))
+    mean, err, spread = mean_and_error([54.0, 58.0, 60.0, 56.0])
+    checks.append(("mean, standard error and spread of four placements",
+                   abs(mean - 57.0) < 1e-12 and abs(err - math.sqrt(20.0 / 3.0) / 2.0) < 1e-12 and abs(spread - 6.0 / 57.0) < 1e-12))
+    checks.append(("the window means of a linear force are its values at the windows' centres", window_self_test()))
     for name, ok in checks:
         print(("ok   " if ok else "FAIL ") + name)
     return all(ok for _, ok in checks)
+
+
+def window_self_test():
+    """A force of 7 mN/mm (tip 2 mN, lateral -1 mN) read over the windows 2-4 and 6-8 mm."""
+    import tempfile
+    with tempfile.TemporaryDirectory() as tmp:
+        lines = ["time [s],depth [m],force_total [N],force_tip [N],force_shaft [N],force_lateral [N]"]
+        for i in range(101):
+            d = 0.1 * i
+            lines.append(f"{d / 5:.4f},{d * 1e-3:.6e},{7 * d * 1e-3:.6e},2e-3,{(7 * d - 2) * 1e-3:.6e},-1e-3")
+        (Path(tmp) / "forces.csv").write_text("\n".join(lines) + "\n")
+        windows = [(2.0, 4.0), (6.0, 8.0)]
+        ok = all(abs(m - e) < 1e-9 for m, e in zip(window_means(tmp, windows), [21.0, 49.0]))
+        ok = ok and all(abs(m - e) < 1e-9 for m, e in zip(window_means(tmp, windows, "force_shaft"), [19.0, 47.0]))
+        table = window_table([Path(tmp), Path(tmp)], windows, True)
+        return ok and "21.0 +- 0.0 / 49.0 +- 0.0" in table and "-1.0" in table
 
 
 def parse_order_values(items):
@@ -264,6 +337,16 @@ def parse_order_values(items):
     if len(pairs) < 3 or any(len(pr) != 2 for pr in pairs):
         sys.exit("agreement_table: --order takes at least three h:f pairs, coarse to fine")
     return [pr[0] for pr in pairs], [pr[1] for pr in pairs]
+
+
+def parse_windows(text):
+    try:
+        windows = [tuple(float(x) for x in w.split(":")) for w in text.split(",")]
+    except ValueError:
+        sys.exit(f"agreement_table: --windows {text}: expected LO:HI,... in mm, e.g. 2:4,4:6,6:8")
+    if any(len(w) != 2 or not w[0] < w[1] for w in windows):
+        sys.exit(f"agreement_table: --windows {text}: each window LO:HI with LO < HI (mm)")
+    return windows
 
 
 def folders_of(paths):
@@ -286,6 +369,9 @@ def main():
     ap.add_argument("--convergence", action="store_true", help="the folders are one engine on meshes coarse to fine")
     ap.add_argument("--spacings", help="mesh sizes in mm, one per folder (default: from each summary.json)")
     ap.add_argument("--order", nargs="+", metavar="H:F", help="observed order and extrapolation of the values given")
+    ap.add_argument("--windows", help="LO:HI,... tip depths in mm: each folder's mean forces over each window")
+    ap.add_argument("--placements", action="store_true",
+                    help="with --windows: the folders are one mesh, the path at different places in the lattice")
     ap.add_argument("--self-test", action="store_true", help="check the order arithmetic on synthetic sequences")
     a = ap.parse_args()
     if a.self_test:
@@ -297,8 +383,11 @@ def main():
         return
     if not a.folders:
         ap.error("give results folders (or --order, --self-test)")
-    depths = [float(x) * 1e-3 for x in a.depths.split(",")]
     folders = folders_of(a.folders)
+    if a.windows:
+        print(window_table(folders, parse_windows(a.windows), a.placements))
+        return
+    depths = [float(x) * 1e-3 for x in a.depths.split(",")]
     if a.convergence:
         convergence(a, folders, depths)
         return

@@ -65,7 +65,8 @@ MemorySink runReducedWithDefaults(const std::string& faces, const std::string& t
 // the far face fixed as in the example. Bound: the tip's cutting load p pi R^2 plus Coulomb
 // friction at the slit pressure on the shaft in the tissue, mu p pi D per length over the depth,
 // 105 mN at 7 mm; explicit 3D, whose lips carry a polygon inside the needle's circle, gives
-// 46.2 mN. The defaults (CFEMP, parting tip): 90.2 mN. One velocity field across the path
+// 46.2 mN. The defaults (CFEMP, parting tip) with the file's frictionless face: 75.4 mN (90.2 mN
+// with mpm's default tip_friction, the wall's mu). One velocity field across the path
 // (parting: none) ploughs: 195 mN with CFEMP, 270 mN with the grid contact; the grid contact with
 // the parting, which acts up to a cell into the tissue, 236 mN.
 TEST(MpmDefaults, AxialForceStaysWithinTheSlitFrictionBound) {
@@ -93,7 +94,7 @@ TEST(MpmDefaults, AxialForceStaysWithinTheSlitFrictionBound) {
 // most f = mu p pi D per length. An infinite line load f in a tube held at radius b moves a point
 // at radius r by f / (2 pi G) ln(b / r) (anti-plane shear); the held square of half-side a lies
 // inside the circle b = sqrt(2) a, and a finite path moves the point less. The tip's cutting load
-// p pi R^2 moves it by at most F / (4 pi G rho) (Kelvin), rho its distance from the tip: 0.41 mm. The defaults: 0.18 mm; one velocity field 0.43 mm (CFEMP) and
+// p pi R^2 moves it by at most F / (4 pi G rho) (Kelvin), rho its distance from the tip: 0.41 mm. The defaults: 0.14 mm (0.18 mm with the face's mu); one velocity field 0.43 mm (CFEMP) and
 // 0.73 mm (grid contact); the grid contact with the parting 0.64 mm.
 TEST(MpmDefaults, MarkerBesideThePathStaysWithinTheElasticDragBound) {
   const MemorySink out =
