@@ -39,6 +39,7 @@ import csv
 import json
 import math
 import sys
+import tempfile
 from pathlib import Path
 
 
@@ -78,9 +79,10 @@ def window_means(folder, windows, column="force_total"):
     values = [f * 1e3 for f in forces.get(column, [])]
     if len(values) != len(depth):
         raise SystemExit(f"{folder}: forces.csv has no column {column}")
+    rows = insertion_phase(depth)
     means = []
     for lo, hi in windows:
-        inside = [values[i] for i in insertion_phase(depth) if lo <= depth[i] <= hi]
+        inside = [values[i] for i in rows if lo <= depth[i] <= hi]
         if not inside:
             raise SystemExit(f"{folder}: no forces.csv row with the tip {lo:g}-{hi:g} mm deep")
         means.append(sum(inside) / len(inside))
@@ -315,7 +317,6 @@ def self_test():
 
 def window_self_test():
     """A force of 7 mN/mm (tip 2 mN, lateral -1 mN) read over the windows 2-4 and 6-8 mm."""
-    import tempfile
     with tempfile.TemporaryDirectory() as tmp:
         lines = ["time [s],depth [m],force_total [N],force_tip [N],force_shaft [N],force_lateral [N]"]
         for i in range(101):
