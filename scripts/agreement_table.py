@@ -29,9 +29,15 @@ With --placements the folders are one mesh with the path at different places in 
 (insertion.entry_offset): it adds their mean, its standard error s / sqrt(n) and the spread
 (max - min) / mean of the axial force, the lattice's scatter that a single placement carries.
 
+Ringing: --ringing prints, per folder, the lateral force's linear trend over the tip's depth beyond
+2 mm (least squares), the period in depth of the largest Fourier component of what is left (the
+rows resampled on 512 even steps) and its rms: a mode of the tissue block that the needle excites
+shows as a period that grows with the square root of the mass scaling.
+
   scripts/agreement_table.py --convergence results/rt2_16 results/rt2_31 results/rt2_61
   scripts/agreement_table.py --order 1:258.5 0.75:230.5 0.6:195.4 0.5:170.3
   scripts/agreement_table.py --windows 2:4,4:6,6:8 --placements results/m_0 results/m_1 results/m_2
+  scripts/agreement_table.py --ringing results/m_0 results/m_1    # the lateral force's trend and ringing
   scripts/agreement_table.py --self-test     # the order/extrapolation arithmetic on synthetic sequences
 """
 import argparse
@@ -87,6 +93,51 @@ def window_means(folder, windows, column="force_total"):
             raise SystemExit(f"{folder}: no forces.csv row with the tip {lo:g}-{hi:g} mm deep")
         means.append(sum(inside) / len(inside))
     return means
+
+
+def lateral_ringing(folder, from_mm=2.0, samples=512):
+    """(trend in mN/mm, period in mm, rms in mN) of the lateral force beyond from_mm of tip depth:
+    the least-squares line, then the largest discrete Fourier component of the residual resampled
+    on `samples` even steps, and the residual's rms."""
+    path = Path(folder) / "forces.csv"
+    if not path.is_file():
+        raise SystemExit(f"{folder}: no forces.csv (a needlesim results folder is expected)")
+    forces = read_table(path)
+    depth = [d * 1e3 for d in forces.get("depth", [])]
+    lateral = [f * 1e3 for f in forces.get("force_lateral", [])]
+    pts = [(depth[i], lateral[i]) for i in insertion_phase(depth) if depth[i] > from_mm and i < len(lateral)]
+    if len(pts) < 8:
+        raise SystemExit(f"{folder}: fewer than 8 forces.csv rows with force_lateral beyond {from_mm:g} mm")
+    n = len(pts)
+    mx, my = sum(x for x, _ in pts) / n, sum(y for _, y in pts) / n
+    slope = sum((x - mx) * (y - my) for x, y in pts) / sum((x - mx) ** 2 for x, _ in pts)
+    res = [(x, y - my - slope * (x - mx)) for x, y in pts]
+    x0, x1 = res[0][0], res[-1][0]
+    even = [x0 + (x1 - x0) * k / (samples - 1) for k in range(samples)]
+    xs, ys = [x for x, _ in res], [y for _, y in res]
+    r, j = [], 0
+    for x in even:
+        while j + 2 < len(xs) and xs[j + 1] < x:
+            j += 1
+        t = 0.0 if xs[j + 1] == xs[j] else (x - xs[j]) / (xs[j + 1] - xs[j])
+        r.append(ys[j] + t * (ys[j + 1] - ys[j]))
+    def power(k):
+        c = sum(v * math.cos(2 * math.pi * k * i / samples) for i, v in enumerate(r))
+        s = sum(v * math.sin(2 * math.pi * k * i / samples) for i, v in enumerate(r))
+        return c * c + s * s
+    k = max(range(1, samples // 2), key=power)
+    period = (x1 - x0) * samples / ((samples - 1) * k)
+    rms = math.sqrt(sum(v * v for _, v in res) / n)
+    return slope, period, rms
+
+
+def ringing_table(folders):
+    lines = ["| folder | lateral force's trend beyond 2 mm (mN/mm) | period of its ringing (mm of tip depth) | rms about the trend (mN) |",
+             "|---|---|---|---|"]
+    for f in folders:
+        slope, period, rms = lateral_ringing(f)
+        lines.append(f"| {f} | {slope:+.2f} | {period:.2f} | {rms:.1f} |")
+    return "\n".join(lines)
 
 
 def mean_and_error(values):
@@ -310,24 +361,42 @@ def self_test():
     checks.append(("mean, standard error and spread of four placements",
                    abs(mean - 57.0) < 1e-12 and abs(err - math.sqrt(20.0 / 3.0) / 2.0) < 1e-12 and abs(spread - 6.0 / 57.0) < 1e-12))
     checks.append(("the window means of a linear force are its values at the windows' centres", window_self_test()))
+    checks.append(("the trend, period and rms of a ringing lateral force", ringing_self_test()))
     for name, ok in checks:
         print(("ok   " if ok else "FAIL ") + name)
     return all(ok for _, ok in checks)
 
 
+def write_synthetic_forces(folder, columns, step_mm, count, values):
+    """forces.csv in folder: `count` rows `step_mm` apart in depth at 5 mm/s, then `values(depth in mm)`
+    under the header's `columns`."""
+    lines = ["time [s],depth [m]," + columns]
+    for i in range(count):
+        d = step_mm * i
+        lines.append(f"{d / 5:.4f},{d * 1e-3:.6e}," + values(d))
+    (Path(folder) / "forces.csv").write_text("\n".join(lines) + "\n")
+
+
 def window_self_test():
     """A force of 7 mN/mm (tip 2 mN, lateral -1 mN) read over the windows 2-4 and 6-8 mm."""
     with tempfile.TemporaryDirectory() as tmp:
-        lines = ["time [s],depth [m],force_total [N],force_tip [N],force_shaft [N],force_lateral [N]"]
-        for i in range(101):
-            d = 0.1 * i
-            lines.append(f"{d / 5:.4f},{d * 1e-3:.6e},{7 * d * 1e-3:.6e},2e-3,{(7 * d - 2) * 1e-3:.6e},-1e-3")
-        (Path(tmp) / "forces.csv").write_text("\n".join(lines) + "\n")
+        write_synthetic_forces(tmp, "force_total [N],force_tip [N],force_shaft [N],force_lateral [N]", 0.1, 101,
+                               lambda d: f"{7 * d * 1e-3:.6e},2e-3,{(7 * d - 2) * 1e-3:.6e},-1e-3")
         windows = [(2.0, 4.0), (6.0, 8.0)]
         ok = all(abs(m - e) < 1e-9 for m, e in zip(window_means(tmp, windows), [21.0, 49.0]))
         ok = ok and all(abs(m - e) < 1e-9 for m, e in zip(window_means(tmp, windows, "force_shaft"), [19.0, 47.0]))
         table = window_table([Path(tmp), Path(tmp)], windows, True)
         return ok and "21.0 +- 0.0 / 49.0 +- 0.0" in table and "-1.0" in table
+
+
+def ringing_self_test():
+    """A lateral force of 3 mN/mm plus 5 mN sin(2 pi d / 1.5 mm), sampled every 0.01 mm to 8 mm (over
+    the 4 periods from 2 mm the sine correlates with depth: the line takes 0.21 mN/mm of it)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        write_synthetic_forces(tmp, "force_lateral [N]", 0.01, 801,
+                               lambda d: f"{(3 * d + 5 * math.sin(2 * math.pi * d / 1.5)) * 1e-3:.9e}")
+        slope, period, rms = lateral_ringing(tmp)
+        return abs(slope - 3.0) < 0.3 and abs(period - 1.5) < 0.05 and abs(rms - 5 / math.sqrt(2)) < 0.2
 
 
 def parse_order_values(items):
@@ -373,6 +442,8 @@ def main():
     ap.add_argument("--windows", help="LO:HI,... tip depths in mm: each folder's mean forces over each window")
     ap.add_argument("--placements", action="store_true",
                     help="with --windows: the folders are one mesh, the path at different places in the lattice")
+    ap.add_argument("--ringing", action="store_true",
+                    help="each folder's lateral force: its trend, the period and rms of what rings about it")
     ap.add_argument("--self-test", action="store_true", help="check the order arithmetic on synthetic sequences")
     a = ap.parse_args()
     if a.self_test:
@@ -387,6 +458,9 @@ def main():
     folders = folders_of(a.folders)
     if a.windows:
         print(window_table(folders, parse_windows(a.windows), a.placements))
+        return
+    if a.ringing:
+        print(ringing_table(folders))
         return
     depths = [float(x) * 1e-3 for x in a.depths.split(",")]
     if a.convergence:

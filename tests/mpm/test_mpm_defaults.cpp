@@ -110,9 +110,9 @@ TEST(MpmDefaults, MarkerBesideThePathStaysWithinTheElasticDragBound) {
 }
 
 // The default cut runs through the axis (needle_cut.cpp): it opens both lips by half the needle,
-// where a bevel's sharp point leaves one in place, so the bevel's lateral force is the small
-// difference of the two lips' pushes: -39 / +19 / +4 / +14 mN on the reference at 1 / 0.75 / 0.6 /
-// 0.5 mm grids against explicit 3D's -42 mN (docs/validation/agreement.md). A run with a bevel
+// where a bevel's sharp point leaves one in place, so the bevel's lateral force is the difference
+// of the two lips' pushes and points towards the face: on the reduced reference +26 mN quasi-static
+// against explicit 3D's -19 mN (docs/validation/agreement.md). A run with a bevel
 // says so; a cone, which the cut does not act on, does not, nor a bevel cutting along its edges
 // (model.mpm.cut: edges, held against explicit 3D by OneFrame.BevelPushesEveryNeedleToTheSameSide
 // and MpmParting.LongAgreesWithExplicit3dOnTheReducedReference).
