@@ -60,6 +60,18 @@ std::pair<int, double> exitOf(pid_t pid, double limit) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : -WTERMSIG(status), s};
 }
 
+// Waits until the run's log shows its estimate (printed once the stop handlers are in place and
+// before the engine's set-up), so that a signal sent after it lands in the set-up however slowly
+// the loaded machine started the program; false after `limit` s.
+bool estimateShown(const fs::path& log, double limit) {
+  const auto t0 = std::chrono::steady_clock::now();
+  while (fileText(log).find("estimate: ") == std::string::npos) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count() > limit) return false;
+    usleep(20000);
+  }
+  return true;
+}
+
 }  // namespace
 
 // A realtime3d block of 50,225 nodes takes 15-35 s to set up (mesh, assembly,
@@ -74,6 +86,7 @@ TEST(Interrupt, CtrlCDuringALongRealtime3dSetUpEndsTheRunAtOnce) {
   const fs::path out = dir / "res", log = dir.parent_path() / "realtime3d_setup.log";
   for (const auto& [signal, after] : {std::pair{SIGINT, 2}, std::pair{SIGTERM, 5}}) {
     const pid_t pid = needlesim::test::startCli("run " + (dir / "big.yaml").string() + " --out " + out.string(), log);
+    EXPECT_TRUE(estimateShown(log, 60.0)) << fileText(log);
     std::this_thread::sleep_for(std::chrono::seconds(after));
     kill(pid, signal);
     const auto [code, seconds] = exitOf(pid, 60);
@@ -100,7 +113,8 @@ TEST(Interrupt, CtrlCDuringALongMpmSetUpEndsTheRunAtOnce) {
          dir / "big.yaml");
   const fs::path out = dir / "res", log = dir.parent_path() / "mpm_setup.log";
   const pid_t pid = needlesim::test::startCli("run " + (dir / "big.yaml").string() + " --out " + out.string(), log);
-  std::this_thread::sleep_for(std::chrono::milliseconds(1500));
+  EXPECT_TRUE(estimateShown(log, 60.0)) << fileText(log);
+  std::this_thread::sleep_for(std::chrono::milliseconds(500));
   kill(pid, SIGINT);
   const auto [code, seconds] = exitOf(pid, 120);
   const std::string said = fileText(log);

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <numbers>
 
 #include "needlesim/core/error.hpp"
@@ -205,7 +206,10 @@ StepEstimate guardSteps(const Scenario& sc, const StepPlan& plan) {
 
 StepEstimate guardAndAnnounce(const Scenario& sc, const StepPlan& plan, ResultSink& sink, const RunOptions& options) {
   const StepEstimate e = guardSteps(sc, plan);
-  if (options.progress) fmt::print("estimate: {}\n", e.text());
+  if (options.progress) {
+    fmt::print("estimate: {}\n", e.text());
+    std::fflush(stdout);  // seen before a long set-up, also where the output goes to a file or a pipe
+  }
   sink.note(fmt::format("Estimated before the run: {} (output.max_steps {:g}).", e.text(), sc.output.max_steps));
   return e;
 }
