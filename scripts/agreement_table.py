@@ -74,9 +74,8 @@ def insertion_phase(depth):
     return list(range(deepest + 1))
 
 
-def window_means(folder, windows, column="force_total"):
-    """Mean of a forces.csv column (mN) over the insertion rows with the tip within each (lo, hi)
-    window (mm)."""
+def insertion_rows(folder, column):
+    """(tip depth in mm, the forces.csv column in mN, the insertion phase's row indices) of a folder."""
     path = Path(folder) / "forces.csv"
     if not path.is_file():
         raise SystemExit(f"{folder}: no forces.csv (a needlesim results folder is expected)")
@@ -85,7 +84,13 @@ def window_means(folder, windows, column="force_total"):
     values = [f * 1e3 for f in forces.get(column, [])]
     if len(values) != len(depth):
         raise SystemExit(f"{folder}: forces.csv has no column {column}")
-    rows = insertion_phase(depth)
+    return depth, values, insertion_phase(depth)
+
+
+def window_means(folder, windows, column="force_total"):
+    """Mean of a forces.csv column (mN) over the insertion rows with the tip within each (lo, hi)
+    window (mm)."""
+    depth, values, rows = insertion_rows(folder, column)
     means = []
     for lo, hi in windows:
         inside = [values[i] for i in rows if lo <= depth[i] <= hi]
@@ -99,13 +104,8 @@ def lateral_ringing(folder, from_mm=2.0, samples=512):
     """(trend in mN/mm, period in mm, rms in mN) of the lateral force beyond from_mm of tip depth:
     the least-squares line, then the largest discrete Fourier component of the residual resampled
     on `samples` even steps, and the residual's rms."""
-    path = Path(folder) / "forces.csv"
-    if not path.is_file():
-        raise SystemExit(f"{folder}: no forces.csv (a needlesim results folder is expected)")
-    forces = read_table(path)
-    depth = [d * 1e3 for d in forces.get("depth", [])]
-    lateral = [f * 1e3 for f in forces.get("force_lateral", [])]
-    pts = [(depth[i], lateral[i]) for i in insertion_phase(depth) if depth[i] > from_mm and i < len(lateral)]
+    depth, lateral, rows = insertion_rows(folder, "force_lateral")
+    pts = [(depth[i], lateral[i]) for i in rows if depth[i] > from_mm]
     if len(pts) < 8:
         raise SystemExit(f"{folder}: fewer than 8 forces.csv rows with force_lateral beyond {from_mm:g} mm")
     n = len(pts)
@@ -115,12 +115,7 @@ def lateral_ringing(folder, from_mm=2.0, samples=512):
     x0, x1 = res[0][0], res[-1][0]
     even = [x0 + (x1 - x0) * k / (samples - 1) for k in range(samples)]
     xs, ys = [x for x, _ in res], [y for _, y in res]
-    r, j = [], 0
-    for x in even:
-        while j + 2 < len(xs) and xs[j + 1] < x:
-            j += 1
-        t = 0.0 if xs[j + 1] == xs[j] else (x - xs[j]) / (xs[j + 1] - xs[j])
-        r.append(ys[j] + t * (ys[j + 1] - ys[j]))
+    r = [at_depth(xs, ys, x, range(n)) for x in even]
     def power(k):
         c = sum(v * math.cos(2 * math.pi * k * i / samples) for i, v in enumerate(r))
         s = sum(v * math.sin(2 * math.pi * k * i / samples) for i, v in enumerate(r))

@@ -75,7 +75,7 @@ bool estimateShown(const fs::path& log, double limit) {
 }  // namespace
 
 // A realtime3d block of 50,225 nodes takes 15-35 s to set up (mesh, assembly,
-// factorisation, Lanczos modes); Ctrl-C 2 s in (assembly) and SIGTERM 5 s in
+// factorisation, Lanczos modes); Ctrl-C 2 s after its estimate (assembly) and SIGTERM 5 s after
 // (a later phase, the factorisation on a fast machine) end it within a few
 // seconds with the step loop's clean exit: code 130 / 143, nothing written, no
 // staging folder or lock file left.
