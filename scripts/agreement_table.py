@@ -5,6 +5,8 @@ Reads results folders (of `needlesim run`, or the cases of a `needlesim sweep` s
 prints, per folder, the axial force and its split, the lateral force, the tip deflection and the
 displacement of one marker at fixed tip depths, read from forces.csv and markers.csv by linear
 interpolation in depth over the insertion phase (depth increasing). Values in mN and mm.
+A cell that is not a finite number, a ragged row or a table beyond 10^6 rows or 64 columns
+ends the script with its file, line and column.
 
   scripts/agreement_table.py results/agreement_engines            # a study folder
   scripts/agreement_table.py results/a results/b --depths 5,10,20  # run folders
@@ -42,6 +44,7 @@ shows as a period that grows with the square root of the mass scaling.
 """
 import argparse
 import csv
+from array import array
 import json
 import math
 import sys
@@ -49,21 +52,41 @@ import tempfile
 from pathlib import Path
 
 
-def read_table(path):
-    """Columns of a needlesim CSV (header 'name [unit]', SI) by bare name."""
+# Bounds on a table before it is read whole: a results CSV of a long run at 1 ms rows has ~10^5 rows.
+MAX_ROWS = 1_000_000
+MAX_COLUMNS = 64
+
+
+def read_table(path, max_rows=MAX_ROWS):
+    """Columns of a needlesim CSV (header 'name [unit]', SI) by bare name, each an array of doubles.
+    A cell that is not a finite number, a row whose length is not the header's, or a table of more
+    than max_rows rows or MAX_COLUMNS columns ends the script with the file, line, column and value."""
+    def refuse(line, what):
+        raise SystemExit(f"agreement_table: {path}:{line}: {what}")
+
     with open(path, newline="") as f:
-        rows = list(csv.reader(f))
-    if not rows:
-        return {}
-    names = [h.split(" [")[0].strip() for h in rows[0]]
-    cols = {n: [] for n in names}
-    for r in rows[1:]:
-        for n, v in zip(names, r):
-            try:
-                cols[n].append(float(v))
-            except ValueError:
-                cols[n].append(math.nan)
-    return cols
+        reader = csv.reader(f)
+        header = next(reader, None)
+        if header is None:
+            return {}
+        if len(header) > MAX_COLUMNS:
+            refuse(1, f"{len(header)} columns; at most {MAX_COLUMNS} are read")
+        names = [h.split(" [")[0].strip() for h in header]
+        cols = [array("d") for _ in names]
+        for line, row in enumerate(reader, start=2):
+            if line - 1 > max_rows:
+                refuse(line, f"more than {max_rows} rows; at most {max_rows} are read")
+            if len(row) != len(names):
+                refuse(line, f"{len(row)} cells where the header has {len(names)}")
+            for name, col, cell in zip(names, cols, row):
+                try:
+                    x = float(cell)
+                except ValueError:
+                    x = math.nan
+                if not math.isfinite(x):
+                    refuse(line, f"column {name}: '{cell[:40]}' is not a finite number")
+                col.append(x)
+    return dict(zip(names, cols))
 
 
 def insertion_phase(depth):
@@ -357,6 +380,7 @@ def self_test():
                    abs(mean - 57.0) < 1e-12 and abs(err - math.sqrt(20.0 / 3.0) / 2.0) < 1e-12 and abs(spread - 6.0 / 57.0) < 1e-12))
     checks.append(("the window means of a linear force are its values at the windows' centres", window_self_test()))
     checks.append(("the trend, period and rms of a ringing lateral force", ringing_self_test()))
+    checks.extend(bad_table_self_test())
     for name, ok in checks:
         print(("ok   " if ok else "FAIL ") + name)
     return all(ok for _, ok in checks)
@@ -392,6 +416,30 @@ def ringing_self_test():
                                lambda d: f"{(3 * d + 5 * math.sin(2 * math.pi * d / 1.5)) * 1e-3:.9e}")
         slope, period, rms = lateral_ringing(tmp)
         return abs(slope - 3.0) < 0.3 and abs(period - 1.5) < 0.05 and abs(rms - 5 / math.sqrt(2)) < 0.2
+
+
+def refusal_of(text, max_rows=MAX_ROWS):
+    """The message with which read_table refuses a forces.csv holding text (None: read)."""
+    with tempfile.TemporaryDirectory() as tmp:
+        path = Path(tmp) / "forces.csv"
+        path.write_text(text)
+        try:
+            read_table(path, max_rows)
+        except SystemExit as e:
+            return str(e)
+    return None
+
+
+def bad_table_self_test():
+    """Tables that are refused with their line and column, and one that is read."""
+    head = "time [s],depth [m],force_total [N]\n"
+    cases = [("a NaN cell is refused with its line and column", head + "0,0,0\n0.1,1e-3,nan\n", ":3: column force_total"),
+             ("an empty cell is refused", head + "0,,0\n", ":2: column depth"),
+             ("a short row is refused", head + "0,0\n", ":2: 2 cells where the header has 3"),
+             ("a table beyond the row bound is refused", head + "0,0,0\n" * 4, "more than 3 rows")]
+    checks = [(name, (refusal_of(text, 3) or "").find(expected) >= 0) for name, text, expected in cases]
+    checks.append(("a well-formed table is read", refusal_of(head + "0,0,0\n0.1,1e-3,2e-3\n") is None))
+    return checks
 
 
 def parse_order_values(items):

@@ -108,9 +108,13 @@ double peakForce(const MemorySink& m) {
 // mpm at 0.25 mm points resolves the outline within d_p / (4R) = 10 %, and the limit carries the
 // uncertainty of an order measured on three meshes (the 0.18 mm core moves it by about as much):
 // 25 % holds both. The default cut through the axis and explicit's slit through the sharp point
-// open the same total width, so the same axial force to first order; mpm cutting along the bevel's
-// edges (cut: edges) with explicit's frictionless face (tip_friction: 0) lifts what the needle's
-// outline holds, as explicit's face does, within the same 25 %. Its lateral force must point away
+// open the same total width, so the same axial force to first order (docs/validation/agreement.md
+// "Which lip moves"). mpm cutting along the bevel's edges (cut: edges) with explicit's frictionless
+// face (tip_friction: 0) is held on its lateral force only: its axial force is within 25 % of
+// explicit's at this file's mass scaling 1e4 (58.8 mN) but not quasi-static (1e2, four placements:
+// 72.7 mN, +40 %, its tip force 1.8x explicit's where its smaller lift should give at most as
+// much), so a check of it here would
+// hold inertia, not the cut. Its lateral force must point away
 // from the face as explicit's: it is the difference of the two lips' pressures on the shaft, each
 // uncertain by the same 10 % + 13 % (explicit's polygon, below), so the two may differ by up to
 // 23 % of the shaft's normal load, its friction over mu. One velocity field across the path
@@ -139,18 +143,68 @@ TEST(MpmParting, LongAgreesWithExplicit3dOnTheReducedReference) {
     m.cut = "edges";
     m.tip_friction = 0.0;
   });
-  const double ff = meanForce(fine, 6e-3, 8e-3), fc = meanForce(coarse, 6e-3, 8e-3), fg = meanForce(edges, 6e-3, 8e-3);
+  const double ff = meanForce(fine, 6e-3, 8e-3), fc = meanForce(coarse, 6e-3, 8e-3);
   EXPECT_LT(std::abs(fc - ff), 0.25 * ff) << "mpm 0.75 mm grid " << fc * 1e3 << " mN, 0.5 mm grid " << ff * 1e3 << " mN";
   EXPECT_LT(std::abs(ff - limit), 0.25 * limit)
       << "mpm " << ff * 1e3 << " mN, explicit 3D's limit " << limit * 1e3 << " mN (order " << order << ")";
-  EXPECT_LT(std::abs(fg - limit), 0.25 * limit)
-      << "mpm cutting along the edges " << fg * 1e3 << " mN, explicit 3D's limit " << limit * 1e3 << " mN";
   const double le = meanForce(finest, 6e-3, 8e-3, "force_lateral"), lg = meanForce(edges, 6e-3, 8e-3, "force_lateral");
   const double shaftLoad = meanForce(finest, 6e-3, 8e-3, "force_shaft") / 0.25;  // the reference's mu
   EXPECT_LT(le, 0.0) << "explicit 3D's bevel pushes the needle away from its face";
   EXPECT_LT(lg, 0.0) << "mpm cutting along the edges: lateral " << lg * 1e3 << " mN";
   EXPECT_LT(std::abs(lg - le), 0.23 * shaftLoad)
       << "lateral: mpm " << lg * 1e3 << " mN, explicit 3D " << le * 1e3 << " mN, shaft load " << shaftLoad * 1e3 << " mN";
+}
+
+// The reduced reference quasi-static (mass scaling 1e2) on the 0.75 mm grid, each cut averaged over
+// four placements of the path across a point spacing (insertion.entry_offset 0, d_p/4, d_p/2,
+// 3 d_p/4: a single placement scatters by 23-46 % at 1e2), mean forces with the tip 6-8 mm deep. What
+// a cut's choice of lip decides (docs/validation/agreement.md "Which lip moves"; linear elasticity,
+// the block symmetric about the cut): the part of the lips' displacement that opens the slit presses
+// both on the needle alike, the part that moves both the same way adds on one lip what it takes off
+// the other, and their energies add. So (1) the shaft's friction is the same for the cut through the
+// axis (each lip opened by half the section) and the cut along the edges (the bevel-side lip lifted by
+// all of it): within 25 %, CFEMP's outline uncertainty d_p / (4R) = 15 % on this lattice plus the
+// placement means' standard errors (up to 9 %); (2) the tip's force, the energy the wake keeps per
+// unit length, is smaller for the axis cut, which stores no energy in a common motion of the lips;
+// (3) the edges cut pushes the needle away from the face, the axis cut does not push to first order
+// (its lateral force, a lip imbalance, is not asserted); (4) the axis cut's axial force is explicit
+// 3D's within the 25 % of LongAgreesWithExplicit3dOnTheReducedReference, quasi-static this time.
+// Not asserted, and open: the derived lower bound of the tip ratio, 1/2 (measured 0.16 here).
+TEST(MpmParting, LongQuasiStaticCutsShareTheShaftsFrictionAndTheAxisCutKeepsLessAtTheTip) {
+  struct Means {
+    double axial = 0, tip = 0, shaft = 0, lateral = 0, shaftVar = 0;
+  };
+  const auto placements = [](const std::string& cut) {
+    Means m;
+    double shafts[4];
+    for (int k = 0; k < 4; ++k) {
+      Scenario sc = scenario::readFile(kReduced);
+      sc.model.mpm.grid_spacing = 0.75e-3;
+      sc.model.mpm.particle_spacing = 0.375e-3;
+      sc.model.mpm.mass_scaling = 1e2;
+      sc.model.mpm.cut = cut;
+      sc.model.mpm.threads = 1;  // beside another test in CI: two threads each would oversubscribe the cores
+      sc.insertion.entry_offset = k * 0.375e-3 / 4.0;
+      sc.output.html = false;
+      const MemorySink r = runInMemory(sc);
+      m.axial += meanForce(r, 6e-3, 8e-3) / 4.0;
+      m.tip += meanForce(r, 6e-3, 8e-3, "force_tip") / 4.0;
+      m.lateral += meanForce(r, 6e-3, 8e-3, "force_lateral") / 4.0;
+      shafts[k] = meanForce(r, 6e-3, 8e-3, "force_shaft");
+      m.shaft += shafts[k] / 4.0;
+    }
+    for (const double f : shafts) m.shaftVar += (f - m.shaft) * (f - m.shaft) / (3.0 * 4.0);  // squared standard error
+    return m;
+  };
+  const Means axis = placements("axis"), edges = placements("edges");
+  const double explicitAxial = meanForce(runReducedExplicit(0.5e-3), 6e-3, 8e-3);
+  EXPECT_LT(std::abs(axis.shaft - edges.shaft), 0.25 * axis.shaft)
+      << "shaft: axis " << axis.shaft * 1e3 << " +- " << std::sqrt(axis.shaftVar) * 1e3 << " mN, edges "
+      << edges.shaft * 1e3 << " +- " << std::sqrt(edges.shaftVar) * 1e3 << " mN";
+  EXPECT_LT(axis.tip, edges.tip) << "tip: axis " << axis.tip * 1e3 << " mN, edges " << edges.tip * 1e3 << " mN";
+  EXPECT_LT(edges.lateral, 0.0) << "the edges cut's lateral force " << edges.lateral * 1e3 << " mN";
+  EXPECT_LT(std::abs(axis.axial - explicitAxial), 0.25 * explicitAxial)
+      << "axial: mpm quasi-static " << axis.axial * 1e3 << " mN, explicit 3D " << explicitAxial * 1e3 << " mN";
 }
 
 // The reduced local model with its entry at 0 and 0.2 mm, half a point spacing: the peak axial

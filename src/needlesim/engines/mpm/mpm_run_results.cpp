@@ -163,17 +163,19 @@ void MpmRun::runNotes(double seconds) {
 // A bevel with the parting cut through the axis (model.mpm.cut: axis): the strip opens both lips
 // by half the needle, where the bevel's sharp point leaves the wall-side lip in place and the face
 // lifts the other by the whole needle. The wall pressure, and so the axial force, follows the total
-// opening and agrees with explicit 3D; the lateral force is the difference of the two lips' pushes
-// and, quasi-static, points towards the face (+26 mN on the reduced reference where explicit 3D
-// gives -19 mN; docs/validation/agreement.md "Mass scaling on the reduced reference").
+// opening and agrees with explicit 3D; a symmetric opening presses both lips alike, so the cut has
+// no bevel push to first order, and what is left, the difference of the two lips' pushes, points
+// towards the face quasi-static (+26 mN on the reduced reference where explicit 3D gives -19 mN;
+// docs/validation/agreement.md "Which lip moves").
 void MpmRun::warnUnresolvedLateralForce() {
   const MpmModelSpec& m = sc_.model.mpm;
   if (sc_.needle.tip != TipType::Bevel || m.parting == "none" || m.cut != "axis") return;
   sink_.warning(
       "mpm's cut runs through the needle's axis (model.mpm.cut: axis): the axial force agrees with explicit 3D; the "
-      "bevel's sideways push (force_lateral, and the tissue it moves across the needle) is not resolved: it points "
-      "towards the bevel's face, where every other engine pushes the needle away from it; cut: edges, which cuts "
-      "where the bevel's edges pass, gives its sign (docs/validation/agreement.md \"explicit 3D vs mpm\").");
+      "bevel's sideways push (force_lateral, and the tissue it moves across the needle) is not resolved: a cut that "
+      "opens both lips alike has none, and what is left points towards the bevel's face, where every other engine "
+      "pushes the needle away from it; cut: edges, which cuts where the bevel's edges pass, gives its sign "
+      "(docs/validation/agreement.md \"Which lip moves\").");
 }
 
 }  // namespace needlesim::engines
