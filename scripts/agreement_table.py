@@ -57,6 +57,15 @@ MAX_ROWS = 1_000_000
 MAX_COLUMNS = 64
 
 
+def finite_number(cell):
+    """The cell's value, or None where it is not a finite number."""
+    try:
+        x = float(cell)
+    except ValueError:
+        return None
+    return x if math.isfinite(x) else None
+
+
 def read_table(path, max_rows=MAX_ROWS):
     """Columns of a needlesim CSV (header 'name [unit]', SI) by bare name, each an array of doubles.
     A cell that is not a finite number, a row whose length is not the header's, or a table of more
@@ -79,11 +88,8 @@ def read_table(path, max_rows=MAX_ROWS):
             if len(row) != len(names):
                 refuse(line, f"{len(row)} cells where the header has {len(names)}")
             for name, col, cell in zip(names, cols, row):
-                try:
-                    x = float(cell)
-                except ValueError:
-                    x = math.nan
-                if not math.isfinite(x):
+                x = finite_number(cell)
+                if x is None:
                     refuse(line, f"column {name}: '{cell[:40]}' is not a finite number")
                 col.append(x)
     return dict(zip(names, cols))

@@ -113,8 +113,7 @@ double peakForce(const MemorySink& m) {
 // face (tip_friction: 0) is held on its lateral force only: its axial force is within 25 % of
 // explicit's at this file's mass scaling 1e4 (58.8 mN) but not quasi-static (1e2, four placements:
 // 72.7 mN, +40 %, its tip force 1.8x explicit's where its smaller lift should give at most as
-// much), so a check of it here would
-// hold inertia, not the cut. Its lateral force must point away
+// much), so a check of it here would hold inertia, not the cut. Its lateral force must point away
 // from the face as explicit's: it is the difference of the two lips' pressures on the shaft, each
 // uncertain by the same 10 % + 13 % (explicit's polygon, below), so the two may differ by up to
 // 23 % of the shaft's normal load, its friction over mu. One velocity field across the path
